@@ -1,0 +1,166 @@
+//! The static description of a device: what the SubDevice checks the MainDevice's configuration
+//! against.
+//!
+//! One `DeviceConfig` per device, usually a `const`. The same values end up in the SII image the
+//! MainDevice reads (mailbox words 0x0018..0x001B, SM category), so what the device checks and what
+//! it advertises cannot disagree.
+
+use crate::time::Duration;
+use crate::{AlStatusCode, register};
+
+/// An area of process RAM guarded by a SyncManager.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Area {
+    /// Physical start address.
+    pub start: u16,
+    /// Length in bytes.
+    pub length: u16,
+}
+
+impl Area {
+    /// `length` bytes at `start`.
+    pub const fn new(start: u16, length: u16) -> Self {
+        Self { start, length }
+    }
+
+    /// One past the last byte, as a `u32` so that an area ending at 0xFFFF is representable.
+    pub const fn end(self) -> u32 {
+        self.start as u32 + self.length as u32
+    }
+
+    /// Whether the two areas share a byte.
+    pub const fn overlaps(self, other: Area) -> bool {
+        (self.start as u32) < other.end() && (other.start as u32) < self.end()
+    }
+}
+
+/// The mailbox SyncManagers a device expects (SII words 0x0018..0x001B for the standard mailbox,
+/// 0x0014..0x0017 for the bootstrap mailbox).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct MailboxConfig {
+    /// SM0: the receive mailbox, written by the MainDevice.
+    pub receive: Area,
+    /// SM1: the send mailbox, read by the MainDevice.
+    pub send: Area,
+}
+
+impl MailboxConfig {
+    /// Smallest mailbox that carries an expedited SDO: 6 bytes mailbox header, 2 bytes CoE
+    /// header, 8 bytes SDO.
+    pub const MIN_SIZE: u16 = 16;
+
+    /// Both mailboxes of `size` bytes, the receive mailbox at `start` and the send mailbox right
+    /// after it.
+    pub const fn contiguous(start: u16, size: u16) -> Self {
+        Self {
+            receive: Area::new(start, size),
+            send: Area::new(start.wrapping_add(size), size),
+        }
+    }
+}
+
+/// The process-data image sizes in bytes. A fixed layout for now: configurable PDO mapping
+/// computes these from the dictionary.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ProcessDataSizes {
+    /// Bytes the MainDevice writes (RxPDOs, SM2). 0 for an input-only device.
+    pub outputs: u16,
+    /// Bytes the device writes (TxPDOs, SM3). 0 for an output-only device.
+    pub inputs: u16,
+}
+
+/// Why a [`DeviceConfig`] is unusable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ConfigError {
+    /// A mailbox is smaller than [`MailboxConfig::MIN_SIZE`].
+    MailboxTooSmall,
+    /// A mailbox area lies outside `PROCESS_RAM..process_ram_end`.
+    MailboxOutsideRam,
+    /// The receive and send mailboxes overlap.
+    MailboxesOverlap,
+}
+
+/// The static description of a device that the state machine checks the MainDevice against.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DeviceConfig {
+    /// Standard mailbox (PREOP and above).
+    pub mailbox: MailboxConfig,
+    /// Bootstrap mailbox; `None` when the device does not support BOOT (INIT→BOOT is answered with
+    /// 0x0013).
+    pub bootstrap_mailbox: Option<MailboxConfig>,
+    /// Process-data image sizes.
+    pub process_data: ProcessDataSizes,
+    /// One past the last byte of process RAM (0x3000 for the 8 KiB of an ET1100, 0x2000 for the
+    /// 4 KiB of a LAN9252).
+    pub process_ram_end: u32,
+    /// Number of SyncManager channels the ESC has (8 on ET1100/AX58100, 4 on LAN9252). The
+    /// SubDevice reads all their activation registers on an SM-change event, which is what clears
+    /// the event in the ESC.
+    pub sync_manager_count: u8,
+    /// How long the application may leave an upward transition pending before the SubDevice
+    /// answers it with [`AlStatusCode::UNSPECIFIED_ERROR`]. Well below the 5 s MainDevices wait.
+    pub transition_timeout: Duration,
+}
+
+impl DeviceConfig {
+    /// Default for [`DeviceConfig::transition_timeout`]: 1 s.
+    pub const DEFAULT_TRANSITION_TIMEOUT: Duration = Duration::from_millis(1_000);
+    /// Default for [`DeviceConfig::process_ram_end`]: 8 KiB of process RAM.
+    pub const DEFAULT_PROCESS_RAM_END: u32 = 0x3000;
+
+    /// A device with the given standard mailbox and process-data sizes, no BOOT support, 8 KiB of
+    /// process RAM and the default transition timeout.
+    pub const fn new(mailbox: MailboxConfig, process_data: ProcessDataSizes) -> Self {
+        Self {
+            mailbox,
+            bootstrap_mailbox: None,
+            process_data,
+            process_ram_end: Self::DEFAULT_PROCESS_RAM_END,
+            sync_manager_count: 8,
+            transition_timeout: Self::DEFAULT_TRANSITION_TIMEOUT,
+        }
+    }
+
+    /// Checks the description itself. Call it in a `const` to turn a bad description into a
+    /// compile error: `const _: () = assert!(CONFIG.validate().is_ok());`.
+    pub const fn validate(&self) -> Result<(), ConfigError> {
+        if let Err(e) = self.validate_mailbox(&self.mailbox) {
+            return Err(e);
+        }
+        match &self.bootstrap_mailbox {
+            Some(boot) => self.validate_mailbox(boot),
+            None => Ok(()),
+        }
+    }
+
+    const fn validate_mailbox(&self, mailbox: &MailboxConfig) -> Result<(), ConfigError> {
+        let (rx, tx) = (mailbox.receive, mailbox.send);
+        if rx.length < MailboxConfig::MIN_SIZE || tx.length < MailboxConfig::MIN_SIZE {
+            return Err(ConfigError::MailboxTooSmall);
+        }
+        if !self.in_process_ram(rx) || !self.in_process_ram(tx) {
+            return Err(ConfigError::MailboxOutsideRam);
+        }
+        if rx.overlaps(tx) {
+            return Err(ConfigError::MailboxesOverlap);
+        }
+        Ok(())
+    }
+
+    /// Whether `area` lies inside the process RAM.
+    pub const fn in_process_ram(&self, area: Area) -> bool {
+        area.start >= register::PROCESS_RAM && area.end() <= self.process_ram_end
+    }
+
+    /// The mailbox configuration checked when entering `boot` (true) or PREOP (false), with the
+    /// code that reports a mismatch. `None` when BOOT is requested but not supported.
+    pub const fn mailbox_for(&self, boot: bool) -> Option<(&MailboxConfig, AlStatusCode)> {
+        if !boot {
+            return Some((&self.mailbox, AlStatusCode::INVALID_MAILBOX_CONFIG));
+        }
+        match &self.bootstrap_mailbox {
+            Some(m) => Some((m, AlStatusCode::INVALID_MAILBOX_CONFIG_BOOT)),
+            None => None,
+        }
+    }
+}

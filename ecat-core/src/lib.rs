@@ -1,0 +1,53 @@
+//! # ecat-core: the sans-IO EtherCAT SubDevice protocol core
+//!
+//! This crate owns every protocol decision of an EtherCAT SubDevice (slave) and nothing else:
+//! it performs no register access, reads no clock and needs no executor. The driver (for example
+//! the runners in `ecat-embassy`) feeds it the bytes it read from the EtherCAT SubDevice
+//! Controller (ESC), performs the register accesses it asks for, and passes the current time in.
+//!
+//! The contract, in the shape of `quinn-proto` and `smoltcp`:
+//! - **deterministic**: the same inputs at the same instants give the same outputs;
+//! - **no panics** on any input: malformed or hostile register contents become AL status codes;
+//! - **bounded work** per call, no heap, no global state.
+//!
+//! ## Layers
+//! | module | spec concept |
+//! |---|---|
+//! | [`register`] | ESC register map (ETG.1000.4 DL registers, ETG.1000.6 AL registers) |
+//! | [`al`] | AL control, AL status, AL status code, AL event (ETG.1000.6 Tables 9–12) |
+//! | [`sync_manager`] | SyncManager channel registers and the checks a SubDevice applies to them |
+//! | [`esm`] | the EtherCAT state machine transition rules (ETG.1000.6 §6.4) |
+//! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
+//! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
+//! | [`process_data`] | where the process-data image lives and what triggers its exchange |
+//! | [`time`] | instants and durations passed in by the driver |
+//! | [`ring`] | the heap-free FIFO behind every bounded queue |
+#![no_std]
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
+pub mod al;
+pub mod device;
+pub mod esm;
+pub mod process_data;
+pub mod register;
+pub mod ring;
+pub mod subdevice;
+pub mod sync_manager;
+pub mod time;
+
+pub use al::{AlControl, AlEvent, AlState, AlStatus, AlStatusCode};
+pub use device::DeviceConfig;
+pub use esm::Transition;
+pub use subdevice::{Access, Event, SubDevice};
+pub use time::{Duration, Instant};

@@ -1,0 +1,106 @@
+//! The ESC register map: the addresses of the registers a SubDevice and a MainDevice use.
+//!
+//! Addresses are the same on every ESC (ET1100, ET1200, AX58100, LAN9252, …): they are defined by
+//! ETG.1000.4 (DL registers) and ETG.1000.6 (AL registers). The typed views of the values live next to
+//! the concept they belong to: [`crate::al`] for the AL registers and [`crate::sync_manager`] for the
+//! SyncManager channels.
+//!
+//! Access rights are noted as ECAT/PDI: what the MainDevice and what the SubDevice's controller may do.
+
+/// DL information: ESC type, revision, FMMU/SM count, RAM size, features (ETG.1000.4 Table 31).
+/// 10 bytes, ECAT r / PDI r.
+pub const DL_INFORMATION: u16 = 0x0000;
+/// ESC features supported (part of DL information, bit 2 = DC supported) (ETG.1000.4 Table 31).
+pub const FEATURES: u16 = 0x0008;
+/// Configured station address (ETG.1000.4 Table 32). u16, ECAT rw / PDI r.
+pub const STATION_ADDRESS: u16 = 0x0010;
+/// Configured station alias (ETG.1000.4 Table 32). u16, ECAT r / PDI rw.
+pub const STATION_ALIAS: u16 = 0x0012;
+/// DL control: forwarding and loop control of the ports (ETG.1000.4 Table 33). u32.
+pub const DL_CONTROL: u16 = 0x0100;
+/// DL status: PDI operational, link and loop state per port (ETG.1000.4 Table 34). u16, read-only.
+pub const DL_STATUS: u16 = 0x0110;
+
+/// AL control, written by the MainDevice to request a state (ETG.1000.6 Table 9).
+/// u16, ECAT rw / PDI r. A PDI read clears AL event bit 0. See [`crate::AlControl`].
+pub const AL_CONTROL: u16 = 0x0120;
+/// AL status, written by the SubDevice (ETG.1000.6 Table 10). u16, ECAT r / PDI rw.
+/// See [`crate::AlStatus`].
+pub const AL_STATUS: u16 = 0x0130;
+/// AL status code (ETG.1000.6 Table 11). u16, ECAT r / PDI rw. See [`crate::AlStatusCode`].
+pub const AL_STATUS_CODE: u16 = 0x0134;
+/// PDI control: PDI type and "AL status emulation" (ETG.1000.6 Table 13). u8, loaded from SII word 0.
+pub const PDI_CONTROL: u16 = 0x0140;
+/// ESC configuration (device emulation, enhanced link detection), loaded from SII word 0 high byte.
+pub const ESC_CONFIGURATION: u16 = 0x0141;
+/// PDI configuration (ETG.1000.6 Table 14), loaded from SII word 1.
+pub const PDI_CONFIGURATION: u16 = 0x0150;
+
+/// ECAT event mask: which events reach the IRQ field of datagrams (ETG.1000.4 Table 38). u16.
+pub const ECAT_EVENT_MASK: u16 = 0x0200;
+/// AL event mask: which AL event request bits drive the PDI IRQ line. u32, ECAT r / PDI rw.
+/// See [`crate::AlEvent`].
+pub const AL_EVENT_MASK: u16 = 0x0204;
+/// ECAT event request (ETG.1000.4 Table 38). u16, read-only.
+pub const ECAT_EVENT_REQUEST: u16 = 0x0210;
+/// AL event request, the DL-user event register: what happened since the PDI last looked.
+/// u32, PDI read-only; each bit is cleared by reading its source. See [`crate::AlEvent`].
+pub const AL_EVENT_REQUEST: u16 = 0x0220;
+
+/// Watchdog divider: base unit of the watchdogs = (divider + 2) × 40 ns (ETG.1000.4 Table 44). u16.
+pub const WATCHDOG_DIVIDER: u16 = 0x0400;
+/// PDI watchdog time, in watchdog units (ETG.1000.4 Table 45). u16.
+pub const WATCHDOG_TIME_PDI: u16 = 0x0410;
+/// Process-data (SyncManager) watchdog time, in watchdog units (ETG.1000.4 Table 45). u16.
+pub const WATCHDOG_TIME_PROCESS_DATA: u16 = 0x0420;
+/// Process-data watchdog status: bit 0 = 1 while the watchdog has not expired (ETG.1000.4 Table 46).
+/// u16, read-only.
+pub const WATCHDOG_STATUS_PROCESS_DATA: u16 = 0x0440;
+/// Watchdog counters: SM watchdog expiries (low byte) and PDI watchdog expiries (ETG.1000.4 Table 47).
+pub const WATCHDOG_COUNTER: u16 = 0x0442;
+
+/// SII EEPROM interface: configuration/owner (0x0500), control/status (0x0502), address (0x0504),
+/// data (0x0508) (ETG.1000.4 Tables 48–51). 16 bytes.
+pub const SII_INTERFACE: u16 = 0x0500;
+/// SII control/status: read/write/reload commands, busy and error bits (ETG.1000.4 Table 49). u16.
+pub const SII_CONTROL: u16 = 0x0502;
+/// SII word address of the next command (ETG.1000.4 Table 50). u32.
+pub const SII_ADDRESS: u16 = 0x0504;
+/// SII data: 4 or 8 bytes read, 2 bytes to write (ETG.1000.4 Table 51).
+pub const SII_DATA: u16 = 0x0508;
+
+/// First FMMU entity (ETG.1000.4 Table 56). Entities are [`FMMU_SIZE`] bytes apart.
+pub const FMMU_BASE: u16 = 0x0600;
+/// Size of one FMMU entity in bytes (ETG.1000.4 Table 56).
+pub const FMMU_SIZE: u16 = 16;
+/// First SyncManager channel (ETG.1000.4 Table 58). Channels are [`SM_SIZE`] bytes apart.
+pub const SM_BASE: u16 = 0x0800;
+/// Size of one SyncManager channel in bytes (ETG.1000.4 Table 58).
+pub const SM_SIZE: u16 = 8;
+
+/// DC system time, local copy of the reference clock (ETG.1000.4 Table 60). u64.
+pub const DC_SYSTEM_TIME: u16 = 0x0910;
+/// DC cyclic unit control: which side controls SYNC/LATCH (ESC datasheet section II, 0x0980). u8.
+pub const DC_CYCLIC_UNIT_CONTROL: u16 = 0x0980;
+/// DC activation: bit 0 cyclic operation, bit 1 SYNC0, bit 2 SYNC1 (ESC datasheet section II,
+/// 0x0981). u8, written by the MainDevice, checked by the SubDevice at PREOP→SAFEOP.
+pub const DC_ACTIVATION: u16 = 0x0981;
+/// DC start time of cyclic operation (ESC datasheet section II, 0x0990). u64.
+pub const DC_START_TIME: u16 = 0x0990;
+/// DC SYNC0 cycle time in ns (ESC datasheet section II, 0x09A0). u32.
+pub const DC_SYNC0_CYCLE_TIME: u16 = 0x09A0;
+/// DC SYNC1 cycle time in ns (ESC datasheet section II, 0x09A4). u32.
+pub const DC_SYNC1_CYCLE_TIME: u16 = 0x09A4;
+
+/// Start of the process RAM, where mailboxes and process data live (ESC datasheet section I).
+pub const PROCESS_RAM: u16 = 0x1000;
+
+/// Address of SyncManager channel `n` (0..=15).
+pub const fn sync_manager(n: u8) -> u16 {
+    SM_BASE + (n as u16 & 0x0F) * SM_SIZE
+}
+
+/// Address of FMMU entity `n` (0..=15).
+pub const fn fmmu(n: u8) -> u16 {
+    FMMU_BASE + (n as u16 & 0x0F) * FMMU_SIZE
+}

@@ -1,0 +1,90 @@
+//! A fixed-capacity FIFO that never allocates and never panics: when full, a push drops the oldest
+//! element and counts it.
+
+/// A FIFO of at most `N` elements.
+#[derive(Debug, Clone)]
+pub struct Ring<T: Copy, const N: usize> {
+    slots: [Option<T>; N],
+    head: usize,
+    len: usize,
+    dropped: u32,
+}
+
+impl<T: Copy, const N: usize> Ring<T, N> {
+    /// An empty queue.
+    pub const fn new() -> Self {
+        Self {
+            slots: [None; N],
+            head: 0,
+            len: 0,
+            dropped: 0,
+        }
+    }
+
+    /// Appends `value`; when the queue is full the oldest element is dropped and counted.
+    pub fn push(&mut self, value: T) {
+        if N == 0 {
+            self.dropped = self.dropped.saturating_add(1);
+            return;
+        }
+        if self.len == N {
+            self.pop();
+            self.dropped = self.dropped.saturating_add(1);
+        }
+        let tail = (self.head + self.len) % N;
+        if let Some(slot) = self.slots.get_mut(tail) {
+            *slot = Some(value);
+            self.len += 1;
+        }
+    }
+
+    /// Removes and returns the oldest element.
+    pub fn pop(&mut self) -> Option<T> {
+        if self.len == 0 {
+            return None;
+        }
+        let value = self.slots.get_mut(self.head).and_then(Option::take);
+        self.head = (self.head + 1) % N;
+        self.len -= 1;
+        value
+    }
+
+    /// Number of queued elements.
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether nothing is queued.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// How many elements were dropped because the queue was full.
+    pub const fn dropped(&self) -> u32 {
+        self.dropped
+    }
+}
+
+impl<T: Copy, const N: usize> Default for Ring<T, N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Ring;
+
+    #[test]
+    fn fifo_order_and_oldest_dropped_when_full() {
+        let mut r: Ring<u8, 3> = Ring::new();
+        for v in 1..=5 {
+            r.push(v);
+        }
+        assert_eq!(r.dropped(), 2);
+        assert_eq!(
+            (r.pop(), r.pop(), r.pop(), r.pop()),
+            (Some(3), Some(4), Some(5), None)
+        );
+    }
+}

@@ -1,0 +1,516 @@
+//! The sans-IO SubDevice: AL events in, register accesses and application events out.
+//!
+//! The driver's loop, in the shape of `quinn-proto`:
+//!
+//! ```text
+//! loop {
+//!     while let Some(access) = sub.poll_access() {     // register accesses the core needs
+//!         let event = perform(access);                  // the AL event register comes back with it
+//!         sub.access_done(now, event);
+//!     }
+//!     while let Some(event) = sub.poll_event() { … }    // tell the application; answer transitions
+//!     wait for the IRQ (AL event & mask) or sub.poll_timeout();
+//!     sub.handle_al_event(event) / sub.handle_timeout(now);
+//! }
+//! ```
+//!
+//! The core decides what to read: an AL control event makes it read the SyncManager registers and
+//! then AL control (0x0120), so every transition is checked against the SyncManager configuration
+//! the MainDevice wrote before it. It writes AL status code before AL status, so a MainDevice that
+//! sees the error indication always reads the matching code. Each call does a bounded amount of
+//! work; nothing panics.
+
+use crate::al::{AlControl, AlEvent, AlState, AlStatus, AlStatusCode};
+use crate::device::{Area, DeviceConfig};
+use crate::esm::{self, Decision, Transition};
+use crate::process_data::Layout;
+use crate::register;
+use crate::ring::Ring;
+use crate::sync_manager::Channel;
+use crate::sync_manager::check::{self, Channels};
+use crate::time::Instant;
+
+/// The largest SyncManager register block the SubDevice reads (16 channels).
+const MAX_SM_BYTES: usize = 16 * Channel::SIZE;
+
+/// One register access the driver must perform for the core, then report with
+/// [`SubDevice::access_done`].
+#[derive(Debug, PartialEq, Eq)]
+pub enum Access<'a> {
+    /// Read `buf.len()` bytes at `address` into `buf`.
+    Read {
+        /// ESC address of the first byte.
+        address: u16,
+        /// Where the bytes go; the core reads them in `access_done`.
+        buf: &'a mut [u8],
+    },
+    /// Write `data` at `address`.
+    Write {
+        /// ESC address of the first byte.
+        address: u16,
+        /// The bytes to write.
+        data: &'a [u8],
+    },
+}
+
+impl Access<'_> {
+    /// The AL event bits this access clears in the ESC. An SPI ESC samples the AL event register
+    /// before the access, so these bits in the value it returns are stale and must not be taken
+    /// as new events.
+    pub fn clears(&self) -> AlEvent {
+        match self {
+            Access::Read { address, buf } => AlEvent::cleared_by_read(*address, buf.len()),
+            Access::Write { .. } => AlEvent::NONE,
+        }
+    }
+}
+
+/// What the application must hear about.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Event {
+    /// A valid upward transition passed the SyncManager checks and waits for the application's
+    /// consent: answer with [`SubDevice::complete_transition`] before [`SubDevice::poll_timeout`].
+    TransitionRequested(Transition),
+    /// A transition waiting for the application ended without its answer: it timed out (the
+    /// MainDevice got [`AlStatusCode::UNSPECIFIED_ERROR`]), or a new request or an error replaced it.
+    TransitionAborted(Transition),
+    /// The state changed: an accepted upward transition, a downward transition, or a fall back after
+    /// an error.
+    StateChanged(Transition),
+}
+
+/// The register accesses the core may need, in the order it performs them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Op {
+    WriteEventMask,
+    ReadSyncManagers,
+    ReadAlControl,
+    WritePdiControl(u8),
+    WriteStatusCode,
+    WriteStatus,
+}
+
+/// What the core last wrote to the ESC, so that it writes only what changed.
+#[derive(Debug, Clone, Copy, Default)]
+struct Written {
+    event_mask: Option<u32>,
+    pdi_control: [Option<u8>; 4],
+    status_code: Option<u16>,
+    status: Option<u16>,
+}
+
+/// A transition waiting for the application.
+#[derive(Debug, Clone, Copy)]
+struct Pending {
+    transition: Transition,
+    deadline: Instant,
+}
+
+/// The sans-IO EtherCAT SubDevice: state machine and SyncManager checks.
+#[derive(Debug)]
+pub struct SubDevice<'c> {
+    config: &'c DeviceConfig,
+    state: AlState,
+    error: bool,
+    code: AlStatusCode,
+    id_requested: bool,
+    device_id: u16,
+    channels: Channels,
+    read_sync_managers: bool,
+    read_al_control: bool,
+    sm_changed: bool,
+    written: Written,
+    in_flight: Option<(Op, u32)>,
+    pending: Option<Pending>,
+    events: Ring<Event, 8>,
+    buf: [u8; MAX_SM_BYTES],
+}
+
+impl<'c> SubDevice<'c> {
+    /// The AL events the state machine handles; the driver wakes it for these.
+    pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+
+    /// A SubDevice in INIT. Its first accesses write the AL event mask, deactivate the
+    /// SyncManagers through their PDI control registers and present INIT in AL status.
+    pub fn new(config: &'c DeviceConfig) -> Self {
+        Self {
+            config,
+            state: AlState::Init,
+            error: false,
+            code: AlStatusCode::NO_ERROR,
+            id_requested: false,
+            device_id: 0,
+            channels: Channels::default(),
+            read_sync_managers: false,
+            read_al_control: false,
+            sm_changed: false,
+            written: Written::default(),
+            in_flight: None,
+            pending: None,
+            events: Ring::new(),
+            buf: [0; MAX_SM_BYTES],
+        }
+    }
+
+    /// The device description this SubDevice checks against.
+    pub fn config(&self) -> &'c DeviceConfig {
+        self.config
+    }
+
+    /// The current state.
+    pub fn state(&self) -> AlState {
+        self.state
+    }
+
+    /// The AL status as presented (or about to be presented) in 0x0130.
+    pub fn al_status(&self) -> AlStatus {
+        AlStatus {
+            state: self.state,
+            error: self.error,
+            id_loaded: self.id_requested && !self.error,
+        }
+    }
+
+    /// The value presented in AL status code 0x0134: the error code, or the device ID while the
+    /// MainDevice requests it and there is no error.
+    pub fn al_status_code(&self) -> AlStatusCode {
+        if self.al_status().id_loaded {
+            AlStatusCode(self.device_id)
+        } else {
+            self.code
+        }
+    }
+
+    /// Sets the explicit device ID (for example read from rotary switches) presented when the
+    /// MainDevice sets AL control bit 5.
+    pub fn set_device_id(&mut self, id: u16) {
+        self.device_id = id;
+    }
+
+    /// The SyncManager registers as last read.
+    pub fn sync_managers(&self) -> &Channels {
+        &self.channels
+    }
+
+    /// Where the process data lives, in SAFEOP and OP.
+    pub fn process_data(&self) -> Option<Layout> {
+        if !self.state.has_process_data() {
+            return None;
+        }
+        let sizes = self.config.process_data;
+        let area =
+            |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
+        Some(Layout {
+            outputs: area(self.channels.outputs(), sizes.outputs),
+            inputs: area(self.channels.inputs(), sizes.inputs),
+            trigger: self.process_data_trigger(),
+            outputs_active: self.state == AlState::Op,
+        })
+    }
+
+    /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
+    fn process_data_trigger(&self) -> AlEvent {
+        let sizes = self.config.process_data;
+        if sizes.outputs > 0 {
+            AlEvent::sync_manager(2)
+        } else if sizes.inputs > 0 {
+            AlEvent::sync_manager(3)
+        } else {
+            AlEvent::NONE
+        }
+    }
+
+    /// Takes the AL event register value the driver saw (with the bits its own access cleared
+    /// removed, see [`Access::clears`]). Bits the state machine does not handle are ignored.
+    pub fn handle_al_event(&mut self, event: AlEvent) {
+        if event.contains(AlEvent::AL_CONTROL) {
+            self.read_sync_managers = true;
+            self.read_al_control = true;
+        }
+        if event.contains(AlEvent::SM_CHANGE) {
+            self.read_sync_managers = true;
+            self.sm_changed = true;
+        }
+    }
+
+    /// The next register access the core needs, or `None` when it has nothing to do. Until
+    /// [`SubDevice::access_done`] is called the same access is returned again.
+    pub fn poll_access(&mut self) -> Option<Access<'_>> {
+        let (op, value) = match self.in_flight {
+            Some(in_flight) => in_flight,
+            None => self.next_op()?,
+        };
+        self.in_flight = Some((op, value));
+        Some(self.prepare(op, value))
+    }
+
+    /// Reports that the access returned by [`SubDevice::poll_access`] was performed, with the AL
+    /// event register value the driver saw during it.
+    pub fn access_done(&mut self, now: Instant, event: AlEvent) {
+        let Some((op, value)) = self.in_flight.take() else {
+            return;
+        };
+        let cleared = match op {
+            Op::ReadAlControl => AlEvent::AL_CONTROL,
+            Op::ReadSyncManagers => AlEvent::SM_CHANGE,
+            _ => AlEvent::NONE,
+        };
+        self.complete(now, op, value);
+        self.handle_al_event(event.difference(cleared));
+    }
+
+    /// The next application event.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop()
+    }
+
+    /// When [`SubDevice::handle_timeout`] must be called next, if ever.
+    #[must_use]
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.pending.map(|p| p.deadline)
+    }
+
+    /// Expires what is due at `now`: a transition the application left pending is refused with
+    /// [`AlStatusCode::UNSPECIFIED_ERROR`].
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if let Some(p) = self.pending
+            && now >= p.deadline
+        {
+            self.fail(AlStatusCode::UNSPECIFIED_ERROR, p.transition.from);
+        }
+    }
+
+    /// The transition waiting for the application, if any.
+    pub fn pending_transition(&self) -> Option<Transition> {
+        self.pending.map(|p| p.transition)
+    }
+
+    /// The application's answer to [`Event::TransitionRequested`]: `Ok` completes the transition,
+    /// `Err(code)` refuses it with `code`. Ignored when `transition` is no longer pending.
+    pub fn complete_transition(
+        &mut self,
+        transition: Transition,
+        result: Result<(), AlStatusCode>,
+    ) {
+        match self.pending {
+            Some(p) if p.transition == transition => {}
+            _ => return,
+        }
+        self.pending = None;
+        let verified = result
+            .map_err(|code| (code, transition.from))
+            .and_then(|()| self.verify(transition.to));
+        match verified {
+            Ok(()) => self.change_state(transition),
+            Err((code, fallback)) => self.fail(code, fallback),
+        }
+    }
+
+    fn next_op(&self) -> Option<(Op, u32)> {
+        let mask = self.desired_event_mask().bits();
+        if self.written.event_mask != Some(mask) {
+            return Some((Op::WriteEventMask, mask));
+        }
+        if self.read_sync_managers {
+            return Some((Op::ReadSyncManagers, 0));
+        }
+        if self.read_al_control {
+            return Some((Op::ReadAlControl, 0));
+        }
+        for n in 0..4u8 {
+            let desired = self.desired_pdi_control(n);
+            if self
+                .written
+                .pdi_control
+                .get(usize::from(n))
+                .copied()
+                .flatten()
+                != Some(desired)
+            {
+                return Some((Op::WritePdiControl(n), u32::from(desired)));
+            }
+        }
+        let code = self.al_status_code().0;
+        if self.written.status_code != Some(code) {
+            return Some((Op::WriteStatusCode, u32::from(code)));
+        }
+        let status = self.al_status().bits();
+        if self.written.status != Some(status) {
+            return Some((Op::WriteStatus, u32::from(status)));
+        }
+        None
+    }
+
+    fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
+        let sm_bytes = usize::from(self.config.sync_manager_count.clamp(4, 16)) * Channel::SIZE;
+        let (address, len, write) = match op {
+            Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
+            Op::ReadSyncManagers => (register::SM_BASE, sm_bytes, false),
+            Op::ReadAlControl => (register::AL_CONTROL, 2, false),
+            Op::WritePdiControl(n) => (
+                register::sync_manager(n) + Channel::PDI_CONTROL_OFFSET,
+                1,
+                true,
+            ),
+            Op::WriteStatusCode => (register::AL_STATUS_CODE, 2, true),
+            Op::WriteStatus => (register::AL_STATUS, 2, true),
+        };
+        let buf = self.buf.get_mut(..len).unwrap_or_default();
+        if write {
+            let bytes = value.to_le_bytes();
+            for (dst, src) in buf.iter_mut().zip(bytes) {
+                *dst = src;
+            }
+            Access::Write { address, data: buf }
+        } else {
+            Access::Read { address, buf }
+        }
+    }
+
+    fn complete(&mut self, now: Instant, op: Op, value: u32) {
+        match op {
+            Op::WriteEventMask => self.written.event_mask = Some(value),
+            Op::WritePdiControl(n) => {
+                if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
+                    *slot = u8::try_from(value).ok();
+                }
+            }
+            Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
+            Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
+            Op::ReadSyncManagers => {
+                self.read_sync_managers = false;
+                if let Some(channels) = self
+                    .buf
+                    .get(..Channels::SIZE)
+                    .and_then(Channels::from_bytes)
+                {
+                    self.channels = channels;
+                }
+                if !self.read_al_control {
+                    self.check_sm_change();
+                }
+            }
+            Op::ReadAlControl => {
+                self.read_al_control = false;
+                let control = AlControl::from_le_bytes([self.buf[0], self.buf[1]]);
+                self.on_control(now, control);
+                self.check_sm_change();
+            }
+        }
+    }
+
+    /// Handles one AL control value (ETG.1000.6 §6.4.1).
+    fn on_control(&mut self, now: Instant, control: AlControl) {
+        if let Some(p) = self.pending {
+            let same = control.requested() == Some(p.transition.to) && !control.acknowledge();
+            if same {
+                return;
+            }
+            self.abort_pending();
+        }
+        let decision = esm::decide(
+            self.al_status(),
+            control,
+            self.config.bootstrap_mailbox.is_some(),
+        );
+        if decision == Decision::Ignore {
+            return;
+        }
+        self.error = false;
+        self.code = AlStatusCode::NO_ERROR;
+        self.id_requested = control.device_id_request();
+        match decision {
+            Decision::Ignore | Decision::Stay => {}
+            Decision::Refuse(code) => self.fail(code, self.state),
+            Decision::Down(t) => self.change_state(t),
+            Decision::Up(t) => self.begin_upward(now, t),
+        }
+    }
+
+    fn begin_upward(&mut self, now: Instant, t: Transition) {
+        if let Err((code, fallback)) = self.verify(t.to) {
+            self.fail(code, fallback);
+            return;
+        }
+        let deadline = now.saturating_add(self.config.transition_timeout);
+        self.pending = Some(Pending {
+            transition: t,
+            deadline,
+        });
+        self.events.push(Event::TransitionRequested(t));
+    }
+
+    /// Checks the SyncManagers a SubDevice in `state` relies on. On failure: the code, and the
+    /// highest state in which the configuration is still valid.
+    fn verify(&self, state: AlState) -> Result<(), (AlStatusCode, AlState)> {
+        if state.has_mailbox() {
+            let (mailbox, code) = self
+                .config
+                .mailbox_for(state == AlState::Boot)
+                .ok_or((AlStatusCode::BOOTSTRAP_NOT_SUPPORTED, AlState::Init))?;
+            check::mailbox(&self.channels, mailbox, code).map_err(|c| (c, AlState::Init))?;
+        }
+        if state.has_process_data() {
+            check::process_data(&self.channels, self.config).map_err(|c| (c, AlState::PreOp))?;
+        }
+        Ok(())
+    }
+
+    /// After an SM-change event: the configuration must still be valid for the current state
+    /// (0x0016 and back to INIT for the mailboxes, 0x001D/0x001E and back to PREOP for process data).
+    fn check_sm_change(&mut self) {
+        if !core::mem::take(&mut self.sm_changed) {
+            return;
+        }
+        if let Err((code, fallback)) = self.verify(self.state) {
+            self.fail(code, fallback);
+        }
+    }
+
+    /// Sets the error indication with `code` and falls back to `state` when it is lower.
+    fn fail(&mut self, code: AlStatusCode, state: AlState) {
+        self.abort_pending();
+        if state.rank() < self.state.rank() {
+            let t = Transition {
+                from: self.state,
+                to: state,
+            };
+            if t.from != t.to {
+                self.change_state(t);
+            }
+        }
+        self.error = true;
+        self.code = code;
+    }
+
+    fn change_state(&mut self, t: Transition) {
+        self.abort_pending();
+        self.state = t.to;
+        self.events.push(Event::StateChanged(t));
+    }
+
+    fn abort_pending(&mut self) {
+        if let Some(p) = self.pending.take() {
+            self.events.push(Event::TransitionAborted(p.transition));
+        }
+    }
+
+    fn desired_event_mask(&self) -> AlEvent {
+        let mut mask = Self::ESM_EVENTS;
+        if self.state.has_process_data() {
+            mask |= self.process_data_trigger();
+        }
+        mask
+    }
+
+    /// PDI control of SyncManager `n`: mailbox channels active from PREOP (and in BOOT), process
+    /// data channels active in SAFEOP and OP; deactivated otherwise.
+    fn desired_pdi_control(&self, n: u8) -> u8 {
+        let active = if n < 2 {
+            self.state.has_mailbox()
+        } else {
+            self.state.has_process_data()
+        };
+        if active { 0 } else { Channel::PDI_DEACTIVATE }
+    }
+}

@@ -1,0 +1,153 @@
+//! The checks a SubDevice applies to the MainDevice's SyncManager configuration
+//! (ETG.1000.6 §6.4.2 "SyncManager check"; SSC `CheckSmSettings`).
+//!
+//! - Mailbox (SM0/SM1), at INIT→PREOP and on every SM change in PREOP/SAFEOP/OP: enabled, start
+//!   and length exactly as configured, mailbox mode, correct direction. Otherwise 0x0016
+//!   (0x0015 for the bootstrap mailbox).
+//! - Process data (SM2 outputs, SM3 inputs), at PREOP→SAFEOP and on SM change in SAFEOP/OP:
+//!   a direction with data needs the channel enabled with exactly the image length, the right
+//!   direction, a buffer mode, inside process RAM and overlapping nothing; a direction without
+//!   data needs the channel disabled. Otherwise 0x001D (outputs) or 0x001E (inputs).
+//!
+//! The control byte is checked in its mode and direction bits; the event and watchdog bits are
+//! the MainDevice's choice (the watchdog bit is checked with the watchdog configuration).
+
+use super::{Channel, Direction, Mode};
+use crate::AlStatusCode;
+use crate::device::{Area, DeviceConfig, MailboxConfig};
+
+/// SyncManagers 0..=3 as the PDI read them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Channels(pub [Channel; 4]);
+
+impl Channels {
+    /// Bytes of register space the four channels occupy (0x0800..0x0820).
+    pub const SIZE: usize = 4 * Channel::SIZE;
+
+    /// Parses the registers of SM0..SM3 (32 bytes from 0x0800). Returns `None` for a slice of
+    /// another length.
+    pub fn from_bytes(bytes: &[u8]) -> Option<Self> {
+        let mut out = [Channel::default(); 4];
+        if bytes.len() != Self::SIZE {
+            return None;
+        }
+        for (channel, chunk) in out.iter_mut().zip(bytes.chunks_exact(Channel::SIZE)) {
+            let regs: [u8; 8] = chunk.try_into().ok()?;
+            *channel = Channel::from_bytes(regs);
+        }
+        Some(Self(out))
+    }
+
+    /// The receive mailbox, SM0.
+    pub const fn mailbox_receive(&self) -> &Channel {
+        &self.0[0]
+    }
+
+    /// The send mailbox, SM1.
+    pub const fn mailbox_send(&self) -> &Channel {
+        &self.0[1]
+    }
+
+    /// The outputs, SM2.
+    pub const fn outputs(&self) -> &Channel {
+        &self.0[2]
+    }
+
+    /// The inputs, SM3.
+    pub const fn inputs(&self) -> &Channel {
+        &self.0[3]
+    }
+}
+
+/// Checks SM0/SM1 against `mailbox`; `code` is the answer on mismatch (0x0016 or 0x0015).
+pub fn mailbox(
+    channels: &Channels,
+    mailbox: &MailboxConfig,
+    code: AlStatusCode,
+) -> Result<(), AlStatusCode> {
+    let rx = is_mailbox(
+        channels.mailbox_receive(),
+        mailbox.receive,
+        Direction::MainDeviceWrites,
+    );
+    let tx = is_mailbox(
+        channels.mailbox_send(),
+        mailbox.send,
+        Direction::MainDeviceReads,
+    );
+    if rx && tx { Ok(()) } else { Err(code) }
+}
+
+fn is_mailbox(channel: &Channel, area: Area, direction: Direction) -> bool {
+    channel.enabled()
+        && channel.start == area.start
+        && channel.length == area.length
+        && channel.control.mode() == Mode::Mailbox
+        && channel.control.direction() == direction
+}
+
+/// Checks SM2/SM3 against the process-data sizes of `device`, and that no enabled channel
+/// overlaps another or a mailbox.
+pub fn process_data(channels: &Channels, device: &DeviceConfig) -> Result<(), AlStatusCode> {
+    let sizes = device.process_data;
+    let outputs = channels.outputs();
+    let inputs = channels.inputs();
+    if !is_process_data(outputs, sizes.outputs, Direction::MainDeviceWrites, device) {
+        return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
+    }
+    if !is_process_data(inputs, sizes.inputs, Direction::MainDeviceReads, device) {
+        return Err(AlStatusCode::INVALID_INPUT_CONFIG);
+    }
+    let mailboxes = [device.mailbox.receive, device.mailbox.send];
+    let out_area = occupied(outputs);
+    let in_area = occupied(inputs);
+    if overlaps_any(out_area, &mailboxes) {
+        return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
+    }
+    if overlaps_any(in_area, &mailboxes) || overlaps_any(in_area, &[out_area.unwrap_or(EMPTY)]) {
+        return Err(AlStatusCode::INVALID_INPUT_CONFIG);
+    }
+    Ok(())
+}
+
+const EMPTY: Area = Area::new(0, 0);
+
+fn is_process_data(
+    channel: &Channel,
+    size: u16,
+    direction: Direction,
+    device: &DeviceConfig,
+) -> bool {
+    if size == 0 {
+        return !channel.enabled();
+    }
+    let mode_ok = matches!(channel.control.mode(), Mode::Buffered | Mode::Mailbox);
+    let fits = match channel.occupied() {
+        Some((start, end)) => {
+            start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end
+        }
+        None => false,
+    };
+    channel.enabled()
+        && channel.length == size
+        && channel.control.direction() == direction
+        && mode_ok
+        && fits
+}
+
+/// The area an enabled process-data channel occupies (all three buffers in 3-buffer mode).
+fn occupied(channel: &Channel) -> Option<Area> {
+    if !channel.enabled() {
+        return None;
+    }
+    let (start, end) = channel.occupied()?;
+    let length = u16::try_from(end.saturating_sub(start)).unwrap_or(u16::MAX);
+    Some(Area::new(channel.start, length))
+}
+
+fn overlaps_any(area: Option<Area>, others: &[Area]) -> bool {
+    match area {
+        Some(a) => others.iter().any(|o| a.overlaps(*o)),
+        None => false,
+    }
+}
