@@ -1,2 +1,48 @@
+//! # ecat-embassy: run an ecat SubDevice under Embassy
+//!
+//! The async glue between [`ecat_core`] (which makes every protocol decision) and the hardware:
+//!
+//! | module | role |
+//! |---|---|
+//! | [`pdi`] | the [`Pdi`] trait: register access to the ESC, returning the AL event register |
+//! | [`shared`] | [`SharedEsc`]: the PDI behind an async mutex plus the routing of AL events between the runners |
+//! | [`app`] | what the firmware author implements: [`Application`] (state hooks) and [`CycleHandler`] (process data) |
+//! | [`esm_runner`] | [`run_esm`]: the state machine, in the low-priority thread executor |
+//! | [`pd_runner`] | [`run_process_data`]: the process-data exchange, in an `InterruptExecutor`; owns the IRQ line |
+//!
+//! ## Who wakes whom
+//! The ESC has one IRQ line: asserted while `AL event & AL event mask` is not empty. The
+//! process-data runner owns it. When it fires, that runner reads the AL event register (in
+//! SyncManager-synchronous mode it reads the output buffer instead and gets the AL event for free
+//! from an SPI ESC). Every PDI access of either runner reports the AL event value it saw to the
+//! [`SharedEsc`], which wakes the state-machine runner for state-machine events and the
+//! process-data runner for its trigger. While state-machine events hold the IRQ line asserted, the
+//! process-data runner does not wait on the line (it would spin) but on the shared state, and the
+//! state-machine runner's own accesses tell it when the line is free again. Nothing polls.
+//!
+//! ## Firmware shape
+//! ```ignore
+//! static ESC: StaticCell<SharedEsc<CriticalSectionRawMutex, MyPdi>> = StaticCell::new();
+//!
+//! #[embassy_executor::task]
+//! async fn esm(esc: &'static SharedEsc<CriticalSectionRawMutex, MyPdi>, app: MyApp) {
+//!     let mut sub = SubDevice::new(&CONFIG);
+//!     let mut app = app;
+//!     let err = ecat_embassy::run_esm(esc, &mut sub, &mut app).await;
+//!     defmt::error!("PDI failed: {}", err);
+//! }
+//! ```
 #![no_std]
-//! placeholder
+
+pub mod app;
+pub mod esm_runner;
+pub mod pd_runner;
+pub mod pdi;
+pub mod shared;
+mod time;
+
+pub use app::{Application, CycleHandler};
+pub use esm_runner::run_esm;
+pub use pd_runner::run_process_data;
+pub use pdi::Pdi;
+pub use shared::SharedEsc;

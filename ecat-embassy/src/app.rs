@@ -1,0 +1,35 @@
+//! What the firmware author implements.
+//!
+//! Two traits, because the two runners live in two executors: the state hooks run in the
+//! low-priority thread executor next to the mailbox, the cycle in the process-data interrupt
+//! executor. Data both need is shared by the application through its own
+//! `CriticalSectionRawMutex` cell.
+
+use ecat_core::{AlStatusCode, Transition};
+
+/// State-machine hooks, called by [`run_esm`](crate::run_esm).
+#[allow(async_fn_in_trait)]
+pub trait Application {
+    /// An upward transition (INIT→PREOP, PREOP→SAFEOP, SAFEOP→OP, INIT→BOOT) passed the
+    /// SyncManager checks. Return `Ok` to accept, `Err(code)` to refuse with that AL status code.
+    ///
+    /// The future may take time (the transition is "pending" meanwhile): if it is not done within
+    /// the device's `transition_timeout`, the MainDevice gets 0x0001 and the future is dropped. It is
+    /// also dropped when the MainDevice replaces the request.
+    async fn on_transition(&mut self, transition: Transition) -> Result<(), AlStatusCode> {
+        let _ = transition;
+        Ok(())
+    }
+
+    /// The state changed (accepted upward, downward, or a fall back after an error).
+    fn on_state_change(&mut self, transition: Transition) {
+        let _ = transition;
+    }
+}
+
+/// The process-data cycle, called by [`run_process_data`](crate::run_process_data).
+pub trait CycleHandler {
+    /// One cycle: `outputs` is the output image the MainDevice wrote, `Some` only in OP; fill
+    /// `inputs` with the input image. Keep it short: it runs in the interrupt executor.
+    fn cycle(&mut self, outputs: Option<&[u8]>, inputs: &mut [u8]);
+}

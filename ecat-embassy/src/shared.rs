@@ -1,0 +1,194 @@
+//! The ESC as both runners share it: the PDI behind an async mutex, and the routing of the AL
+//! events every access reports.
+
+use core::cell::RefCell;
+use core::future::poll_fn;
+use core::task::Poll;
+
+use ecat_core::process_data::Layout;
+use ecat_core::{AlEvent, SubDevice};
+use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
+use embassy_sync::blocking_mutex::raw::RawMutex;
+use embassy_sync::mutex::Mutex;
+use embassy_sync::waitqueue::WakerRegistration;
+
+use crate::Pdi;
+
+/// Which runner performs an access.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Runner {
+    /// The state-machine runner: it hands the AL event to its core itself.
+    Esm,
+    /// The process-data runner.
+    ProcessData,
+}
+
+/// What the runners know about each other, behind a short critical section.
+struct Routing {
+    /// State-machine events seen by the process-data runner and not yet taken.
+    esm_events: AlEvent,
+    /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
+    /// may hold the IRQ line asserted.
+    esm_holds_irq: bool,
+    /// Process-data trigger events seen and not yet taken.
+    pd_events: AlEvent,
+    /// The process-data layout published by the state-machine runner.
+    layout: Option<Layout>,
+    /// Bumped whenever something changes for the process-data runner.
+    pd_news: u32,
+    esm_waker: WakerRegistration,
+    pd_waker: WakerRegistration,
+}
+
+impl Routing {
+    fn notify_pd(&mut self) {
+        self.pd_news = self.pd_news.wrapping_add(1);
+        self.pd_waker.wake();
+    }
+}
+
+/// The ESC shared by the two runners. `M` is `CriticalSectionRawMutex` in firmware, where the
+/// runners live in different executors.
+pub struct SharedEsc<M: RawMutex, P> {
+    pdi: Mutex<M, P>,
+    routing: BlockingMutex<M, RefCell<Routing>>,
+}
+
+impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
+    /// Wraps the PDI driver. `const`, so it can live in a `static` or a `StaticCell`.
+    pub const fn new(pdi: P) -> Self {
+        Self {
+            pdi: Mutex::new(pdi),
+            routing: BlockingMutex::new(RefCell::new(Routing {
+                esm_events: AlEvent::NONE,
+                esm_holds_irq: false,
+                pd_events: AlEvent::NONE,
+                layout: None,
+                pd_news: 0,
+                esm_waker: WakerRegistration::new(),
+                pd_waker: WakerRegistration::new(),
+            })),
+        }
+    }
+
+    /// Reads at `address` for `runner`; returns the AL event seen, less the bits the read clears.
+    pub(crate) async fn read(
+        &self,
+        runner: Runner,
+        address: u16,
+        buf: &mut [u8],
+        clears: AlEvent,
+    ) -> Result<AlEvent, P::Error> {
+        let event = self
+            .pdi
+            .lock()
+            .await
+            .read(address, buf)
+            .await?
+            .difference(clears);
+        self.observe(runner, event);
+        Ok(event)
+    }
+
+    /// Writes at `address` for `runner`; returns the AL event seen.
+    pub(crate) async fn write(
+        &self,
+        runner: Runner,
+        address: u16,
+        data: &[u8],
+    ) -> Result<AlEvent, P::Error> {
+        let event = self.pdi.lock().await.write(address, data).await?;
+        self.observe(runner, event);
+        Ok(event)
+    }
+
+    /// Routes one AL event value: state-machine events to the state-machine runner (unless it made
+    /// the access itself: then its core already has them, and they are the freshest news), the
+    /// process-data trigger to the process-data runner.
+    fn observe(&self, runner: Runner, event: AlEvent) {
+        self.with(|r| {
+            let esm = event.intersection(SubDevice::ESM_EVENTS);
+            if runner == Runner::Esm {
+                r.esm_events = AlEvent::NONE;
+            } else if !esm.is_empty() {
+                r.esm_events |= esm;
+                r.esm_waker.wake();
+            }
+            let was_holding = r.esm_holds_irq;
+            r.esm_holds_irq = !esm.is_empty() || !r.esm_events.is_empty();
+            let trigger = r.layout.map_or(AlEvent::NONE, |l| l.trigger);
+            let pd = event.intersection(trigger);
+            if !pd.is_empty() && runner == Runner::Esm {
+                r.pd_events |= pd;
+            }
+            if (was_holding && !r.esm_holds_irq) || !r.pd_events.is_empty() {
+                r.notify_pd();
+            }
+        });
+    }
+
+    /// Waits for state-machine events seen by the other runner.
+    pub(crate) async fn esm_events(&self) -> AlEvent {
+        poll_fn(|cx| {
+            self.with(|r| {
+                if r.esm_events.is_empty() {
+                    r.esm_waker.register(cx.waker());
+                    Poll::Pending
+                } else {
+                    Poll::Ready(core::mem::take(&mut r.esm_events))
+                }
+            })
+        })
+        .await
+    }
+
+    /// Publishes the process-data layout of the current state.
+    pub(crate) fn publish_layout(&self, layout: Option<Layout>) {
+        self.with(|r| {
+            if r.layout != layout {
+                r.layout = layout;
+                r.notify_pd();
+            }
+        });
+    }
+
+    /// The process-data layout of the current state.
+    pub(crate) fn layout(&self) -> Option<Layout> {
+        self.with(|r| r.layout)
+    }
+
+    /// Takes the process-data trigger events seen by the state-machine runner.
+    pub(crate) fn take_pd_events(&self) -> AlEvent {
+        self.with(|r| core::mem::take(&mut r.pd_events))
+    }
+
+    /// Whether state-machine events may hold the IRQ line asserted.
+    pub(crate) fn esm_holds_irq(&self) -> bool {
+        self.with(|r| r.esm_holds_irq)
+    }
+
+    /// A token for [`SharedEsc::pd_news_since`]: take it before looking at the shared state.
+    pub(crate) fn pd_generation(&self) -> u32 {
+        self.with(|r| r.pd_news)
+    }
+
+    /// Waits until something changed for the process-data runner since `seen` was taken: its
+    /// trigger was seen, the state-machine events released the IRQ line, or the layout changed.
+    pub(crate) async fn pd_news_since(&self, seen: u32) {
+        poll_fn(|cx| {
+            self.with(|r| {
+                if r.pd_news != seen {
+                    Poll::Ready(())
+                } else {
+                    r.pd_waker.register(cx.waker());
+                    Poll::Pending
+                }
+            })
+        })
+        .await
+    }
+
+    fn with<R>(&self, f: impl FnOnce(&mut Routing) -> R) -> R {
+        self.routing.lock(|cell| f(&mut cell.borrow_mut()))
+    }
+}
