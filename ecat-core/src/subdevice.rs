@@ -223,7 +223,9 @@ impl<'c> SubDevice<'c> {
     /// Takes the AL event register value the driver saw (with the bits its own access cleared
     /// removed, see [`Access::clears`]). Bits the state machine does not handle are ignored.
     pub fn handle_al_event(&mut self, event: AlEvent) {
-        if event.contains(AlEvent::AL_CONTROL) {
+        // The SyncManagers are read once per AL control event, before AL control: a stale
+        // AL control bit seen while that read is still scheduled must not schedule it again.
+        if event.contains(AlEvent::AL_CONTROL) && !self.read_al_control {
             self.read_sync_managers = true;
             self.read_al_control = true;
         }

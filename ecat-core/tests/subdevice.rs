@@ -1,0 +1,218 @@
+//! The sans-IO SubDevice, access by access: which registers it reads and writes, in which order,
+//! with which bytes.
+
+mod common;
+
+use common::{DEVICE, Op, Regs, configure_all};
+use ecat_core::{AlState, AlStatusCode, Duration, Event, Instant, SubDevice, Transition};
+
+const T0: Instant = Instant::from_micros(0);
+
+fn up(from: AlState, to: AlState) -> Transition {
+    Transition { from, to }
+}
+
+/// A SubDevice after its start-up accesses.
+fn started(regs: &mut Regs) -> SubDevice<'static> {
+    let mut sub = SubDevice::new(&DEVICE);
+    regs.drive(&mut sub, T0);
+    sub
+}
+
+#[test]
+fn start_up_writes_mask_deactivates_sync_managers_and_presents_init() {
+    let mut regs = Regs::new();
+    let mut sub = SubDevice::new(&DEVICE);
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(
+        log,
+        [
+            Op::Write(0x0204, vec![0x11, 0, 0, 0]),
+            Op::Write(0x0807, vec![1]),
+            Op::Write(0x080F, vec![1]),
+            Op::Write(0x0817, vec![1]),
+            Op::Write(0x081F, vec![1]),
+            Op::Write(0x0134, vec![0, 0]),
+            Op::Write(0x0130, vec![1, 0]),
+        ]
+    );
+    assert_eq!(sub.poll_event(), None);
+    assert!(
+        regs.drive(&mut sub, T0).is_empty(),
+        "idle SubDevice accessed the ESC"
+    );
+}
+
+#[test]
+fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    regs.al_control(0x0002);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(log, [Op::Read(0x0800, 64), Op::Read(0x0120, 2)]);
+    assert_eq!(regs.event, 0, "both events cleared by the reads");
+    assert_eq!(
+        sub.poll_event(),
+        Some(Event::TransitionRequested(up(
+            AlState::Init,
+            AlState::PreOp
+        )))
+    );
+    assert_eq!(regs.u16_at(0x0130), 0x0001, "pending: still INIT");
+
+    sub.complete_transition(up(AlState::Init, AlState::PreOp), Ok(()));
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(
+        log,
+        [
+            Op::Write(0x0807, vec![0]),
+            Op::Write(0x080F, vec![0]),
+            Op::Write(0x0130, vec![2, 0])
+        ]
+    );
+    assert_eq!(
+        sub.poll_event(),
+        Some(Event::StateChanged(up(AlState::Init, AlState::PreOp)))
+    );
+}
+
+#[test]
+fn refusal_writes_the_code_before_the_error_indication() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    regs.al_control(0x0002); // SyncManagers not configured
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(
+        log,
+        [
+            Op::Read(0x0800, 64),
+            Op::Read(0x0120, 2),
+            Op::Write(0x0134, vec![0x16, 0]),
+            Op::Write(0x0130, vec![0x11, 0]),
+        ]
+    );
+    assert_eq!(
+        sub.poll_event(),
+        None,
+        "the application is not asked about a refused transition"
+    );
+}
+
+#[test]
+fn process_data_trigger_joins_the_event_mask_in_safeop() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    for (control, from, to) in [
+        (2, AlState::Init, AlState::PreOp),
+        (4, AlState::PreOp, AlState::SafeOp),
+    ] {
+        regs.al_control(control);
+        sub.handle_al_event(ecat_core::AlEvent(regs.event));
+        regs.drive(&mut sub, T0);
+        sub.complete_transition(up(from, to), Ok(()));
+        let log = regs.drive(&mut sub, T0);
+        if to == AlState::SafeOp {
+            assert_eq!(
+                log,
+                [
+                    Op::Write(0x0204, vec![0x11, 0x04, 0, 0]),
+                    Op::Write(0x0817, vec![0]),
+                    Op::Write(0x081F, vec![0]),
+                    Op::Write(0x0130, vec![4, 0]),
+                ]
+            );
+        }
+    }
+    let layout = sub.process_data().expect("layout in SAFEOP");
+    assert_eq!(
+        (layout.outputs, layout.inputs),
+        (Some(common::OUTPUTS), Some(common::INPUTS))
+    );
+    assert!(
+        !layout.outputs_active,
+        "outputs are never applied in SAFEOP"
+    );
+}
+
+#[test]
+fn pending_transition_is_answered_with_0x0001_at_the_deadline() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    regs.al_control(0x0002);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    let deadline = sub
+        .poll_timeout()
+        .expect("a pending transition has a deadline");
+    assert_eq!(deadline, T0.saturating_add(DEVICE.transition_timeout));
+    assert_eq!(DEVICE.transition_timeout, Duration::from_millis(1_000));
+
+    sub.handle_timeout(Instant::from_micros(deadline.as_micros() - 1));
+    assert!(
+        regs.drive(&mut sub, T0).is_empty(),
+        "nothing happens before the deadline"
+    );
+    sub.handle_timeout(deadline);
+    let log = regs.drive(&mut sub, deadline);
+    assert_eq!(
+        log,
+        [
+            Op::Write(0x0134, vec![0x01, 0]),
+            Op::Write(0x0130, vec![0x11, 0])
+        ]
+    );
+    let t = up(AlState::Init, AlState::PreOp);
+    assert_eq!(sub.poll_event(), Some(Event::TransitionRequested(t)));
+    assert_eq!(sub.poll_event(), Some(Event::TransitionAborted(t)));
+    assert_eq!(sub.poll_timeout(), None);
+
+    sub.complete_transition(t, Ok(()));
+    assert!(
+        regs.drive(&mut sub, deadline).is_empty(),
+        "a late answer changes nothing"
+    );
+}
+
+#[test]
+fn a_new_request_aborts_the_pending_transition() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    regs.al_control(0x0002);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    regs.al_control(0x0002);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    assert!(
+        sub.pending_transition().is_some(),
+        "the same request again keeps waiting"
+    );
+
+    regs.al_control(0x0001);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    let t = up(AlState::Init, AlState::PreOp);
+    assert_eq!(sub.poll_event(), Some(Event::TransitionRequested(t)));
+    assert_eq!(sub.poll_event(), Some(Event::TransitionAborted(t)));
+    assert_eq!(sub.poll_event(), None);
+    assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0001, 0));
+}
+
+#[test]
+fn application_refusal_carries_its_code() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    regs.al_control(0x0002);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    sub.complete_transition(up(AlState::Init, AlState::PreOp), Err(AlStatusCode(0x8001)));
+    regs.drive(&mut sub, T0);
+    assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0011, 0x8001));
+}
