@@ -1,4 +1,14 @@
 //! # ecat-emu: run ecat SubDevices on a PC
 //!
-//! - [`esc`]: an emulated EtherCAT SubDevice Controller with a PDI port and an EtherCAT port.
+//! Everything a firmware author needs to test an ecat SubDevice without hardware:
+//!
+//! | module | what |
+//! |---|---|
+//! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events |
+//! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
+//! | [`master`] | a scripted MainDevice with virtual time |
+//! | [`harness`] | runs the real runners on `embassy-executor` with the mock time driver |
+pub mod emulator;
 pub mod esc;
+pub mod harness;
+pub mod master;

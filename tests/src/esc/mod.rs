@@ -1,1 +1,261 @@
-//! The emulated ESC (being written).
+//! The emulated EtherCAT SubDevice Controller (ESC): the dual-ported memory that the SubDevice's
+//! controller (over the PDI) and the MainDevice (over the EtherCAT port) share, with the register
+//! access rights, the AL event request register and the SyncManager buffer logic of a real ESC
+//! such as the ET1100 (ESC datasheet sections I and II; ETG.1000.4 Tables 31–58).
+//!
+//! [`Esc`] is synchronous and deterministic. An access may span several areas: the register file,
+//! the buffer of an effective SyncManager, plain process RAM and the non-existent memory beyond
+//! it; each byte follows the rules of the area it falls into. No input makes it panic.
+
+mod access;
+mod area;
+mod memory;
+mod registers;
+mod sync_manager;
+#[cfg(test)]
+mod tests;
+
+use ecat_core::{AlEvent, register};
+
+use access::{Access, Side};
+use area::{Area, AreaMap, MAX_CHANNELS};
+use memory::Memory;
+use sync_manager::{Buffer, ChannelState};
+
+/// Size of the ESC address space (16-bit physical addresses, ETG.1000.4 §5.2).
+const ADDRESS_SPACE: usize = 0x1_0000;
+
+/// The hardware configuration of the emulated ESC: what a real ESC fixes in silicon and reports
+/// in its DL information registers (ETG.1000.4 Table 31).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EscConfig {
+    /// SyncManager channels (register 0x0005), at most 16.
+    pub sync_managers: u8,
+    /// FMMU entities (register 0x0004), at most 16.
+    pub fmmus: u8,
+    /// First address after the process RAM, between 0x1000 and 0x10000 (register 0x0006 reports
+    /// the RAM size in KiB).
+    pub process_ram_end: u32,
+    /// ESC type (register 0x0000); 0x11 is the ET1100.
+    pub esc_type: u8,
+    /// Distributed clocks supported (features register 0x0008 bit 2).
+    pub dc_supported: bool,
+}
+
+impl Default for EscConfig {
+    /// An ET1100-like ESC: 8 SyncManagers, 8 FMMUs, 8 KiB of process RAM, no DC.
+    fn default() -> Self {
+        Self {
+            sync_managers: 8,
+            fmmus: 8,
+            process_ram_end: 0x3000,
+            esc_type: 0x11,
+            dc_supported: false,
+        }
+    }
+}
+
+impl EscConfig {
+    /// The configuration limited to what the register map can express.
+    fn normalised(self) -> Self {
+        let max = u8::try_from(MAX_CHANNELS).unwrap_or(u8::MAX);
+        Self {
+            sync_managers: self.sync_managers.min(max),
+            fmmus: self.fmmus.min(max),
+            ..self
+        }
+    }
+
+    /// First address after the process RAM, within the address space.
+    fn ram_end(&self) -> usize {
+        usize::try_from(self.process_ram_end)
+            .unwrap_or(ADDRESS_SPACE)
+            .clamp(usize::from(register::PROCESS_RAM), ADDRESS_SPACE)
+    }
+}
+
+/// Counters of the PDI traffic, as a logic analyser on the SPI bus of a real SubDevice would
+/// measure it: accesses and bytes requested, whatever the ESC did with them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct PdiStats {
+    /// Read accesses.
+    pub reads: u64,
+    /// Write accesses.
+    pub writes: u64,
+    /// Bytes requested by the reads.
+    pub bytes_read: u64,
+    /// Bytes carried by the writes.
+    pub bytes_written: u64,
+}
+
+impl PdiStats {
+    /// Counts one access of `len` bytes into `accesses` and `bytes`.
+    fn count(accesses: &mut u64, bytes: &mut u64, len: usize) {
+        *accesses = accesses.saturating_add(1);
+        *bytes = bytes.saturating_add(u64::try_from(len).unwrap_or(u64::MAX));
+    }
+}
+
+/// An emulated ESC with a PDI port and an EtherCAT port (ESC datasheet section I).
+///
+/// Models the register access rights of both ports, the AL event request register and its PDI
+/// IRQ line, and the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58). FMMUs,
+/// the SII EEPROM, watchdogs and distributed clocks are plain registers.
+pub struct Esc {
+    /// The configuration, limited to the register map.
+    config: EscConfig,
+    /// Registers and process RAM.
+    memory: Memory,
+    /// The buffer state of each SyncManager channel.
+    channels: [ChannelState; MAX_CHANNELS],
+    /// AL event bit 0: the MainDevice wrote AL control since the PDI last read it.
+    al_control_event: bool,
+    /// PDI traffic counters.
+    stats: PdiStats,
+}
+
+impl Esc {
+    /// An ESC just after power-on: registers at their reset values, process RAM zeroed, all
+    /// SyncManagers disabled.
+    pub fn new(config: EscConfig) -> Self {
+        let config = config.normalised();
+        Self {
+            memory: registers::reset_image(&config),
+            config,
+            channels: Default::default(),
+            al_control_event: false,
+            stats: PdiStats::default(),
+        }
+    }
+
+    /// A PDI read of `buf.len()` bytes from `address`. Returns the AL event request register as
+    /// it was before the access: SPI ESCs shift it out during the address phase (ESC datasheet
+    /// section II, "SPI slave interface").
+    pub fn pdi_read(&mut self, address: u16, buf: &mut [u8]) -> AlEvent {
+        let event = self.al_event();
+        PdiStats::count(&mut self.stats.reads, &mut self.stats.bytes_read, buf.len());
+        self.access(Side::Pdi, address, Access::Read(buf));
+        event
+    }
+
+    /// A PDI write of `data` at `address`. Returns the AL event request register as it was
+    /// before the access, like [`Esc::pdi_read`].
+    pub fn pdi_write(&mut self, address: u16, data: &[u8]) -> AlEvent {
+        let event = self.al_event();
+        PdiStats::count(
+            &mut self.stats.writes,
+            &mut self.stats.bytes_written,
+            data.len(),
+        );
+        self.access(Side::Pdi, address, Access::Write(data));
+        event
+    }
+
+    /// The PDI IRQ line: asserted while an AL event request bit is set that the AL event mask
+    /// (0x0204) lets through (ESC datasheet section II, 0x0204 and 0x0220).
+    pub fn irq(&self) -> bool {
+        let mask = self.memory.u32_le(usize::from(register::AL_EVENT_MASK));
+        self.al_event().intersects(AlEvent(mask))
+    }
+
+    /// The AL event request register (0x0220): AL control written (bit 0), SyncManager
+    /// activation changed (bit 4), SyncManager buffer events (bit 8 + n).
+    pub fn al_event(&self) -> AlEvent {
+        let mut event = AlEvent::NONE;
+        if self.al_control_event {
+            event |= AlEvent::AL_CONTROL;
+        }
+        for (n, state) in (0..self.config.sync_managers).zip(&self.channels) {
+            if state.changed {
+                event |= AlEvent::SM_CHANGE;
+            }
+            let buffer = Buffer::effective(self.memory.channel(n));
+            if buffer.is_some_and(|buffer| state.pdi_event(&buffer)) {
+                event |= AlEvent::sync_manager(n);
+            }
+        }
+        event
+    }
+
+    /// A MainDevice read of `buf.len()` bytes from `address` (APRD/FPRD/BRD). Returns whether the
+    /// ESC served it, i.e. whether a real ESC would count it in the working counter: not when it
+    /// touches an empty mailbox (`buf` keeps its contents there) or memory beyond the process RAM.
+    pub fn ecat_read(&mut self, address: u16, buf: &mut [u8]) -> bool {
+        self.access(Side::Ecat, address, Access::Read(buf))
+    }
+
+    /// A MainDevice write of `data` at `address` (APWR/FPWR/BWR). Returns whether the ESC took it:
+    /// not when it touches a full mailbox, a buffer the MainDevice only reads, or memory beyond
+    /// the process RAM. Bytes of read-only registers are silently ignored.
+    pub fn ecat_write(&mut self, address: u16, data: &[u8]) -> bool {
+        self.access(Side::Ecat, address, Access::Write(data))
+    }
+
+    /// The PDI traffic so far.
+    pub fn stats(&self) -> PdiStats {
+        self.stats
+    }
+
+    /// One access by `side`, split into runs of bytes of the same area; stops at the end of the
+    /// address space. Returns whether every byte was served.
+    fn access(&mut self, side: Side, address: u16, mut access: Access<'_>) -> bool {
+        let start = usize::from(address);
+        let end = start.saturating_add(access.len()).min(ADDRESS_SPACE);
+        let mut served = end - start == access.len();
+        let mut position = start;
+        while position < end {
+            let (area, run_end) = self.area_map().run(position, end);
+            let part = access.part(position - start..run_end - start);
+            served &= self.access_area(side, area, position..run_end, part);
+            position = run_end;
+        }
+        served
+    }
+
+    /// The areas as the SyncManager registers define them now.
+    fn area_map(&self) -> AreaMap {
+        let mut buffers = [None; MAX_CHANNELS];
+        for (buffer, n) in buffers.iter_mut().zip(0..self.config.sync_managers) {
+            *buffer = Buffer::effective(self.memory.channel(n));
+        }
+        AreaMap::new(self.config.ram_end(), buffers)
+    }
+
+    /// The part of an access that falls into one area, at the addresses `range`.
+    fn access_area(
+        &mut self,
+        side: Side,
+        area: Area,
+        range: core::ops::Range<usize>,
+        access: Access<'_>,
+    ) -> bool {
+        match (area, access) {
+            (Area::Registers, Access::Read(buf)) => {
+                for (byte, address) in buf.iter_mut().zip(range) {
+                    *byte = self.read_register(side, address);
+                }
+                true
+            }
+            (Area::Registers, Access::Write(data)) => {
+                for (&value, address) in data.iter().zip(range) {
+                    self.write_register(side, address, value);
+                }
+                true
+            }
+            (Area::SyncManager(n, buffer), access) => {
+                let offsets = buffer.offset(range.start)..buffer.offset(range.end);
+                self.channels.get_mut(usize::from(n)).is_some_and(|state| {
+                    state.access(&buffer, side, &offsets, access, &mut self.memory)
+                })
+            }
+            (Area::Ram | Area::Absent, Access::Read(buf)) => {
+                self.memory.read(range.start, buf);
+                area == Area::Ram
+            }
+            (Area::Ram | Area::Absent, Access::Write(data)) => {
+                self.memory.write(range.start, data);
+                area == Area::Ram
+            }
+        }
+    }
+}

@@ -1,0 +1,117 @@
+//! The emulated ESC as the async world sees it: a shared handle, a [`Pdi`] on its PDI port and
+//! an IRQ pin that wakes whoever waits on it.
+//!
+//! Everything runs on one thread (the host executor), so the handle is an `Rc<RefCell<_>>`.
+
+use core::cell::RefCell;
+use core::convert::Infallible;
+use core::future::poll_fn;
+use core::task::{Poll, Waker};
+use std::rc::Rc;
+
+use ecat_core::AlEvent;
+use ecat_embassy::Pdi;
+
+use crate::esc::{Esc, EscConfig};
+
+/// A shared handle to one emulated ESC.
+#[derive(Clone)]
+pub struct Emulator(Rc<Inner>);
+
+struct Inner {
+    esc: RefCell<Esc>,
+    irq_waiters: RefCell<Vec<Waker>>,
+}
+
+impl Emulator {
+    /// A new ESC with `config`.
+    pub fn new(config: EscConfig) -> Self {
+        Self(Rc::new(Inner {
+            esc: RefCell::new(Esc::new(config)),
+            irq_waiters: RefCell::new(Vec::new()),
+        }))
+    }
+
+    /// Runs `f` on the ESC, then wakes the IRQ waiters: any access may have changed the line.
+    pub fn with<R>(&self, f: impl FnOnce(&mut Esc) -> R) -> R {
+        let result = f(&mut self.0.esc.borrow_mut());
+        for waker in self.0.irq_waiters.borrow_mut().drain(..) {
+            waker.wake();
+        }
+        result
+    }
+
+    /// The PDI port, for the runners.
+    pub fn pdi(&self) -> EmulatedPdi {
+        EmulatedPdi(self.clone())
+    }
+
+    /// The IRQ pin (active low), for the process-data runner.
+    pub fn irq_pin(&self) -> IrqPin {
+        IrqPin(self.clone())
+    }
+
+    /// Completes once `level(irq asserted)` holds.
+    async fn wait_irq(&self, level: impl Fn(bool) -> bool) {
+        poll_fn(|cx| {
+            if level(self.0.esc.borrow().irq()) {
+                Poll::Ready(())
+            } else {
+                self.0.irq_waiters.borrow_mut().push(cx.waker().clone());
+                Poll::Pending
+            }
+        })
+        .await
+    }
+}
+
+/// The PDI port of an [`Emulator`]: every access completes at once and returns the AL event
+/// register sampled before it, as an SPI ESC does.
+pub struct EmulatedPdi(Emulator);
+
+impl Pdi for EmulatedPdi {
+    type Error = Infallible;
+
+    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Infallible> {
+        Ok(self.0.with(|esc| esc.pdi_read(address, buf)))
+    }
+
+    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Infallible> {
+        Ok(self.0.with(|esc| esc.pdi_write(address, data)))
+    }
+}
+
+/// The ESC's IRQ output, active low: "low" while `AL event & AL event mask` is not empty.
+pub struct IrqPin(Emulator);
+
+impl embedded_hal::digital::ErrorType for IrqPin {
+    type Error = Infallible;
+}
+
+impl embedded_hal_async::digital::Wait for IrqPin {
+    async fn wait_for_low(&mut self) -> Result<(), Infallible> {
+        self.0.wait_irq(|asserted| asserted).await;
+        Ok(())
+    }
+
+    async fn wait_for_high(&mut self) -> Result<(), Infallible> {
+        self.0.wait_irq(|asserted| !asserted).await;
+        Ok(())
+    }
+
+    async fn wait_for_falling_edge(&mut self) -> Result<(), Infallible> {
+        self.wait_for_high().await?;
+        self.wait_for_low().await
+    }
+
+    async fn wait_for_rising_edge(&mut self) -> Result<(), Infallible> {
+        self.wait_for_low().await?;
+        self.wait_for_high().await
+    }
+
+    async fn wait_for_any_edge(&mut self) -> Result<(), Infallible> {
+        let before = self.0.with(|esc| esc.irq());
+        self.0.wait_irq(|asserted| asserted != before).await;
+        Ok(())
+    }
+}

@@ -1,0 +1,67 @@
+//! Which area of the ESC an address falls into, so that each byte of an access follows the
+//! rules of its area (ESC datasheet section I, "Address space").
+
+use ecat_core::register;
+
+use super::sync_manager::Buffer;
+
+/// The most SyncManager channels an ESC has (ETG.1000.4 Table 58: 0x0800..0x087F).
+pub(super) const MAX_CHANNELS: usize = 16;
+
+/// The kind of memory at an address.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Area {
+    /// The register file 0x0000..0x0FFF: per-byte access rights and side effects.
+    Registers,
+    /// Process RAM guarded by the effective SyncManager channel `n`.
+    SyncManager(u8, Buffer),
+    /// Process RAM no effective SyncManager guards: plain dual-ported memory.
+    Ram,
+    /// Beyond the end of the process RAM: no memory answers.
+    Absent,
+}
+
+/// The areas of the address space as the SyncManager registers define them at one instant.
+pub(super) struct AreaMap {
+    /// First address after the process RAM.
+    ram_end: usize,
+    /// The area each channel guards, if it is effective. A byte two channels claim belongs to the
+    /// lower-numbered one.
+    buffers: [Option<Buffer>; MAX_CHANNELS],
+}
+
+impl AreaMap {
+    /// The map for process RAM ending at `ram_end` and the given channel areas.
+    pub(super) fn new(ram_end: usize, buffers: [Option<Buffer>; MAX_CHANNELS]) -> Self {
+        Self { ram_end, buffers }
+    }
+
+    /// The area `address` falls into.
+    fn area(&self, address: usize) -> Area {
+        if address < usize::from(register::PROCESS_RAM) {
+            return Area::Registers;
+        }
+        if address >= self.ram_end {
+            return Area::Absent;
+        }
+        self.buffers
+            .iter()
+            .zip(0..)
+            .find_map(|(buffer, n)| {
+                buffer
+                    .filter(|buffer| buffer.contains(address))
+                    .map(|buffer| Area::SyncManager(n, buffer))
+            })
+            .unwrap_or(Area::Ram)
+    }
+
+    /// The area of `start` and the end of the run of bytes from `start` (before `end`) that
+    /// belong to it.
+    pub(super) fn run(&self, start: usize, end: usize) -> (Area, usize) {
+        let area = self.area(start);
+        let run_end = (start + 1..end)
+            .find(|&address| self.area(address) != area)
+            .unwrap_or(end);
+        (area, run_end)
+    }
+}

@@ -1,0 +1,163 @@
+//! Runs a SubDevice on the host exactly as firmware runs it: the real `ecat-embassy` runners as
+//! tasks of an `embassy-executor` (here the std platform's), the emulated ESC behind the PDI,
+//! embassy-time's mock driver as the clock, and a scripted MainDevice.
+//!
+//! The mock driver is global to the process, so scenarios in one test binary run one at a time.
+
+use core::cell::Cell;
+use core::future::Future;
+use core::pin::Pin;
+use std::rc::Rc;
+use std::sync::{Mutex, PoisonError};
+
+use ecat_core::{DeviceConfig, SubDevice};
+use ecat_embassy::pd_runner::Buffers;
+use ecat_embassy::{Application, CycleHandler, SharedEsc, run_esm, run_process_data};
+use embassy_executor::Executor;
+use embassy_futures::select::select;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+use embassy_sync::signal::Signal;
+use embassy_time::MockDriver;
+
+use crate::emulator::{EmulatedPdi, Emulator};
+use crate::esc::EscConfig;
+use crate::master::TestMaster;
+
+/// Serialises scenarios: the mock time driver is one per process.
+static SERIAL: Mutex<()> = Mutex::new(());
+
+/// Largest process image the harness's runner buffers hold.
+const MAX_IMAGE: usize = 1024;
+
+type Shared = SharedEsc<CriticalSectionRawMutex, EmulatedPdi>;
+type Stop = Signal<CriticalSectionRawMutex, ()>;
+
+/// The device under test.
+pub struct Device<A, C> {
+    /// The description the SubDevice checks against.
+    pub config: DeviceConfig,
+    /// The state hooks.
+    pub app: A,
+    /// The process-data cycle.
+    pub cycle: C,
+    /// The emulated ESC's hardware.
+    pub esc: EscConfig,
+    /// The explicit device ID.
+    pub device_id: u16,
+}
+
+impl<A, C> Device<A, C> {
+    /// `config` with the given hooks, an ET1100-like ESC and device ID 0.
+    pub fn new(config: DeviceConfig, app: A, cycle: C) -> Self {
+        Self {
+            config,
+            app,
+            cycle,
+            esc: EscConfig::default(),
+            device_id: 0,
+        }
+    }
+}
+
+/// An [`Application`] that accepts every transition at once.
+pub struct AcceptAll;
+
+impl Application for AcceptAll {}
+
+/// A [`CycleHandler`] that copies outputs to inputs (as far as both reach).
+pub struct Loopback;
+
+impl CycleHandler for Loopback {
+    fn cycle(&mut self, outputs: Option<&[u8]>, inputs: &mut [u8]) {
+        if let Some(outputs) = outputs {
+            for (i, o) in inputs.iter_mut().zip(outputs) {
+                *i = *o;
+            }
+        }
+    }
+}
+
+/// Three tasks per scenario; a scenario that panics leaves its tasks behind, so the pool has
+/// room for many.
+#[embassy_executor::task(pool_size = 96)]
+async fn task(future: Pin<Box<dyn Future<Output = ()>>>, done: Rc<Cell<usize>>) {
+    future.await;
+    done.set(done.get() + 1);
+}
+
+/// Runs `script` against `device` until the script ends, then stops the runners.
+pub fn run<A, C, F>(device: Device<A, C>, script: impl FnOnce(TestMaster) -> F)
+where
+    A: Application + 'static,
+    C: CycleHandler + 'static,
+    F: Future<Output = ()> + 'static,
+{
+    let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
+    MockDriver::get().reset();
+    let emu = Emulator::new(device.esc);
+    let shared: &'static Shared = Box::leak(Box::new(SharedEsc::new(emu.pdi())));
+    let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
+    let futures: [Pin<Box<dyn Future<Output = ()>>>; 3] = [
+        Box::pin(stoppable(
+            stop,
+            esm(shared, device.config, device.app, device.device_id),
+        )),
+        Box::pin(stoppable(
+            stop,
+            process_data(shared, emu.clone(), device.cycle),
+        )),
+        Box::pin(scenario(
+            stop,
+            TestMaster::new(emu.clone()),
+            script(TestMaster::new(emu)),
+        )),
+    ];
+    let done = Rc::new(Cell::new(0));
+    let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
+    let finished = done.clone();
+    executor.run_until(
+        |spawner| {
+            for future in futures {
+                match task(future, done.clone()) {
+                    Ok(token) => spawner.spawn(token),
+                    Err(e) => panic!("harness task pool exhausted: {e:?}"),
+                }
+            }
+        },
+        || finished.get() == 3,
+    );
+}
+
+async fn stoppable(stop: &'static Stop, runner: impl Future<Output = ()>) {
+    select(runner, stop.wait()).await;
+    stop.signal(());
+}
+
+/// Lets the runners start up, then runs the script, then stops the runners.
+async fn scenario(stop: &'static Stop, master: TestMaster, script: impl Future<Output = ()>) {
+    master.settle().await;
+    script.await;
+    stop.signal(());
+}
+
+async fn esm(
+    shared: &'static Shared,
+    config: DeviceConfig,
+    mut app: impl Application,
+    device_id: u16,
+) {
+    let config = Box::leak(Box::new(config));
+    let mut sub = SubDevice::new(config);
+    sub.set_device_id(device_id);
+    match run_esm(shared, &mut sub, &mut app).await {}
+}
+
+async fn process_data(shared: &'static Shared, emu: Emulator, mut cycle: impl CycleHandler) {
+    let (mut outputs, mut inputs) = (vec![0; MAX_IMAGE], vec![0; MAX_IMAGE]);
+    let buffers = Buffers {
+        outputs: &mut outputs,
+        inputs: &mut inputs,
+    };
+    let error = run_process_data(shared, &mut emu.irq_pin(), &mut cycle, buffers).await;
+    panic!("process-data runner stopped: {error:?}");
+}

@@ -1,0 +1,181 @@
+//! The application's say in transitions: refusal with a code, pending answers, the timeout, and
+//! a MainDevice that changes its mind while the application thinks.
+
+mod common;
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use common::walk_to;
+use ecat_core::{AlState, AlStatusCode, Duration as CoreDuration, Transition};
+use ecat_embassy::Application;
+use ecat_emu::harness::{self, Device, Loopback};
+use embassy_time::{Duration, Timer};
+
+/// How the test application answers a given transition.
+#[derive(Clone, Copy)]
+enum Answer {
+    Accept,
+    Refuse(u16),
+    After(u64),
+    Never,
+}
+
+/// An application whose answer to PREOP→SAFEOP is scripted, recording what it was told.
+#[derive(Clone, Default)]
+struct Scripted {
+    log: Rc<RefCell<Vec<String>>>,
+    answer: Rc<RefCell<Option<Answer>>>,
+}
+
+struct DropFlag(Rc<RefCell<Vec<String>>>);
+
+impl Drop for DropFlag {
+    fn drop(&mut self) {
+        self.0.borrow_mut().push("dropped".into());
+    }
+}
+
+impl Application for Scripted {
+    async fn on_transition(&mut self, t: Transition) -> Result<(), AlStatusCode> {
+        self.log
+            .borrow_mut()
+            .push(format!("ask {}->{}", t.from, t.to));
+        let answer = if t.to == AlState::SafeOp {
+            self.answer.borrow().unwrap_or(Answer::Accept)
+        } else {
+            Answer::Accept
+        };
+        let _flag = DropFlag(self.log.clone());
+        match answer {
+            Answer::Accept => Ok(()),
+            Answer::Refuse(code) => Err(AlStatusCode(code)),
+            Answer::After(ms) => {
+                Timer::after(Duration::from_millis(ms)).await;
+                Ok(())
+            }
+            Answer::Never => core::future::pending().await,
+        }
+    }
+
+    fn on_state_change(&mut self, t: Transition) {
+        self.log.borrow_mut().push(format!("{}->{}", t.from, t.to));
+    }
+}
+
+fn device(app: Scripted) -> Device<Scripted, Loopback> {
+    let mut config = common::drive();
+    config.transition_timeout = CoreDuration::from_millis(300);
+    Device::new(config, app, Loopback)
+}
+
+#[test]
+fn application_refuses_with_its_own_code() {
+    let app = Scripted::default();
+    *app.answer.borrow_mut() = Some(Answer::Refuse(0x0026));
+    harness::run(device(app), |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        assert_eq!(master.request(0x04).await, (0x12, 0x0026));
+    });
+}
+
+#[test]
+fn pending_transition_completes_when_the_application_is_done() {
+    let app = Scripted::default();
+    *app.answer.borrow_mut() = Some(Answer::After(200));
+    let log = app.log.clone();
+    harness::run(device(app), move |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        assert_eq!(
+            master.request(0x04).await,
+            (0x02, 0),
+            "pending: PREOP, no error"
+        );
+        master.advance(Duration::from_millis(199)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x02, 0),
+            "still pending at 199 ms"
+        );
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x04, 0),
+            "done at 200 ms"
+        );
+        let log = log.borrow();
+        let tail: Vec<&str> = log.iter().rev().take(3).rev().map(String::as_str).collect();
+        assert_eq!(tail, ["ask PREOP->SAFEOP", "dropped", "PREOP->SAFEOP"]);
+    });
+}
+
+#[test]
+fn pending_transition_times_out_with_0x0001() {
+    let app = Scripted::default();
+    *app.answer.borrow_mut() = Some(Answer::Never);
+    let log = app.log.clone();
+    harness::run(device(app), move |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        master.request(0x04).await;
+        master.advance(Duration::from_millis(299)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x02, 0),
+            "pending until the deadline"
+        );
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x12, 0x0001),
+            "answered at 300 ms"
+        );
+        assert_eq!(
+            log.borrow().last().map(String::as_str),
+            Some("dropped"),
+            "the application's future is dropped"
+        );
+    });
+}
+
+#[test]
+fn init_request_while_pending_drops_the_application_future() {
+    let app = Scripted::default();
+    *app.answer.borrow_mut() = Some(Answer::Never);
+    let log = app.log.clone();
+    harness::run(device(app), move |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        master.request(0x04).await;
+        master.advance(Duration::from_millis(50)).await;
+        assert_eq!(master.request(0x01).await, (0x01, 0));
+        let log = log.borrow();
+        let tail: Vec<&str> = log.iter().rev().take(3).rev().map(String::as_str).collect();
+        assert_eq!(tail, ["ask PREOP->SAFEOP", "dropped", "PREOP->INIT"]);
+        drop(log);
+        master.advance(Duration::from_millis(500)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x01, 0),
+            "no late timeout"
+        );
+    });
+}
+
+#[test]
+fn state_changes_are_reported_in_order() {
+    let app = Scripted::default();
+    let log = app.log.clone();
+    harness::run(device(app), move |master| async move {
+        walk_to(&master, AlState::Op).await;
+        master.request(0x02).await;
+        let log = log.borrow();
+        let changes: Vec<&str> = log
+            .iter()
+            .filter(|l| !l.starts_with("ask") && *l != "dropped")
+            .map(String::as_str)
+            .collect();
+        assert_eq!(
+            changes,
+            ["INIT->PREOP", "PREOP->SAFEOP", "SAFEOP->OP", "OP->PREOP"]
+        );
+    });
+}
