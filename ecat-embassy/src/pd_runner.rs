@@ -49,7 +49,7 @@ pub async fn run_process_data<M: RawMutex, P: Pdi, I: Wait, C: CycleHandler>(
             on_new_layout(esc, app, &mut buffers, layout).await
         } else if !esc.take_pd_events().is_empty() {
             on_trigger(esc, app, &mut buffers, layout, true).await
-        } else if esc.esm_holds_irq() {
+        } else if !esc.esm_started() || esc.esm_holds_irq() {
             esc.pd_news_since(seen).await;
             Ok(())
         } else {

@@ -34,6 +34,9 @@ struct Routing {
     pd_events: AlEvent,
     /// The process-data layout published by the state-machine runner.
     layout: Option<Layout>,
+    /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
+    /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
+    esm_started: bool,
     /// Bumped whenever something changes for the process-data runner.
     pd_news: u32,
     esm_waker: WakerRegistration,
@@ -64,6 +67,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 esm_holds_irq: false,
                 pd_events: AlEvent::NONE,
                 layout: None,
+                esm_started: false,
                 pd_news: 0,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
@@ -142,14 +146,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         .await
     }
 
-    /// Publishes the process-data layout of the current state.
+    /// Publishes the process-data layout of the current state. The core writes its AL event mask
+    /// before anything else, so from the first publication on, every masked event is one a runner
+    /// clears.
     pub(crate) fn publish_layout(&self, layout: Option<Layout>) {
         self.with(|r| {
-            if r.layout != layout {
+            if r.layout != layout || !r.esm_started {
                 r.layout = layout;
+                r.esm_started = true;
                 r.notify_pd();
             }
         });
+    }
+
+    /// Whether the state-machine runner has set up the ESC (see [`SharedEsc::publish_layout`]).
+    pub(crate) fn esm_started(&self) -> bool {
+        self.with(|r| r.esm_started)
     }
 
     /// The process-data layout of the current state.

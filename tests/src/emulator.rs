@@ -3,7 +3,7 @@
 //!
 //! Everything runs on one thread (the host executor), so the handle is an `Rc<RefCell<_>>`.
 
-use core::cell::RefCell;
+use core::cell::{Cell, RefCell};
 use core::convert::Infallible;
 use core::future::poll_fn;
 use core::task::{Poll, Waker};
@@ -21,7 +21,13 @@ pub struct Emulator(Rc<Inner>);
 struct Inner {
     esc: RefCell<Esc>,
     irq_waiters: RefCell<Vec<Waker>>,
+    /// PDI accesses since the test script last had a turn (see [`Emulator::script_ran`]).
+    pdi_streak: Cell<u64>,
 }
+
+/// PDI accesses in a row, without the test script running, that count as a livelock: a runner
+/// spinning on the ESC inside one executor poll.
+const LIVELOCK: u64 = 100_000;
 
 impl Emulator {
     /// A new ESC with `config`.
@@ -29,6 +35,7 @@ impl Emulator {
         Self(Rc::new(Inner {
             esc: RefCell::new(Esc::new(config)),
             irq_waiters: RefCell::new(Vec::new()),
+            pdi_streak: Cell::new(0),
         }))
     }
 
@@ -39,6 +46,21 @@ impl Emulator {
             waker.wake();
         }
         result
+    }
+
+    /// The test script got a turn: the runners did not starve it.
+    pub fn script_ran(&self) {
+        self.0.pdi_streak.set(0);
+    }
+
+    /// Counts one PDI access; fails the test when the runners never let anything else run.
+    fn pdi_access(&self) {
+        let streak = self.0.pdi_streak.get() + 1;
+        self.0.pdi_streak.set(streak);
+        assert!(
+            streak < LIVELOCK,
+            "livelock: {streak} PDI accesses without the executor running anything else"
+        );
     }
 
     /// The PDI port, for the runners.
@@ -73,10 +95,12 @@ impl Pdi for EmulatedPdi {
     type Error = Infallible;
 
     async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Infallible> {
+        self.0.pdi_access();
         Ok(self.0.with(|esc| esc.pdi_read(address, buf)))
     }
 
     async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Infallible> {
+        self.0.pdi_access();
         Ok(self.0.with(|esc| esc.pdi_write(address, data)))
     }
 }

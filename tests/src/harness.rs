@@ -44,6 +44,8 @@ pub struct Device<A, C> {
     pub esc: EscConfig,
     /// The explicit device ID.
     pub device_id: u16,
+    /// What the MainDevice did to the ESC before the firmware started.
+    pub before_start: fn(&TestMaster),
 }
 
 impl<A, C> Device<A, C> {
@@ -55,6 +57,7 @@ impl<A, C> Device<A, C> {
             cycle,
             esc: EscConfig::default(),
             device_id: 0,
+            before_start: |_| {},
         }
     }
 }
@@ -95,6 +98,7 @@ where
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
     MockDriver::get().reset();
     let emu = Emulator::new(device.esc);
+    (device.before_start)(&TestMaster::new(emu.clone()));
     let shared: &'static Shared = Box::leak(Box::new(SharedEsc::new(emu.pdi())));
     let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
     let futures: [Pin<Box<dyn Future<Output = ()>>>; 3] = [
@@ -146,6 +150,9 @@ async fn esm(
     mut app: impl Application,
     device_id: u16,
 ) {
+    // In firmware the process-data runner's interrupt executor runs first; make that so here
+    // whatever order the host executor polls its tasks in.
+    embassy_futures::yield_now().await;
     let config = Box::leak(Box::new(config));
     let mut sub = SubDevice::new(config);
     sub.set_device_id(device_id);

@@ -143,6 +143,7 @@ impl TestMaster {
         let mut last = self.pdi_accesses();
         for _ in 0..MAX_POLLS {
             embassy_futures::yield_now().await;
+            self.emu.script_ran();
             let now = self.pdi_accesses();
             quiet = if now == last { quiet + 1 } else { 0 };
             last = now;

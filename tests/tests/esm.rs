@@ -36,10 +36,11 @@ fn expected(from: AlState, control: u16, latched: Option<u16>) -> (u16, u16) {
     let requested = control & 0x0F;
     let acknowledge = control & 0x10 != 0;
     let stay = u16::from(from.bits());
-    if let Some(code) = latched {
-        if !acknowledge && requested != 0x01 {
-            return (stay | 0x10, code);
-        }
+    if let Some(code) = latched
+        && !acknowledge
+        && requested != 0x01
+    {
+        return (stay | 0x10, code);
     }
     match AlState::from_bits(requested as u8) {
         None => (stay | 0x10, 0x0012),

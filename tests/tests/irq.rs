@@ -124,3 +124,33 @@ fn outputs_are_not_applied_in_safeop() {
         },
     );
 }
+
+/// A MainDevice talked to the ESC before the firmware started: a full mailbox raises AL event bit 8,
+/// which the ESC's reset mask (0x00FF_FF0F) puts on the IRQ line and which no runner clears yet.
+/// The process-data runner must leave the line alone until the state machine has written its mask.
+#[test]
+fn irq_asserted_before_start_up_does_not_spin() {
+    let mut device = Device::new(common::drive(), AcceptAll, Loopback);
+    device.before_start = |master| {
+        master.configure_mailbox(&common::MAILBOX);
+        assert!(master.write(common::MAILBOX.receive.start, &[0; 128]));
+        // The previous firmware run had read the SyncManagers: only the mailbox event is left.
+        master
+            .emulator()
+            .with(|esc| esc.pdi_read(register::SM_BASE, &mut [0; 64]));
+        let event = master.emulator().with(|esc| esc.al_event());
+        assert_eq!(
+            event,
+            ecat_core::AlEvent::sync_manager(0),
+            "only the mailbox event"
+        );
+        assert!(
+            master.emulator().with(|esc| esc.irq()),
+            "IRQ asserted before start-up"
+        );
+    };
+    harness::run(device, |master| async move {
+        common::configure(&master);
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+    });
+}
