@@ -12,6 +12,13 @@ fn up(from: AlState, to: AlState) -> Transition {
     Transition { from, to }
 }
 
+/// The MainDevice writes AL control and the SubDevice does what it needs to; returns its accesses.
+fn request(regs: &mut Regs, sub: &mut SubDevice<'_>, control: u16) -> Vec<Op> {
+    regs.al_control(control);
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    regs.drive(sub, T0)
+}
+
 /// A SubDevice after its start-up accesses.
 fn started(regs: &mut Regs) -> SubDevice<'static> {
     let mut sub = SubDevice::new(&DEVICE);
@@ -48,9 +55,7 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
     configure_all(&mut regs);
-    regs.al_control(0x0002);
-    sub.handle_al_event(ecat_core::AlEvent(regs.event));
-    let log = regs.drive(&mut sub, T0);
+    let log = request(&mut regs, &mut sub, 0x0002);
     assert_eq!(log, [Op::Read(0x0800, 64), Op::Read(0x0120, 2)]);
     assert_eq!(regs.event, 0, "both events cleared by the reads");
     assert_eq!(
@@ -110,9 +115,7 @@ fn process_data_trigger_joins_the_event_mask_in_safeop() {
         (2, AlState::Init, AlState::PreOp),
         (4, AlState::PreOp, AlState::SafeOp),
     ] {
-        regs.al_control(control);
-        sub.handle_al_event(ecat_core::AlEvent(regs.event));
-        regs.drive(&mut sub, T0);
+        request(&mut regs, &mut sub, control);
         sub.complete_transition(up(from, to), Ok(()));
         let log = regs.drive(&mut sub, T0);
         if to == AlState::SafeOp {
@@ -143,9 +146,7 @@ fn pending_transition_is_answered_with_0x0001_at_the_deadline() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
     configure_all(&mut regs);
-    regs.al_control(0x0002);
-    sub.handle_al_event(ecat_core::AlEvent(regs.event));
-    regs.drive(&mut sub, T0);
+    request(&mut regs, &mut sub, 0x0002);
     let deadline = sub
         .poll_timeout()
         .expect("a pending transition has a deadline");
@@ -183,20 +184,14 @@ fn a_new_request_aborts_the_pending_transition() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
     configure_all(&mut regs);
-    regs.al_control(0x0002);
-    sub.handle_al_event(ecat_core::AlEvent(regs.event));
-    regs.drive(&mut sub, T0);
-    regs.al_control(0x0002);
-    sub.handle_al_event(ecat_core::AlEvent(regs.event));
-    regs.drive(&mut sub, T0);
+    request(&mut regs, &mut sub, 0x0002);
+    request(&mut regs, &mut sub, 0x0002);
     assert!(
         sub.pending_transition().is_some(),
         "the same request again keeps waiting"
     );
 
-    regs.al_control(0x0001);
-    sub.handle_al_event(ecat_core::AlEvent(regs.event));
-    regs.drive(&mut sub, T0);
+    request(&mut regs, &mut sub, 0x0001);
     let t = up(AlState::Init, AlState::PreOp);
     assert_eq!(sub.poll_event(), Some(Event::TransitionRequested(t)));
     assert_eq!(sub.poll_event(), Some(Event::TransitionAborted(t)));
@@ -209,9 +204,7 @@ fn application_refusal_carries_its_code() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
     configure_all(&mut regs);
-    regs.al_control(0x0002);
-    sub.handle_al_event(ecat_core::AlEvent(regs.event));
-    regs.drive(&mut sub, T0);
+    request(&mut regs, &mut sub, 0x0002);
     sub.complete_transition(up(AlState::Init, AlState::PreOp), Err(AlStatusCode(0x8001)));
     regs.drive(&mut sub, T0);
     assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0011, 0x8001));

@@ -1,8 +1,8 @@
 //! The process-data runner: owns the IRQ line, exchanges the process image. Runs in an
 //! `InterruptExecutor` at a priority above the thread executor.
 
+use ecat_core::AlEvent;
 use ecat_core::process_data::Layout;
-use ecat_core::{AlEvent, register};
 use embassy_futures::select::{Either, select};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embedded_hal_async::digital::Wait;
@@ -89,15 +89,9 @@ async fn on_trigger<M: RawMutex, P: Pdi, I, C: CycleHandler>(
     let Some(layout) = layout else {
         // Not exchanging process data: the IRQ is for the state machine; reading the AL event
         // routes it there.
-        let mut event = [0; 4];
-        esc.read(
-            Runner::ProcessData,
-            register::AL_EVENT_REQUEST,
-            &mut event,
-            AlEvent::NONE,
-        )
-        .await
-        .map_err(Error::Pdi)?;
+        esc.read_al_event(Runner::ProcessData)
+            .await
+            .map_err(Error::Pdi)?;
         return Ok(());
     };
     let (event, outputs) = match layout.outputs {
@@ -113,16 +107,11 @@ async fn on_trigger<M: RawMutex, P: Pdi, I, C: CycleHandler>(
             (event, layout.outputs_active.then_some(&*buf))
         }
         None => {
-            let mut event = [0; 4];
-            esc.read(
-                Runner::ProcessData,
-                register::AL_EVENT_REQUEST,
-                &mut event,
-                AlEvent::NONE,
-            )
-            .await
-            .map_err(Error::Pdi)?;
-            (AlEvent::from_le_bytes(event), None)
+            let event = esc
+                .read_al_event(Runner::ProcessData)
+                .await
+                .map_err(Error::Pdi)?;
+            (event, None)
         }
     };
     let triggered = known || event.intersects(layout.trigger) || !esc.take_pd_events().is_empty();

@@ -94,6 +94,18 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         Ok(event)
     }
 
+    /// Reads the AL event register (0x0220) for `runner`, which routes what it holds.
+    pub(crate) async fn read_al_event(&self, runner: Runner) -> Result<AlEvent, P::Error> {
+        let mut register = [0; 4];
+        self.read(
+            runner,
+            ecat_core::register::AL_EVENT_REQUEST,
+            &mut register,
+            AlEvent::NONE,
+        )
+        .await
+    }
+
     /// Writes at `address` for `runner`; returns the AL event seen.
     pub(crate) async fn write(
         &self,

@@ -76,7 +76,7 @@ fn entity(address: usize, base: u16, size: u16, count: u8) -> Option<(u8, usize)
 }
 
 /// The SyncManager channel whose registers hold `address`, and the offset in its block.
-pub(super) fn sync_manager_register(address: usize, config: &EscConfig) -> Option<(u8, usize)> {
+fn sync_manager_register(address: usize, config: &EscConfig) -> Option<(u8, usize)> {
     entity(
         address,
         register::SM_BASE,

@@ -38,7 +38,9 @@ struct Increment;
 
 impl CycleHandler for Increment {
     fn cycle(&mut self, outputs: Option<&[u8]>, inputs: &mut [u8]) {
-        let value = outputs.and_then(|o| o.try_into().ok()).map_or(0, u32::from_le_bytes);
+        let value = outputs
+            .and_then(|o| o.try_into().ok())
+            .map_or(0, u32::from_le_bytes);
         inputs.copy_from_slice(&value.wrapping_add(1).to_le_bytes());
     }
 }
@@ -52,8 +54,16 @@ async fn request(master: &TestMaster, control: u16) {
 
 fn report(status: u16, code: u16) {
     let state = AlStatus::from_bits(status).map_or("?", |s| s.state.name());
-    let error = if status & AlStatus::ERROR != 0 { " + ERROR" } else { "" };
-    println!("{}  master  AL status {status:#06x} ({state}{error}), code {}", stamp(), AlStatusCode(code));
+    let error = if status & AlStatus::ERROR != 0 {
+        " + ERROR"
+    } else {
+        ""
+    };
+    println!(
+        "{}  master  AL status {status:#06x} ({state}{error}), code {}",
+        stamp(),
+        AlStatusCode(code)
+    );
 }
 
 async fn exchange(master: &TestMaster, cycles: u32) {
@@ -63,23 +73,43 @@ async fn exchange(master: &TestMaster, cycles: u32) {
         master.settle().await;
         let inputs = master.read(INPUTS.start, 4).unwrap_or_default();
         let echoed = inputs.try_into().map_or(0, u32::from_le_bytes);
-        println!("{}  master  cycle {n}: outputs {value:>5} → inputs {echoed:>5}", stamp());
+        println!(
+            "{}  master  cycle {n}: outputs {value:>5} → inputs {echoed:>5}",
+            stamp()
+        );
         master.advance(Duration::from_millis(1)).await;
     }
 }
 
 fn main() {
-    let config = DeviceConfig::new(MAILBOX, ProcessDataSizes { outputs: 4, inputs: 4 });
-    println!("ecat ESM demo: an emulated SubDevice on the host executor, driven by a scripted MainDevice");
+    let config = DeviceConfig::new(
+        MAILBOX,
+        ProcessDataSizes {
+            outputs: 4,
+            inputs: 4,
+        },
+    );
+    println!(
+        "ecat ESM demo: an emulated SubDevice on the host executor, driven by a scripted MainDevice"
+    );
     println!("(virtual time; the device answers through the real ecat-embassy runners)\n");
     harness::run(Device::new(config, Hooks, Increment), |master| async move {
-        println!("{}  master  reset: AL control ← 0x0011, all SyncManagers zeroed", stamp());
+        println!(
+            "{}  master  reset: AL control ← 0x0011, all SyncManagers zeroed",
+            stamp()
+        );
         master.reset().await;
         report(master.al_status(), master.al_status_code());
-        println!("{}  master  SM0/SM1 ← mailboxes 0x1000/0x1080 (128 bytes)", stamp());
+        println!(
+            "{}  master  SM0/SM1 ← mailboxes 0x1000/0x1080 (128 bytes)",
+            stamp()
+        );
         master.configure_mailbox(&MAILBOX);
         request(&master, 0x0002).await;
-        println!("{}  master  SM2 ← outputs 0x1100 (4 bytes), SM3 ← inputs 0x1180 (4 bytes)", stamp());
+        println!(
+            "{}  master  SM2 ← outputs 0x1100 (4 bytes), SM3 ← inputs 0x1180 (4 bytes)",
+            stamp()
+        );
         master.configure_process_data(Some(OUTPUTS), Some(INPUTS));
         request(&master, 0x0004).await;
         exchange(&master, 2).await;
@@ -88,7 +118,10 @@ fn main() {
         println!("\n-- a refused transition: OP → BOOT is not allowed --");
         request(&master, 0x0003).await;
         request(&master, 0x0008).await;
-        println!("{}  master  (ignored: the error must be acknowledged)", stamp());
+        println!(
+            "{}  master  (ignored: the error must be acknowledged)",
+            stamp()
+        );
         request(&master, 0x0018).await;
         println!("\n-- back down --");
         request(&master, 0x0004).await;
