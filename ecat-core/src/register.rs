@@ -104,3 +104,122 @@ pub const fn sync_manager(n: u8) -> u16 {
 pub const fn fmmu(n: u8) -> u16 {
     FMMU_BASE + (n as u16 & 0x0F) * FMMU_SIZE
 }
+
+/// DL status, 0x0110 (ETG.1000.4 Table 34): PDI operational, per-port link and loop state.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct DlStatus(pub u16);
+
+impl DlStatus {
+    /// Bit 0: the PDI is operational (the EEPROM was loaded).
+    pub const PDI_OPERATIONAL: u16 = 1 << 0;
+    /// Bit 1: the PDI watchdog has not expired.
+    pub const PDI_WATCHDOG_OK: u16 = 1 << 1;
+
+    /// Bit 4 + `port`: physical link on port 0..=3.
+    pub const fn link(port: u8) -> u16 {
+        1 << (4 + (port & 3))
+    }
+
+    /// Bit 9 + 2 × `port`: communication established on port 0..=3 (loop open, link up).
+    pub const fn communication(port: u8) -> u16 {
+        1 << (9 + 2 * (port & 3))
+    }
+}
+
+/// The PDI type in PDI control, 0x0140 (ETG.1000.6 Table 13), loaded from SII word 0.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum PdiType {
+    /// 0x00: no PDI.
+    None = 0x00,
+    /// 0x04: 8 digital I/O.
+    DigitalIo = 0x04,
+    /// 0x05: SPI slave (ET1100/AX58100/LAN9252 in SPI mode).
+    Spi = 0x05,
+    /// 0x08: 16-bit asynchronous microcontroller interface.
+    AsyncMcu16 = 0x08,
+    /// 0x09: 8-bit asynchronous microcontroller interface.
+    AsyncMcu8 = 0x09,
+}
+
+/// DC activation, 0x0981 (ESC datasheet section II): what the MainDevice switched on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct DcActivation(pub u8);
+
+impl DcActivation {
+    /// Bit 0: cyclic operation (the SYNC unit runs).
+    pub const CYCLIC_OPERATION: u8 = 1 << 0;
+    /// Bit 1: SYNC0 generated.
+    pub const SYNC0: u8 = 1 << 1;
+    /// Bit 2: SYNC1 generated.
+    pub const SYNC1: u8 = 1 << 2;
+
+    /// Whether the SYNC unit runs with SYNC0.
+    pub const fn sync0(self) -> bool {
+        self.0 & (Self::CYCLIC_OPERATION | Self::SYNC0) == Self::CYCLIC_OPERATION | Self::SYNC0
+    }
+}
+
+/// The watchdog registers 0x0400 (divider) and 0x0410/0x0420 (times) (ETG.1000.4 Tables 44–45).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Watchdog {
+    /// 0x0400: the base unit is (divider + 2) × 40 ns. Reset value 0x09C2 (100 µs).
+    pub divider: u16,
+    /// 0x0420 (process data) or 0x0410 (PDI), in base units; 0 disables it. Reset value 1000.
+    pub time: u16,
+}
+
+impl Watchdog {
+    /// The ESC's reset values: 100 µs × 1000 = 100 ms.
+    pub const RESET: Self = Self {
+        divider: 0x09C2,
+        time: 1000,
+    };
+    /// Watchdog status 0x0440 bit 0: 1 while the process-data watchdog has not expired.
+    pub const STATUS_OK: u16 = 1 << 0;
+
+    /// The expiry period in nanoseconds, `None` when the watchdog is disabled (time 0).
+    pub const fn period_ns(self) -> Option<u64> {
+        if self.time == 0 {
+            None
+        } else {
+            Some((self.divider as u64 + 2) * 40 * self.time as u64)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reset_watchdog_is_100_ms_and_time_0_disables_it() {
+        assert_eq!(Watchdog::RESET.period_ns(), Some(100_000_000));
+        assert_eq!(
+            Watchdog {
+                divider: 0x09C2,
+                time: 0
+            }
+            .period_ns(),
+            None
+        );
+        assert_eq!(
+            Watchdog {
+                divider: u16::MAX,
+                time: u16::MAX
+            }
+            .period_ns(),
+            Some(171_798_691_800)
+        );
+    }
+
+    #[test]
+    fn channel_and_entity_addresses() {
+        assert_eq!(
+            (sync_manager(0), sync_manager(3), sync_manager(15)),
+            (0x0800, 0x0818, 0x0878)
+        );
+        assert_eq!((fmmu(0), fmmu(2)), (0x0600, 0x0620));
+        assert_eq!(DlStatus::link(0) | DlStatus::communication(0), 0x0210);
+    }
+}

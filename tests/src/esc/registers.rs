@@ -2,7 +2,7 @@
 //! which port may write which byte, and the side effects of register accesses on the AL event
 //! request register.
 
-use ecat_core::register;
+use ecat_core::register::{self, DlStatus, PdiType, Watchdog};
 use ecat_core::sync_manager::Channel;
 
 use super::access::Side;
@@ -17,17 +17,11 @@ use super::{Esc, EscConfig};
 const FMMU_COUNT_OFFSET: u16 = 4;
 /// Features bit 2: distributed clocks supported (ETG.1000.4 Table 31).
 const FEATURE_DC: u16 = 1 << 2;
-/// DL status: PDI operational (bit 0), link on port 0 (bit 4), loop port 0 open with
-/// communication established (bits 9:8 = 0b10) (ETG.1000.4 Table 34).
-const DL_STATUS_PORT0_UP: u16 = 1 << 0 | 1 << 4 | 1 << 9;
-/// PDI control 0x05: SPI PDI (ESC datasheet section II, 0x0140).
-const PDI_TYPE_SPI: u8 = 0x05;
+/// DL status: PDI operational, link on port 0, port 0 communication established.
+const DL_STATUS_PORT0_UP: u16 =
+    DlStatus::PDI_OPERATIONAL | DlStatus::link(0) | DlStatus::communication(0);
 /// AL event mask after reset (ESC datasheet section II, 0x0204).
 const AL_EVENT_MASK_RESET: u32 = 0x00FF_FF0F;
-/// Watchdog divider after reset: 100 µs watchdog unit (ESC datasheet section II, 0x0400).
-const WATCHDOG_DIVIDER_RESET: u16 = 0x09C2;
-/// Watchdog times after reset: 100 ms (ESC datasheet section II, 0x0410 and 0x0420).
-const WATCHDOG_TIME_RESET: u16 = 0x03E8;
 /// Bytes of the SII EEPROM interface (ETG.1000.4 Tables 48–51).
 const SII_INTERFACE_SIZE: u16 = 16;
 
@@ -129,20 +123,20 @@ pub(super) fn reset_image(config: &EscConfig) -> Memory {
     let features = if config.dc_supported { FEATURE_DC } else { 0 };
     memory.write(at(register::FEATURES), &features.to_le_bytes());
     memory.write(at(register::DL_STATUS), &DL_STATUS_PORT0_UP.to_le_bytes());
-    memory.write(at(register::PDI_CONTROL), &[PDI_TYPE_SPI]);
+    memory.write(at(register::PDI_CONTROL), &[PdiType::Spi as u8]);
     memory.write(
         at(register::AL_EVENT_MASK),
         &AL_EVENT_MASK_RESET.to_le_bytes(),
     );
     memory.write(
         at(register::WATCHDOG_DIVIDER),
-        &WATCHDOG_DIVIDER_RESET.to_le_bytes(),
+        &Watchdog::RESET.divider.to_le_bytes(),
     );
     for watchdog in [
         register::WATCHDOG_TIME_PDI,
         register::WATCHDOG_TIME_PROCESS_DATA,
     ] {
-        memory.write(at(watchdog), &WATCHDOG_TIME_RESET.to_le_bytes());
+        memory.write(at(watchdog), &Watchdog::RESET.time.to_le_bytes());
     }
     memory
 }
