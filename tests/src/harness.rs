@@ -12,14 +12,14 @@ use std::sync::{Mutex, PoisonError};
 
 use ecat_core::{DeviceConfig, SubDevice};
 use ecat_embassy::pd_runner::Buffers;
-use ecat_embassy::{Application, CycleHandler, SharedEsc, run_esm, run_process_data};
+use ecat_embassy::{Application, CycleHandler, Pdi, SharedEsc, run_esm, run_process_data};
 use embassy_executor::Executor;
 use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
 use embassy_time::MockDriver;
 
-use crate::emulator::{EmulatedPdi, Emulator};
+use crate::emulator::Emulator;
 use crate::esc::EscConfig;
 use crate::master::TestMaster;
 
@@ -29,7 +29,6 @@ static SERIAL: Mutex<()> = Mutex::new(());
 /// Largest process image the harness's runner buffers hold.
 const MAX_IMAGE: usize = 1024;
 
-type Shared = SharedEsc<CriticalSectionRawMutex, EmulatedPdi>;
 type Stop = Signal<CriticalSectionRawMutex, ()>;
 
 /// The device under test.
@@ -88,18 +87,35 @@ async fn task(future: Pin<Box<dyn Future<Output = ()>>>, done: Rc<Cell<usize>>) 
     done.set(done.get() + 1);
 }
 
-/// Runs `script` against `device` until the script ends, then stops the runners.
+/// Runs `script` against `device` until the script ends, then stops the runners. The runners
+/// reach the emulated ESC through [`EmulatedPdi`](crate::emulator::EmulatedPdi).
 pub fn run<A, C, F>(device: Device<A, C>, script: impl FnOnce(TestMaster) -> F)
 where
     A: Application + 'static,
     C: CycleHandler + 'static,
     F: Future<Output = ()> + 'static,
 {
+    run_with_pdi(device, |emu: &Emulator| emu.pdi(), script);
+}
+
+/// Like [`run`], with the runners reaching the emulated ESC through the PDI `make_pdi` builds
+/// on it (e.g. an SPI driver talking to a fake SPI chip in front of the emulator).
+pub fn run_with_pdi<A, C, P, F>(
+    device: Device<A, C>,
+    make_pdi: impl FnOnce(&Emulator) -> P,
+    script: impl FnOnce(TestMaster) -> F,
+) where
+    A: Application + 'static,
+    C: CycleHandler + 'static,
+    P: Pdi + 'static,
+    F: Future<Output = ()> + 'static,
+{
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
     MockDriver::get().reset();
     let emu = Emulator::new(device.esc);
     (device.before_start)(&TestMaster::new(emu.clone()));
-    let shared: &'static Shared = Box::leak(Box::new(SharedEsc::new(emu.pdi())));
+    let shared: &'static SharedEsc<CriticalSectionRawMutex, P> =
+        Box::leak(Box::new(SharedEsc::new(make_pdi(&emu))));
     let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
     let futures: [Pin<Box<dyn Future<Output = ()>>>; 3] = [
         Box::pin(stoppable(
@@ -144,8 +160,8 @@ async fn scenario(stop: &'static Stop, master: TestMaster, script: impl Future<O
     stop.signal(());
 }
 
-async fn esm(
-    shared: &'static Shared,
+async fn esm<P: Pdi>(
+    shared: &'static SharedEsc<CriticalSectionRawMutex, P>,
     config: DeviceConfig,
     mut app: impl Application,
     device_id: u16,
@@ -156,10 +172,15 @@ async fn esm(
     let config = Box::leak(Box::new(config));
     let mut sub = SubDevice::new(config);
     sub.set_device_id(device_id);
-    match run_esm(shared, &mut sub, &mut app).await {}
+    let error = run_esm(shared, &mut sub, &mut app).await;
+    panic!("state-machine runner stopped: {error:?}");
 }
 
-async fn process_data(shared: &'static Shared, emu: Emulator, mut cycle: impl CycleHandler) {
+async fn process_data<P: Pdi>(
+    shared: &'static SharedEsc<CriticalSectionRawMutex, P>,
+    emu: Emulator,
+    mut cycle: impl CycleHandler,
+) {
     let (mut outputs, mut inputs) = (vec![0; MAX_IMAGE], vec![0; MAX_IMAGE]);
     let buffers = Buffers {
         outputs: &mut outputs,
