@@ -8,6 +8,7 @@
 //! | [`shared`] | [`SharedEsc`]: the PDI behind an async mutex plus the routing of AL events between the runners |
 //! | [`app`] | what the firmware author implements: [`Application`] (state hooks) and [`CycleHandler`] (process data) |
 //! | [`esm_runner`] | [`run_esm`]: the state machine, in the low-priority thread executor |
+//! | [`spi`] | PDI drivers over `embedded-hal-async` SPI: Beckhoff ESC SPI protocol, Microchip LAN9252 |
 //! | [`pd_runner`] | [`run_process_data`]: the process-data exchange, in an `InterruptExecutor`; owns the IRQ line |
 //!
 //! ## Who wakes whom
@@ -39,6 +40,7 @@ pub mod esm_runner;
 pub mod pd_runner;
 pub mod pdi;
 pub mod shared;
+pub mod spi;
 mod time;
 
 pub use app::{Application, CycleHandler};

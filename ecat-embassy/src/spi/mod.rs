@@ -1,0 +1,1 @@
+//! PDI drivers over SPI (being written).

@@ -1,0 +1,1 @@
+//! Fake SPI ESC chips in front of the emulated ESC (being written).
