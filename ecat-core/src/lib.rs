@@ -17,6 +17,8 @@
 //! | [`al`] | AL control, AL status, AL status code, AL event (ETG.1000.6 Tables 9–12) |
 //! | [`sync_manager`] | SyncManager channel registers and the checks a SubDevice applies to them |
 //! | [`esm`] | the EtherCAT state machine transition rules (ETG.1000.6 §6.4) |
+//! | [`dictionary`] | the CoE object dictionary: metadata, typed values, the `dictionary!` declaration (ETG.1000.6 §5.6.3) |
+//! | [`coe`] | CANopen over EtherCAT: SDO abort codes, … (ETG.1000.6 §5.6) |
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
@@ -37,7 +39,9 @@
 )]
 
 pub mod al;
+pub mod coe;
 pub mod device;
+pub mod dictionary;
 pub mod esm;
 pub mod process_data;
 pub mod register;

@@ -1,0 +1,302 @@
+//! [`dictionary!`](crate::dictionary!): the declaration of a device's object dictionary.
+
+/// Maps object indices onto the fields of a dictionary struct; see the [module
+/// documentation](crate::dictionary) for an example.
+///
+/// ```text
+/// dictionary! {
+///     Struct {
+///         INDEX => var(field, ACCESS, "Name" [, default = EXPR] [, min = EXPR] [, max = EXPR] [, unit = EXPR]);
+///         INDEX => array(field, ACCESS, "Name", "Element name" [, default = …] [, min = …] [, max = …] [, unit = …]);
+///         INDEX => record(field: RecordType, "Name") {
+///             SUB => field, ACCESS, "Name" [, default = …] [, min = …] [, max = …] [, unit = …];
+///         };
+///     }
+/// }
+/// ```
+///
+/// `ACCESS` is one or more [`Access`](crate::dictionary::Access) constants joined by `|`
+/// (`RO`, `RW`, `WO`, `RW_PREOP`, `RW_PREOP_SAFEOP`, `RXPDO`, `TXPDO`, `BACKUP`, `SETTINGS`).
+/// Array fields are `[T; N]`; record fields are structs whose fields the entries name. The macro
+/// implements [`ObjectDictionary`](crate::dictionary::ObjectDictionary) and `Default` (every field
+/// at its declared default, or the type's default), and asserts at compile time that indices and
+/// subindices ascend strictly and that only mappable types are PDO-mappable:
+///
+/// ```compile_fail
+/// pub struct Od { a: u8, b: u8 }
+/// ecat_core::dictionary! {
+///     Od {
+///         0x2001 => var(a, RO, "A");
+///         0x2000 => var(b, RO, "B"); // not ascending: does not compile
+///     }
+/// }
+/// ```
+///
+/// ```compile_fail
+/// use ecat_core::dictionary::VisibleString;
+/// pub struct Od { name: VisibleString<8> }
+/// ecat_core::dictionary! {
+///     Od {
+///         0x2000 => var(name, RW | TXPDO, "Name"); // a string is not PDO-mappable
+///     }
+/// }
+/// ```
+///
+/// ```compile_fail
+/// pub struct Od { a: u8 }
+/// ecat_core::dictionary! {
+///     Od {
+///         0x2000 => var(a, RO, "A", min = 300); // 300 is not a u8
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! dictionary {
+    (
+        $dict:ident {
+            $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*
+        }
+    ) => {
+        impl $crate::dictionary::ObjectDictionary for $dict {
+            const OBJECTS: &'static [$crate::dictionary::Object<Self>] = &[
+                $( $crate::__ecat_object!($dict, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?), )*
+            ];
+        }
+
+        const _: () = {
+            let objects = <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS;
+            assert!(
+                $crate::dictionary::is_well_formed(objects),
+                "object indices and record subindices must ascend strictly"
+            );
+            assert!(
+                $crate::dictionary::mappable_types_only(objects),
+                "only numeric and bit types may be PDO-mappable"
+            );
+        };
+
+        impl ::core::default::Default for $dict {
+            fn default() -> Self {
+                Self {
+                    $( $field: $crate::__ecat_default!($kind ( $field $($spec)* ) $({ $($subs)* })?), )*
+                }
+            }
+        }
+    };
+}
+
+/// One `Object<D>` of a dictionary table.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_object {
+    ($dict:ident, $index:literal, var (
+        $field:ident, $($acc:ident)|+, $name:literal
+        $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
+    )) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Var,
+                name: $name,
+                max_sub: 0,
+                entries: &[$crate::dictionary::EntryInfo {
+                    sub: 0,
+                    name: $name,
+                    data_type: $crate::dictionary::data_type_of(|d: &$dict| &d.$field),
+                    bit_len: $crate::dictionary::bit_len_of(|d: &$dict| &d.$field),
+                    access: $crate::__ecat_access!($($acc)|+),
+                    unit: $crate::__ecat_or!(0 $(, $unit)?),
+                    limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
+                }],
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
+                0 => Ok($crate::dictionary::read_value(&d.$field, offset, out)),
+                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
+                0 => $crate::dictionary::write_value(
+                    &mut d.$field, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                ),
+                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            },
+            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
+                $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
+                $( (0, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $min, out), )?
+                $( (0, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $max, out), )?
+                _ => 0,
+            },
+        }
+    };
+    ($dict:ident, $index:literal, array (
+        $field:ident, $($acc:ident)|+, $name:literal, $element:literal
+        $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
+    )) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Array,
+                name: $name,
+                max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field),
+                entries: &[
+                    $crate::dictionary::EntryInfo::subindex_count("Number of entries"),
+                    $crate::dictionary::EntryInfo {
+                        sub: 1,
+                        name: $element,
+                        data_type: $crate::dictionary::element_type_of(|d: &$dict| &d.$field),
+                        bit_len: $crate::dictionary::element_bit_len_of(|d: &$dict| &d.$field),
+                        access: $crate::__ecat_access!($($acc)|+),
+                        unit: $crate::__ecat_or!(0 $(, $unit)?),
+                        limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
+                    },
+                ],
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
+                0 => Ok($crate::dictionary::read_value(&$crate::dictionary::array_len_of(|d: &$dict| &d.$field), offset, out)),
+                n => d.$field.get(usize::from(n) - 1)
+                    .map(|v| $crate::dictionary::read_value(v, offset, out))
+                    .ok_or($crate::coe::AbortCode::NO_SUBINDEX),
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
+                0 => Err($crate::coe::AbortCode::READ_ONLY),
+                n => match d.$field.get_mut(usize::from(n) - 1) {
+                    Some(slot) => $crate::dictionary::write_value(
+                        slot, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                    ),
+                    None => Err($crate::coe::AbortCode::NO_SUBINDEX),
+                },
+            },
+            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
+                (0, _, _) => 0,
+                $( (_, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $default, out), )?
+                $( (_, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $min, out), )?
+                $( (_, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $max, out), )?
+                _ => 0,
+            },
+        }
+    };
+    ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
+        $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
+           $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
+    }) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Record,
+                name: $name,
+                max_sub: $crate::dictionary::last_sub(&[$($sub),+]),
+                entries: &[
+                    $crate::dictionary::EntryInfo::subindex_count("Highest sub-index supported"),
+                    $( $crate::dictionary::EntryInfo {
+                        sub: $sub,
+                        name: $sname,
+                        data_type: $crate::dictionary::data_type_of(|d: &$dict| &d.$field.$sfield),
+                        bit_len: $crate::dictionary::bit_len_of(|d: &$dict| &d.$field.$sfield),
+                        access: $crate::__ecat_access!($($acc)|+),
+                        unit: $crate::__ecat_or!(0 $(, $unit)?),
+                        limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
+                    }, )+
+                ],
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
+                0 => Ok($crate::dictionary::read_value(&$crate::dictionary::last_sub(&[$($sub),+]), offset, out)),
+                $( $sub => Ok($crate::dictionary::read_value(&d.$field.$sfield, offset, out)), )+
+                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
+                0 => Err($crate::coe::AbortCode::READ_ONLY),
+                $( $sub => $crate::dictionary::write_value(
+                    &mut d.$field.$sfield, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                ), )+
+                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            },
+            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
+                let _ = (&which, &out);
+                match sub {
+                    $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?), )+
+                    _ => 0,
+                }
+            },
+        }
+    };
+}
+
+/// The default value of one field.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_default {
+    (var ( $field:ident, $($acc:ident)|+, $name:literal
+        $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? )) => {
+        $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
+    };
+    (array ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal
+        $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? )) => {
+        ::core::array::from_fn(|_| $crate::__ecat_or!(::core::default::Default::default() $(, $default)?))
+    };
+    (record ( $field:ident : $record:ident, $name:literal ) {
+        $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
+           $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
+    }) => {
+        $record { $( $sfield: $crate::__ecat_or!(::core::default::Default::default() $(, $default)?), )+ }
+    };
+}
+
+/// A record entry's declared limit.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_record_limit {
+    ($dict:ident, $field:ident . $sfield:ident, $which:ident, $out:ident; $($default:expr)?; $($min:expr)?; $($max:expr)?) => {
+        match $which {
+            $( $crate::dictionary::Limit::Default => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $default, $out), )?
+            $( $crate::dictionary::Limit::Min => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $min, $out), )?
+            $( $crate::dictionary::Limit::Max => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $max, $out), )?
+            #[allow(unreachable_patterns)]
+            _ => 0,
+        }
+    };
+}
+
+/// `ACCESS | ACCESS` as a `const` [`Access`](crate::dictionary::Access).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_access {
+    ($($acc:ident)|+) => {
+        $crate::dictionary::Access(0 $(| $crate::dictionary::Access::$acc.0)+)
+    };
+}
+
+/// The last of its arguments.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_or {
+    ($fallback:expr) => {
+        $fallback
+    };
+    ($fallback:expr, $value:expr) => {
+        $value
+    };
+}
+
+/// `Some(x)` or `None`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_some {
+    () => {
+        None
+    };
+    ($value:expr) => {
+        Some($value)
+    };
+}
+
+/// The `Limits` flags of the declared default, minimum and maximum.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_limits {
+    ($($default:expr)?; $($min:expr)?; $($max:expr)?) => {
+        $crate::dictionary::Limits(
+            0 $(| { let _ = stringify!($default); $crate::dictionary::Limits::DEFAULT })?
+              $(| { let _ = stringify!($min); $crate::dictionary::Limits::MIN })?
+              $(| { let _ = stringify!($max); $crate::dictionary::Limits::MAX })?
+        )
+    };
+}

@@ -1,0 +1,175 @@
+//! What the dictionary knows about each object and entry: the metadata SDO access, SDO
+//! Information, PDO mapping, the SII image and the ESI file are all built from
+//! (ETG.1000.6 §5.6.3 object description and entry description).
+
+use super::{Access, DataType};
+
+/// The object code (ETG.1000.6 Table 62).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum ObjectCode {
+    /// A single value, subindex 0.
+    Var = 7,
+    /// Entries of one type, subindex 1..=n; subindex 0 holds n.
+    Array = 8,
+    /// Entries of different types; subindex 0 holds the highest subindex.
+    Record = 9,
+}
+
+/// The description of one entry (ETG.1000.6 §5.6.3.6 "entry description").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct EntryInfo {
+    /// The subindex (for an ARRAY element: 1, standing for every element).
+    pub sub: u8,
+    /// The name.
+    pub name: &'static str,
+    /// The data type.
+    pub data_type: DataType,
+    /// The bit length (the capacity for strings).
+    pub bit_len: u16,
+    /// Access rights and flags.
+    pub access: Access,
+    /// The unit (ETG.1004 unit code), 0 for none.
+    pub unit: u32,
+    /// Which of default, minimum and maximum the dictionary declares.
+    pub limits: Limits,
+}
+
+/// Which value limits an entry declares (the value-info bits 0x10/0x20/0x40 of ETG.1000.6
+/// Table 53 shifted to bits 0..2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Limits(pub u8);
+
+impl Limits {
+    /// A default value is declared.
+    pub const DEFAULT: u8 = 1 << 0;
+    /// A minimum is declared.
+    pub const MIN: u8 = 1 << 1;
+    /// A maximum is declared.
+    pub const MAX: u8 = 1 << 2;
+
+    /// Whether `limit` is declared.
+    pub const fn has(self, limit: Limit) -> bool {
+        self.0 & (limit as u8) != 0
+    }
+}
+
+/// One of an entry's declared values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum Limit {
+    /// The default value.
+    Default = Limits::DEFAULT,
+    /// The minimum.
+    Min = Limits::MIN,
+    /// The maximum.
+    Max = Limits::MAX,
+}
+
+impl EntryInfo {
+    /// SI0 of an ARRAY or RECORD: UNSIGNED8, read-only.
+    pub const fn subindex_count(name: &'static str) -> Self {
+        Self {
+            sub: 0,
+            name,
+            data_type: DataType::Unsigned8,
+            bit_len: 8,
+            access: Access::RO,
+            unit: 0,
+            limits: Limits(0),
+        }
+    }
+}
+
+/// The description of one object (ETG.1000.6 §5.6.3.5 "object description").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ObjectInfo {
+    /// The index.
+    pub index: u16,
+    /// VAR, ARRAY or RECORD.
+    pub code: ObjectCode,
+    /// The name.
+    pub name: &'static str,
+    /// The highest subindex (0 for a VAR; the number of elements of an ARRAY).
+    pub max_sub: u8,
+    /// A VAR: its entry. An ARRAY: SI0 and the element. A RECORD: SI0 and every entry, sorted by
+    /// subindex.
+    pub entries: &'static [EntryInfo],
+}
+
+impl ObjectInfo {
+    /// The description of subindex `sub`, `None` if it does not exist.
+    pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
+        match self.code {
+            ObjectCode::Var => self.entries.first().filter(|_| sub == 0),
+            ObjectCode::Array if sub == 0 => self.entries.first(),
+            ObjectCode::Array if sub <= self.max_sub => self.entries.get(1),
+            ObjectCode::Array => None,
+            ObjectCode::Record => {
+                let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
+                self.entries.get(i)
+            }
+        }
+    }
+
+    /// The data type SDO Information reports for the object: the VAR's type, the ARRAY
+    /// element's type, or for a RECORD none of the basic types (0x0000 unless the device
+    /// defines a record type).
+    pub fn data_type(&self) -> u16 {
+        match self.code {
+            ObjectCode::Var => self.entries.first().map_or(0, |e| e.data_type.code()),
+            ObjectCode::Array => self.entries.get(1).map_or(0, |e| e.data_type.code()),
+            ObjectCode::Record => 0,
+        }
+    }
+
+    /// The subindices that exist, in order: 0..=max_sub for VAR and ARRAY, the declared ones for a
+    /// RECORD.
+    pub fn subindices(&self) -> impl Iterator<Item = u8> + '_ {
+        let dense = !matches!(self.code, ObjectCode::Record);
+        let declared = self.entries.iter().map(|e| e.sub).filter(move |_| !dense);
+        (0..=self.max_sub).filter(move |_| dense).chain(declared)
+    }
+}
+
+/// `const` check of a dictionary table: indices strictly ascending and every RECORD's entries
+/// strictly ascending by subindex. Used by [`dictionary!`](crate::dictionary!) in a `const`
+/// assertion, so a bad table does not compile.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn is_well_formed<D>(objects: &[super::Object<D>]) -> bool {
+    let mut i = 0;
+    while i < objects.len() {
+        if i > 0 && objects[i - 1].info.index >= objects[i].info.index {
+            return false;
+        }
+        let entries = objects[i].info.entries;
+        let mut j = 1;
+        while j < entries.len() {
+            if entries[j - 1].sub >= entries[j].sub {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// `const` check that every PDO-mappable entry has a mappable type.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn mappable_types_only<D>(objects: &[super::Object<D>]) -> bool {
+    let mut i = 0;
+    while i < objects.len() {
+        let entries = objects[i].info.entries;
+        let mut j = 0;
+        while j < entries.len() {
+            let e = &entries[j];
+            if (e.access.rxpdo() || e.access.txpdo()) && !e.data_type.is_pdo_mappable() {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
+}

@@ -1,0 +1,210 @@
+//! The dictionary a `dictionary!` declaration produces: metadata from the field types, typed
+//! access with range checks, declared limits, lookup.
+
+use ecat_core::coe::AbortCode;
+use ecat_core::dictionary::{
+    Access, Bits, DataType, Limit, ObjectCode, ObjectDictionary, Read, VisibleString,
+};
+
+struct Identity {
+    vendor_id: u32,
+    product_code: u32,
+}
+
+struct Od {
+    device_type: u32,
+    name: VisibleString<8>,
+    identity: Identity,
+    flags: [bool; 3],
+    mode: i8,
+    level: Bits<3>,
+    position: i32,
+}
+
+ecat_core::dictionary! {
+    Od {
+        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+        0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
+            3 => product_code, RO, "Product code";
+        };
+        0x2000 => array(flags, RW | TXPDO, "Flags", "Flag", default = true);
+        0x6060 => var(mode, RW | RXPDO, "Modes of operation", default = 8, min = -1, max = 10, unit = 0x0000_0000);
+        0x6061 => var(level, RW_PREOP, "Level");
+        0x607A => var(position, RW | RXPDO | BACKUP, "Target position", min = -1000, max = 1000, unit = 0x0001_0000);
+    }
+}
+
+fn read(od: &Od, index: u16, sub: u8) -> Result<Vec<u8>, AbortCode> {
+    let object = Od::object(index).ok_or(AbortCode::NO_OBJECT)?;
+    let mut out = [0; 16];
+    let Read { copied, size } = (object.read)(od, sub, 0, &mut out)?;
+    assert_eq!(copied, size);
+    Ok(out[..copied].to_vec())
+}
+
+fn write(od: &mut Od, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+    let object = Od::object(index).ok_or(AbortCode::NO_OBJECT)?;
+    (object.write)(od, sub, data)
+}
+
+#[test]
+fn metadata_comes_from_the_field_types() {
+    let o = Od::object(0x6060).unwrap();
+    assert_eq!(
+        (o.info.code, o.info.max_sub, o.info.name),
+        (ObjectCode::Var, 0, "Modes of operation")
+    );
+    let e = o.info.entry(0).unwrap();
+    assert_eq!(
+        (e.data_type, e.bit_len, e.access),
+        (DataType::Integer8, 8, Access(0x3F | 0x40))
+    );
+    assert!(o.info.entry(1).is_none());
+
+    let level = Od::object(0x6061).unwrap().info.entry(0).unwrap();
+    assert_eq!(
+        (level.data_type, level.bit_len, level.access),
+        (DataType::Bit3, 3, Access::RW_PREOP)
+    );
+
+    let name = Od::object(0x1008).unwrap().info.entry(0).unwrap();
+    assert_eq!(
+        (name.data_type, name.bit_len),
+        (DataType::VisibleString, 64)
+    );
+
+    let array = Od::object(0x2000).unwrap().info;
+    assert_eq!(
+        (array.code, array.max_sub, array.data_type()),
+        (ObjectCode::Array, 3, 0x0001)
+    );
+    assert_eq!(array.entry(3).unwrap().name, "Flag");
+    assert!(array.entry(4).is_none());
+    assert_eq!(array.subindices().collect::<Vec<_>>(), [0, 1, 2, 3]);
+
+    let record = Od::object(0x1018).unwrap().info;
+    assert_eq!((record.code, record.max_sub), (ObjectCode::Record, 3));
+    assert_eq!(record.subindices().collect::<Vec<_>>(), [0, 1, 3]);
+    assert!(
+        record.entry(2).is_none(),
+        "a gap in a record does not exist"
+    );
+    assert_eq!(record.entry(0).unwrap().data_type, DataType::Unsigned8);
+
+    let position = Od::object(0x607A).unwrap().info.entry(0).unwrap();
+    assert_eq!(
+        (position.unit, position.access.backup()),
+        (0x0001_0000, true)
+    );
+    assert!(Od::object(0x1001).is_none());
+}
+
+#[test]
+fn defaults_initialise_the_fields() {
+    let od = Od::default();
+    assert_eq!(od.device_type, 0x0002_0192);
+    assert_eq!(od.name.as_bytes(), b"ecat");
+    assert_eq!(
+        (od.identity.vendor_id, od.identity.product_code),
+        (0xE000_0001, 0)
+    );
+    assert_eq!(od.flags, [true; 3]);
+    assert_eq!((od.mode, od.position), (8, 0));
+}
+
+#[test]
+fn reads_encode_little_endian_and_si0() {
+    let od = Od::default();
+    assert_eq!(read(&od, 0x1000, 0), Ok(vec![0x92, 0x01, 0x02, 0x00]));
+    assert_eq!(read(&od, 0x1008, 0), Ok(b"ecat".to_vec()));
+    assert_eq!(
+        read(&od, 0x1018, 0),
+        Ok(vec![3]),
+        "record SI0 = highest subindex"
+    );
+    assert_eq!(read(&od, 0x1018, 1), Ok(vec![0x01, 0, 0, 0xE0]));
+    assert_eq!(read(&od, 0x1018, 2), Err(AbortCode::NO_SUBINDEX));
+    assert_eq!(
+        read(&od, 0x2000, 0),
+        Ok(vec![3]),
+        "array SI0 = number of elements"
+    );
+    assert_eq!(read(&od, 0x2000, 3), Ok(vec![1]));
+    assert_eq!(read(&od, 0x2000, 4), Err(AbortCode::NO_SUBINDEX));
+    assert_eq!(read(&od, 0x6060, 1), Err(AbortCode::NO_SUBINDEX));
+}
+
+#[test]
+fn reads_stream_from_an_offset() {
+    let od = Od::default();
+    let object = Od::object(0x1008).unwrap();
+    let mut out = [0; 3];
+    assert_eq!(
+        (object.read)(&od, 0, 2, &mut out),
+        Ok(Read { copied: 2, size: 4 })
+    );
+    assert_eq!(&out[..2], b"at");
+}
+
+#[test]
+fn writes_decode_check_the_range_and_store() {
+    let mut od = Od::default();
+    assert_eq!(write(&mut od, 0x607A, 0, &1000i32.to_le_bytes()), Ok(()));
+    assert_eq!(od.position, 1000);
+    assert_eq!(
+        write(&mut od, 0x607A, 0, &1001i32.to_le_bytes()),
+        Err(AbortCode::VALUE_TOO_HIGH)
+    );
+    assert_eq!(
+        write(&mut od, 0x607A, 0, &(-1001i32).to_le_bytes()),
+        Err(AbortCode::VALUE_TOO_LOW)
+    );
+    assert_eq!(od.position, 1000, "a refused value is not stored");
+    assert_eq!(
+        write(&mut od, 0x607A, 0, &[1, 2]),
+        Err(AbortCode::LENGTH_TOO_LOW)
+    );
+    assert_eq!(write(&mut od, 0x6060, 0, &[0xFF]), Ok(()));
+    assert_eq!(od.mode, -1);
+    assert_eq!(
+        write(&mut od, 0x6061, 0, &[8]),
+        Err(AbortCode::VALUE_RANGE),
+        "BIT3 holds 0..=7"
+    );
+    assert_eq!(
+        write(&mut od, 0x1008, 0, b"toolongname"),
+        Err(AbortCode::LENGTH_TOO_HIGH)
+    );
+    assert_eq!(write(&mut od, 0x1008, 0, b"ab"), Ok(()));
+    assert_eq!(od.name.as_bytes(), b"ab");
+    assert_eq!(write(&mut od, 0x2000, 2, &[0]), Ok(()));
+    assert_eq!(od.flags, [true, false, true]);
+    assert_eq!(write(&mut od, 0x2000, 0, &[2]), Err(AbortCode::READ_ONLY));
+    assert_eq!(write(&mut od, 0x1018, 0, &[1]), Err(AbortCode::READ_ONLY));
+}
+
+#[test]
+fn declared_limits_encode_in_the_entry_type() {
+    let limit = |index: u16, sub: u8, which: Limit| {
+        let mut out = [0; 8];
+        let n = (Od::object(index).unwrap().limit)(sub, which, &mut out);
+        out[..n].to_vec()
+    };
+    assert_eq!(limit(0x6060, 0, Limit::Default), [8]);
+    assert_eq!(limit(0x6060, 0, Limit::Min), [0xFF]);
+    assert_eq!(limit(0x6060, 0, Limit::Max), [10]);
+    assert_eq!(limit(0x607A, 0, Limit::Min), (-1000i32).to_le_bytes());
+    assert_eq!(
+        limit(0x607A, 0, Limit::Default),
+        Vec::<u8>::new(),
+        "no default declared"
+    );
+    assert_eq!(limit(0x1018, 1, Limit::Default), [0x01, 0, 0, 0xE0]);
+    assert_eq!(limit(0x2000, 2, Limit::Default), [1]);
+    let info = Od::object(0x6060).unwrap().info.entry(0).unwrap().limits;
+    assert!(info.has(Limit::Default) && info.has(Limit::Min) && info.has(Limit::Max));
+    let info = Od::object(0x607A).unwrap().info.entry(0).unwrap().limits;
+    assert!(!info.has(Limit::Default) && info.has(Limit::Min));
+}
