@@ -21,14 +21,21 @@
 //! work; nothing panics.
 
 use crate::al::{AlControl, AlEvent, AlState, AlStatus, AlStatusCode};
-use crate::device::{Area, DeviceConfig};
+use crate::coe::Emergency;
+use crate::coe::sdo::Context;
+use crate::device::{Area, DeviceConfig, MailboxConfig};
+use crate::dictionary::{ObjectDictionary, ObjectHooks};
 use crate::esm::{self, Decision, Transition};
+use crate::mailbox::Mailbox;
 use crate::process_data::Layout;
 use crate::register;
 use crate::ring::Ring;
 use crate::sync_manager::Channel;
 use crate::sync_manager::check::{self, Channels};
 use crate::time::Instant;
+
+/// The AL events the state machine handles; the driver wakes it for these.
+pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 
 /// The largest SyncManager register block the SubDevice reads (16 channels).
 const MAX_SM_BYTES: usize = 16 * Channel::SIZE;
@@ -86,6 +93,9 @@ enum Op {
     ReadSyncManagers,
     ReadAlControl,
     WritePdiControl(u8),
+    ReadMailbox,
+    WriteMailbox,
+    CompleteMailbox,
     WriteStatusCode,
     WriteStatus,
 }
@@ -106,9 +116,10 @@ struct Pending {
     deadline: Instant,
 }
 
-/// The sans-IO EtherCAT SubDevice: state machine and SyncManager checks.
+/// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
+/// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
 #[derive(Debug)]
-pub struct SubDevice<'c> {
+pub struct SubDevice<'c, const MBX: usize = 128> {
     config: &'c DeviceConfig,
     state: AlState,
     error: bool,
@@ -124,12 +135,12 @@ pub struct SubDevice<'c> {
     pending: Option<Pending>,
     events: Ring<Event, 8>,
     buf: [u8; MAX_SM_BYTES],
+    mailbox: Mailbox<MBX>,
+    /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
+    complete_mailbox: bool,
 }
 
-impl<'c> SubDevice<'c> {
-    /// The AL events the state machine handles; the driver wakes it for these.
-    pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
-
+impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// A SubDevice in INIT. Its first accesses write the AL event mask, deactivate the
     /// SyncManagers through their PDI control registers and present INIT in AL status.
     pub fn new(config: &'c DeviceConfig) -> Self {
@@ -149,6 +160,8 @@ impl<'c> SubDevice<'c> {
             pending: None,
             events: Ring::new(),
             buf: [0; MAX_SM_BYTES],
+            mailbox: Mailbox::new(),
+            complete_mailbox: false,
         }
     }
 
@@ -233,6 +246,14 @@ impl<'c> SubDevice<'c> {
             self.read_sync_managers = true;
             self.sm_changed = true;
         }
+        if self.state.has_mailbox() {
+            if event.contains(AlEvent::sync_manager(0)) {
+                self.mailbox.receive_event();
+            }
+            if event.contains(AlEvent::sync_manager(1)) {
+                self.mailbox.send_event();
+            }
+        }
     }
 
     /// The next register access the core needs, or `None` when it has nothing to do. Until
@@ -255,6 +276,8 @@ impl<'c> SubDevice<'c> {
         let cleared = match op {
             Op::ReadAlControl => AlEvent::AL_CONTROL,
             Op::ReadSyncManagers => AlEvent::SM_CHANGE,
+            Op::ReadMailbox => AlEvent::sync_manager(0),
+            Op::WriteMailbox => AlEvent::sync_manager(1),
             _ => AlEvent::NONE,
         };
         self.complete(now, op, value);
@@ -269,12 +292,17 @@ impl<'c> SubDevice<'c> {
     /// When [`SubDevice::handle_timeout`] must be called next, if ever.
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.pending.map(|p| p.deadline)
+        let transition = self.pending.map(|p| p.deadline);
+        match (transition, self.mailbox.poll_timeout()) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
     /// Expires what is due at `now`: a transition the application left pending is refused with
-    /// [`AlStatusCode::UNSPECIFIED_ERROR`].
+    /// [`AlStatusCode::UNSPECIFIED_ERROR`]; an SDO transfer missing its next segment is dropped.
     pub fn handle_timeout(&mut self, now: Instant) {
+        self.mailbox.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
         {
@@ -332,6 +360,17 @@ impl<'c> SubDevice<'c> {
                 return Some((Op::WritePdiControl(n), u32::from(desired)));
             }
         }
+        if self.mailbox_ready() {
+            if self.complete_mailbox {
+                return Some((Op::CompleteMailbox, 0));
+            }
+            if self.mailbox.write_due().is_some() {
+                return Some((Op::WriteMailbox, 0));
+            }
+            if self.mailbox.read_due() {
+                return Some((Op::ReadMailbox, 0));
+            }
+        }
         let code = self.al_status_code().0;
         if self.written.status_code != Some(code) {
             return Some((Op::WriteStatusCode, u32::from(code)));
@@ -344,6 +383,32 @@ impl<'c> SubDevice<'c> {
     }
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
+        let mailbox = self.active_mailbox();
+        match op {
+            Op::ReadMailbox => {
+                return Access::Read {
+                    address: mailbox.receive.start,
+                    buf: self.mailbox.rx_buffer(),
+                };
+            }
+            Op::WriteMailbox => {
+                let data = self.mailbox.write_due().unwrap_or_default();
+                return Access::Write {
+                    address: mailbox.send.start,
+                    data,
+                };
+            }
+            Op::CompleteMailbox => {
+                let last = self.mailbox.send_size().saturating_sub(1);
+                let data = self.mailbox.sent_byte(last);
+                let address = mailbox
+                    .send
+                    .start
+                    .saturating_add(u16::try_from(last).unwrap_or(0));
+                return Access::Write { address, data };
+            }
+            _ => {}
+        }
         let sm_bytes = usize::from(self.config.sync_manager_count.clamp(4, 16)) * Channel::SIZE;
         let (address, len, write) = match op {
             Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
@@ -356,6 +421,7 @@ impl<'c> SubDevice<'c> {
             ),
             Op::WriteStatusCode => (register::AL_STATUS_CODE, 2, true),
             Op::WriteStatus => (register::AL_STATUS, 2, true),
+            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox => (0, 0, false),
         };
         let buf = self.buf.get_mut(..len).unwrap_or_default();
         if write {
@@ -376,6 +442,20 @@ impl<'c> SubDevice<'c> {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
                     *slot = u8::try_from(value).ok();
                 }
+            }
+            Op::ReadMailbox => self.mailbox.received(),
+            Op::WriteMailbox => {
+                let short =
+                    self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
+                if short {
+                    self.complete_mailbox = true;
+                } else {
+                    self.mailbox.written();
+                }
+            }
+            Op::CompleteMailbox => {
+                self.complete_mailbox = false;
+                self.mailbox.written();
             }
             Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
             Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
@@ -451,6 +531,10 @@ impl<'c> SubDevice<'c> {
                 .mailbox_for(state == AlState::Boot)
                 .ok_or((AlStatusCode::BOOTSTRAP_NOT_SUPPORTED, AlState::Init))?;
             check::mailbox(&self.channels, mailbox, code).map_err(|c| (c, AlState::Init))?;
+            let largest = mailbox.receive.length.max(mailbox.send.length);
+            if usize::from(largest) > MBX {
+                return Err((AlStatusCode::NO_MEMORY, AlState::Init));
+            }
         }
         if state.has_process_data() {
             check::process_data(&self.channels, self.config).map_err(|c| (c, AlState::PreOp))?;
@@ -488,6 +572,16 @@ impl<'c> SubDevice<'c> {
     fn change_state(&mut self, t: Transition) {
         self.abort_pending();
         self.state = t.to;
+        if t.from.has_mailbox() && !t.to.has_mailbox() {
+            self.mailbox.stop();
+            self.complete_mailbox = false;
+        }
+        if !t.from.has_mailbox() && t.to.has_mailbox() {
+            let mailbox = self.active_mailbox();
+            let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+            self.mailbox
+                .start(mailbox.receive.length, mailbox.send.length, repeat);
+        }
         self.events.push(Event::StateChanged(t));
     }
 
@@ -498,9 +592,17 @@ impl<'c> SubDevice<'c> {
     }
 
     fn desired_event_mask(&self) -> AlEvent {
-        let mut mask = Self::ESM_EVENTS;
+        let mut mask = ESM_EVENTS;
         if self.state.has_process_data() {
             mask |= self.process_data_trigger();
+        }
+        if self.state.has_mailbox() {
+            if self.mailbox.can_receive() {
+                mask |= AlEvent::sync_manager(0);
+            }
+            if self.mailbox.waits_for_send_event() {
+                mask |= AlEvent::sync_manager(1);
+            }
         }
         mask
     }
@@ -513,6 +615,69 @@ impl<'c> SubDevice<'c> {
         } else {
             self.state.has_process_data()
         };
-        if active { 0 } else { Channel::PDI_DEACTIVATE }
+        let repeat_ack = n == 1 && self.mailbox.repeat_ack();
+        match (active, repeat_ack) {
+            (false, _) => Channel::PDI_DEACTIVATE,
+            (true, false) => 0,
+            (true, true) => Channel::PDI_REPEAT_ACK,
+        }
+    }
+
+    /// The mailbox layout of the current state: the bootstrap mailbox in BOOT.
+    fn active_mailbox(&self) -> MailboxConfig {
+        match (self.state, self.config.bootstrap_mailbox) {
+            (AlState::Boot, Some(boot)) => boot,
+            _ => self.config.mailbox,
+        }
+    }
+
+    /// Whether mailbox traffic may flow: a mailbox state with SM0/SM1 activated.
+    fn mailbox_ready(&self) -> bool {
+        let activated = |n: usize| {
+            self.written
+                .pdi_control
+                .get(n)
+                .copied()
+                .flatten()
+                .is_some_and(|c| c & Channel::PDI_DEACTIVATE == 0)
+        };
+        self.state.has_mailbox() && activated(0) && activated(1)
+    }
+
+    /// Serves the mailbox: the request read from SM0, or the next SDO Information fragment or
+    /// emergency. Call it after the accesses are done; it may queue an SM1 write. Returns whether
+    /// it built a message. Bounded: at most one message per call.
+    pub fn service_mailbox<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        now: Instant,
+        od: &mut D,
+        hooks: &mut H,
+    ) -> bool {
+        if !self.state.has_mailbox() {
+            return false;
+        }
+        let mut cx = Context {
+            od,
+            hooks,
+            state: self.state,
+            now,
+        };
+        self.mailbox.service(&mut cx)
+    }
+
+    /// Raises an emergency: queued, and sent when SM1 is free. Refused (returns `false`) below
+    /// PREOP and in BOOT, where there is no CoE. When the queue is full the oldest is dropped and
+    /// counted ([`SubDevice::emergencies_dropped`]).
+    pub fn emergency(&mut self, emergency: Emergency) -> bool {
+        if !self.state.has_mailbox() || self.state == AlState::Boot {
+            return false;
+        }
+        self.mailbox.emergency(emergency);
+        true
+    }
+
+    /// Emergencies dropped because the queue was full.
+    pub fn emergencies_dropped(&self) -> u32 {
+        self.mailbox.emergencies_dropped()
     }
 }

@@ -72,6 +72,8 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
     assert_eq!(
         log,
         [
+            // The mailbox receive event (SM0, bit 8) joins the mask in PREOP.
+            Op::Write(0x0204, vec![0x11, 0x01, 0, 0]),
             Op::Write(0x0807, vec![0]),
             Op::Write(0x080F, vec![0]),
             Op::Write(0x0130, vec![2, 0])
@@ -122,7 +124,7 @@ fn process_data_trigger_joins_the_event_mask_in_safeop() {
             assert_eq!(
                 log,
                 [
-                    Op::Write(0x0204, vec![0x11, 0x04, 0, 0]),
+                    Op::Write(0x0204, vec![0x11, 0x05, 0, 0]),
                     Op::Write(0x0817, vec![0]),
                     Op::Write(0x081F, vec![0]),
                     Op::Write(0x0130, vec![4, 0]),

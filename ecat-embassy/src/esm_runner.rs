@@ -1,38 +1,67 @@
-//! The state-machine runner: AL control, SyncManager checks, application hooks. Runs in the
-//! low-priority (thread) executor; the mailbox joins it later.
+//! The state-machine and mailbox runner: AL control, SyncManager checks, application hooks, the
+//! mailbox with CoE. Runs in the low-priority (thread) executor.
 
+use core::cell::RefCell;
 use core::pin::pin;
 
+use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
 use ecat_core::{Event, SubDevice, Transition};
 use embassy_futures::select::{Either3, select, select3};
+use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 
 use crate::shared::Runner;
 use crate::time::{now, until};
 use crate::{Application, Pdi, SharedEsc};
 
-/// Runs the state machine of `sub` on `esc` until the PDI fails; returns the PDI error.
+/// The object dictionary as both runners share it: behind a blocking mutex, locked only for
+/// the CPU work of one mailbox message (no `.await` inside).
+pub type SharedDictionary<M, D> = BlockingMutex<M, RefCell<D>>;
+
+/// Runs the state machine and the mailbox of `sub` on `esc` until the PDI fails; returns the PDI
+/// error. SDO requests are served from `od`, with `app` as the [`ObjectHooks`].
 ///
-/// Woken only by AL events the process-data runner routes to it and by the core's deadlines;
-/// never polls the ESC.
-pub async fn run_esm<M: RawMutex, P: Pdi, A: Application>(
+/// Woken only by AL events the process-data runner routes to it, by emergencies the application
+/// raises and by the core's deadlines; never polls the ESC. Each mailbox message costs one PDI
+/// read of SM0 and one or two writes of SM1, each a single bounded transaction.
+pub async fn run_esm<M, P, A, D, const MBX: usize>(
     esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_>,
+    sub: &mut SubDevice<'_, MBX>,
     app: &mut A,
-) -> P::Error {
-    match drive(esc, sub, app).await {
+    od: &SharedDictionary<M, D>,
+) -> P::Error
+where
+    M: RawMutex,
+    P: Pdi,
+    A: Application + ObjectHooks<D>,
+    D: ObjectDictionary,
+{
+    match drive(esc, sub, app, od).await {
         Ok(never) => match never {},
         Err(e) => e,
     }
 }
 
-async fn drive<M: RawMutex, P: Pdi, A: Application>(
+async fn drive<M, P, A, D, const MBX: usize>(
     esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_>,
+    sub: &mut SubDevice<'_, MBX>,
     app: &mut A,
-) -> Result<core::convert::Infallible, P::Error> {
+    od: &SharedDictionary<M, D>,
+) -> Result<core::convert::Infallible, P::Error>
+where
+    M: RawMutex,
+    P: Pdi,
+    A: Application + ObjectHooks<D>,
+    D: ObjectDictionary,
+{
     loop {
+        while let Some(emergency) = esc.take_emergency() {
+            sub.emergency(emergency);
+        }
         sync(esc, sub).await?;
+        while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
+            sync(esc, sub).await?;
+        }
         while let Some(event) = sub.poll_event() {
             match event {
                 Event::TransitionRequested(t) => answer(esc, sub, app, t).await?,
@@ -49,9 +78,9 @@ async fn drive<M: RawMutex, P: Pdi, A: Application>(
 }
 
 /// Performs every register access the core asks for, then publishes the process-data layout.
-async fn sync<M: RawMutex, P: Pdi>(
+async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_>,
+    sub: &mut SubDevice<'_, MBX>,
 ) -> Result<(), P::Error> {
     while let Some(access) = sub.poll_access() {
         let clears = access.clears();
@@ -71,9 +100,9 @@ async fn sync<M: RawMutex, P: Pdi>(
 
 /// Asks the application about `t` while still serving AL events: a new request from the
 /// MainDevice or the deadline ends the wait and drops the application's future.
-async fn answer<M: RawMutex, P: Pdi, A: Application>(
+async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
     esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_>,
+    sub: &mut SubDevice<'_, MBX>,
     app: &mut A,
     t: Transition,
 ) -> Result<(), P::Error> {

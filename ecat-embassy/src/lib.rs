@@ -44,7 +44,7 @@ pub mod spi;
 mod time;
 
 pub use app::{Application, CycleHandler};
-pub use esm_runner::run_esm;
+pub use esm_runner::{SharedDictionary, run_esm};
 pub use pd_runner::run_process_data;
 pub use pdi::Pdi;
 pub use shared::SharedEsc;

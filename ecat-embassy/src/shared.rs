@@ -5,8 +5,11 @@ use core::cell::RefCell;
 use core::future::poll_fn;
 use core::task::Poll;
 
+use ecat_core::AlEvent;
+use ecat_core::coe::Emergency;
 use ecat_core::process_data::Layout;
-use ecat_core::{AlEvent, SubDevice};
+use ecat_core::ring::Ring;
+use ecat_core::subdevice::ESM_EVENTS;
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_sync::mutex::Mutex;
@@ -39,6 +42,8 @@ struct Routing {
     esm_started: bool,
     /// Bumped whenever something changes for the process-data runner.
     pd_news: u32,
+    /// Emergencies raised by the application, waiting for the state-machine runner.
+    emergencies: Ring<Emergency, EMERGENCIES>,
     esm_waker: WakerRegistration,
     pd_waker: WakerRegistration,
 }
@@ -49,6 +54,9 @@ impl Routing {
         self.pd_waker.wake();
     }
 }
+
+/// Emergencies the application may raise between two turns of the state-machine runner.
+const EMERGENCIES: usize = 4;
 
 /// The ESC shared by the two runners. `M` is `CriticalSectionRawMutex` in firmware, where the
 /// runners live in different executors.
@@ -69,6 +77,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 layout: None,
                 esm_started: false,
                 pd_news: 0,
+                emergencies: Ring::new(),
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
             })),
@@ -123,7 +132,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// process-data trigger to the process-data runner.
     fn observe(&self, runner: Runner, event: AlEvent) {
         self.with(|r| {
-            let esm = event.intersection(SubDevice::ESM_EVENTS);
+            let esm = event.intersection(ESM_EVENTS);
             if runner == Runner::Esm {
                 r.esm_events = AlEvent::NONE;
             } else if !esm.is_empty() {
@@ -143,11 +152,12 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// Waits for state-machine events seen by the other runner.
+    /// Waits for state-machine events seen by the other runner, or an emergency raised by the
+    /// application.
     pub(crate) async fn esm_events(&self) -> AlEvent {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.esm_events.is_empty() {
+                if r.esm_events.is_empty() && r.emergencies.is_empty() {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
                 } else {
@@ -156,6 +166,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
             })
         })
         .await
+    }
+
+    /// Raises an emergency from anywhere in the application (either executor): the
+    /// state-machine runner queues it in the mailbox, which sends it when SM1 is free and the
+    /// SubDevice is in PREOP, SAFEOP or OP. At most 4 wait between two turns of that runner;
+    /// beyond that the oldest is dropped.
+    pub fn raise_emergency(&self, emergency: Emergency) {
+        self.with(|r| {
+            r.emergencies.push(emergency);
+            r.esm_waker.wake();
+        });
+    }
+
+    /// Takes the next emergency raised by the application.
+    pub(crate) fn take_emergency(&self) -> Option<Emergency> {
+        self.with(|r| r.emergencies.pop())
     }
 
     /// Publishes the process-data layout of the current state. The core writes its AL event mask

@@ -4,17 +4,21 @@
 //!
 //! The mock driver is global to the process, so scenarios in one test binary run one at a time.
 
-use core::cell::Cell;
+use core::cell::{Cell, RefCell};
 use core::future::Future;
 use core::pin::Pin;
 use std::rc::Rc;
 use std::sync::{Mutex, PoisonError};
 
+use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
 use ecat_core::{DeviceConfig, SubDevice};
 use ecat_embassy::pd_runner::Buffers;
-use ecat_embassy::{Application, CycleHandler, Pdi, SharedEsc, run_esm, run_process_data};
+use ecat_embassy::{
+    Application, CycleHandler, Pdi, SharedDictionary, SharedEsc, run_esm, run_process_data,
+};
 use embassy_executor::Executor;
 use embassy_futures::select::select;
+use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
 use embassy_time::MockDriver;
@@ -28,11 +32,13 @@ static SERIAL: Mutex<()> = Mutex::new(());
 
 /// Largest process image the harness's runner buffers hold.
 const MAX_IMAGE: usize = 1024;
+/// Largest mailbox the harness's SubDevice holds.
+const MAX_MAILBOX: usize = 1024;
 
 type Stop = Signal<CriticalSectionRawMutex, ()>;
 
 /// The device under test.
-pub struct Device<A, C> {
+pub struct Device<A, C, D = ()> {
     /// The description the SubDevice checks against.
     pub config: DeviceConfig,
     /// The state hooks.
@@ -45,10 +51,12 @@ pub struct Device<A, C> {
     pub device_id: u16,
     /// What the MainDevice did to the ESC before the firmware started.
     pub before_start: fn(&TestMaster),
+    /// The object dictionary.
+    pub od: D,
 }
 
-impl<A, C> Device<A, C> {
-    /// `config` with the given hooks, an ET1100-like ESC and device ID 0.
+impl<A, C> Device<A, C, ()> {
+    /// `config` with the given hooks, no dictionary, an ET1100-like ESC and device ID 0.
     pub fn new(config: DeviceConfig, app: A, cycle: C) -> Self {
         Self {
             config,
@@ -57,14 +65,41 @@ impl<A, C> Device<A, C> {
             esc: EscConfig::default(),
             device_id: 0,
             before_start: |_| {},
+            od: (),
         }
     }
 }
 
-/// An [`Application`] that accepts every transition at once.
+impl<A, C, D> Device<A, C, D> {
+    /// The same device with the object dictionary `od`.
+    pub fn with_dictionary<E>(self, od: E) -> Device<A, C, E> {
+        let Device {
+            config,
+            app,
+            cycle,
+            esc,
+            device_id,
+            before_start,
+            ..
+        } = self;
+        Device {
+            config,
+            app,
+            cycle,
+            esc,
+            device_id,
+            before_start,
+            od,
+        }
+    }
+}
+
+/// An [`Application`] that accepts every transition at once and has no object hooks.
 pub struct AcceptAll;
 
 impl Application for AcceptAll {}
+
+impl<D> ObjectHooks<D> for AcceptAll {}
 
 /// A [`CycleHandler`] that copies outputs to inputs (as far as both reach).
 pub struct Loopback;
@@ -89,10 +124,11 @@ async fn task(future: Pin<Box<dyn Future<Output = ()>>>, done: Rc<Cell<usize>>) 
 
 /// Runs `script` against `device` until the script ends, then stops the runners. The runners
 /// reach the emulated ESC through [`EmulatedPdi`](crate::emulator::EmulatedPdi).
-pub fn run<A, C, F>(device: Device<A, C>, script: impl FnOnce(TestMaster) -> F)
+pub fn run<A, C, D, F>(device: Device<A, C, D>, script: impl FnOnce(TestMaster) -> F)
 where
-    A: Application + 'static,
+    A: Application + ObjectHooks<D> + 'static,
     C: CycleHandler + 'static,
+    D: ObjectDictionary,
     F: Future<Output = ()> + 'static,
 {
     run_with_pdi(device, |emu: &Emulator| emu.pdi(), script);
@@ -100,13 +136,14 @@ where
 
 /// Like [`run`], with the runners reaching the emulated ESC through the PDI `make_pdi` builds
 /// on it (e.g. an SPI driver talking to a fake SPI chip in front of the emulator).
-pub fn run_with_pdi<A, C, P, F>(
-    device: Device<A, C>,
+pub fn run_with_pdi<A, C, D, P, F>(
+    device: Device<A, C, D>,
     make_pdi: impl FnOnce(&Emulator) -> P,
     script: impl FnOnce(TestMaster) -> F,
 ) where
-    A: Application + 'static,
+    A: Application + ObjectHooks<D> + 'static,
     C: CycleHandler + 'static,
+    D: ObjectDictionary,
     P: Pdi + 'static,
     F: Future<Output = ()> + 'static,
 {
@@ -117,10 +154,12 @@ pub fn run_with_pdi<A, C, P, F>(
     let shared: &'static SharedEsc<CriticalSectionRawMutex, P> =
         Box::leak(Box::new(SharedEsc::new(make_pdi(&emu))));
     let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
+    let od: &'static SharedDictionary<CriticalSectionRawMutex, D> =
+        Box::leak(Box::new(BlockingMutex::new(RefCell::new(device.od))));
     let futures: [Pin<Box<dyn Future<Output = ()>>>; 3] = [
         Box::pin(stoppable(
             stop,
-            esm(shared, device.config, device.app, device.device_id),
+            esm(shared, od, device.config, device.app, device.device_id),
         )),
         Box::pin(stoppable(
             stop,
@@ -160,19 +199,20 @@ async fn scenario(stop: &'static Stop, master: TestMaster, script: impl Future<O
     stop.signal(());
 }
 
-async fn esm<P: Pdi>(
+async fn esm<P: Pdi, D: ObjectDictionary>(
     shared: &'static SharedEsc<CriticalSectionRawMutex, P>,
+    od: &'static SharedDictionary<CriticalSectionRawMutex, D>,
     config: DeviceConfig,
-    mut app: impl Application,
+    mut app: impl Application + ObjectHooks<D>,
     device_id: u16,
 ) {
     // In firmware the process-data runner's interrupt executor runs first; make that so here
     // whatever order the host executor polls its tasks in.
     embassy_futures::yield_now().await;
     let config = Box::leak(Box::new(config));
-    let mut sub = SubDevice::new(config);
+    let mut sub = SubDevice::<'_, MAX_MAILBOX>::new(config);
     sub.set_device_id(device_id);
-    let error = run_esm(shared, &mut sub, &mut app).await;
+    let error = run_esm(shared, &mut sub, &mut app, od).await;
     panic!("state-machine runner stopped: {error:?}");
 }
 

@@ -7,6 +7,7 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use common::walk_to;
+use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{AlState, AlStatusCode, Duration as CoreDuration, Transition};
 use ecat_embassy::Application;
 use ecat_emu::harness::{self, Device, Loopback};
@@ -35,6 +36,8 @@ impl Drop for DropFlag {
         self.0.borrow_mut().push("dropped".into());
     }
 }
+
+impl<D> ObjectHooks<D> for Scripted {}
 
 impl Application for Scripted {
     async fn on_transition(&mut self, t: Transition) -> Result<(), AlStatusCode> {

@@ -5,9 +5,12 @@
 //! header (ETG.1000.6 Table 29): bits 0..8 a number (0 for SDO), bits 12..15 the service.
 
 mod abort;
+mod emergency;
+pub mod sdo;
 pub mod sdo_info;
 
 pub use abort::AbortCode;
+pub use emergency::Emergency;
 
 /// The CoE service (ETG.1000.6 Table 29).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -72,7 +75,10 @@ impl CoeHeader {
     /// Parses the first two bytes; `None` when there are fewer.
     pub fn parse(bytes: &[u8]) -> Option<Self> {
         let raw = u16::from_le_bytes([*bytes.first()?, *bytes.get(1)?]);
-        Some(Self { number: raw & 0x01FF, service: Service::from_code((raw >> 12) as u8) })
+        Some(Self {
+            number: raw & 0x01FF,
+            service: Service::from_code((raw >> 12) as u8),
+        })
     }
 
     /// The two bytes on the wire.

@@ -1,1 +1,574 @@
-//! SDO Information (ETG.1000.6 §5.6.3): being written.
+//! SDO Information (ETG.1000.6 §5.6.3): the MainDevice reads the object dictionary over the
+//! mailbox: the lists of object indices, the description of an object and of each entry.
+//!
+//! ## Messages
+//! Every SDO Information message is a CoE message of service 8:
+//!
+//! | bytes | content |
+//! |---|---|
+//! | 0..2 | CoE header: number 0, service 8 (ETG.1000.6 Table 29) |
+//! | 2 | opcode (bits 0..6), incomplete: more fragments follow (bit 7) ([`Opcode`]) |
+//! | 3 | reserved, 0 |
+//! | 4..6 | fragments left, u16 LE |
+//! | 6.. | the service data of the opcode |
+//!
+//! [`SdoInfo`] answers the three requests; the service-data formats are documented on the
+//! functions that write them.
+//!
+//! ## Decisions where ETG.1000.6 leaves room
+//! - **Fragments**: only an OD list is fragmented. Every fragment carries as many whole 16-bit
+//!   words as the message holds; the list type opens the first fragment only. A 16-bit value is
+//!   never split across fragments, so SOEM's and IgH's readers (which take a whole number of
+//!   indices per fragment) reassemble any capacity.
+//! - **Descriptions are never fragmented**: SOEM and IgH read an object or entry description
+//!   from a single message. A name that does not fit is cut (at a UTF-8 character boundary);
+//!   a default, minimum or maximum that does not fit is left out (below).
+//! - **Value info** (entry description): bits 0..2 of the request are reserved and ignored. The
+//!   response echoes the bits whose field it carries: the unit (0x08) always (0 means "no
+//!   unit"); the default (0x10), minimum (0x20) and maximum (0x40) when the dictionary declares
+//!   them and they fit, otherwise the bit is cleared and the field omitted. Each value field is
+//!   `ceil(bit length / 8)` bytes in the entry's encoding, zero-padded (a string's default shorter
+//!   than its capacity), so the MainDevice can find where the next field starts.
+//! - **Errors** (opcode 0x07, ETG.1000.6 Table 41 codes):
+//!   - header shorter than 4 bytes, or an opcode that is not a request: `0x05040001`
+//!     ([`AbortCode::COMMAND_SPECIFIER`]);
+//!   - a request shorter than its fixed part: `0x06070013` ([`AbortCode::LENGTH_TOO_LOW`]);
+//!     longer requests (mailbox padding) are accepted;
+//!   - a list type above 5: `0x06010000` ([`AbortCode::UNSUPPORTED_ACCESS`], as SOES does);
+//!   - missing object `0x06020000`, missing subindex `0x06090011`;
+//!   - a message too short for a description's fixed part: `0x06010005`
+//!     ([`AbortCode::EXCEEDS_MAILBOX`]).
+//! - A request with the incomplete bit set is served as if it were clear (requests are never
+//!   fragmented).
+//! - An `out` shorter than an error response (10 bytes) gets nothing: `request` returns 0 and
+//!   `next_fragment` abandons the transfer and returns `None`.
+//!
+//! ## Work per call
+//! Bounded by the dictionary size: an OD-list call scans `D::OBJECTS` at most once per list it
+//! counts (six scans for list type 0) and once to fill the message.
+
+use super::{AbortCode, CoeHeader, Service};
+use crate::dictionary::{EntryInfo, Limit, Object, ObjectDictionary, ObjectInfo};
+
+/// The SDO Information opcode (byte 0 of the SDO Information header, bits 0..6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Opcode {
+    /// 0x01: Get OD List request.
+    GetOdListRequest,
+    /// 0x02: Get OD List response.
+    GetOdListResponse,
+    /// 0x03: Get Object Description request.
+    GetObjectDescriptionRequest,
+    /// 0x04: Get Object Description response.
+    GetObjectDescriptionResponse,
+    /// 0x05: Get Entry Description request.
+    GetEntryDescriptionRequest,
+    /// 0x06: Get Entry Description response.
+    GetEntryDescriptionResponse,
+    /// 0x07: SDO Info Error request.
+    InfoError,
+    /// Any other value.
+    Unknown(u8),
+}
+
+impl Opcode {
+    /// The opcode of byte `code`, the incomplete bit (bit 7) ignored.
+    pub const fn from_code(code: u8) -> Self {
+        match code & 0x7F {
+            0x01 => Self::GetOdListRequest,
+            0x02 => Self::GetOdListResponse,
+            0x03 => Self::GetObjectDescriptionRequest,
+            0x04 => Self::GetObjectDescriptionResponse,
+            0x05 => Self::GetEntryDescriptionRequest,
+            0x06 => Self::GetEntryDescriptionResponse,
+            0x07 => Self::InfoError,
+            c => Self::Unknown(c),
+        }
+    }
+
+    /// The 7-bit code.
+    pub const fn code(self) -> u8 {
+        match self {
+            Self::GetOdListRequest => 0x01,
+            Self::GetOdListResponse => 0x02,
+            Self::GetObjectDescriptionRequest => 0x03,
+            Self::GetObjectDescriptionResponse => 0x04,
+            Self::GetEntryDescriptionRequest => 0x05,
+            Self::GetEntryDescriptionResponse => 0x06,
+            Self::InfoError => 0x07,
+            Self::Unknown(c) => c & 0x7F,
+        }
+    }
+}
+
+/// The 4-byte SDO Information header that follows the CoE header (ETG.1000.6 §5.6.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct InfoHeader {
+    /// Byte 0, bits 0..6.
+    pub opcode: Opcode,
+    /// Byte 0, bit 7: more fragments follow.
+    pub incomplete: bool,
+    /// Bytes 2..3: how many fragments still follow this one.
+    pub fragments_left: u16,
+}
+
+impl InfoHeader {
+    /// Size on the wire.
+    pub const SIZE: usize = 4;
+
+    /// Parses the first four bytes; `None` when there are fewer.
+    pub fn parse(bytes: &[u8]) -> Option<Self> {
+        let (&[op, _reserved, lo, hi], _) = bytes.split_first_chunk::<4>()?;
+        Some(Self {
+            opcode: Opcode::from_code(op),
+            incomplete: op & 0x80 != 0,
+            fragments_left: u16::from_le_bytes([lo, hi]),
+        })
+    }
+
+    /// The four bytes on the wire (reserved byte 0).
+    pub const fn to_bytes(self) -> [u8; 4] {
+        let incomplete = if self.incomplete { 0x80 } else { 0 };
+        let [lo, hi] = self.fragments_left.to_le_bytes();
+        [self.opcode.code() | incomplete, 0, lo, hi]
+    }
+}
+
+/// Which indices a Get OD List request asks for (ETG.1000.6 §5.6.3, Get OD List request).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ListType {
+    /// 0: the lengths of lists 1..=5, five u16 counts.
+    Lengths,
+    /// 1: every object.
+    All,
+    /// 2: objects with an RxPDO-mappable entry.
+    RxPdo,
+    /// 3: objects with a TxPDO-mappable entry.
+    TxPdo,
+    /// 4: objects with an entry in the backup.
+    Backup,
+    /// 5: objects with a settings entry.
+    Settings,
+}
+
+/// The lists whose lengths list type 0 reports, in order.
+const OBJECT_LISTS: [ListType; 5] = [
+    ListType::All,
+    ListType::RxPdo,
+    ListType::TxPdo,
+    ListType::Backup,
+    ListType::Settings,
+];
+
+impl ListType {
+    /// The list type of `code`, `None` above 5.
+    pub const fn from_code(code: u16) -> Option<Self> {
+        Some(match code {
+            0 => Self::Lengths,
+            1 => Self::All,
+            2 => Self::RxPdo,
+            3 => Self::TxPdo,
+            4 => Self::Backup,
+            5 => Self::Settings,
+            _ => return None,
+        })
+    }
+
+    /// The code on the wire.
+    pub const fn code(self) -> u16 {
+        match self {
+            Self::Lengths => 0,
+            Self::All => 1,
+            Self::RxPdo => 2,
+            Self::TxPdo => 3,
+            Self::Backup => 4,
+            Self::Settings => 5,
+        }
+    }
+
+    /// Whether `object` is in this list: any of its entries carries the list's access flag.
+    /// [`ListType::Lengths`] holds no object.
+    pub fn contains(self, object: &ObjectInfo) -> bool {
+        let any = |flag: fn(&EntryInfo) -> bool| object.entries.iter().any(flag);
+        match self {
+            Self::Lengths => false,
+            Self::All => true,
+            Self::RxPdo => any(|e| e.access.rxpdo()),
+            Self::TxPdo => any(|e| e.access.txpdo()),
+            Self::Backup => any(|e| e.access.backup()),
+            Self::Settings => any(|e| e.access.settings()),
+        }
+    }
+
+    /// How many objects of `D` the list holds (list type 0: its five counts).
+    fn len<D: ObjectDictionary>(self) -> usize {
+        match self {
+            Self::Lengths => OBJECT_LISTS.len(),
+            list => D::OBJECTS.iter().filter(|o| list.contains(&o.info)).count(),
+        }
+    }
+}
+
+/// The value-info byte of a Get Entry Description request and response: which optional fields
+/// follow the fixed part (ETG.1000.6 §5.6.3.6). Bits 0..2 are reserved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct ValueInfo(pub u8);
+
+impl ValueInfo {
+    /// Bit 3: the unit type, u32 (ETG.1004 unit code).
+    pub const UNIT_TYPE: u8 = 0x08;
+    /// Bit 4: the default value.
+    pub const DEFAULT_VALUE: u8 = 0x10;
+    /// Bit 5: the minimum value.
+    pub const MINIMUM_VALUE: u8 = 0x20;
+    /// Bit 6: the maximum value.
+    pub const MAXIMUM_VALUE: u8 = 0x40;
+
+    /// Whether `bit` is set.
+    pub const fn has(self, bit: u8) -> bool {
+        self.0 & bit != 0
+    }
+}
+
+/// The value fields of an entry description, in wire order.
+const VALUE_FIELDS: [(u8, Limit); 3] = [
+    (ValueInfo::DEFAULT_VALUE, Limit::Default),
+    (ValueInfo::MINIMUM_VALUE, Limit::Min),
+    (ValueInfo::MAXIMUM_VALUE, Limit::Max),
+];
+
+/// The CoE header and the SDO Information header.
+const HEADERS: usize = CoeHeader::SIZE + InfoHeader::SIZE;
+/// The smallest message served: an SDO Info Error (headers and a u32 abort code).
+const MIN_MESSAGE: usize = HEADERS + 4;
+/// Where the value-info byte sits in an entry description's service data.
+const VALUE_INFO_AT: usize = 3;
+
+/// The SDO Information server: answers requests and holds the state of a fragmented OD list.
+#[derive(Debug, Clone, Default)]
+pub struct SdoInfo {
+    transfer: Option<ListTransfer>,
+}
+
+impl SdoInfo {
+    /// No response in progress.
+    pub const fn new() -> Self {
+        Self { transfer: None }
+    }
+
+    /// Handles one SDO Information request: `request` = the bytes after the CoE header. Writes
+    /// the whole first response message (CoE header included) into `out` (`out.len()` = capacity
+    /// of one mailbox message's data after the 6-byte mailbox header) and returns its length:
+    /// 0 when `out` is shorter than an error response. A new request abandons a fragmented
+    /// response in progress.
+    #[must_use]
+    pub fn request<D: ObjectDictionary>(&mut self, request: &[u8], out: &mut [u8]) -> usize {
+        self.transfer = None;
+        if out.len() < MIN_MESSAGE {
+            return 0;
+        }
+        let Some(data) = out.get_mut(HEADERS..) else {
+            return 0;
+        };
+        let response = self
+            .serve::<D>(request, data)
+            .unwrap_or_else(|code| info_error(code, data));
+        finish(out, response)
+    }
+
+    /// The next fragment of a fragmented response (CoE header included), `None` when none is
+    /// pending. An `out` shorter than an error response abandons the response.
+    #[must_use]
+    pub fn next_fragment<D: ObjectDictionary>(&mut self, out: &mut [u8]) -> Option<usize> {
+        let mut transfer = self.transfer.take()?;
+        if out.len() < MIN_MESSAGE {
+            return None;
+        }
+        let data = out.get_mut(HEADERS..)?;
+        let response = transfer.fragment::<D>(data);
+        self.transfer = Some(transfer).filter(|t| t.left > 0);
+        Some(finish(out, response))
+    }
+
+    /// Whether fragments are pending.
+    pub fn is_pending(&self) -> bool {
+        self.transfer.is_some()
+    }
+
+    /// Parses the SDO Information header and serves the request into `data`.
+    fn serve<D: ObjectDictionary>(
+        &mut self,
+        request: &[u8],
+        data: &mut [u8],
+    ) -> Result<Response, AbortCode> {
+        let header = InfoHeader::parse(request).ok_or(AbortCode::COMMAND_SPECIFIER)?;
+        let params = request.get(InfoHeader::SIZE..).unwrap_or_default();
+        match header.opcode {
+            Opcode::GetOdListRequest => {
+                let list = ListType::from_code(read_u16(params, 0)?)
+                    .ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
+                let mut transfer = ListTransfer::new::<D>(list);
+                let response = transfer.fragment::<D>(data);
+                self.transfer = Some(transfer).filter(|t| t.left > 0);
+                Ok(response)
+            }
+            Opcode::GetObjectDescriptionRequest => object_description::<D>(params, data),
+            Opcode::GetEntryDescriptionRequest => entry_description::<D>(params, data),
+            _ => Err(AbortCode::COMMAND_SPECIFIER),
+        }
+    }
+}
+
+/// What the headers of a response say, and how much service data follows them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Response {
+    opcode: Opcode,
+    fragments_left: u16,
+    len: usize,
+}
+
+impl Response {
+    /// An unfragmented response of `len` bytes.
+    const fn whole(opcode: Opcode, len: usize) -> Self {
+        Self {
+            opcode,
+            fragments_left: 0,
+            len,
+        }
+    }
+}
+
+/// Writes the CoE header and the SDO Information header in front of the service data already in
+/// `out[HEADERS..]`; returns the message length. The one writer of both headers.
+fn finish(out: &mut [u8], response: Response) -> usize {
+    let coe = CoeHeader::new(Service::SdoInformation).to_bytes();
+    let info = InfoHeader {
+        opcode: response.opcode,
+        incomplete: response.fragments_left > 0,
+        fragments_left: response.fragments_left,
+    }
+    .to_bytes();
+    let mut w = Writer::new(out);
+    match w.put(&coe) && w.put(&info) {
+        true => HEADERS + response.len,
+        false => 0,
+    }
+}
+
+/// SDO Info Error (ETG.1000.6 §5.6.3.8): service data = the u32 abort code.
+fn info_error(code: AbortCode, data: &mut [u8]) -> Response {
+    let mut w = Writer::new(data);
+    w.put(&code.0.to_le_bytes());
+    Response::whole(Opcode::InfoError, w.len)
+}
+
+/// Get Object Description (ETG.1000.6 §5.6.3.5). Request: u16 index. Response: u16 index, u16
+/// data type, u8 max subindex, u8 object code, then the name (cut to fit, no terminator).
+fn object_description<D: ObjectDictionary>(
+    params: &[u8],
+    data: &mut [u8],
+) -> Result<Response, AbortCode> {
+    let index = read_u16(params, 0)?;
+    let info = &D::object(index).ok_or(AbortCode::NO_OBJECT)?.info;
+    let [i0, i1] = index.to_le_bytes();
+    let [t0, t1] = info.data_type().to_le_bytes();
+    let mut w = Writer::new(data);
+    if !w.put(&[i0, i1, t0, t1, info.max_sub, info.code as u8]) {
+        return Err(AbortCode::EXCEEDS_MAILBOX);
+    }
+    w.put_name(info.name);
+    Ok(Response::whole(Opcode::GetObjectDescriptionResponse, w.len))
+}
+
+/// Get Entry Description (ETG.1000.6 §5.6.3.6). Request: u16 index, u8 subindex, u8 value info.
+/// Response: u16 index, u8 subindex, u8 value info (the bits honoured), u16 data type, u16 bit
+/// length, u16 object access, then the fields value info announces (unit u32, default, minimum,
+/// maximum, see the module documentation), then the name (cut to fit, no terminator).
+fn entry_description<D: ObjectDictionary>(
+    params: &[u8],
+    data: &mut [u8],
+) -> Result<Response, AbortCode> {
+    let index = read_u16(params, 0)?;
+    let sub = read_u8(params, 2)?;
+    let requested = ValueInfo(read_u8(params, 3)?);
+    let object = D::object(index).ok_or(AbortCode::NO_OBJECT)?;
+    let entry = object.info.entry(sub).ok_or(AbortCode::NO_SUBINDEX)?;
+    let mut w = Writer::new(data);
+    if !w.put(&entry_fixed_part(index, sub, entry)) {
+        return Err(AbortCode::EXCEEDS_MAILBOX);
+    }
+    let mut honoured = 0;
+    if requested.has(ValueInfo::UNIT_TYPE) && w.put(&entry.unit.to_le_bytes()) {
+        honoured |= ValueInfo::UNIT_TYPE;
+    }
+    for (bit, limit) in VALUE_FIELDS {
+        if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {
+            honoured |= bit;
+        }
+    }
+    w.put_name(entry.name);
+    w.patch(VALUE_INFO_AT, honoured);
+    Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
+}
+
+/// The first 10 bytes of an entry description, value info 0 (patched once known).
+fn entry_fixed_part(index: u16, sub: u8, entry: &EntryInfo) -> [u8; 10] {
+    let [i0, i1] = index.to_le_bytes();
+    let [t0, t1] = entry.data_type.code().to_le_bytes();
+    let [b0, b1] = entry.bit_len.to_le_bytes();
+    let [a0, a1] = entry.access.0.to_le_bytes();
+    [i0, i1, sub, 0, t0, t1, b0, b1, a0, a1]
+}
+
+/// Appends the declared `limit` of `index:sub` as a field of `ceil(bit length / 8)` bytes;
+/// `false` (nothing appended) when it is not declared or does not fit.
+fn put_value<D>(
+    w: &mut Writer<'_>,
+    object: &Object<D>,
+    sub: u8,
+    entry: &EntryInfo,
+    limit: Limit,
+) -> bool {
+    let size = usize::from(entry.bit_len).div_ceil(8);
+    w.put_field(size, |field| (object.limit)(sub, limit, field))
+}
+
+/// Get OD List (ETG.1000.6 §5.6.3.3): a response in progress. Request: u16 list type.
+/// Response: u16 list type (first fragment only), then u16 values: the indices of the list's
+/// objects in ascending order, or for list type 0 the lengths of lists 1..=5.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ListTransfer {
+    list: ListType,
+    /// The list type word is still to be sent: it opens the first fragment.
+    opening: bool,
+    /// Where the next value comes from: a position in `D::OBJECTS`, or in [`OBJECT_LISTS`] for
+    /// list type 0.
+    cursor: usize,
+    /// Values still to be sent.
+    left: usize,
+}
+
+impl ListTransfer {
+    fn new<D: ObjectDictionary>(list: ListType) -> Self {
+        Self {
+            list,
+            opening: true,
+            cursor: 0,
+            left: list.len::<D>(),
+        }
+    }
+
+    /// Writes the next fragment's service data into `data`: as many 16-bit words as fit.
+    /// The one writer of OD-list fragments, first and following.
+    fn fragment<D: ObjectDictionary>(&mut self, data: &mut [u8]) -> Response {
+        let words_per_fragment = (data.len() / 2).max(1);
+        let mut w = Writer::new(data);
+        if self.opening && w.put(&self.list.code().to_le_bytes()) {
+            self.opening = false;
+        }
+        while self.left > 0 && w.room() >= 2 {
+            let Some(value) = self.next_value::<D>() else {
+                self.left = 0; // the dictionary ran out early (another `D`?): end here
+                break;
+            };
+            w.put(&value.to_le_bytes());
+            self.left -= 1;
+        }
+        let fragments_left = self.left.div_ceil(words_per_fragment);
+        Response {
+            opcode: Opcode::GetOdListResponse,
+            fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),
+            len: w.len,
+        }
+    }
+
+    /// The next value of the list, advancing the cursor.
+    fn next_value<D: ObjectDictionary>(&mut self) -> Option<u16> {
+        match self.list {
+            ListType::Lengths => {
+                let list = *OBJECT_LISTS.get(self.cursor)?;
+                self.cursor += 1;
+                Some(u16::try_from(list.len::<D>()).unwrap_or(u16::MAX))
+            }
+            list => {
+                let objects = D::OBJECTS.get(self.cursor..)?;
+                let skipped = objects.iter().position(|o| list.contains(&o.info))?;
+                self.cursor += skipped + 1;
+                objects.get(skipped).map(|o| o.info.index)
+            }
+        }
+    }
+}
+
+/// Reads the u16 LE at `at` of a request's parameters.
+fn read_u16(params: &[u8], at: usize) -> Result<u16, AbortCode> {
+    match params.get(at..at + 2) {
+        Some(&[lo, hi]) => Ok(u16::from_le_bytes([lo, hi])),
+        _ => Err(AbortCode::LENGTH_TOO_LOW),
+    }
+}
+
+/// Reads the byte at `at` of a request's parameters.
+fn read_u8(params: &[u8], at: usize) -> Result<u8, AbortCode> {
+    params.get(at).copied().ok_or(AbortCode::LENGTH_TOO_LOW)
+}
+
+/// Appends to a message buffer; what does not fit is not written at all.
+struct Writer<'a> {
+    buf: &'a mut [u8],
+    len: usize,
+}
+
+impl<'a> Writer<'a> {
+    fn new(buf: &'a mut [u8]) -> Self {
+        Self { buf, len: 0 }
+    }
+
+    /// Bytes still free.
+    fn room(&self) -> usize {
+        self.buf.len().saturating_sub(self.len)
+    }
+
+    /// Appends `bytes` whole; `false` (nothing written) when they do not fit.
+    fn put(&mut self, bytes: &[u8]) -> bool {
+        let end = self.len.saturating_add(bytes.len());
+        match self.buf.get_mut(self.len..end) {
+            Some(dst) => {
+                dst.copy_from_slice(bytes);
+                self.len = end;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Appends a field of `size` zeroed bytes that `fill` encodes into (returning the bytes it
+    /// wrote); `false` (nothing appended) when the field is empty, does not fit or `fill` wrote
+    /// nothing.
+    fn put_field(&mut self, size: usize, fill: impl FnOnce(&mut [u8]) -> usize) -> bool {
+        let end = self.len.saturating_add(size);
+        let Some(field) = self.buf.get_mut(self.len..end).filter(|f| !f.is_empty()) else {
+            return false;
+        };
+        field.fill(0);
+        if fill(field) == 0 {
+            return false;
+        }
+        self.len = end;
+        true
+    }
+
+    /// Appends as much of `name` as fits, cut at a character boundary.
+    fn put_name(&mut self, name: &str) {
+        let fit = self.room().min(name.len());
+        let cut = (0..=fit).rev().find_map(|end| name.get(..end));
+        self.put(cut.unwrap_or_default().as_bytes());
+    }
+
+    /// Overwrites the byte at `at` of what was written.
+    fn patch(&mut self, at: usize, byte: u8) {
+        if let Some(slot) = self.buf.get_mut(..self.len).and_then(|b| b.get_mut(at)) {
+            *slot = byte;
+        }
+    }
+}

@@ -82,6 +82,11 @@ pub trait ObjectDictionary: Sized + 'static {
     }
 }
 
+/// The empty dictionary, for a device without objects of its own.
+impl ObjectDictionary for () {
+    const OBJECTS: &'static [Object<Self>] = &[];
+}
+
 /// What [`Object::read`] returns: bytes copied and the entry's whole size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Read {

@@ -238,8 +238,15 @@ impl<const N: usize> Value for UnicodeString<N> {
         self.len * 2
     }
     fn read_at(&self, offset: usize, out: &mut [u8]) -> usize {
-        let bytes = self.units().iter().flat_map(|unit| unit.to_le_bytes()).skip(offset);
-        out.iter_mut().zip(bytes).map(|(slot, byte)| *slot = byte).count()
+        let bytes = self
+            .units()
+            .iter()
+            .flat_map(|unit| unit.to_le_bytes())
+            .skip(offset);
+        out.iter_mut()
+            .zip(bytes)
+            .map(|(slot, byte)| *slot = byte)
+            .count()
     }
     fn decode(data: &[u8]) -> Result<Self, AbortCode> {
         if !data.len().is_multiple_of(2) {

@@ -5,6 +5,7 @@
 //! `cargo run -p ecat-examples --bin esm-demo`
 
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
+use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{AlStatus, AlStatusCode, DeviceConfig, Transition};
 use ecat_embassy::{Application, CycleHandler};
 use ecat_emu::harness::{self, Device};
@@ -32,6 +33,8 @@ impl Application for Hooks {
         println!("{}  device  state {} → {}", stamp(), t.from, t.to);
     }
 }
+
+impl ObjectHooks<()> for Hooks {}
 
 /// Inputs = outputs + 1 (as a little-endian u32), so the exchange is visible.
 struct Increment;

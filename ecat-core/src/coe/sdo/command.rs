@@ -1,0 +1,94 @@
+//! The first byte of every SDO message: command specifier and flags (ETG.1000.6 Tables 33–40;
+//! CiA 301 §7.2.4.3).
+
+/// A request from the SDO client (the MainDevice), decoded from its command byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Request {
+    /// ccs 1: initiate download. `expedited` with `size` given or not; `complete` access.
+    Download {
+        expedited: bool,
+        size_indicated: bool,
+        unused: u8,
+        complete: bool,
+    },
+    /// ccs 0: download segment with toggle `toggle`, `unused` bytes of the 7, `last`.
+    DownloadSegment {
+        toggle: bool,
+        unused: u8,
+        last: bool,
+    },
+    /// ccs 2: initiate upload, `complete` access.
+    Upload { complete: bool },
+    /// ccs 3: upload segment with toggle `toggle`.
+    UploadSegment { toggle: bool },
+    /// ccs 4: abort transfer.
+    Abort,
+    /// Any other specifier.
+    Unknown,
+}
+
+impl Request {
+    /// Decodes a command byte.
+    pub const fn from_byte(b: u8) -> Self {
+        let toggle = b & 0x10 != 0;
+        match b >> 5 {
+            1 => Self::Download {
+                expedited: b & 0x02 != 0,
+                size_indicated: b & 0x01 != 0,
+                unused: (b >> 2) & 0x03,
+                complete: b & 0x10 != 0,
+            },
+            0 => Self::DownloadSegment {
+                toggle,
+                unused: (b >> 1) & 0x07,
+                last: b & 0x01 != 0,
+            },
+            2 => Self::Upload {
+                complete: b & 0x10 != 0,
+            },
+            3 => Self::UploadSegment { toggle },
+            4 => Self::Abort,
+            _ => Self::Unknown,
+        }
+    }
+}
+
+/// Server command bytes.
+pub mod response {
+    /// scs 3: download initiate response (plus the complete-access bit).
+    pub const fn download(complete: bool) -> u8 {
+        0x60 | complete_bit(complete)
+    }
+
+    /// scs 1: download segment response with toggle.
+    pub const fn download_segment(toggle: bool) -> u8 {
+        0x20 | toggle_bit(toggle)
+    }
+
+    /// scs 2, expedited, size indicated: `size` of 1..=4 bytes.
+    pub const fn upload_expedited(size: usize, complete: bool) -> u8 {
+        let unused = (4usize.saturating_sub(size) as u8) & 0x03;
+        0x43 | (unused << 2) | complete_bit(complete)
+    }
+
+    /// scs 2, normal, size indicated.
+    pub const fn upload_normal(complete: bool) -> u8 {
+        0x41 | complete_bit(complete)
+    }
+
+    /// scs 0: upload segment with toggle, `unused` bytes of the 7, `last`.
+    pub const fn upload_segment(toggle: bool, unused: u8, last: bool) -> u8 {
+        toggle_bit(toggle) | ((unused & 0x07) << 1) | (last as u8)
+    }
+
+    /// Abort transfer.
+    pub const ABORT: u8 = 0x80;
+
+    const fn toggle_bit(toggle: bool) -> u8 {
+        if toggle { 0x10 } else { 0 }
+    }
+
+    const fn complete_bit(complete: bool) -> u8 {
+        if complete { 0x10 } else { 0 }
+    }
+}

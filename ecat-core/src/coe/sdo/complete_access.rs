@@ -1,0 +1,167 @@
+//! Complete access: a whole ARRAY or RECORD in one transfer (ETG.1000.6 §5.6.2.1.2).
+//!
+//! Layout: from subindex 0, SI0 travels as one byte plus one padding byte; from subindex 1, the
+//! entries start at once. Entries follow in subindex order, BOOL and BITn entries packed bit by bit,
+//! byte-sized entries aligned to the next byte. Variable-length entries (strings, domains) make
+//! an object unfit for complete access (0x06010004).
+
+use crate::coe::AbortCode;
+use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo};
+
+/// One entry's place in the complete-access image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Slot {
+    sub: u8,
+    bit_offset: usize,
+    bit_len: usize,
+}
+
+/// Checks that `object` may be accessed completely from `sub`.
+pub fn check(object: &ObjectInfo, sub: u8) -> Result<(), AbortCode> {
+    if sub > 1 || object.code == ObjectCode::Var {
+        return Err(AbortCode::UNSUPPORTED_ACCESS);
+    }
+    if object
+        .entries
+        .iter()
+        .any(|e| e.data_type.is_variable_length())
+    {
+        return Err(AbortCode::CA_VARIABLE_LENGTH);
+    }
+    Ok(())
+}
+
+/// The entries a complete access from `sub` covers, with their descriptions.
+pub fn entries(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = (u8, &EntryInfo)> {
+    object
+        .subindices()
+        .filter(move |s| *s >= sub)
+        .filter_map(|s| Some((s, object.entry(s)?)))
+}
+
+fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
+    let mut bit = 0usize;
+    entries(object, sub).map(move |(s, entry)| {
+        let bit_len = if s == 0 {
+            16
+        } else {
+            usize::from(entry.bit_len)
+        };
+        if bit_len % 8 == 0 {
+            bit = bit.div_ceil(8) * 8;
+        }
+        let slot = Slot {
+            sub: s,
+            bit_offset: bit,
+            bit_len,
+        };
+        bit += bit_len;
+        slot
+    })
+}
+
+/// The size in bytes of the complete-access image from `sub`.
+pub fn size(object: &ObjectInfo, sub: u8) -> usize {
+    slots(object, sub)
+        .last()
+        .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
+}
+
+/// Copies the image bytes from `offset` on into `out`; returns how many.
+pub fn read<D>(
+    od: &D,
+    object: &Object<D>,
+    sub: u8,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<usize, AbortCode> {
+    let total = size(&object.info, sub);
+    let len = out.len().min(total.saturating_sub(offset));
+    let window = out.get_mut(..len).unwrap_or_default();
+    window.fill(0);
+    for slot in slots(&object.info, sub) {
+        if slot.bit_len % 8 == 0 {
+            read_bytes(od, object, slot, offset, window)?;
+        } else {
+            read_bits(od, object, slot, offset, window)?;
+        }
+    }
+    Ok(len)
+}
+
+/// A byte-aligned entry's bytes that fall into the window `[offset, offset + window.len())`.
+fn read_bytes<D>(
+    od: &D,
+    object: &Object<D>,
+    slot: Slot,
+    offset: usize,
+    window: &mut [u8],
+) -> Result<(), AbortCode> {
+    let start = slot.bit_offset / 8;
+    let end = start + slot.bit_len / 8;
+    let from = start.max(offset);
+    let to = end.min(offset + window.len());
+    if from >= to {
+        return Ok(());
+    }
+    let dst = window
+        .get_mut(from - offset..to - offset)
+        .unwrap_or_default();
+    if slot.sub == 0 {
+        // SI0's second byte is padding: only the first carries the value.
+        let mut si0 = [0u8; 1];
+        (object.read)(od, 0, 0, &mut si0)?;
+        if let (Some(d), true) = (dst.first_mut(), from == start) {
+            *d = si0[0];
+        }
+        return Ok(());
+    }
+    (object.read)(od, slot.sub, from - start, dst)?;
+    Ok(())
+}
+
+/// A bit entry's bits that fall into the window.
+fn read_bits<D>(
+    od: &D,
+    object: &Object<D>,
+    slot: Slot,
+    offset: usize,
+    window: &mut [u8],
+) -> Result<(), AbortCode> {
+    let mut value = [0u8; 1];
+    (object.read)(od, slot.sub, 0, &mut value)?;
+    for i in 0..slot.bit_len {
+        let bit = slot.bit_offset + i;
+        if let Some(byte) = (bit / 8)
+            .checked_sub(offset)
+            .and_then(|b| window.get_mut(b))
+        {
+            *byte |= ((value[0] >> i) & 1) << (bit % 8);
+        }
+    }
+    Ok(())
+}
+
+/// The value bytes of one entry in a complete-access image: the aligned bytes, or the bits
+/// gathered into one byte.
+pub fn entry_value(
+    data: &[u8],
+    object: &ObjectInfo,
+    sub: u8,
+    entry_sub: u8,
+) -> Option<([u8; 8], usize)> {
+    let slot = slots(object, sub).find(|s| s.sub == entry_sub)?;
+    let mut value = [0u8; 8];
+    if slot.bit_len % 8 == 0 {
+        let n = slot.bit_len / 8;
+        let src = data.get(slot.bit_offset / 8..slot.bit_offset / 8 + n)?;
+        value.get_mut(..n)?.copy_from_slice(src);
+        return Some((value, if entry_sub == 0 { 1 } else { n }));
+    }
+    for i in 0..slot.bit_len {
+        let bit = slot.bit_offset + i;
+        let b = data.get(bit / 8)?;
+        value[0] |= ((b >> (bit % 8)) & 1) << i;
+    }
+    Some((value, 1))
+}

@@ -1,0 +1,660 @@
+//! The SDO server (ETG.1000.6 §5.6.2): uploads and downloads, expedited, normal and segmented,
+//! single entries and complete access, with the access rights of the current ESM state.
+//!
+//! | transfer | request → response |
+//! |---|---|
+//! | expedited download (≤ 4 bytes) | 0x23/0x27/0x2B/0x2F → 0x60 |
+//! | normal download | 0x21 (size, data) → 0x60; then segments 0x00/0x10 (+1 last) → 0x20/0x30 |
+//! | upload | 0x40 → expedited 0x43/0x47/0x4B/0x4F, or normal 0x41 (size, first data) |
+//! | upload segment | 0x60/0x70 → 0x00/0x10 (+ unused bytes, + 1 last) |
+//! | complete access | 0x50 / 0x31 and the same responses with bit 4 set |
+//! | abort (either side) | 0x80, index, subindex, code |
+//!
+//! Segments alternate a toggle bit starting at 0 (0x05030000 otherwise). A transfer left
+//! unfinished for [`SdoServer::SEGMENT_TIMEOUT`] is dropped; the next segment request gets
+//! 0x05040000. A download larger than the server's buffer `N` (other than a DOMAIN, which
+//! streams to the application) is refused with 0x05040005.
+
+mod command;
+pub mod complete_access;
+
+use command::{Request, response};
+
+use super::{AbortCode, CoeHeader, Service};
+use crate::AlState;
+use crate::dictionary::{DataType, EntryInfo, Object, ObjectDictionary, ObjectHooks};
+use crate::time::{Duration, Instant};
+
+/// Bytes of an SDO message up to its data: command, index, subindex, 4 data/size bytes.
+const SDO_HEADER: usize = 8;
+/// Bytes of a segment up to its data: the command.
+const SEGMENT_HEADER: usize = 1;
+/// A segment carries at least 7 data bytes (padding included).
+const MIN_SEGMENT_DATA: usize = 7;
+
+/// What the server works on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Target {
+    index: u16,
+    sub: u8,
+    complete: bool,
+    domain: bool,
+}
+
+/// A transfer that continues with segments.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Transfer {
+    Idle,
+    Upload {
+        target: Target,
+        size: usize,
+        offset: usize,
+        toggle: bool,
+        deadline: Instant,
+    },
+    Download {
+        target: Target,
+        size: usize,
+        received: usize,
+        toggle: bool,
+        deadline: Instant,
+    },
+}
+
+/// What a request is served with: the dictionary, the hooks, the state and the time.
+pub struct Context<'a, D, H> {
+    /// The dictionary.
+    pub od: &'a mut D,
+    /// The application's hooks.
+    pub hooks: &'a mut H,
+    /// The current ESM state (access rights depend on it).
+    pub state: AlState,
+    /// Now.
+    pub now: Instant,
+}
+
+/// The SDO server, with an `N`-byte buffer for segmented downloads.
+#[derive(Debug)]
+pub struct SdoServer<const N: usize> {
+    transfer: Transfer,
+    timed_out: bool,
+    buf: [u8; N],
+}
+
+impl<const N: usize> Default for SdoServer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> SdoServer<N> {
+    /// How long a segmented transfer may wait for its next segment.
+    pub const SEGMENT_TIMEOUT: Duration = Duration::from_millis(1_000);
+
+    /// A server with no transfer in progress.
+    pub const fn new() -> Self {
+        Self {
+            transfer: Transfer::Idle,
+            timed_out: false,
+            buf: [0; N],
+        }
+    }
+
+    /// Serves one SDO request: `request` is the mailbox data after the CoE header. Writes the
+    /// response (CoE header included) into `out`, the mailbox data area of the send mailbox, and
+    /// returns its length; 0 when there is nothing to send (an abort from the client).
+    pub fn request<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+        request: &[u8],
+        out: &mut [u8],
+    ) -> usize {
+        let index = u16::from_le_bytes([byte(request, 1), byte(request, 2)]);
+        let sub = byte(request, 3);
+        let result = match Request::from_byte(byte(request, 0)) {
+            Request::Upload { complete } => self.upload(cx, Target::new(index, sub, complete), out),
+            Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
+            Request::Download {
+                expedited,
+                size_indicated,
+                unused,
+                complete,
+            } => {
+                let target = Target::new(index, sub, complete);
+                self.download(
+                    cx,
+                    target,
+                    request,
+                    (expedited, size_indicated, unused),
+                    out,
+                )
+            }
+            Request::DownloadSegment {
+                toggle,
+                unused,
+                last,
+            } => self.download_segment(cx, toggle, segment_data(request, unused), last, out),
+            Request::Abort => {
+                self.transfer = Transfer::Idle;
+                return 0;
+            }
+            Request::Unknown => Err(AbortCode::COMMAND_SPECIFIER),
+        };
+        match result {
+            Ok(len) => len,
+            Err(code) => {
+                let (index, sub) = self
+                    .current_target()
+                    .map_or((index, sub), |t| (t.index, t.sub));
+                self.transfer = Transfer::Idle;
+                abort(out, index, sub, code)
+            }
+        }
+    }
+
+    /// When [`SdoServer::handle_timeout`] must be called, if a transfer waits for a segment.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        match self.transfer {
+            Transfer::Idle => None,
+            Transfer::Upload { deadline, .. } | Transfer::Download { deadline, .. } => {
+                Some(deadline)
+            }
+        }
+    }
+
+    /// Drops a transfer whose next segment did not come in time.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        if self.poll_timeout().is_some_and(|deadline| now >= deadline) {
+            self.transfer = Transfer::Idle;
+            self.timed_out = true;
+        }
+    }
+
+    /// Drops any transfer (the mailbox stopped).
+    pub fn reset(&mut self) {
+        self.transfer = Transfer::Idle;
+        self.timed_out = false;
+    }
+
+    fn current_target(&self) -> Option<Target> {
+        match self.transfer {
+            Transfer::Idle => None,
+            Transfer::Upload { target, .. } | Transfer::Download { target, .. } => Some(target),
+        }
+    }
+
+    fn upload<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+        target: Target,
+        out: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        self.transfer = Transfer::Idle;
+        self.timed_out = false;
+        let (object, target) = resolve::<D>(target, cx.state, Direction::Read)?;
+        cx.hooks.before_read(cx.od, target.index, target.sub)?;
+        let size = value_size(cx, object, target)?;
+        let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
+        let len = if (1..=4).contains(&size) && !target.domain {
+            let mut data = [0u8; 4];
+            fetch(cx, object, target, 0, &mut data)?;
+            write_sdo(
+                body,
+                response::upload_expedited(size, target.complete),
+                target,
+                data,
+            )
+        } else {
+            let sent = fetch(
+                cx,
+                object,
+                target,
+                0,
+                body.get_mut(SDO_HEADER..).unwrap_or_default(),
+            )?;
+            let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
+            let header = write_sdo(
+                body,
+                response::upload_normal(target.complete),
+                target,
+                size_bytes,
+            );
+            if sent < size {
+                let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
+                self.transfer = Transfer::Upload {
+                    target,
+                    size,
+                    offset: sent,
+                    toggle: false,
+                    deadline,
+                };
+            }
+            header + sent
+        };
+        Ok(finish(out, Service::SdoResponse, len))
+    }
+
+    fn upload_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+        toggle: bool,
+        out: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        let Transfer::Upload {
+            target,
+            size,
+            offset,
+            toggle: expected,
+            ..
+        } = self.transfer
+        else {
+            return Err(self.no_transfer());
+        };
+        if toggle != expected {
+            return Err(AbortCode::TOGGLE_BIT);
+        }
+        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
+        let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
+        let room = body.len().saturating_sub(SEGMENT_HEADER);
+        let want = room.min(size.saturating_sub(offset));
+        let data = body
+            .get_mut(SEGMENT_HEADER..SEGMENT_HEADER + want)
+            .unwrap_or_default();
+        let n = fetch(cx, object, target, offset, data)?;
+        let last = offset + n >= size;
+        let unused = MIN_SEGMENT_DATA.saturating_sub(n);
+        if let Some(padding) = body.get_mut(SEGMENT_HEADER + n..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
+            padding.fill(0);
+        }
+        if let Some(command) = body.first_mut() {
+            *command = response::upload_segment(toggle, unused as u8, last);
+        }
+        self.transfer = if last {
+            Transfer::Idle
+        } else {
+            let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
+            Transfer::Upload {
+                target,
+                size,
+                offset: offset + n,
+                toggle: !toggle,
+                deadline,
+            }
+        };
+        Ok(finish(
+            out,
+            Service::SdoResponse,
+            SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA),
+        ))
+    }
+
+    fn download<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+        target: Target,
+        request: &[u8],
+        (expedited, size_indicated, unused): (bool, bool, u8),
+        out: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        self.transfer = Transfer::Idle;
+        self.timed_out = false;
+        let (object, target) = resolve::<D>(target, cx.state, Direction::Write)?;
+        let data = if expedited {
+            let size = if size_indicated {
+                4 - usize::from(unused)
+            } else {
+                expedited_size(object, target)
+            };
+            request.get(4..4 + size).ok_or(AbortCode::LENGTH_MISMATCH)?
+        } else {
+            let size = u32::from_le_bytes([
+                byte(request, 4),
+                byte(request, 5),
+                byte(request, 6),
+                byte(request, 7),
+            ]);
+            let size = usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+            let here = request.get(SDO_HEADER..).unwrap_or_default();
+            let here = here.get(..size).unwrap_or(here);
+            if here.len() < size {
+                return self.begin_segmented_download(cx, object, target, size, here, out);
+            }
+            here
+        };
+        store(cx, object, target, data, 0, true)?;
+        let len = write_sdo(
+            body_of(out),
+            response::download(target.complete),
+            target,
+            [0; 4],
+        );
+        Ok(finish(out, Service::SdoResponse, len))
+    }
+
+    fn begin_segmented_download<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+        object: &Object<D>,
+        target: Target,
+        size: usize,
+        first: &[u8],
+        out: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        if target.domain {
+            store(cx, object, target, first, 0, false)?;
+        } else {
+            if size > N {
+                return Err(AbortCode::OUT_OF_MEMORY);
+            }
+            self.buf
+                .get_mut(..first.len())
+                .ok_or(AbortCode::OUT_OF_MEMORY)?
+                .copy_from_slice(first);
+        }
+        let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
+        self.transfer = Transfer::Download {
+            target,
+            size,
+            received: first.len(),
+            toggle: false,
+            deadline,
+        };
+        let len = write_sdo(
+            body_of(out),
+            response::download(target.complete),
+            target,
+            [0; 4],
+        );
+        Ok(finish(out, Service::SdoResponse, len))
+    }
+
+    fn download_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+        toggle: bool,
+        data: &[u8],
+        last: bool,
+        out: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        let Transfer::Download {
+            target,
+            size,
+            received,
+            toggle: expected,
+            ..
+        } = self.transfer
+        else {
+            return Err(self.no_transfer());
+        };
+        if toggle != expected {
+            return Err(AbortCode::TOGGLE_BIT);
+        }
+        let total = received + data.len();
+        if total > size {
+            return Err(AbortCode::LENGTH_TOO_HIGH);
+        }
+        if last && total < size {
+            return Err(AbortCode::LENGTH_TOO_LOW);
+        }
+        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
+        if target.domain {
+            store(cx, object, target, data, received, last)?;
+        } else {
+            self.buf
+                .get_mut(received..total)
+                .ok_or(AbortCode::OUT_OF_MEMORY)?
+                .copy_from_slice(data);
+            if last {
+                let value = self.buf.get(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
+                store(cx, object, target, value, 0, true)?;
+            }
+        }
+        self.transfer = if last {
+            Transfer::Idle
+        } else {
+            let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
+            Transfer::Download {
+                target,
+                size,
+                received: total,
+                toggle: !toggle,
+                deadline,
+            }
+        };
+        let body = body_of(out);
+        if let Some(segment) = body.get_mut(..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
+            segment.fill(0);
+            if let Some(command) = segment.first_mut() {
+                *command = response::download_segment(toggle);
+            }
+        }
+        Ok(finish(
+            out,
+            Service::SdoResponse,
+            SEGMENT_HEADER + MIN_SEGMENT_DATA,
+        ))
+    }
+
+    /// The abort for a segment that belongs to no transfer.
+    fn no_transfer(&mut self) -> AbortCode {
+        if core::mem::take(&mut self.timed_out) {
+            AbortCode::TIMEOUT
+        } else {
+            AbortCode::COMMAND_SPECIFIER
+        }
+    }
+}
+
+impl Target {
+    fn new(index: u16, sub: u8, complete: bool) -> Self {
+        Self {
+            index,
+            sub,
+            complete,
+            domain: false,
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Direction {
+    Read,
+    Write,
+}
+
+/// Finds the object and checks the access: existence, subindex, rights in `state`.
+fn resolve<D: ObjectDictionary>(
+    target: Target,
+    state: AlState,
+    direction: Direction,
+) -> Result<(&'static Object<D>, Target), AbortCode> {
+    let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
+    if target.complete {
+        complete_access::check(&object.info, target.sub)?;
+        for (_, entry) in complete_access::entries(&object.info, target.sub).filter(|(s, _)| *s > 0)
+        {
+            check_access(entry, state, direction)?;
+        }
+        return Ok((object, target));
+    }
+    let entry = object
+        .info
+        .entry(target.sub)
+        .ok_or(AbortCode::NO_SUBINDEX)?;
+    check_access(entry, state, direction)?;
+    Ok((
+        object,
+        Target {
+            domain: entry.data_type == DataType::Domain,
+            ..target
+        },
+    ))
+}
+
+/// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
+fn check_access(entry: &EntryInfo, state: AlState, direction: Direction) -> Result<(), AbortCode> {
+    let (anywhere, here, never) = match direction {
+        Direction::Read => (
+            entry.access.readable(),
+            entry.access.readable_in(state),
+            AbortCode::WRITE_ONLY,
+        ),
+        Direction::Write => (
+            entry.access.writable(),
+            entry.access.writable_in(state),
+            AbortCode::READ_ONLY,
+        ),
+    };
+    match (anywhere, here) {
+        (false, _) => Err(never),
+        (true, false) => Err(AbortCode::DEVICE_STATE),
+        (true, true) => Ok(()),
+    }
+}
+
+/// The encoded size of the target's value.
+fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
+    cx: &mut Context<'_, D, H>,
+    object: &Object<D>,
+    target: Target,
+) -> Result<usize, AbortCode> {
+    if target.domain {
+        let size = cx.hooks.domain_size(target.index, target.sub)?;
+        return usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY);
+    }
+    if target.complete {
+        return Ok(complete_access::size(&object.info, target.sub));
+    }
+    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size)
+}
+
+/// Copies the target's bytes from `offset` into `out`.
+fn fetch<D: ObjectDictionary, H: ObjectHooks<D>>(
+    cx: &mut Context<'_, D, H>,
+    object: &Object<D>,
+    target: Target,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<usize, AbortCode> {
+    if target.domain {
+        let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+        return cx.hooks.domain_read(target.index, target.sub, offset, out);
+    }
+    if target.complete {
+        return complete_access::read(cx.od, object, target.sub, offset, out);
+    }
+    Ok((object.read)(cx.od, target.sub, offset, out)?.copied)
+}
+
+/// Stores downloaded bytes: into the dictionary through the hooks, or streamed to a DOMAIN.
+fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
+    cx: &mut Context<'_, D, H>,
+    object: &Object<D>,
+    target: Target,
+    data: &[u8],
+    offset: usize,
+    last: bool,
+) -> Result<(), AbortCode> {
+    if target.domain {
+        let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+        return cx
+            .hooks
+            .domain_write(target.index, target.sub, offset, data, last);
+    }
+    if !target.complete {
+        return store_entry(cx, object, target.sub, data);
+    }
+    if data.len() != complete_access::size(&object.info, target.sub) {
+        return Err(
+            if data.len() > complete_access::size(&object.info, target.sub) {
+                AbortCode::LENGTH_TOO_HIGH
+            } else {
+                AbortCode::LENGTH_TOO_LOW
+            },
+        );
+    }
+    for (sub, _) in complete_access::entries(&object.info, target.sub) {
+        let (value, len) = complete_access::entry_value(data, &object.info, target.sub, sub)
+            .ok_or(AbortCode::LENGTH_MISMATCH)?;
+        let value = value.get(..len).unwrap_or_default();
+        if sub == 0 {
+            let mut current = [0u8; 1];
+            (object.read)(cx.od, 0, 0, &mut current)?;
+            if value != current {
+                return Err(AbortCode::READ_ONLY);
+            }
+            continue;
+        }
+        store_entry(cx, object, sub, value)?;
+    }
+    Ok(())
+}
+
+/// One entry's download: veto hook, typed decode with range check, after-write hook.
+fn store_entry<D: ObjectDictionary, H: ObjectHooks<D>>(
+    cx: &mut Context<'_, D, H>,
+    object: &Object<D>,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    let index = object.info.index;
+    cx.hooks.before_write(cx.od, index, sub, data)?;
+    (object.write)(cx.od, sub, data)?;
+    cx.hooks.after_write(cx.od, index, sub);
+    Ok(())
+}
+
+/// The size of an expedited download without size indication: the entry's own size.
+fn expedited_size<D>(object: &Object<D>, target: Target) -> usize {
+    object
+        .info
+        .entry(target.sub)
+        .map_or(4, |e| usize::from(e.bit_len).div_ceil(8).clamp(1, 4))
+}
+
+/// The data of a download segment: what the mailbox carries after the command, or 7 − unused
+/// bytes of a minimum-size segment.
+fn segment_data(request: &[u8], unused: u8) -> &[u8] {
+    let data = request.get(SEGMENT_HEADER..).unwrap_or_default();
+    if data.len() == MIN_SEGMENT_DATA {
+        data.get(..MIN_SEGMENT_DATA - usize::from(unused))
+            .unwrap_or_default()
+    } else {
+        data
+    }
+}
+
+/// Writes command, index, subindex and four data bytes; returns 8.
+fn write_sdo(body: &mut [u8], command: u8, target: Target, data: [u8; 4]) -> usize {
+    let [i0, i1] = target.index.to_le_bytes();
+    let bytes = [
+        command, i0, i1, target.sub, data[0], data[1], data[2], data[3],
+    ];
+    if let Some(dst) = body.get_mut(..SDO_HEADER) {
+        dst.copy_from_slice(&bytes);
+    }
+    SDO_HEADER
+}
+
+/// The SDO abort message for `index:sub` with `code`.
+pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
+    let target = Target::new(index, sub, false);
+    let len = write_sdo(body_of(out), response::ABORT, target, code.0.to_le_bytes());
+    finish(out, Service::SdoRequest, len)
+}
+
+/// Writes the CoE header of `service` in front of a body of `len` bytes; returns the total.
+fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
+    if let Some(header) = out.get_mut(..CoeHeader::SIZE) {
+        header.copy_from_slice(&CoeHeader::new(service).to_bytes());
+    }
+    (CoeHeader::SIZE + len).min(out.len())
+}
+
+fn body_of(out: &mut [u8]) -> &mut [u8] {
+    out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
+}
+
+fn byte(bytes: &[u8], i: usize) -> u8 {
+    bytes.get(i).copied().unwrap_or(0)
+}
