@@ -1,1 +1,20 @@
-//! PDI drivers over SPI (being written).
+//! PDI drivers over `embedded-hal-async` SPI ([`SpiDevice`](embedded_hal_async::spi::SpiDevice):
+//! the bus with its chip-select line, one transaction per chip-select cycle).
+//!
+//! | module | chips | how the registers and the process RAM are reached |
+//! |---|---|---|
+//! | [`beckhoff`] | ET1100, ET1200, AX58100 and other ESCs with the Beckhoff SPI slave interface | directly: every access is one transaction, and the address phase carries the AL event register |
+//! | [`lan9252`] | Microchip LAN9252/LAN9253 in SPI mode | ESC registers through the indirect CSR command/data registers, process RAM through the PRAM FIFOs; the AL event register is read only for reads the IRQ line prompted |
+//!
+//! Both implement [`Pdi`](crate::Pdi), so the runners neither know nor care which chip is fitted.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    clippy::unreachable,
+    clippy::todo,
+    clippy::unimplemented
+)]
+
+pub mod beckhoff;

@@ -1,1 +1,165 @@
-//! Fake SPI ESC chips in front of the emulated ESC (being written).
+//! Fake SPI ESC chips in front of the emulated ESC: [`FakeSpi`] implements
+//! `embedded_hal_async::spi::SpiDevice`, hands the bytes of each transaction (chip select low to
+//! chip select high) to a [`Chip`] that decodes them exactly as the real chip would, and counts
+//! transactions and bytes as a logic analyser on the bus would.
+//!
+//! The chips model the silicon, not the drivers: they keep their own command codes and register
+//! addresses (an oracle that shared the driver's constants could not catch a wrong one) and record
+//! every stream the real chip would reject or misread as a [`Probe::violations`] entry.
+//!
+//! | chip | module |
+//! |---|---|
+//! | ET1100/ET1200/AX58100 (Beckhoff SPI slave interface) | [`beckhoff`] |
+//! | LAN9252 in SPI mode | [`lan9252`] |
+
+pub mod beckhoff;
+
+use core::cell::RefCell;
+use std::rc::Rc;
+
+use embedded_hal_async::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
+
+/// What a logic analyser on the SPI bus counts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SpiStats {
+    /// Chip-select cycles.
+    pub transactions: u64,
+    /// Bytes clocked (each byte goes out on MOSI while one comes in on MISO).
+    pub bytes: u64,
+}
+
+impl core::ops::Sub for SpiStats {
+    type Output = SpiStats;
+
+    fn sub(self, before: SpiStats) -> SpiStats {
+        SpiStats {
+            transactions: self.transactions - before.transactions,
+            bytes: self.bytes - before.bytes,
+        }
+    }
+}
+
+/// The test's view of a [`FakeSpi`]: counters, the MOSI streams, violations, error injection.
+/// Cloning gives another view of the same bus.
+#[derive(Clone, Default)]
+pub struct Probe(Rc<RefCell<Record>>);
+
+#[derive(Default)]
+struct Record {
+    stats: SpiStats,
+    log: Vec<Vec<u8>>,
+    violations: Vec<String>,
+    fail_next: bool,
+}
+
+impl Probe {
+    /// Transactions and bytes so far.
+    pub fn stats(&self) -> SpiStats {
+        self.0.borrow().stats
+    }
+
+    /// The MOSI bytes of each transaction since the last [`Probe::take_log`].
+    pub fn take_log(&self) -> Vec<Vec<u8>> {
+        core::mem::take(&mut self.0.borrow_mut().log)
+    }
+
+    /// What the chip would have rejected or misread, oldest first.
+    pub fn violations(&self) -> Vec<String> {
+        self.0.borrow().violations.clone()
+    }
+
+    /// Makes the next transaction fail with [`BusError`] without reaching the chip.
+    pub fn fail_next(&self) {
+        self.0.borrow_mut().fail_next = true;
+    }
+}
+
+/// A chip behind an SPI chip-select line.
+pub trait Chip {
+    /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
+    /// chip shifted out, and report what the real chip would reject or misread.
+    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>);
+}
+
+/// The error [`Probe::fail_next`] injects.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BusError;
+
+impl embedded_hal_async::spi::Error for BusError {
+    fn kind(&self) -> ErrorKind {
+        ErrorKind::Other
+    }
+}
+
+/// An `SpiDevice` whose far end is `C`.
+pub struct FakeSpi<C> {
+    chip: C,
+    probe: Probe,
+}
+
+impl<C: Chip> FakeSpi<C> {
+    /// `chip` on a bus watched by `probe`.
+    pub fn new(chip: C, probe: Probe) -> Self {
+        Self { chip, probe }
+    }
+
+    /// The chip, for tests that poke at it directly.
+    pub fn chip(&mut self) -> &mut C {
+        &mut self.chip
+    }
+}
+
+impl<C> ErrorType for FakeSpi<C> {
+    type Error = BusError;
+}
+
+impl<C: Chip> SpiDevice for FakeSpi<C> {
+    /// Flattens the operations into the byte stream on the wire. During `Operation::Read` the
+    /// master sends 0x00 (embedded-hal leaves it to the HAL; 0x00 is what DMA-driven HALs send),
+    /// as it does for the part of an `Operation::Transfer` beyond its write buffer.
+    async fn transaction(&mut self, operations: &mut [Operation<'_, u8>]) -> Result<(), BusError> {
+        let mut record = self.probe.0.borrow_mut();
+        if core::mem::take(&mut record.fail_next) {
+            return Err(BusError);
+        }
+        let mut mosi = Vec::new();
+        for op in operations.iter() {
+            match op {
+                Operation::Read(buf) => mosi.resize(mosi.len() + buf.len(), 0),
+                Operation::Write(data) => mosi.extend_from_slice(data),
+                Operation::Transfer(read, write) => {
+                    mosi.extend_from_slice(write);
+                    mosi.resize(mosi.len() + read.len().saturating_sub(write.len()), 0);
+                }
+                Operation::TransferInPlace(buf) => mosi.extend_from_slice(buf),
+                Operation::DelayNs(_) => {}
+            }
+        }
+        let mut miso = vec![0; mosi.len()];
+        self.chip
+            .transaction(&mosi, &mut miso, &mut record.violations);
+        let mut incoming = miso.iter();
+        for op in operations.iter_mut() {
+            let (read, len): (&mut [u8], usize) = match op {
+                Operation::Read(buf) | Operation::TransferInPlace(buf) => {
+                    let len = buf.len();
+                    (buf, len)
+                }
+                Operation::Transfer(read, write) => {
+                    let len = read.len().max(write.len());
+                    (read, len)
+                }
+                Operation::Write(data) => (&mut [], data.len()),
+                Operation::DelayNs(_) => (&mut [], 0),
+            };
+            let clocked: Vec<u8> = incoming.by_ref().take(len).copied().collect();
+            for (byte, value) in read.iter_mut().zip(clocked) {
+                *byte = value;
+            }
+        }
+        record.stats.transactions += 1;
+        record.stats.bytes += mosi.len() as u64;
+        record.log.push(mosi);
+        Ok(())
+    }
+}

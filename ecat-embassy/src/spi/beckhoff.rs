@@ -1,0 +1,258 @@
+//! The Beckhoff ESC SPI slave protocol, spoken by the ET1100, ET1200, AX58100 and compatible
+//! ESCs (ESC datasheet section II, "SPI Slave Interface": "Address Modes", "Commands",
+//! "Read Access", "Write Access", "Read Wait State", "Read Termination").
+//!
+//! Every access is one SPI transaction: the address phase (2 address/command bytes below 0x2000,
+//! 3 from 0x2000 on), for reads the wait state byte, then the data. While the SPI master sends the
+//! address phase the ESC shifts out the AL event register (0x0220, 0x0221 and, with 3-byte
+//! addressing, 0x0222): every access brings the AL event for free, sampled before the access.
+//!
+//! ```text
+//! 2-byte addressing:  A[12:5]  A[4:0] CMD0[2:0]                          [0xFF wait]  D0 D1 …
+//! 3-byte addressing:  A[12:5]  A[4:0] 110b      A[15:13] CMD1[2:0] 00b   [0xFF wait]  D0 D1 …
+//! MISO meanwhile:     0x0220   0x0221           0x0222
+//! ```
+//!
+//! During the data phase of a read the master sends 0x00 for every byte but the last, and the read
+//! termination byte 0xFF with the last one: only then does the ESC stop prefetching (a prefetched
+//! byte of a SyncManager buffer counts as read).
+
+use ecat_core::AlEvent;
+use embedded_hal_async::spi::{Operation, SpiDevice};
+
+use crate::Pdi;
+
+/// The SPI commands CMD0/CMD1 (ESC datasheet section II, Table "SPI commands CMD0 and CMD1").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum Command {
+    /// Read, the first data byte following the address phase at once; the SPI clock must leave
+    /// the ESC its internal read latency.
+    Read = 0b010,
+    /// Read with a wait state byte (0xFF) between the address phase and the data.
+    ReadWithWaitState = 0b011,
+    /// Write.
+    Write = 0b100,
+    /// Address extension: a third address/command byte follows, carrying A[15:13] and the command.
+    AddressExtension = 0b110,
+}
+
+/// First address that needs 3-byte addressing: 2-byte addressing carries A[12:0] only.
+pub const THREE_BYTE_ADDRESSING_FROM: u16 = 0x2000;
+/// The wait state byte, sent between the address phase and the data of a read.
+pub const WAIT_STATE: u8 = 0xFF;
+/// Sent with the last data byte of a read: the read termination.
+pub const READ_TERMINATION: u8 = 0xFF;
+/// Sent with every other data byte of a read: the ESC prefetches the next byte.
+pub const READ_CONTINUE: u8 = 0x00;
+
+/// How reads wait for the ESC's internal read latency (ESC datasheet section II, "Read Wait State").
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReadLatency {
+    /// Send a wait state byte (0xFF) after the address phase: works at any SPI clock the ESC
+    /// supports, one byte per read.
+    WaitStateByte,
+    /// No wait state byte: the SPI clock must be slow enough for the ESC to fetch the first byte
+    /// between the last address bit and the first data bit (the ET1200's usual mode).
+    SlowClock,
+}
+
+/// How an access is cut into SPI transactions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Transactions {
+    /// One transaction per access: the address phase, then the whole region.
+    Burst,
+    /// One transaction per byte, each with its own address phase: for SPI masters that cannot
+    /// keep the clock running through a long transfer, or boards where a higher-priority interrupt
+    /// may stretch a transaction beyond what the ESC tolerates (the Beckhoff sample code's
+    /// byte-wise `HW_EscRead`). About three times the bytes of [`Transactions::Burst`].
+    PerByte,
+}
+
+/// The driver's configuration. The default suits an ET1100 or AX58100 on a DMA-driven SPI: wait
+/// state byte, whole regions in one transaction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// How reads wait for the ESC.
+    pub read_latency: ReadLatency,
+    /// How accesses map to transactions.
+    pub transactions: Transactions,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Self {
+            read_latency: ReadLatency::WaitStateByte,
+            transactions: Transactions::Burst,
+        }
+    }
+}
+
+/// The address phase of one transaction, plus the wait state byte of a read.
+struct AddressPhase {
+    /// Sent, then overwritten with what the ESC shifted out.
+    bytes: [u8; 4],
+    /// Bytes in use: 2 or 3 address/command bytes, plus the wait state byte.
+    len: usize,
+    /// 3-byte addressing: the ESC shifts out 0x0222 as well.
+    extended: bool,
+}
+
+impl AddressPhase {
+    /// The bytes that address `address` with `command`: 2-byte addressing below
+    /// [`THREE_BYTE_ADDRESSING_FROM`], 3-byte addressing from there on.
+    fn new(address: u16, command: Command) -> Self {
+        let [high, low] = address.to_be_bytes();
+        let a12_5 = (address >> 5) as u8;
+        let a4_0 = low << 3;
+        let extended = address >= THREE_BYTE_ADDRESSING_FROM;
+        let mut bytes = if extended {
+            let a15_13 = high & 0xE0;
+            [
+                a12_5,
+                a4_0 | Command::AddressExtension as u8,
+                a15_13 | (command as u8) << 2,
+                0,
+            ]
+        } else {
+            [a12_5, a4_0 | command as u8, 0, 0]
+        };
+        let mut len = if extended { 3 } else { 2 };
+        if command == Command::ReadWithWaitState {
+            if let Some(byte) = bytes.get_mut(len) {
+                *byte = WAIT_STATE;
+            }
+            len += 1;
+        }
+        Self {
+            bytes,
+            len,
+            extended,
+        }
+    }
+
+    /// The bytes to clock out; after the transfer, what the ESC shifted out meanwhile.
+    fn as_mut_slice(&mut self) -> &mut [u8] {
+        self.bytes.get_mut(..self.len).unwrap_or_default()
+    }
+
+    /// The AL event register as the ESC shifted it out during the address phase: 0x0220, 0x0221
+    /// and, with 3-byte addressing, 0x0222 (the wait state byte carries nothing).
+    fn al_event(&self) -> AlEvent {
+        let [e0, e1, e2, _] = self.bytes;
+        AlEvent::from_le_bytes([e0, e1, if self.extended { e2 } else { 0 }, 0])
+    }
+}
+
+/// A [`Pdi`] over the Beckhoff ESC SPI protocol.
+pub struct BeckhoffSpi<S> {
+    spi: S,
+    config: Config,
+}
+
+impl<S: SpiDevice> BeckhoffSpi<S> {
+    /// The driver on `spi`, which must be set up for the ESC's SPI mode (PDI configuration
+    /// register 0x0150, usually mode 3) with its chip-select line. The ESC needs no start-up
+    /// sequence over SPI.
+    pub const fn new(spi: S, config: Config) -> Self {
+        Self { spi, config }
+    }
+
+    /// The read command for the configured read latency.
+    fn read_command(&self) -> Command {
+        match self.config.read_latency {
+            ReadLatency::WaitStateByte => Command::ReadWithWaitState,
+            ReadLatency::SlowClock => Command::Read,
+        }
+    }
+
+    /// Performs one access as [`Config::transactions`] says; returns the AL event of the first
+    /// address phase. An empty access costs nothing and reports no event.
+    async fn access(&mut self, mut address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
+        match self.config.transactions {
+            Transactions::Burst if data.is_empty() => Ok(AlEvent::NONE),
+            Transactions::Burst => self.transaction(address, data).await,
+            Transactions::PerByte => {
+                let mut first = None;
+                let mut rest = data;
+                while let Some((byte, tail)) = rest.split_first() {
+                    let event = self.transaction(address, byte).await?;
+                    first.get_or_insert(event);
+                    address = address.wrapping_add(1);
+                    rest = tail;
+                }
+                Ok(first.unwrap_or(AlEvent::NONE))
+            }
+        }
+    }
+
+    /// One transaction: the address phase, then the data (a read's with the read termination on
+    /// its last byte). Returns the AL event of the address phase.
+    async fn transaction(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
+        let mut phase;
+        match data {
+            Data::Read(buf) => {
+                phase = AddressPhase::new(address, self.read_command());
+                buf.fill(READ_CONTINUE);
+                if let Some(last) = buf.last_mut() {
+                    *last = READ_TERMINATION;
+                }
+                self.spi
+                    .transaction(&mut [
+                        Operation::TransferInPlace(phase.as_mut_slice()),
+                        Operation::TransferInPlace(buf),
+                    ])
+                    .await?;
+            }
+            Data::Write(data) => {
+                phase = AddressPhase::new(address, Command::Write);
+                self.spi
+                    .transaction(&mut [
+                        Operation::TransferInPlace(phase.as_mut_slice()),
+                        Operation::Write(data),
+                    ])
+                    .await?;
+            }
+        }
+        Ok(phase.al_event())
+    }
+}
+
+/// The data of one access.
+enum Data<'a> {
+    Read(&'a mut [u8]),
+    Write(&'a [u8]),
+}
+
+impl<'a> Data<'a> {
+    fn is_empty(&self) -> bool {
+        match self {
+            Data::Read(buf) => buf.is_empty(),
+            Data::Write(data) => data.is_empty(),
+        }
+    }
+
+    /// The first byte and the rest, `None` when empty.
+    fn split_first(self) -> Option<(Data<'a>, Data<'a>)> {
+        match self {
+            Data::Read(buf) => buf
+                .split_at_mut_checked(1)
+                .map(|(first, rest)| (Data::Read(first), Data::Read(rest))),
+            Data::Write(data) => data
+                .split_at_checked(1)
+                .map(|(first, rest)| (Data::Write(first), Data::Write(rest))),
+        }
+    }
+}
+
+impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
+    type Error = S::Error;
+
+    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, S::Error> {
+        self.access(address, Data::Read(buf)).await
+    }
+
+    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, S::Error> {
+        self.access(address, Data::Write(data)).await
+    }
+}
