@@ -34,7 +34,7 @@ use crate::sync_manager::Channel;
 use crate::sync_manager::check::{self, Channels};
 use crate::time::Instant;
 
-/// The AL events the state machine handles; the driver wakes it for these.
+/// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 
 /// The largest SyncManager register block the SubDevice reads (16 channels).
@@ -198,6 +198,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// MainDevice sets AL control bit 5.
     pub fn set_device_id(&mut self, id: u16) {
         self.device_id = id;
+    }
+
+    /// The AL event mask as last written to the ESC: the events that may assert the IRQ line.
+    pub fn event_mask(&self) -> AlEvent {
+        AlEvent(self.written.event_mask.unwrap_or(0))
     }
 
     /// The SyncManager registers as last read.
@@ -467,6 +472,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     .and_then(Channels::from_bytes)
                 {
                     self.channels = channels;
+                    let repeat = channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+                    self.mailbox.repeat_request(repeat);
                 }
                 if !self.read_al_control {
                     self.check_sm_change();

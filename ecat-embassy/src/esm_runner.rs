@@ -62,6 +62,9 @@ where
         while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
             sync(esc, sub).await?;
         }
+        // Serving without an answer (a client abort, a repeated counter) still changes what the
+        // core wants written, e.g. the event mask that re-arms SM0.
+        sync(esc, sub).await?;
         while let Some(event) = sub.poll_event() {
             match event {
                 Event::TransitionRequested(t) => answer(esc, sub, app, t).await?,
@@ -93,7 +96,7 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
             }
         };
         sub.access_done(now(), event);
-        esc.publish_layout(sub.process_data());
+        esc.publish(sub.process_data(), sub.event_mask());
     }
     Ok(())
 }

@@ -9,7 +9,6 @@ use ecat_core::AlEvent;
 use ecat_core::coe::Emergency;
 use ecat_core::process_data::Layout;
 use ecat_core::ring::Ring;
-use ecat_core::subdevice::ESM_EVENTS;
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_sync::mutex::Mutex;
@@ -37,6 +36,12 @@ struct Routing {
     pd_events: AlEvent,
     /// The process-data layout published by the state-machine runner.
     layout: Option<Layout>,
+    /// The AL event mask in the ESC, published by the state-machine runner: the events that can
+    /// hold the IRQ line. The process-data trigger belongs to the process-data runner, every other
+    /// masked event to the state-machine runner.
+    mask: AlEvent,
+    /// The AL event seen by the last access of either runner.
+    last_event: AlEvent,
     /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
     /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
     esm_started: bool,
@@ -49,6 +54,27 @@ struct Routing {
 }
 
 impl Routing {
+    /// The process-data runner's trigger.
+    fn trigger(&self) -> AlEvent {
+        self.layout.map_or(AlEvent::NONE, |l| l.trigger)
+    }
+
+    /// The masked events of `event` that belong to the state-machine runner.
+    fn esm_share(&self, event: AlEvent) -> AlEvent {
+        event.intersection(self.mask).difference(self.trigger())
+    }
+
+    /// Re-judges whether state-machine events hold the IRQ line, from the last AL event seen
+    /// and the current mask; tells the process-data runner when the line is free again.
+    fn judge_irq(&mut self) {
+        let was_holding = self.esm_holds_irq;
+        self.esm_holds_irq =
+            !self.esm_share(self.last_event).is_empty() || !self.esm_events.is_empty();
+        if was_holding && !self.esm_holds_irq {
+            self.notify_pd();
+        }
+    }
+
     fn notify_pd(&mut self) {
         self.pd_news = self.pd_news.wrapping_add(1);
         self.pd_waker.wake();
@@ -75,6 +101,8 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 esm_holds_irq: false,
                 pd_events: AlEvent::NONE,
                 layout: None,
+                mask: AlEvent::NONE,
+                last_event: AlEvent::NONE,
                 esm_started: false,
                 pd_news: 0,
                 emergencies: Ring::new(),
@@ -132,23 +160,20 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// process-data trigger to the process-data runner.
     fn observe(&self, runner: Runner, event: AlEvent) {
         self.with(|r| {
-            let esm = event.intersection(ESM_EVENTS);
+            r.last_event = event;
+            let esm = r.esm_share(event);
             if runner == Runner::Esm {
                 r.esm_events = AlEvent::NONE;
             } else if !esm.is_empty() {
                 r.esm_events |= esm;
                 r.esm_waker.wake();
             }
-            let was_holding = r.esm_holds_irq;
-            r.esm_holds_irq = !esm.is_empty() || !r.esm_events.is_empty();
-            let trigger = r.layout.map_or(AlEvent::NONE, |l| l.trigger);
-            let pd = event.intersection(trigger);
+            let pd = event.intersection(r.trigger());
             if !pd.is_empty() && runner == Runner::Esm {
                 r.pd_events |= pd;
-            }
-            if (was_holding && !r.esm_holds_irq) || !r.pd_events.is_empty() {
                 r.notify_pd();
             }
+            r.judge_irq();
         });
     }
 
@@ -184,20 +209,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         self.with(|r| r.emergencies.pop())
     }
 
-    /// Publishes the process-data layout of the current state. The core writes its AL event mask
-    /// before anything else, so from the first publication on, every masked event is one a runner
-    /// clears.
-    pub(crate) fn publish_layout(&self, layout: Option<Layout>) {
+    /// Publishes the process-data layout of the current state and the AL event mask in the ESC.
+    /// The core writes its mask before anything else, so from the first publication on, every
+    /// masked event is one a runner clears.
+    pub(crate) fn publish(&self, layout: Option<Layout>, mask: AlEvent) {
         self.with(|r| {
+            r.mask = mask;
             if r.layout != layout || !r.esm_started {
                 r.layout = layout;
                 r.esm_started = true;
                 r.notify_pd();
             }
+            r.judge_irq();
         });
     }
 
-    /// Whether the state-machine runner has set up the ESC (see [`SharedEsc::publish_layout`]).
+    /// Whether the state-machine runner has set up the ESC (see [`SharedEsc::publish`]).
     pub(crate) fn esm_started(&self) -> bool {
         self.with(|r| r.esm_started)
     }

@@ -24,6 +24,8 @@ pub struct SdoClient<'m> {
     receive: (u16, u16),
     send: (u16, u16),
     counter: u8,
+    /// Mailbox round trips so far (request written, answer read).
+    pub round_trips: usize,
 }
 
 impl<'m> SdoClient<'m> {
@@ -35,6 +37,7 @@ impl<'m> SdoClient<'m> {
             receive,
             send,
             counter: 0,
+            round_trips: 0,
         }
     }
 
@@ -49,6 +52,7 @@ impl<'m> SdoClient<'m> {
     /// Writes `header` and `payload` into SM0 (padded to its length, as MainDevices do), lets
     /// the SubDevice answer and reads SM1.
     pub async fn exchange_raw(&mut self, header: &[u8], payload: &[u8]) -> Option<Vec<u8>> {
+        self.round_trips += 1;
         self.write_raw(header, payload).await;
         self.read().await
     }

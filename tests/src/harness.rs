@@ -168,7 +168,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
         Box::pin(scenario(
             stop,
             TestMaster::new(emu.clone()),
-            script(TestMaster::new(emu)),
+            script(TestMaster::new(emu).with_firmware(move |e| shared.raise_emergency(e))),
         )),
     ];
     let done = Rc::new(Cell::new(0));

@@ -4,6 +4,7 @@
 //! the SubDevice's runners catch up between steps ([`TestMaster::settle`]). Time moves only
 //! when the script says so ([`TestMaster::advance`]).
 
+use ecat_core::coe::Emergency;
 use ecat_core::device::{Area, MailboxConfig};
 use ecat_core::register;
 use ecat_core::sync_manager::{Channel, Control};
@@ -30,12 +31,33 @@ const MAX_POLLS: usize = 10_000;
 /// The MainDevice side of one emulated ESC.
 pub struct TestMaster {
     emu: Emulator,
+    firmware: Option<Box<dyn Fn(Emergency)>>,
 }
 
 impl TestMaster {
     /// A MainDevice attached to `emu`.
     pub fn new(emu: Emulator) -> Self {
-        Self { emu }
+        Self {
+            emu,
+            firmware: None,
+        }
+    }
+
+    /// The same MainDevice, able to make the firmware raise emergencies.
+    pub fn with_firmware(self, raise_emergency: impl Fn(Emergency) + 'static) -> Self {
+        Self {
+            firmware: Some(Box::new(raise_emergency)),
+            ..self
+        }
+    }
+
+    /// Makes the firmware raise `emergency` (as its application would through
+    /// `SharedEsc::raise_emergency`). Panics when the harness did not connect the firmware.
+    pub fn raise_emergency(&self, emergency: Emergency) {
+        match &self.firmware {
+            Some(raise) => raise(emergency),
+            None => panic!("this TestMaster is not connected to the firmware"),
+        }
     }
 
     /// The ESC it talks to.

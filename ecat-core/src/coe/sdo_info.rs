@@ -280,19 +280,29 @@ impl SdoInfo {
     /// pending. An `out` shorter than an error response abandons the response.
     #[must_use]
     pub fn next_fragment<D: ObjectDictionary>(&mut self, out: &mut [u8]) -> Option<usize> {
-        let mut transfer = self.transfer.take()?;
+        let transfer = self.transfer.take()?;
         if out.len() < MIN_MESSAGE {
             return None;
         }
         let data = out.get_mut(HEADERS..)?;
-        let response = transfer.fragment::<D>(data);
-        self.transfer = Some(transfer).filter(|t| t.left > 0);
+        let response = self.send::<D>(transfer, data);
         Some(finish(out, response))
     }
 
     /// Whether fragments are pending.
     pub fn is_pending(&self) -> bool {
         self.transfer.is_some()
+    }
+
+    /// Writes the next fragment of `transfer` into `data`; keeps the transfer while values remain.
+    fn send<D: ObjectDictionary>(
+        &mut self,
+        mut transfer: ListTransfer,
+        data: &mut [u8],
+    ) -> Response {
+        let response = transfer.fragment::<D>(data);
+        self.transfer = Some(transfer).filter(|t| t.left > 0);
+        response
     }
 
     /// Parses the SDO Information header and serves the request into `data`.
@@ -307,10 +317,7 @@ impl SdoInfo {
             Opcode::GetOdListRequest => {
                 let list = ListType::from_code(read_u16(params, 0)?)
                     .ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
-                let mut transfer = ListTransfer::new::<D>(list);
-                let response = transfer.fragment::<D>(data);
-                self.transfer = Some(transfer).filter(|t| t.left > 0);
-                Ok(response)
+                Ok(self.send::<D>(ListTransfer::new::<D>(list), data))
             }
             Opcode::GetObjectDescriptionRequest => object_description::<D>(params, data),
             Opcode::GetEntryDescriptionRequest => entry_description::<D>(params, data),
@@ -433,7 +440,7 @@ fn put_value<D>(
     w.put_field(size, |field| (object.limit)(sub, limit, field))
 }
 
-/// Get OD List (ETG.1000.6 §5.6.3.3): a response in progress. Request: u16 list type.
+/// Get OD List (ETG.1000.6 §5.6.3): a response in progress. Request: u16 list type.
 /// Response: u16 list type (first fragment only), then u16 values: the indices of the list's
 /// objects in ascending order, or for list type 0 the lengths of lists 1..=5.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -136,14 +136,10 @@ impl<const N: usize> Mailbox<N> {
         self.repeat_request != self.repeat_ack
     }
 
-    /// Whether the SubDevice waits for the MainDevice to read SM1 because it has more to say:
-    /// then the SM1 event belongs in the AL event mask.
+    /// Whether SM1 holds a message the MainDevice has not read: then its read event belongs in
+    /// the AL event mask, because nothing else will be received or sent until it comes.
     pub fn waits_for_send_event(&self) -> bool {
-        let more = self.tx_pending
-            || self.rx_waiting
-            || self.sdo_info.is_pending()
-            || !self.emergencies.is_empty();
-        self.send_busy && more
+        self.send_busy
     }
 
     /// Whether SM0 should be read now.

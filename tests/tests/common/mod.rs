@@ -1,6 +1,8 @@
 //! The devices and MainDevice walks the integration tests share.
 #![allow(dead_code)]
 
+pub mod od;
+
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_core::{AlState, DeviceConfig};
 use ecat_emu::master::TestMaster;
@@ -42,9 +44,15 @@ pub fn configure(master: &TestMaster) {
 
 /// Resets the SubDevice and walks it up to `state`, asserting each step.
 pub async fn walk_to(master: &TestMaster, state: AlState) {
+    walk_to_with(master, state, &MAILBOX).await;
+}
+
+/// [`walk_to`] with the mailboxes at `mailbox`.
+pub async fn walk_to_with(master: &TestMaster, state: AlState, mailbox: &MailboxConfig) {
     master.reset().await;
     assert_eq!(master.request(0x0001).await, (0x0001, 0), "reset to INIT");
     configure(master);
+    master.configure_mailbox(mailbox);
     master.settle().await;
     let path: &[u16] = match state {
         AlState::Init => &[],

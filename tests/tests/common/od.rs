@@ -1,0 +1,132 @@
+//! The test device's object dictionary and an application that backs its DOMAIN.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use ecat_core::coe::AbortCode;
+use ecat_core::dictionary::{Bits, Domain, ObjectHooks, VisibleString};
+use ecat_embassy::Application;
+
+pub struct Identity {
+    pub vendor_id: u32,
+    pub product_code: u32,
+    pub revision: u32,
+    pub serial: u32,
+}
+
+pub struct Params {
+    pub enable: bool,
+    pub level: Bits<3>,
+    pub gain: u16,
+    pub offset: i32,
+}
+
+pub struct TestOd {
+    pub device_type: u32,
+    pub error_register: u8,
+    pub device_name: VisibleString<32>,
+    pub hardware_version: VisibleString<8>,
+    pub software_version: VisibleString<8>,
+    pub identity: Identity,
+    pub sm_types: [u8; 4],
+    pub text: VisibleString<300>,
+    pub blob: Domain,
+    pub params: Params,
+    pub secret: u32,
+    pub tuning: u16,
+    pub controlword: u16,
+    pub target_position: i32,
+}
+
+ecat_core::dictionary! {
+    TestOd {
+        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+        0x1001 => var(error_register, RO, "Error register");
+        0x1008 => var(device_name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat test device"));
+        0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"1.0"));
+        0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
+            2 => product_code, RO, "Product code", default = 0x0000_0402;
+            3 => revision, RO, "Revision number", default = 1;
+            4 => serial, RO, "Serial number", default = 0x1234_5678;
+        };
+        0x1C00 => array(sm_types, RO, "Sync manager type", "SM type");
+        0x2000 => var(text, RW, "Text");
+        0x2001 => var(blob, RW, "Blob");
+        0x2002 => record(params: Params, "Parameters") {
+            1 => enable, RW, "Enable";
+            2 => level, RW, "Level";
+            3 => gain, RW, "Gain", max = 1000;
+            4 => offset, RW, "Offset";
+        };
+        0x2003 => var(secret, WO, "Secret");
+        0x2004 => var(tuning, RW_PREOP, "Tuning");
+        0x6040 => var(controlword, RW | RXPDO, "Controlword");
+        0x607A => var(target_position, RW | RXPDO, "Target position", min = -1000, max = 1000);
+    }
+}
+
+/// The application of the test device: accepts every transition, backs DOMAIN 0x2001 with a
+/// byte vector, vetoes writes of 0xDEAD to 0x6040 and logs every write it is told about.
+#[derive(Clone, Default)]
+pub struct BlobApp {
+    pub blob: Rc<RefCell<Vec<u8>>>,
+    pub written: Rc<RefCell<Vec<(u16, u8)>>>,
+}
+
+impl Application for BlobApp {}
+
+impl ObjectHooks<TestOd> for BlobApp {
+    fn before_write(
+        &mut self,
+        _od: &TestOd,
+        index: u16,
+        _sub: u8,
+        data: &[u8],
+    ) -> Result<(), AbortCode> {
+        if index == 0x6040 && data == [0xAD, 0xDE] {
+            return Err(AbortCode::LOCAL_CONTROL);
+        }
+        Ok(())
+    }
+
+    fn after_write(&mut self, _od: &mut TestOd, index: u16, sub: u8) {
+        self.written.borrow_mut().push((index, sub));
+    }
+
+    fn domain_size(&mut self, _index: u16, _sub: u8) -> Result<u32, AbortCode> {
+        Ok(self.blob.borrow().len() as u32)
+    }
+
+    fn domain_read(
+        &mut self,
+        _index: u16,
+        _sub: u8,
+        offset: u32,
+        out: &mut [u8],
+    ) -> Result<usize, AbortCode> {
+        let blob = self.blob.borrow();
+        let rest = blob.get(offset as usize..).unwrap_or_default();
+        let n = rest.len().min(out.len());
+        out[..n].copy_from_slice(&rest[..n]);
+        Ok(n)
+    }
+
+    fn domain_write(
+        &mut self,
+        _index: u16,
+        _sub: u8,
+        offset: u32,
+        data: &[u8],
+        _last: bool,
+    ) -> Result<(), AbortCode> {
+        let mut blob = self.blob.borrow_mut();
+        if offset == 0 {
+            blob.clear();
+        }
+        assert_eq!(blob.len(), offset as usize, "DOMAIN pieces arrive in order");
+        blob.extend_from_slice(data);
+        Ok(())
+    }
+}
