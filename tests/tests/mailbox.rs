@@ -1,0 +1,318 @@
+//! The mailbox layer through the real runners (conformance.md "Mailbox", "Emergency"): counters,
+//! repeat, error replies with their exact bytes, nothing in INIT, both mailbox sizes, emergencies.
+
+mod common;
+
+use common::od::{BlobApp, TestOd};
+use common::{MAILBOX, walk_to, walk_to_with};
+use ecat_core::AlState;
+use ecat_core::coe::{AbortCode, Emergency};
+use ecat_core::device::MailboxConfig;
+use ecat_core::mailbox::MailboxType;
+use ecat_emu::coe_client::{SdoClient, SdoError};
+use ecat_emu::harness::{self, Device, Loopback};
+use ecat_emu::master::TestMaster;
+
+/// Upload 0x1001 (error register, u8), counter `c`.
+fn upload_1001(c: u8) -> ([u8; 6], [u8; 10]) {
+    (
+        [0x0A, 0, 0, 0, 0, (c << 4) | 0x03],
+        [0x00, 0x20, 0x40, 0x01, 0x10, 0x00, 0, 0, 0, 0],
+    )
+}
+
+fn run(script: impl AsyncFnOnce(TestMaster) + 'static) {
+    let device = Device::new(common::drive(), BlobApp::default(), Loopback)
+        .with_dictionary(TestOd::default());
+    harness::run(device, |master| async move { script(master).await })
+}
+
+fn client(master: &TestMaster) -> SdoClient<'_> {
+    SdoClient::new(
+        master,
+        (MAILBOX.receive.start, 128),
+        (MAILBOX.send.start, 128),
+    )
+}
+
+/// The mailbox error reply with `detail` and SubDevice counter `counter`, padded to SM1.
+fn error_reply(counter: u8, detail: u8) -> Vec<u8> {
+    let mut reply = vec![
+        0x04,
+        0x00,
+        0x00,
+        0x00,
+        0x00,
+        counter << 4,
+        0x01,
+        0x00,
+        detail,
+        0x00,
+    ];
+    reply.resize(128, 0);
+    reply
+}
+
+#[test]
+fn a_repeated_counter_is_dropped_and_counter_0_is_always_served() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let (header, payload) = upload_1001(3);
+        assert!(c.exchange_raw(&header, &payload).await.is_some());
+        assert_eq!(
+            c.exchange_raw(&header, &payload).await,
+            None,
+            "same counter again: dropped"
+        );
+        let (header, payload) = upload_1001(4);
+        assert!(
+            c.exchange_raw(&header, &payload).await.is_some(),
+            "next counter served"
+        );
+        let (header, payload) = upload_1001(0);
+        assert!(c.exchange_raw(&header, &payload).await.is_some());
+        assert!(
+            c.exchange_raw(&header, &payload).await.is_some(),
+            "counter 0 is never a repeat"
+        );
+    });
+}
+
+#[test]
+fn the_subdevice_counts_its_own_messages_1_to_7_and_wraps() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let mut counters = Vec::new();
+        for _ in 0..9 {
+            let answer = c
+                .exchange(MailboxType::Coe, &upload_1001(0).1)
+                .await
+                .unwrap();
+            counters.push(answer[5] >> 4);
+        }
+        assert_eq!(counters, [1, 2, 3, 4, 5, 6, 7, 1, 2]);
+    });
+}
+
+#[test]
+fn repeat_request_writes_the_last_message_again_then_acknowledges() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let first = c
+            .exchange(MailboxType::Coe, &upload_1001(0).1)
+            .await
+            .unwrap();
+        assert_eq!(master.read(0x080F, 1), Some(vec![0x00]), "repeat ack 0");
+        // The answer was lost on its way back: toggle SM1's repeat request (activate bit 1).
+        master.write(0x080E, &[0x03]);
+        master.settle().await;
+        assert_eq!(
+            master.read(MAILBOX.send.start, 128),
+            Some(first),
+            "the same bytes, same counter"
+        );
+        assert_eq!(
+            master.read(0x080F, 1),
+            Some(vec![0x02]),
+            "repeat ack follows the request"
+        );
+        // And the mailbox goes on.
+        assert!(
+            c.exchange(MailboxType::Coe, &upload_1001(0).1)
+                .await
+                .is_some()
+        );
+    });
+}
+
+#[test]
+fn malformed_messages_get_the_exact_error_reply() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let cases: [(&str, [u8; 6], &[u8], u8); 6] = [
+            ("length 0", [0x00, 0x00, 0, 0, 0, 0x13], &[], 0x05),
+            (
+                "length beyond SM0 - 6",
+                [0x7B, 0x00, 0, 0, 0, 0x23],
+                &[0; 8],
+                0x08,
+            ),
+            (
+                "unknown type 7",
+                [0x0A, 0x00, 0, 0, 0, 0x37],
+                &[0; 10],
+                0x02,
+            ),
+            (
+                "EoE is not supported",
+                [0x0A, 0x00, 0, 0, 0, 0x42],
+                &[0; 10],
+                0x02,
+            ),
+            (
+                "CoE shorter than its header",
+                [0x01, 0x00, 0, 0, 0, 0x53],
+                &[0x00],
+                0x08,
+            ),
+            (
+                "SDO shorter than 8 bytes",
+                [0x07, 0x00, 0, 0, 0, 0x63],
+                &[0x00, 0x20, 0x40, 0x00, 0x10, 0x00, 0x00],
+                0x08,
+            ),
+        ];
+        for (n, (what, header, payload, detail)) in cases.into_iter().enumerate() {
+            let answer = c.exchange_raw(&header, payload).await;
+            assert_eq!(answer, Some(error_reply(n as u8 + 1, detail)), "{what}");
+        }
+    });
+}
+
+#[test]
+fn unknown_coe_service_is_answered_with_an_sdo_abort() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let answer = c
+            .exchange(MailboxType::Coe, &[0x00, 0x90, 0, 0, 0, 0, 0, 0, 0, 0])
+            .await
+            .unwrap();
+        assert_eq!(
+            answer[..16],
+            [
+                0x0A, 0, 0, 0, 0, 0x13, 0x00, 0x20, 0x80, 0, 0, 0, 0x00, 0x00, 0x01, 0x06
+            ]
+        );
+    });
+}
+
+#[test]
+fn nothing_is_served_in_init() {
+    run(async |master| {
+        walk_to(&master, AlState::Init).await;
+        master.configure_mailbox(&MAILBOX);
+        master.settle().await;
+        let before = master.pdi_accesses();
+        let (header, payload) = upload_1001(1);
+        let mut c = client(&master);
+        let answer = c.exchange_raw(&header, &payload).await;
+        // SM1 is deactivated in INIT: its area is plain memory, untouched.
+        assert_eq!(answer, Some(vec![0; 128]), "no answer in INIT");
+        assert_eq!(
+            master.pdi_accesses(),
+            before,
+            "the SubDevice did not even look"
+        );
+    });
+}
+
+#[test]
+fn a_1024_byte_mailbox_carries_long_answers_in_one_message() {
+    let mailbox = MailboxConfig::contiguous(0x1000, 1024);
+    let mut device = Device::new(common::drive(), BlobApp::default(), Loopback)
+        .with_dictionary(TestOd::default());
+    device.config.mailbox = mailbox;
+    device.config.bootstrap_mailbox = None;
+    harness::run(device, move |master| async move {
+        walk_to_with(&master, AlState::PreOp, &mailbox).await;
+        let mut c = SdoClient::new(&master, (0x1000, 1024), (0x1400, 1024));
+        let text = vec![b'k'; 300];
+        c.download(0x2000, 0, false, &text).await.unwrap();
+        assert_eq!(c.round_trips, 1, "300 bytes fit one 1024-byte message");
+        let answer = c.sdo(&[0x40, 0x00, 0x20, 0x00, 0, 0, 0, 0]).await.unwrap();
+        assert_eq!(answer[..8], [0x41, 0x00, 0x20, 0x00, 0x2C, 0x01, 0, 0]);
+        assert_eq!(answer[8..308], text[..]);
+        let length = c.read().await;
+        assert_eq!(length, None);
+        assert_eq!(
+            c.sdo(&[0x40, 0x00, 0x30, 0x00, 0, 0, 0, 0]).await,
+            Err(SdoError::Abort(AbortCode::NO_OBJECT))
+        );
+    });
+}
+
+fn emergency(code: u16) -> Emergency {
+    Emergency {
+        code,
+        register: 0x81,
+        data: [1, 2, 3, 4, 5],
+    }
+}
+
+fn emergency_frame(counter: u8, code: u16) -> Vec<u8> {
+    let [c0, c1] = code.to_le_bytes();
+    let mut frame = vec![
+        0x0A,
+        0x00,
+        0x00,
+        0x00,
+        0x00,
+        (counter << 4) | 0x03,
+        0x00,
+        0x10,
+        c0,
+        c1,
+        0x81,
+        1,
+        2,
+        3,
+        4,
+        5,
+    ];
+    frame.resize(128, 0);
+    frame
+}
+
+#[test]
+fn emergencies_are_sent_in_order_when_sm1_is_free() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        for code in [0xA000, 0x8110, 0xFF01] {
+            master.raise_emergency(emergency(code));
+        }
+        assert_eq!(c.read().await, Some(emergency_frame(1, 0xA000)));
+        assert_eq!(c.read().await, Some(emergency_frame(2, 0x8110)));
+        assert_eq!(c.read().await, Some(emergency_frame(3, 0xFF01)));
+        assert_eq!(c.read().await, None);
+    });
+}
+
+#[test]
+fn emergencies_wait_behind_an_unread_answer() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        c.write_raw(&upload_1001(1).0, &upload_1001(1).1).await;
+        master.raise_emergency(emergency(0x5000));
+        master.settle().await;
+        let answer = c.read().await.unwrap();
+        assert_eq!(answer[6..8], [0x00, 0x30], "the SDO answer first");
+        assert_eq!(
+            c.read().await,
+            Some(emergency_frame(2, 0x5000)),
+            "then the emergency"
+        );
+    });
+}
+
+#[test]
+fn emergencies_need_a_mailbox_state() {
+    run(async |master| {
+        walk_to(&master, AlState::Init).await;
+        master.raise_emergency(emergency(0x1000));
+        master.settle().await;
+        common::configure(&master);
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        assert_eq!(
+            client(&master).read().await,
+            None,
+            "an emergency raised in INIT is not sent later"
+        );
+    });
+}
