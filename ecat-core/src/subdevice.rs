@@ -50,6 +50,8 @@ pub enum Access<'a> {
         address: u16,
         /// Where the bytes go; the core reads them in `access_done`.
         buf: &'a mut [u8],
+        /// The AL event bits this access clears (see [`Access::clears`]).
+        clears: AlEvent,
     },
     /// Write `data` at `address`.
     Write {
@@ -57,17 +59,19 @@ pub enum Access<'a> {
         address: u16,
         /// The bytes to write.
         data: &'a [u8],
+        /// The AL event bits this access clears (see [`Access::clears`]).
+        clears: AlEvent,
     },
 }
 
 impl Access<'_> {
-    /// The AL event bits this access clears in the ESC. An SPI ESC samples the AL event register
-    /// before the access, so these bits in the value it returns are stale and must not be taken
-    /// as new events.
+    /// The AL event bits this access clears in the ESC (reading AL control clears bit 0,
+    /// reading the SyncManager activation registers bit 4, reading SM0's buffer bit 8, writing
+    /// SM1's buffer bit 9). An SPI ESC samples the AL event register before the access, so
+    /// these bits in the value it returns are stale and must not be taken as news.
     pub fn clears(&self) -> AlEvent {
         match self {
-            Access::Read { address, buf } => AlEvent::cleared_by_read(*address, buf.len()),
-            Access::Write { .. } => AlEvent::NONE,
+            Access::Read { clears, .. } | Access::Write { clears, .. } => *clears,
         }
     }
 }
@@ -98,6 +102,19 @@ enum Op {
     CompleteMailbox,
     WriteStatusCode,
     WriteStatus,
+}
+
+impl Op {
+    /// The AL event bits the access clears in the ESC.
+    const fn clears(self) -> AlEvent {
+        match self {
+            Op::ReadAlControl => AlEvent::AL_CONTROL,
+            Op::ReadSyncManagers => AlEvent::SM_CHANGE,
+            Op::ReadMailbox => AlEvent::sync_manager(0),
+            Op::WriteMailbox => AlEvent::sync_manager(1),
+            _ => AlEvent::NONE,
+        }
+    }
 }
 
 /// What the core last wrote to the ESC, so that it writes only what changed.
@@ -138,6 +155,9 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     mailbox: Mailbox<MBX>,
     /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
     complete_mailbox: bool,
+    /// Nothing changed since [`SubDevice::poll_access`] last found nothing to do: the next call
+    /// can say so at once instead of deriving every register again.
+    settled: bool,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -162,6 +182,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             buf: [0; MAX_SM_BYTES],
             mailbox: Mailbox::new(),
             complete_mailbox: false,
+            settled: false,
         }
     }
 
@@ -197,6 +218,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Sets the explicit device ID (for example read from rotary switches) presented when the
     /// MainDevice sets AL control bit 5.
     pub fn set_device_id(&mut self, id: u16) {
+        self.settled = false;
         self.device_id = id;
     }
 
@@ -241,6 +263,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Takes the AL event register value the driver saw (with the bits its own access cleared
     /// removed, see [`Access::clears`]). Bits the state machine does not handle are ignored.
     pub fn handle_al_event(&mut self, event: AlEvent) {
+        if event.is_empty() {
+            return;
+        }
+        self.settled = false;
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
         if event.contains(AlEvent::AL_CONTROL) && !self.read_al_control {
@@ -266,7 +292,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
         let (op, value) = match self.in_flight {
             Some(in_flight) => in_flight,
-            None => self.next_op()?,
+            None if self.settled => return None,
+            None => match self.next_op() {
+                Some(next) => next,
+                None => {
+                    self.settled = true;
+                    return None;
+                }
+            },
         };
         self.in_flight = Some((op, value));
         Some(self.prepare(op, value))
@@ -278,15 +311,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some((op, value)) = self.in_flight.take() else {
             return;
         };
-        let cleared = match op {
-            Op::ReadAlControl => AlEvent::AL_CONTROL,
-            Op::ReadSyncManagers => AlEvent::SM_CHANGE,
-            Op::ReadMailbox => AlEvent::sync_manager(0),
-            Op::WriteMailbox => AlEvent::sync_manager(1),
-            _ => AlEvent::NONE,
-        };
+        self.settled = false;
         self.complete(now, op, value);
-        self.handle_al_event(event.difference(cleared));
+        self.handle_al_event(event.difference(op.clears()));
     }
 
     /// The next application event.
@@ -307,6 +334,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Expires what is due at `now`: a transition the application left pending is refused with
     /// [`AlStatusCode::UNSPECIFIED_ERROR`]; an SDO transfer missing its next segment is dropped.
     pub fn handle_timeout(&mut self, now: Instant) {
+        self.settled = false;
         self.mailbox.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
@@ -331,6 +359,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Some(p) if p.transition == transition => {}
             _ => return,
         }
+        self.settled = false;
         self.pending = None;
         let verified = result
             .map_err(|code| (code, transition.from))
@@ -388,29 +417,36 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
-        let mailbox = self.active_mailbox();
         match op {
             Op::ReadMailbox => {
                 return Access::Read {
-                    address: mailbox.receive.start,
+                    address: self.active_mailbox().receive.start,
                     buf: self.mailbox.rx_buffer(),
+                    clears: op.clears(),
                 };
             }
             Op::WriteMailbox => {
+                let address = self.active_mailbox().send.start;
                 let data = self.mailbox.write_due().unwrap_or_default();
                 return Access::Write {
-                    address: mailbox.send.start,
+                    address,
                     data,
+                    clears: op.clears(),
                 };
             }
             Op::CompleteMailbox => {
                 let last = self.mailbox.send_size().saturating_sub(1);
                 let data = self.mailbox.sent_byte(last);
-                let address = mailbox
+                let address = self
+                    .active_mailbox()
                     .send
                     .start
                     .saturating_add(u16::try_from(last).unwrap_or(0));
-                return Access::Write { address, data };
+                return Access::Write {
+                    address,
+                    data,
+                    clears: op.clears(),
+                };
             }
             _ => {}
         }
@@ -434,9 +470,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             for (dst, src) in buf.iter_mut().zip(bytes) {
                 *dst = src;
             }
-            Access::Write { address, data: buf }
+            Access::Write {
+                address,
+                data: buf,
+                clears: op.clears(),
+            }
         } else {
-            Access::Read { address, buf }
+            Access::Read {
+                address,
+                buf,
+                clears: op.clears(),
+            }
         }
     }
 
@@ -604,10 +648,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             mask |= self.process_data_trigger();
         }
         if self.state.has_mailbox() {
-            if self.mailbox.can_receive() {
+            if self.mailbox.wants_receive_event() {
                 mask |= AlEvent::sync_manager(0);
             }
-            if self.mailbox.waits_for_send_event() {
+            if self.mailbox.wants_send_event() {
                 mask |= AlEvent::sync_manager(1);
             }
         }
@@ -663,6 +707,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() {
             return false;
         }
+        self.settled = false;
         let mut cx = Context {
             od,
             hooks,
@@ -679,6 +724,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || self.state == AlState::Boot {
             return false;
         }
+        self.settled = false;
         self.mailbox.emergency(emergency);
         true
     }

@@ -46,32 +46,66 @@ const SM0: usize = 0x1000;
 const SM1: u16 = 0x1080;
 
 fn frame() -> impl Strategy<Value = Vec<u8>> {
-    let index = prop_oneof![Just(0x1000u16), Just(0x2000), Just(0x2001), Just(0x2002), Just(0x2003), Just(0x2004), any::<u16>()];
-    let structured = (any::<u8>(), index, 0u8..8, any::<[u8; 4]>(), proptest::collection::vec(any::<u8>(), 0..120), 0u8..16, 0u8..8, any::<u8>())
-        .prop_map(|(command, index, sub, data, tail, service, counter, kind)| {
-            let [i0, i1] = index.to_le_bytes();
-            let mut payload = vec![0x00, service << 4, command, i0, i1, sub];
-            payload.extend_from_slice(&data);
-            payload.extend_from_slice(&tail);
-            let kind = if kind < 200 { 3 } else { kind & 0x0F };
-            let mut f = MailboxHeader::new(MailboxType::from_code(kind), payload.len() as u16, counter).to_bytes().to_vec();
-            f.extend_from_slice(&payload);
-            f
-        });
+    let index = prop_oneof![
+        Just(0x1000u16),
+        Just(0x2000),
+        Just(0x2001),
+        Just(0x2002),
+        Just(0x2003),
+        Just(0x2004),
+        any::<u16>()
+    ];
+    let structured = (
+        any::<u8>(),
+        index,
+        0u8..8,
+        any::<[u8; 4]>(),
+        proptest::collection::vec(any::<u8>(), 0..120),
+        0u8..16,
+        0u8..8,
+        any::<u8>(),
+    )
+        .prop_map(
+            |(command, index, sub, data, tail, service, counter, kind)| {
+                let [i0, i1] = index.to_le_bytes();
+                let mut payload = vec![0x00, service << 4, command, i0, i1, sub];
+                payload.extend_from_slice(&data);
+                payload.extend_from_slice(&tail);
+                let kind = if kind < 200 { 3 } else { kind & 0x0F };
+                let mut f =
+                    MailboxHeader::new(MailboxType::from_code(kind), payload.len() as u16, counter)
+                        .to_bytes()
+                        .to_vec();
+                f.extend_from_slice(&payload);
+                f
+            },
+        );
     prop_oneof![3 => structured, 1 => proptest::collection::vec(any::<u8>(), 0..128)]
 }
 
 /// Checks one answer in SM1.
 fn check_answer(bytes: &[u8]) -> Result<(), TestCaseError> {
     let header = MailboxHeader::parse(bytes).unwrap();
-    prop_assert!(usize::from(header.length) <= 128 - 6, "length {} beyond SM1", header.length);
-    prop_assert!((1..=7).contains(&header.counter), "counter {}", header.counter);
+    prop_assert!(
+        usize::from(header.length) <= 128 - 6,
+        "length {} beyond SM1",
+        header.length
+    );
+    prop_assert!(
+        (1..=7).contains(&header.counter),
+        "counter {}",
+        header.counter
+    );
     let body = &bytes[6..6 + usize::from(header.length)];
     match header.kind {
         MailboxType::Error => {
             prop_assert_eq!(header.length, 4);
             prop_assert_eq!(&body[..2], &[0x01, 0x00]);
-            prop_assert!((1..=8).contains(&body[2]) && body[3] == 0, "detail {:02x?}", &body[2..]);
+            prop_assert!(
+                (1..=8).contains(&body[2]) && body[3] == 0,
+                "detail {:02x?}",
+                &body[2..]
+            );
         }
         MailboxType::Coe => {
             prop_assert!(body.len() >= 2);

@@ -88,10 +88,10 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
     while let Some(access) = sub.poll_access() {
         let clears = access.clears();
         let event = match access {
-            ecat_core::Access::Read { address, buf } => {
+            ecat_core::Access::Read { address, buf, .. } => {
                 esc.read(Runner::Esm, address, buf, clears).await?
             }
-            ecat_core::Access::Write { address, data } => {
+            ecat_core::Access::Write { address, data, .. } => {
                 esc.write(Runner::Esm, address, data).await?
             }
         };

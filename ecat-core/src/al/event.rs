@@ -34,23 +34,6 @@ impl AlEvent {
         Self(1 << (8 + (n & 0x0F)))
     }
 
-    /// The events a PDI read of `len` bytes at `address` clears as a side effect: AL control
-    /// (0x0120) and the activation registers of the SyncManagers (0x0806 + 8n) it covers.
-    /// Buffer events (bit 8 + n) depend on the SyncManager configuration and are not included.
-    pub fn cleared_by_read(address: u16, len: usize) -> Self {
-        let start = u32::from(address);
-        let end = start.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
-        let covers = |reg: u16| start <= u32::from(reg) && u32::from(reg) < end;
-        let mut cleared = Self::NONE;
-        if covers(crate::register::AL_CONTROL) {
-            cleared |= Self::AL_CONTROL;
-        }
-        if (0..16u8).any(|n| covers(crate::register::sync_manager(n) + 6)) {
-            cleared |= Self::SM_CHANGE;
-        }
-        cleared
-    }
-
     /// The register as read over the PDI (little endian).
     pub const fn from_le_bytes(bytes: [u8; 4]) -> Self {
         Self(u32::from_le_bytes(bytes))

@@ -136,10 +136,22 @@ impl<const N: usize> Mailbox<N> {
         self.repeat_request != self.repeat_ack
     }
 
-    /// Whether SM1 holds a message the MainDevice has not read: then its read event belongs in
-    /// the AL event mask, because nothing else will be received or sent until it comes.
-    pub fn waits_for_send_event(&self) -> bool {
-        self.send_busy
+    /// Whether the SM0 event belongs in the AL event mask: always, except while a request
+    /// already waits in SM0 that cannot be read yet (its event would hold the IRQ line).
+    pub fn wants_receive_event(&self) -> bool {
+        !self.rx_waiting || self.can_receive()
+    }
+
+    /// Whether the SM1 event belongs in the AL event mask: only while SM1 holds an unread message
+    /// and something waits for it to be read (a request, a fragment, an emergency). In the usual
+    /// request/answer rhythm the MainDevice reads SM1 before it writes the next request, and the
+    /// SM1 bit, still latched in the AL event register, arrives with the SM0 event.
+    pub fn wants_send_event(&self) -> bool {
+        let more = self.tx_pending
+            || self.rx_waiting
+            || self.sdo_info.is_pending()
+            || !self.emergencies.is_empty();
+        self.send_busy && more
     }
 
     /// Whether SM0 should be read now.
@@ -319,8 +331,12 @@ impl<const N: usize> Mailbox<N> {
             dst.copy_from_slice(&header);
         }
         let end = (MailboxHeader::SIZE + len).min(N);
-        if let Some(rest) = self.tx.get_mut(end..self.send_size) {
-            rest.fill(0);
+        // Bytes past the message are padding the MainDevice ignores; only the last byte of SM1,
+        // written to complete a short message, needs a defined value.
+        if end < self.send_size
+            && let Some(last) = self.tx.get_mut(self.send_size - 1)
+        {
+            *last = 0;
         }
         self.tx_len = end;
         self.tx_pending = true;

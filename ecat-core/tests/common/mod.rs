@@ -59,12 +59,12 @@ impl Regs {
             let event = AlEvent(self.event);
             let clears = access.clears();
             match access {
-                Access::Read { address, buf } => {
+                Access::Read { address, buf, .. } => {
                     let a = usize::from(address);
                     buf.copy_from_slice(&self.mem[a..a + buf.len()]);
                     log.push(Op::Read(address, buf.len()));
                 }
-                Access::Write { address, data } => {
+                Access::Write { address, data, .. } => {
                     let a = usize::from(address);
                     self.mem[a..a + data.len()].copy_from_slice(data);
                     log.push(Op::Write(address, data.to_vec()));

@@ -1,0 +1,181 @@
+//! A SubDevice in PREOP over a plain-memory register file, and the MainDevice side of one
+//! mailbox exchange: what the benchmarks run, so that what they count is the core's work (the
+//! "PDI" is a `memcpy`).
+
+use ecat_core::coe::AbortCode;
+use ecat_core::device::{MailboxConfig, ProcessDataSizes};
+use ecat_core::dictionary::{Domain, ObjectDictionary, ObjectHooks, VisibleString};
+use ecat_core::{Access, AlEvent, AlState, DeviceConfig, Instant, SubDevice, Transition, register};
+
+/// The benchmark device: `MBX`-byte mailboxes at 0x1000, no process data.
+pub const fn device(mailbox: u16) -> DeviceConfig {
+    DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, mailbox),
+        ProcessDataSizes {
+            outputs: 0,
+            inputs: 0,
+        },
+    )
+}
+
+/// The identity object and a 1 KiB string.
+pub struct Identity {
+    /// 0x1018:01.
+    pub vendor_id: u32,
+    /// 0x1018:02.
+    pub product_code: u32,
+    /// 0x1018:03.
+    pub revision: u32,
+    /// 0x1018:04.
+    pub serial: u32,
+}
+
+/// The benchmark dictionary.
+pub struct Od {
+    /// 0x1000.
+    pub device_type: u32,
+    /// 0x1018.
+    pub identity: Identity,
+    /// 0x2000, 1 KiB.
+    pub text: VisibleString<1024>,
+    /// 0x2001, streamed to [`Sink`].
+    pub blob: Domain,
+}
+
+ecat_core::dictionary! {
+    Od {
+        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
+            2 => product_code, RO, "Product code", default = 0x0000_0402;
+            3 => revision, RO, "Revision number", default = 1;
+            4 => serial, RO, "Serial number", default = 0x1234_5678;
+        };
+        0x2000 => var(text, RW, "Text");
+        0x2001 => var(blob, RW, "Blob");
+    }
+}
+
+/// Application hooks that take DOMAIN downloads and count the bytes.
+#[derive(Default)]
+pub struct Sink {
+    /// Bytes received.
+    pub bytes: usize,
+}
+
+impl ObjectHooks<Od> for Sink {
+    fn domain_write(
+        &mut self,
+        _: u16,
+        _: u8,
+        _: u32,
+        data: &[u8],
+        _: bool,
+    ) -> Result<(), AbortCode> {
+        self.bytes += data.len();
+        Ok(())
+    }
+}
+
+/// The ESC as plain memory.
+pub struct Bench<'c, const MBX: usize> {
+    /// The SubDevice.
+    pub sub: SubDevice<'c, MBX>,
+    /// Registers and process RAM.
+    pub mem: Vec<u8>,
+    /// The pending AL event bits.
+    pub event: u32,
+    mailbox: u16,
+    counter: u8,
+}
+
+impl<'c, const MBX: usize> Bench<'c, MBX> {
+    /// A SubDevice in PREOP.
+    pub fn new(config: &'c DeviceConfig) -> Self {
+        let mailbox = config.mailbox.receive.length;
+        let mut bench = Self {
+            sub: SubDevice::new(config),
+            mem: vec![0; 0x1_0000],
+            event: 0,
+            mailbox,
+            counter: 0,
+        };
+        bench.drive();
+        let sm = |start: u16, control: u8| {
+            let [s0, s1] = start.to_le_bytes();
+            let [l0, l1] = mailbox.to_le_bytes();
+            [s0, s1, l0, l1, control, 0, 1, 0]
+        };
+        bench.put(
+            register::sync_manager(0),
+            &sm(config.mailbox.receive.start, 0x26),
+        );
+        bench.put(
+            register::sync_manager(1),
+            &sm(config.mailbox.send.start, 0x22),
+        );
+        bench.put(register::AL_CONTROL, &[2, 0]);
+        bench.sub.handle_al_event(AlEvent(0x11));
+        bench.drive();
+        bench.sub.complete_transition(
+            Transition {
+                from: AlState::Init,
+                to: AlState::PreOp,
+            },
+            Ok(()),
+        );
+        bench.drive();
+        assert_eq!(bench.sub.state(), AlState::PreOp);
+        bench
+    }
+
+    fn put(&mut self, address: u16, data: &[u8]) {
+        let a = usize::from(address);
+        self.mem[a..a + data.len()].copy_from_slice(data);
+    }
+
+    /// Performs every access the core asks for.
+    pub fn drive(&mut self) {
+        while let Some(access) = self.sub.poll_access() {
+            let event = AlEvent(self.event);
+            match access {
+                Access::Read { address, buf, .. } => {
+                    let a = usize::from(address);
+                    buf.copy_from_slice(&self.mem[a..a + buf.len()]);
+                }
+                Access::Write { address, data, .. } => {
+                    let a = usize::from(address);
+                    self.mem[a..a + data.len()].copy_from_slice(data);
+                }
+            }
+            self.sub.access_done(Instant::from_micros(0), event);
+        }
+    }
+
+    /// One mailbox round trip: the MainDevice writes a CoE `payload` into SM0, the SubDevice
+    /// reads it, serves it and writes SM1, the MainDevice reads SM1. Returns the answer's
+    /// mailbox data (CoE header on).
+    pub fn exchange<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        od: &mut D,
+        hooks: &mut H,
+        payload: &[u8],
+    ) -> &[u8] {
+        self.counter = self.counter % 7 + 1;
+        let len = payload.len() as u16;
+        let [l0, l1] = len.to_le_bytes();
+        self.put(0x1000, &[l0, l1, 0, 0, 0, (self.counter << 4) | 3]);
+        self.put(0x1006, payload);
+        self.sub.handle_al_event(AlEvent::sync_manager(0));
+        self.drive();
+        while self.sub.service_mailbox(Instant::from_micros(0), od, hooks) {
+            self.drive();
+        }
+        self.drive();
+        self.sub.handle_al_event(AlEvent::sync_manager(1));
+        self.drive();
+        let send = 0x1000 + usize::from(self.mailbox);
+        let length = usize::from(u16::from_le_bytes([self.mem[send], self.mem[send + 1]]));
+        &self.mem[send + 6..send + 6 + length]
+    }
+}
