@@ -12,8 +12,10 @@ use ecat_core::dictionary::VisibleString;
 fn upload(bench_case: &str, n: usize) {
     let big = bench_case.ends_with("1024");
     let config = device(if big { 1024 } else { 128 });
-    let mut od = Od::default();
-    od.text = VisibleString::new(&[b'x'; 1024]);
+    let mut od = Od {
+        text: VisibleString::new(&[b'x'; 1024]),
+        ..Od::default()
+    };
     if big {
         run::<1024>(&config, &mut od, bench_case, n);
     } else {
