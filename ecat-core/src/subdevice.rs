@@ -118,12 +118,27 @@ impl Op {
 }
 
 /// What the core last wrote to the ESC, so that it writes only what changed.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 struct Written {
     event_mask: Option<u32>,
-    pdi_control: [Option<u8>; 4],
+    /// PDI control of SM0..SM3; [`Written::UNKNOWN`] until written.
+    pdi_control: [u8; 4],
     status_code: Option<u16>,
     status: Option<u16>,
+}
+
+impl Written {
+    /// A PDI control value never wanted (and with the deactivate bit set): not written yet.
+    const UNKNOWN: u8 = 0xFF;
+
+    const fn new() -> Self {
+        Self {
+            event_mask: None,
+            pdi_control: [Self::UNKNOWN; 4],
+            status_code: None,
+            status: None,
+        }
+    }
 }
 
 /// A transition waiting for the application.
@@ -175,7 +190,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             read_sync_managers: false,
             read_al_control: false,
             sm_changed: false,
-            written: Written::default(),
+            written: Written::new(),
             in_flight: None,
             pending: None,
             events: Ring::new(),
@@ -381,17 +396,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if self.read_al_control {
             return Some((Op::ReadAlControl, 0));
         }
-        for n in 0..4u8 {
-            let desired = self.desired_pdi_control(n);
-            if self
-                .written
-                .pdi_control
-                .get(usize::from(n))
-                .copied()
-                .flatten()
-                != Some(desired)
-            {
-                return Some((Op::WritePdiControl(n), u32::from(desired)));
+        let desired = self.desired_pdi_control();
+        if desired != self.written.pdi_control {
+            for (n, (d, w)) in (0u8..).zip(desired.into_iter().zip(self.written.pdi_control)) {
+                if d != w {
+                    return Some((Op::WritePdiControl(n), u32::from(d)));
+                }
             }
         }
         if self.mailbox_ready() {
@@ -489,7 +499,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::WriteEventMask => self.written.event_mask = Some(value),
             Op::WritePdiControl(n) => {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
-                    *slot = u8::try_from(value).ok();
+                    *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
                 }
             }
             Op::ReadMailbox => self.mailbox.received(),
@@ -658,20 +668,27 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         mask
     }
 
-    /// PDI control of SyncManager `n`: mailbox channels active from PREOP (and in BOOT), process
-    /// data channels active in SAFEOP and OP; deactivated otherwise.
-    fn desired_pdi_control(&self, n: u8) -> u8 {
-        let active = if n < 2 {
-            self.state.has_mailbox()
+    /// PDI control of SM0..SM3: mailbox channels active from PREOP (and in BOOT), SM1 carrying
+    /// the repeat acknowledge; process-data channels active in SAFEOP and OP; deactivated
+    /// otherwise.
+    fn desired_pdi_control(&self) -> [u8; 4] {
+        let off = Channel::PDI_DEACTIVATE;
+        let (mailbox, send) = if self.state.has_mailbox() {
+            let ack = if self.mailbox.repeat_ack() {
+                Channel::PDI_REPEAT_ACK
+            } else {
+                0
+            };
+            (0, ack)
         } else {
-            self.state.has_process_data()
+            (off, off)
         };
-        let repeat_ack = n == 1 && self.mailbox.repeat_ack();
-        match (active, repeat_ack) {
-            (false, _) => Channel::PDI_DEACTIVATE,
-            (true, false) => 0,
-            (true, true) => Channel::PDI_REPEAT_ACK,
-        }
+        let process_data = if self.state.has_process_data() {
+            0
+        } else {
+            off
+        };
+        [mailbox, send, process_data, process_data]
     }
 
     /// The mailbox layout of the current state: the bootstrap mailbox in BOOT.
@@ -684,15 +701,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// Whether mailbox traffic may flow: a mailbox state with SM0/SM1 activated.
     fn mailbox_ready(&self) -> bool {
-        let activated = |n: usize| {
-            self.written
-                .pdi_control
-                .get(n)
-                .copied()
-                .flatten()
-                .is_some_and(|c| c & Channel::PDI_DEACTIVATE == 0)
-        };
-        self.state.has_mailbox() && activated(0) && activated(1)
+        let [receive, send, ..] = self.written.pdi_control;
+        self.state.has_mailbox() && (receive | send) & Channel::PDI_DEACTIVATE == 0
     }
 
     /// Serves the mailbox: the request read from SM0, or the next SDO Information fragment or
