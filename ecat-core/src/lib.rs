@@ -20,6 +20,7 @@
 //! | [`dictionary`] | the CoE object dictionary: metadata, typed values, the `dictionary!` declaration (ETG.1000.6 §5.6.3) |
 //! | [`coe`] | CANopen over EtherCAT: SDO abort codes, … (ETG.1000.6 §5.6) |
 //! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control (ETG.1000.4 §5.6) |
+//! | [`pdo`] | PDO mapping and assignment objects, the process-image layout, pack/unpack (ETG.1000.6 §5.6.7) |
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
@@ -45,6 +46,7 @@ pub mod device;
 pub mod dictionary;
 pub mod esm;
 pub mod mailbox;
+pub mod pdo;
 pub mod process_data;
 pub mod register;
 pub mod ring;

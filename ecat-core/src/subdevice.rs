@@ -23,10 +23,12 @@
 use crate::al::{AlControl, AlEvent, AlState, AlStatus, AlStatusCode};
 use crate::coe::Emergency;
 use crate::coe::sdo::Context;
-use crate::device::{Area, DeviceConfig, MailboxConfig};
+use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes};
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
 use crate::esm::{self, Decision, Transition};
 use crate::mailbox::Mailbox;
+use crate::pdo::Direction;
+use crate::pdo::layout::Layout as PdoLayout;
 use crate::process_data::Layout;
 use crate::register;
 use crate::ring::Ring;
@@ -173,6 +175,10 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// Nothing changed since [`SubDevice::poll_access`] last found nothing to do: the next call
     /// can say so at once instead of deriving every register again.
     settled: bool,
+    /// The process-image sizes of the current PDO configuration, or why it is unusable.
+    pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
+    /// The PDO configuration may have changed since `pd_sizes` was computed.
+    pd_stale: bool,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -198,6 +204,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             mailbox: Mailbox::new(),
             complete_mailbox: false,
             settled: false,
+            pd_sizes: Ok(config.process_data),
+            pd_stale: true,
         }
     }
 
@@ -252,7 +260,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_process_data() {
             return None;
         }
-        let sizes = self.config.process_data;
+        let sizes = self.pd_sizes.unwrap_or_default();
         let area =
             |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
         Some(Layout {
@@ -265,7 +273,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
-        let sizes = self.config.process_data;
+        let sizes = self.pd_sizes.unwrap_or_default();
         if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
         } else if sizes.inputs > 0 {
@@ -598,7 +606,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
         }
         if state.has_process_data() {
-            check::process_data(&self.channels, self.config).map_err(|c| (c, AlState::PreOp))?;
+            let sizes = self.pd_sizes.map_err(|c| (c, AlState::PreOp))?;
+            check::process_data(&self.channels, sizes, self.config)
+                .map_err(|c| (c, AlState::PreOp))?;
         }
         Ok(())
     }
@@ -638,6 +648,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.complete_mailbox = false;
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
+            self.pd_stale = true;
             let mailbox = self.active_mailbox();
             let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
             self.mailbox
@@ -718,6 +729,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return false;
         }
         self.settled = false;
+        self.pd_stale = true;
         let mut cx = Context {
             od,
             hooks,
@@ -725,6 +737,29 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             now,
         };
         self.mailbox.service(&mut cx)
+    }
+
+    /// Recomputes the process-image sizes from the PDO assignment and mapping objects of `od`
+    /// when they may have changed (after mailbox traffic, on entering PREOP). Call it before the
+    /// SubDevice handles AL events; without assignment objects (0x1C12/0x1C13) the device
+    /// configuration's fixed sizes apply. An unusable mapping answers PREOP→SAFEOP with 0x0025
+    /// (outputs) or 0x0024 (inputs).
+    pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &D) {
+        if !core::mem::take(&mut self.pd_stale) {
+            return;
+        }
+        let fixed = self.config.process_data;
+        let size = |direction, fixed| match PdoLayout::of(od, direction) {
+            Ok(Some(layout)) => Ok(layout.bytes()),
+            Ok(None) => Ok(fixed),
+            Err(code) => Err(code),
+        };
+        self.pd_sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
+            Ok(ProcessDataSizes {
+                outputs,
+                inputs: size(Direction::Tx, fixed.inputs)?,
+            })
+        });
     }
 
     /// Raises an emergency: queued, and sent when SM1 is free. Refused (returns `false`) below

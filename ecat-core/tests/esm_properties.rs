@@ -110,7 +110,7 @@ proptest! {
                     "{:?} with invalid mailbox SyncManagers", status.state);
             }
             if status.state.has_process_data() {
-                prop_assert!(check::process_data(&channels, &DEVICE).is_ok(), "{:?} with invalid process-data SyncManagers", status.state);
+                prop_assert!(check::process_data(&channels, DEVICE.process_data, &DEVICE).is_ok(), "{:?} with invalid process-data SyncManagers", status.state);
             }
         }
     }

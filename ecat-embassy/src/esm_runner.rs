@@ -55,6 +55,7 @@ where
     D: ObjectDictionary,
 {
     loop {
+        od.lock(|od| sub.refresh_process_data(&*od.borrow()));
         while let Some(emergency) = esc.take_emergency() {
             sub.emergency(emergency);
         }

@@ -11,9 +11,15 @@
 ///         INDEX => record(field: RecordType, "Name") {
 ///             SUB => field, ACCESS, "Name" [, default = …] [, min = …] [, max = …] [, unit = …];
 ///         };
+///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
 ///     }
 /// }
 /// ```
+///
+/// `pdo` declares a PDO mapping (0x1600..0x17FF, 0x1A00..0x1BFF; field type
+/// [`PdoMapping<N>`](crate::pdo::PdoMapping)) or assignment object (0x1C12, 0x1C13;
+/// [`PdoAssignment<N>`](crate::pdo::PdoAssignment)): SI0 counts the valid entries and follows the
+/// PDO configuration write rules of [`crate::pdo`].
 ///
 /// `ACCESS` is one or more [`Access`](crate::dictionary::Access) constants joined by `|`
 /// (`RO`, `RW`, `WO`, `RW_PREOP`, `RW_PREOP_SAFEOP`, `RXPDO`, `TXPDO`, `BACKUP`, `SETTINGS`).
@@ -174,6 +180,53 @@ macro_rules! __ecat_object {
             },
         }
     };
+    ($dict:ident, $index:literal, pdo (
+        $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)?
+    )) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Array,
+                name: $name,
+                max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field.items),
+                entries: &[
+                    $crate::dictionary::EntryInfo {
+                        access: $crate::__ecat_access!($($acc)|+),
+                        ..$crate::dictionary::EntryInfo::subindex_count("Number of entries")
+                    },
+                    $crate::dictionary::EntryInfo {
+                        sub: 1,
+                        name: $element,
+                        data_type: $crate::dictionary::element_type_of(|d: &$dict| &d.$field.items),
+                        bit_len: $crate::dictionary::element_bit_len_of(|d: &$dict| &d.$field.items),
+                        access: $crate::__ecat_access!($($acc)|+),
+                        unit: 0,
+                        limits: $crate::dictionary::Limits(0),
+                    },
+                ],
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
+                0 => Ok($crate::dictionary::read_value(&d.$field.count, offset, out)),
+                n => d.$field.items.get(usize::from(n) - 1)
+                    .map(|v| $crate::dictionary::read_value(v, offset, out))
+                    .ok_or($crate::coe::AbortCode::NO_SUBINDEX),
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                $crate::pdo::check_counted_write(d.$field.count, d.$field.items.len(), sub, data)?;
+                match sub {
+                    0 => $crate::dictionary::write_value(&mut d.$field.count, data, None, None),
+                    n => {
+                        $crate::pdo::check_entry::<$dict>($index, data)?;
+                        match d.$field.items.get_mut(usize::from(n) - 1) {
+                            Some(slot) => $crate::dictionary::write_value(slot, data, None, None),
+                            None => Err($crate::coe::AbortCode::NO_SUBINDEX),
+                        }
+                    }
+                }
+            },
+            limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
+        }
+    };
     ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
            $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
@@ -231,6 +284,9 @@ macro_rules! __ecat_default {
     (array ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal
         $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? )) => {
         ::core::array::from_fn(|_| $crate::__ecat_or!(::core::default::Default::default() $(, $default)?))
+    };
+    (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
+        $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
     };
     (record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal

@@ -14,7 +14,7 @@
 
 use super::{Channel, Direction, Mode};
 use crate::AlStatusCode;
-use crate::device::{Area, DeviceConfig, MailboxConfig};
+use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes};
 
 /// SyncManagers 0..=3 as the PDI read them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -86,10 +86,13 @@ fn is_mailbox(channel: &Channel, area: Area, direction: Direction) -> bool {
         && channel.control.direction() == direction
 }
 
-/// Checks SM2/SM3 against the process-data sizes of `device`, and that no enabled channel
-/// overlaps another or a mailbox.
-pub fn process_data(channels: &Channels, device: &DeviceConfig) -> Result<(), AlStatusCode> {
-    let sizes = device.process_data;
+/// Checks SM2/SM3 against the process-data `sizes`, and that no enabled channel overlaps
+/// another or a mailbox of `device`.
+pub fn process_data(
+    channels: &Channels,
+    sizes: ProcessDataSizes,
+    device: &DeviceConfig,
+) -> Result<(), AlStatusCode> {
     let outputs = channels.outputs();
     let inputs = channels.inputs();
     if !is_process_data(outputs, sizes.outputs, Direction::MainDeviceWrites, device) {

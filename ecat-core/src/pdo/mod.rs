@@ -1,0 +1,250 @@
+//! Process data objects (ETG.1000.6 §5.6.7, CiA 301 §7.5.2.35–37): which dictionary entries travel
+//! in the process image, where, and how they get there.
+//!
+//! - [`PdoMapping`] (0x1600..0x17FF RxPDOs, 0x1A00..0x1BFF TxPDOs): SI0 = number of mapped
+//!   entries, SI1..n = `index << 16 | subindex << 8 | bit length` ([`MappingEntry`]); index 0 is a
+//!   gap of that many bits.
+//! - [`PdoAssignment`] (0x1C12 for SM2 outputs, 0x1C13 for SM3 inputs): SI0 = number of assigned
+//!   PDOs, SI1..n = their mapping indices.
+//!
+//! Writing follows the PDO configuration rules (conformance.md "CoE SDO"): PREOP only (the access
+//! rights say so), SI0 = 0 first, then the entries, then SI0 = n; an entry written while SI0 ≠ 0 is
+//! refused with 0x06010003, SI0 above the capacity with 0x06090031, an assignment outside the
+//! mapping range or to a missing PDO with 0x06090030, a mapping entry that names no mappable
+//! entry of the right direction or with the wrong bit length with 0x06040041.
+
+pub mod image;
+pub mod layout;
+
+use crate::coe::AbortCode;
+use crate::dictionary::{Access, ObjectDictionary};
+
+/// One mapping entry: `index << 16 | subindex << 8 | bit length`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct MappingEntry(pub u32);
+
+impl MappingEntry {
+    /// The entry for `index:sub` of `bit_len` bits.
+    pub const fn new(index: u16, sub: u8, bit_len: u8) -> Self {
+        Self(((index as u32) << 16) | ((sub as u32) << 8) | bit_len as u32)
+    }
+
+    /// The mapped object's index (0 for a gap).
+    pub const fn index(self) -> u16 {
+        (self.0 >> 16) as u16
+    }
+
+    /// The mapped subindex.
+    pub const fn sub(self) -> u8 {
+        (self.0 >> 8) as u8
+    }
+
+    /// The length in bits.
+    pub const fn bit_len(self) -> u8 {
+        self.0 as u8
+    }
+}
+
+/// An object whose SI0 counts its valid entries: the value of PDO mapping and assignment
+/// objects. Reported as an ARRAY (ETG.1000.6 Table 62): every entry has the type `T`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Counted<T, const N: usize> {
+    /// SI0: how many entries are valid.
+    pub count: u8,
+    /// SI1..=N.
+    pub items: [T; N],
+}
+
+/// A PDO mapping object's value: up to `N` [`MappingEntry`] values.
+pub type PdoMapping<const N: usize> = Counted<u32, N>;
+/// A PDO assignment object's value: up to `N` mapping indices.
+pub type PdoAssignment<const N: usize> = Counted<u16, N>;
+
+impl<T: Copy + Default, const N: usize> Counted<T, N> {
+    /// The valid entries SI1..=SI0.
+    pub fn valid(&self) -> impl Iterator<Item = T> + '_ {
+        self.items.iter().take(usize::from(self.count)).copied()
+    }
+}
+
+impl<const N: usize> Counted<u32, N> {
+    /// The mapping of `entries` (at most `N`; more are cut). `const`, for defaults.
+    #[allow(clippy::indexing_slicing)] // i < n <= both lengths
+    pub const fn mapping(entries: &[MappingEntry]) -> Self {
+        let mut items = [0u32; N];
+        let n = if entries.len() < N { entries.len() } else { N };
+        let mut i = 0;
+        while i < n {
+            items[i] = entries[i].0;
+            i += 1;
+        }
+        Self {
+            count: n as u8,
+            items,
+        }
+    }
+
+    /// The mapped entries.
+    pub fn mapped(&self) -> impl Iterator<Item = MappingEntry> + '_ {
+        self.valid().map(MappingEntry)
+    }
+}
+
+impl<const N: usize> Counted<u16, N> {
+    /// The assignment of `pdos` (at most `N`). `const`, for defaults.
+    #[allow(clippy::indexing_slicing)] // i < n <= both lengths
+    pub const fn assignment(pdos: &[u16]) -> Self {
+        let mut items = [0u16; N];
+        let n = if pdos.len() < N { pdos.len() } else { N };
+        let mut i = 0;
+        while i < n {
+            items[i] = pdos[i];
+            i += 1;
+        }
+        Self {
+            count: n as u8,
+            items,
+        }
+    }
+}
+
+impl<T: Copy + Default, const N: usize> Default for Counted<T, N> {
+    fn default() -> Self {
+        Self {
+            count: 0,
+            items: [T::default(); N],
+        }
+    }
+}
+
+/// Which way a PDO goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Direction {
+    /// RxPDO: MainDevice → device (outputs, SM2, 0x1600..0x17FF, assigned in 0x1C12).
+    Rx,
+    /// TxPDO: device → MainDevice (inputs, SM3, 0x1A00..0x1BFF, assigned in 0x1C13).
+    Tx,
+}
+
+impl Direction {
+    /// The assignment object of the direction.
+    pub const fn assignment(self) -> u16 {
+        match self {
+            Self::Rx => 0x1C12,
+            Self::Tx => 0x1C13,
+        }
+    }
+
+    /// Whether `index` is a PDO mapping index of the direction.
+    pub const fn is_mapping(self, index: u16) -> bool {
+        match self {
+            Self::Rx => index >= 0x1600 && index <= 0x17FF,
+            Self::Tx => index >= 0x1A00 && index <= 0x1BFF,
+        }
+    }
+
+    /// The direction of mapping object `index`.
+    pub const fn of_mapping(index: u16) -> Option<Self> {
+        if Self::Rx.is_mapping(index) {
+            Some(Self::Rx)
+        } else if Self::Tx.is_mapping(index) {
+            Some(Self::Tx)
+        } else {
+            None
+        }
+    }
+
+    /// The direction of assignment object `index`.
+    pub const fn of_assignment(index: u16) -> Option<Self> {
+        match index {
+            0x1C12 => Some(Self::Rx),
+            0x1C13 => Some(Self::Tx),
+            _ => None,
+        }
+    }
+
+    /// Whether an entry with `access` may be mapped in this direction.
+    pub const fn allows(self, access: Access) -> bool {
+        match self {
+            Self::Rx => access.rxpdo(),
+            Self::Tx => access.txpdo(),
+        }
+    }
+}
+
+/// Checks a mapping entry written into mapping object `mapping` (ETG.1000.6 PDO rules).
+#[doc(hidden)]
+pub fn check_mapping_entry<D: ObjectDictionary>(mapping: u16, value: u32) -> Result<(), AbortCode> {
+    let entry = MappingEntry(value);
+    if entry.index() == 0 {
+        return Ok(());
+    }
+    let direction = Direction::of_mapping(mapping).ok_or(AbortCode::NOT_MAPPABLE)?;
+    let info = D::object(entry.index())
+        .and_then(|o| o.info.entry(entry.sub()))
+        .ok_or(AbortCode::NOT_MAPPABLE)?;
+    let fits = u16::from(entry.bit_len()) == info.bit_len;
+    if fits && direction.allows(info.access) && info.data_type.is_pdo_mappable() {
+        Ok(())
+    } else {
+        Err(AbortCode::NOT_MAPPABLE)
+    }
+}
+
+/// Checks an assignment entry written into assignment object `assignment`.
+#[doc(hidden)]
+pub fn check_assignment_entry<D: ObjectDictionary>(
+    assignment: u16,
+    value: u16,
+) -> Result<(), AbortCode> {
+    let direction = Direction::of_assignment(assignment).ok_or(AbortCode::VALUE_RANGE)?;
+    if direction.is_mapping(value) && D::object(value).is_some() {
+        Ok(())
+    } else {
+        Err(AbortCode::VALUE_RANGE)
+    }
+}
+
+/// Checks an entry written into PDO configuration object `index` against the dictionary.
+#[doc(hidden)]
+pub fn check_entry<D: ObjectDictionary>(index: u16, data: &[u8]) -> Result<(), AbortCode> {
+    match (data, Direction::of_assignment(index)) {
+        ([a, b, c, d], None) if Direction::of_mapping(index).is_some() => {
+            check_mapping_entry::<D>(index, u32::from_le_bytes([*a, *b, *c, *d]))
+        }
+        ([a, b], Some(_)) => check_assignment_entry::<D>(index, u16::from_le_bytes([*a, *b])),
+        _ => Ok(()),
+    }
+}
+
+/// The PDO configuration write rules shared by mapping and assignment objects: SI0 up to the
+/// capacity `n`; entries only while SI0 is 0 and within the capacity.
+#[doc(hidden)]
+pub fn check_counted_write(
+    count: u8,
+    capacity: usize,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    if sub == 0 {
+        let [value] = data else {
+            return Err(if data.len() > 1 {
+                AbortCode::LENGTH_TOO_HIGH
+            } else {
+                AbortCode::LENGTH_TOO_LOW
+            });
+        };
+        return if usize::from(*value) > capacity {
+            Err(AbortCode::VALUE_TOO_HIGH)
+        } else {
+            Ok(())
+        };
+    }
+    if usize::from(sub) > capacity {
+        return Err(AbortCode::NO_SUBINDEX);
+    }
+    if count != 0 {
+        return Err(AbortCode::SI0_NOT_ZERO);
+    }
+    Ok(())
+}
