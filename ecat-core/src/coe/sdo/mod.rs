@@ -564,30 +564,64 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
     if !target.complete {
         return store_entry(cx, object, target.sub, data);
     }
-    if data.len() != complete_access::size(&object.info, target.sub) {
-        return Err(
-            if data.len() > complete_access::size(&object.info, target.sub) {
-                AbortCode::LENGTH_TOO_HIGH
-            } else {
-                AbortCode::LENGTH_TOO_LOW
-            },
-        );
+    store_complete(cx, object, target.sub, data)
+}
+
+/// A complete-access download (ETG.1000.6 §5.6.2.1.2). With a writable SI0 (PDO configuration
+/// objects) the configuration sequence is followed: SI0 := 0, entries 1..=n, SI0 := n. With a
+/// read-only SI0 the image must carry its current value; every entry is written.
+fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
+    cx: &mut Context<'_, D, H>,
+    object: &Object<D>,
+    from: u8,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    let size = complete_access::size(&object.info, from);
+    if data.len() != size {
+        return Err(if data.len() > size {
+            AbortCode::LENGTH_TOO_HIGH
+        } else {
+            AbortCode::LENGTH_TOO_LOW
+        });
     }
-    for (sub, _) in complete_access::entries(&object.info, target.sub) {
-        let (value, len) = complete_access::entry_value(data, &object.info, target.sub, sub)
-            .ok_or(AbortCode::LENGTH_MISMATCH)?;
-        let value = value.get(..len).unwrap_or_default();
-        if sub == 0 {
+    let value_of = |sub| {
+        complete_access::entry_value(data, &object.info, from, sub)
+            .ok_or(AbortCode::LENGTH_MISMATCH)
+    };
+    let si0 = if from == 0 {
+        Some(value_of(0)?.0[0])
+    } else {
+        None
+    };
+    let writable = object
+        .info
+        .entry(0)
+        .is_some_and(|e| e.access.writable_in(cx.state));
+    let mut last = object.info.max_sub;
+    match si0 {
+        Some(n) if writable => {
+            store_entry(cx, object, 0, &[0])?;
+            last = n;
+        }
+        Some(n) => {
             let mut current = [0u8; 1];
             (object.read)(cx.od, 0, 0, &mut current)?;
-            if value != current {
+            if n != current[0] {
                 return Err(AbortCode::READ_ONLY);
             }
-            continue;
         }
-        store_entry(cx, object, sub, value)?;
+        None => {}
     }
-    Ok(())
+    for (sub, _) in
+        complete_access::entries(&object.info, from).filter(|(s, _)| (1..=last).contains(s))
+    {
+        let (value, len) = value_of(sub)?;
+        store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
+    }
+    match si0 {
+        Some(n) if writable => store_entry(cx, object, 0, &[n]),
+        _ => Ok(()),
+    }
 }
 
 /// One entry's download: veto hook, typed decode with range check, after-write hook.

@@ -1,0 +1,222 @@
+//! PDO configuration through the real runners: the mapping reconfigured over SDO decides the
+//! SyncManager lengths PREOP→SAFEOP accepts; complete access on the assignment; PREOP-only writes.
+
+mod common;
+
+use common::{MAILBOX, walk_to};
+use ecat_core::AlState;
+use ecat_core::coe::AbortCode;
+use ecat_core::device::Area;
+use ecat_core::dictionary::ObjectHooks;
+use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
+use ecat_embassy::Application;
+use ecat_emu::coe_client::{SdoClient, SdoError};
+use ecat_emu::harness::{self, Device, Loopback};
+use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
+
+struct Drive {
+    controlword: u16,
+    target_position: i32,
+    target_velocity: i32,
+    mode: i8,
+    statusword: u16,
+    position: i32,
+    velocity: i32,
+    mode_display: i8,
+    rx1: PdoMapping<8>,
+    tx1: PdoMapping<8>,
+    rx_assign: PdoAssignment<2>,
+    tx_assign: PdoAssignment<2>,
+}
+
+const RX: [MappingEntry; 4] = [
+    MappingEntry::new(0x6040, 0, 16),
+    MappingEntry::new(0x607A, 0, 32),
+    MappingEntry::new(0x60FF, 0, 32),
+    MappingEntry::new(0x6060, 0, 8),
+];
+const TX: [MappingEntry; 4] = [
+    MappingEntry::new(0x6041, 0, 16),
+    MappingEntry::new(0x6064, 0, 32),
+    MappingEntry::new(0x606C, 0, 32),
+    MappingEntry::new(0x6061, 0, 8),
+];
+
+ecat_core::dictionary! {
+    Drive {
+        0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX));
+        0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX));
+        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+        0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x6040 => var(controlword, RW | RXPDO, "Controlword");
+        0x6041 => var(statusword, RO | TXPDO, "Statusword");
+        0x6060 => var(mode, RW | RXPDO, "Modes of operation");
+        0x6061 => var(mode_display, RO | TXPDO, "Modes of operation display");
+        0x6064 => var(position, RO | TXPDO, "Position actual value");
+        0x606C => var(velocity, RO | TXPDO, "Velocity actual value");
+        0x607A => var(target_position, RW | RXPDO, "Target position");
+        0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
+    }
+}
+
+struct App;
+impl Application for App {}
+impl ObjectHooks<Drive> for App {}
+
+const OUT: Area = Area::new(0x1100, 11);
+const IN: Area = Area::new(0x1180, 11);
+
+fn run(script: impl AsyncFnOnce(TestMaster) + 'static) {
+    let device = Device::new(common::drive(), App, Loopback).with_dictionary(Drive::default());
+    harness::run(device, |master| async move { script(master).await })
+}
+
+fn client(master: &TestMaster) -> SdoClient<'_> {
+    SdoClient::new(
+        master,
+        (MAILBOX.receive.start, 128),
+        (MAILBOX.send.start, 128),
+    )
+}
+
+async fn request_safeop(master: &TestMaster, outputs: u16, inputs: u16) -> (u16, u16) {
+    master.configure_sm(2, OUT.start, outputs, SM2_CONTROL, outputs > 0);
+    master.configure_sm(3, IN.start, inputs, SM3_CONTROL, inputs > 0);
+    // SAFEOP with acknowledge: a previous refusal latched the error.
+    master.request(0x14).await
+}
+
+#[test]
+fn the_default_mapping_needs_11_bytes_each_way() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        assert_eq!(
+            request_safeop(&master, 12, 11).await,
+            (0x12, 0x001D),
+            "SM2 12 bytes for an 11-byte RxPDO"
+        );
+        assert_eq!(
+            request_safeop(&master, 11, 10).await,
+            (0x12, 0x001E),
+            "SM3 10 bytes for an 11-byte TxPDO"
+        );
+        assert_eq!(request_safeop(&master, 11, 11).await, (0x04, 0));
+    });
+}
+
+#[test]
+fn a_mapping_reconfigured_over_sdo_changes_the_lengths_safeop_needs() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        // What MainDevices do: SI0 = 0, the entries, SI0 = n; then the assignment the same way.
+        c.download(0x1C12, 0, false, &[0]).await.unwrap();
+        c.download(0x1600, 0, false, &[0]).await.unwrap();
+        c.download(
+            0x1600,
+            1,
+            false,
+            &MappingEntry::new(0x6040, 0, 16).0.to_le_bytes(),
+        )
+        .await
+        .unwrap();
+        c.download(
+            0x1600,
+            2,
+            false,
+            &MappingEntry::new(0, 0, 8).0.to_le_bytes(),
+        )
+        .await
+        .unwrap();
+        c.download(
+            0x1600,
+            3,
+            false,
+            &MappingEntry::new(0x6060, 0, 8).0.to_le_bytes(),
+        )
+        .await
+        .unwrap();
+        c.download(0x1600, 0, false, &[3]).await.unwrap();
+        c.download(0x1C12, 1, false, &0x1600u16.to_le_bytes())
+            .await
+            .unwrap();
+        c.download(0x1C12, 0, false, &[1]).await.unwrap();
+        assert_eq!(
+            request_safeop(&master, 11, 11).await,
+            (0x12, 0x001D),
+            "the old length"
+        );
+        assert_eq!(
+            request_safeop(&master, 4, 11).await,
+            (0x04, 0),
+            "16 + 8 gap + 8 bits"
+        );
+        assert_eq!(
+            c.download(0x1600, 0, false, &[0]).await,
+            Err(SdoError::Abort(AbortCode::DEVICE_STATE)),
+            "PDO configuration is writable in PREOP only"
+        );
+    });
+}
+
+#[test]
+fn an_output_only_configuration_accepts_sm2_alone() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        c.download(0x1C13, 0, false, &[0]).await.unwrap();
+        assert_eq!(
+            request_safeop(&master, 11, 0).await,
+            (0x04, 0),
+            "no TxPDO assigned: SM3 disabled"
+        );
+    });
+}
+
+#[test]
+fn complete_access_on_the_assignment_follows_the_configuration_sequence() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        assert_eq!(
+            c.upload(0x1C12, 0, true).await,
+            Ok(vec![1, 0, 0x00, 0x16, 0x00, 0x00])
+        );
+        assert_eq!(
+            c.download(0x1C12, 0, true, &[0, 0, 0, 0, 0, 0]).await,
+            Ok(()),
+            "nothing assigned"
+        );
+        assert_eq!(c.upload(0x1C12, 0, false).await, Ok(vec![0]));
+        assert_eq!(
+            c.download(0x1C12, 0, true, &[2, 0, 0x00, 0x16, 0x00, 0x1A])
+                .await,
+            Err(SdoError::Abort(AbortCode::VALUE_RANGE)),
+            "a TxPDO in SM2's assignment"
+        );
+        assert_eq!(
+            c.download(0x1C12, 0, true, &[1, 0, 0x00, 0x16, 0x00, 0x00])
+                .await,
+            Ok(())
+        );
+        assert_eq!(c.upload(0x1C12, 1, false).await, Ok(vec![0x00, 0x16]));
+        assert_eq!(c.upload(0x1C12, 0, false).await, Ok(vec![1]));
+    });
+}
+
+#[test]
+fn main_devices_read_the_mapping_one_expedited_upload_at_a_time() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        assert_eq!(c.upload(0x1C13, 0, false).await, Ok(vec![1]));
+        assert_eq!(c.upload(0x1C13, 1, false).await, Ok(vec![0x00, 0x1A]));
+        assert_eq!(c.upload(0x1A00, 0, false).await, Ok(vec![4]));
+        for (sub, entry) in (1u8..).zip(TX) {
+            assert_eq!(
+                c.upload(0x1A00, sub, false).await,
+                Ok(entry.0.to_le_bytes().to_vec())
+            );
+        }
+    });
+}
