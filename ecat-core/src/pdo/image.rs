@@ -42,7 +42,7 @@ pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
 
 /// Reads `len` bits from `image` at bit `offset` into `out`, LSB first.
 fn get_bits(image: &[u8], offset: usize, len: usize, out: &mut [u8]) {
-    if offset % 8 == 0 && len % 8 == 0 {
+    if offset.is_multiple_of(8) && len.is_multiple_of(8) {
         let (start, n) = (offset / 8, len / 8);
         if let (Some(src), Some(dst)) = (image.get(start..start + n), out.get_mut(..n)) {
             dst.copy_from_slice(src);
@@ -60,7 +60,7 @@ fn get_bits(image: &[u8], offset: usize, len: usize, out: &mut [u8]) {
 
 /// Writes the low `len` bits of `value` into `image` at bit `offset`, LSB first.
 fn put_bits(value: &[u8], offset: usize, len: usize, image: &mut [u8]) {
-    if offset % 8 == 0 && len % 8 == 0 {
+    if offset.is_multiple_of(8) && len.is_multiple_of(8) {
         let (start, n) = (offset / 8, len / 8);
         if let (Some(dst), Some(src)) = (image.get_mut(start..start + n), value.get(..n)) {
             dst.copy_from_slice(src);

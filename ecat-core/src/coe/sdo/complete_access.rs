@@ -47,7 +47,7 @@ fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
         } else {
             usize::from(entry.bit_len)
         };
-        if bit_len % 8 == 0 {
+        if bit_len.is_multiple_of(8) {
             bit = bit.div_ceil(8) * 8;
         }
         let slot = Slot {
@@ -80,7 +80,7 @@ pub fn read<D>(
     let window = out.get_mut(..len).unwrap_or_default();
     window.fill(0);
     for slot in slots(&object.info, sub) {
-        if slot.bit_len % 8 == 0 {
+        if slot.bit_len.is_multiple_of(8) {
             read_bytes(od, object, slot, offset, window)?;
         } else {
             read_bits(od, object, slot, offset, window)?;
@@ -152,7 +152,7 @@ pub fn entry_value(
 ) -> Option<([u8; 8], usize)> {
     let slot = slots(object, sub).find(|s| s.sub == entry_sub)?;
     let mut value = [0u8; 8];
-    if slot.bit_len % 8 == 0 {
+    if slot.bit_len.is_multiple_of(8) {
         let n = slot.bit_len / 8;
         let src = data.get(slot.bit_offset / 8..slot.bit_offset / 8 + n)?;
         value.get_mut(..n)?.copy_from_slice(src);
