@@ -162,7 +162,10 @@ fn cia402_like_layout_is_11_bytes_each_way() {
 
 #[test]
 fn an_unusable_mapping_is_0x0025_or_0x0024() {
-    let mut od = Od { rx_assign: PdoAssignment::assignment(&[0x1601]), ..Od::default() };
+    let mut od = Od {
+        rx_assign: PdoAssignment::assignment(&[0x1601]),
+        ..Od::default()
+    };
     assert!(matches!(
         Layout::of(&od, Direction::Rx),
         Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
