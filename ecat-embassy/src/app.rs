@@ -28,8 +28,11 @@ pub trait Application {
 }
 
 /// The process-data cycle, called by [`run_process_data`](crate::run_process_data).
-pub trait CycleHandler {
-    /// One cycle: `outputs` is the output image the MainDevice wrote, `Some` only in OP; fill
-    /// `inputs` with the input image. Keep it short: it runs in the interrupt executor.
-    fn cycle(&mut self, outputs: Option<&[u8]>, inputs: &mut [u8]);
+pub trait CycleHandler<D> {
+    /// One cycle, with the dictionary `od` locked. In OP the outputs the MainDevice wrote are
+    /// already unpacked into their mapped entries; after the call the mapped input entries are
+    /// packed into the input image. `outputs` (`Some` only in OP) and `inputs` are the raw images,
+    /// for devices whose process data is not mapped through the dictionary (a fixed layout).
+    /// Keep it short: it runs in the interrupt executor with the dictionary locked.
+    fn cycle(&mut self, od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]);
 }

@@ -2,13 +2,17 @@
 //! `InterruptExecutor` at a priority above the thread executor.
 
 use ecat_core::AlEvent;
+use ecat_core::dictionary::ObjectDictionary;
+use ecat_core::pdo::Direction;
+use ecat_core::pdo::image::{pack, unpack};
+use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::process_data::Layout;
 use embassy_futures::select::{Either, select};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embedded_hal_async::digital::Wait;
 
 use crate::shared::Runner;
-use crate::{CycleHandler, Pdi, SharedEsc};
+use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
 
 /// Why the process-data runner stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -33,28 +37,45 @@ pub struct Buffers<'b> {
 ///
 /// `irq` is the ESC's IRQ pin (active low, e.g. an `ExtiInput`). In SAFEOP and OP each trigger
 /// (SM2 written by the MainDevice, or SM3 read by it for an input-only device) costs one read of
-/// the output area — which brings the AL event along — and one write of the input area.
-pub async fn run_process_data<M: RawMutex, P: Pdi, I: Wait, C: CycleHandler>(
+/// the output area — which brings the AL event along — and one write of the input area. Between
+/// the two, under one short lock of `od`: the outputs are unpacked into their mapped entries (in
+/// OP only), the application's cycle runs, the mapped input entries are packed.
+pub async fn run_process_data<M, P, I, C, D>(
     esc: &SharedEsc<M, P>,
     irq: &mut I,
     app: &mut C,
-    mut buffers: Buffers<'_>,
-) -> Error<P::Error, I::Error> {
+    od: &SharedDictionary<M, D>,
+    buffers: Buffers<'_>,
+) -> Error<P::Error, I::Error>
+where
+    M: RawMutex,
+    P: Pdi,
+    I: Wait,
+    C: CycleHandler<D>,
+    D: ObjectDictionary,
+{
+    let mut exchange = Exchange {
+        esc,
+        app,
+        od,
+        buffers,
+        images: None,
+    };
     let mut current: Option<Layout> = None;
     loop {
         let seen = esc.pd_generation();
         let layout = esc.layout();
         let step = if layout != current {
             current = layout;
-            on_new_layout(esc, app, &mut buffers, layout).await
+            exchange.on_new_layout(layout).await
         } else if !esc.take_pd_events().is_empty() {
-            on_trigger(esc, app, &mut buffers, layout, true).await
+            exchange.on_trigger(layout, true).await
         } else if !esc.esm_started() || esc.esm_holds_irq() {
             esc.pd_news_since(seen).await;
             Ok(())
         } else {
             match select(irq.wait_for_low(), esc.pd_news_since(seen)).await {
-                Either::First(Ok(())) => on_trigger(esc, app, &mut buffers, layout, false).await,
+                Either::First(Ok(())) => exchange.on_trigger(layout, false).await,
                 Either::First(Err(e)) => Err(Error::Irq(e)),
                 Either::Second(()) => Ok(()),
             }
@@ -65,80 +86,118 @@ pub async fn run_process_data<M: RawMutex, P: Pdi, I: Wait, C: CycleHandler>(
     }
 }
 
-/// Entering SAFEOP (or a new layout): present valid inputs at once.
-async fn on_new_layout<M: RawMutex, P: Pdi, I, C: CycleHandler>(
-    esc: &SharedEsc<M, P>,
-    app: &mut C,
-    buffers: &mut Buffers<'_>,
-    layout: Option<Layout>,
-) -> Result<(), Error<P::Error, I>> {
-    match layout {
-        Some(layout) => cycle(esc, app, buffers.inputs, layout, None).await,
-        None => Ok(()),
-    }
+/// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
+struct Images<D: 'static> {
+    outputs: Option<PdoLayout<D>>,
+    inputs: Option<PdoLayout<D>>,
 }
 
-/// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
-async fn on_trigger<M: RawMutex, P: Pdi, I, C: CycleHandler>(
-    esc: &SharedEsc<M, P>,
-    app: &mut C,
-    buffers: &mut Buffers<'_>,
-    layout: Option<Layout>,
-    known: bool,
-) -> Result<(), Error<P::Error, I>> {
-    let Some(layout) = layout else {
-        // Not exchanging process data: the IRQ is for the state machine; reading the AL event
-        // routes it there.
-        esc.read_al_event(Runner::ProcessData)
-            .await
-            .map_err(Error::Pdi)?;
-        return Ok(());
-    };
-    let (event, outputs) = match layout.outputs {
-        Some(area) => {
-            let buf = buffers
-                .outputs
-                .get_mut(..usize::from(area.length))
-                .ok_or(Error::BufferTooSmall)?;
-            let event = esc
-                .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
-                .await
-                .map_err(Error::Pdi)?;
-            (event, layout.outputs_active.then_some(&*buf))
-        }
-        None => {
-            let event = esc
+/// What one exchange needs.
+struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
+    esc: &'a SharedEsc<M, P>,
+    app: &'a mut C,
+    od: &'a SharedDictionary<M, D>,
+    buffers: Buffers<'a>,
+    images: Option<Images<D>>,
+}
+
+impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, M, P, C, D> {
+    /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
+    /// accepted, and valid inputs at once.
+    async fn on_new_layout<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
+        let Some(layout) = layout else {
+            self.images = None;
+            return Ok(());
+        };
+        self.images = self.od.lock(|od| {
+            let od = od.borrow();
+            Some(Images {
+                outputs: PdoLayout::of(&*od, Direction::Rx).ok().flatten(),
+                inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
+            })
+        });
+        self.cycle(layout, false).await
+    }
+
+    /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
+    async fn on_trigger<I>(
+        &mut self,
+        layout: Option<Layout>,
+        known: bool,
+    ) -> Result<(), Error<P::Error, I>> {
+        let Some(layout) = layout else {
+            // Not exchanging process data: the IRQ is for the state machine; reading the AL
+            // event routes it there.
+            self.esc
                 .read_al_event(Runner::ProcessData)
                 .await
                 .map_err(Error::Pdi)?;
-            (event, None)
+            return Ok(());
+        };
+        let event = match layout.outputs {
+            Some(area) => {
+                let buf = self
+                    .buffers
+                    .outputs
+                    .get_mut(..usize::from(area.length))
+                    .ok_or(Error::BufferTooSmall)?;
+                self.esc
+                    .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
+                    .await
+                    .map_err(Error::Pdi)?
+            }
+            None => self
+                .esc
+                .read_al_event(Runner::ProcessData)
+                .await
+                .map_err(Error::Pdi)?,
+        };
+        let triggered =
+            known || event.intersects(layout.trigger) || !self.esc.take_pd_events().is_empty();
+        if !triggered {
+            return Ok(());
         }
-    };
-    let triggered = known || event.intersects(layout.trigger) || !esc.take_pd_events().is_empty();
-    if !triggered {
-        return Ok(());
+        self.cycle(layout, layout.outputs_active && layout.outputs.is_some())
+            .await
     }
-    cycle(esc, app, buffers.inputs, layout, outputs).await
-}
 
-/// Runs the application cycle and writes the input image.
-async fn cycle<M: RawMutex, P: Pdi, I, C: CycleHandler>(
-    esc: &SharedEsc<M, P>,
-    app: &mut C,
-    inputs: &mut [u8],
-    layout: Layout,
-    outputs: Option<&[u8]>,
-) -> Result<(), Error<P::Error, I>> {
-    let Some(area) = layout.inputs else {
-        app.cycle(outputs, &mut []);
-        return Ok(());
-    };
-    let buf = inputs
-        .get_mut(..usize::from(area.length))
-        .ok_or(Error::BufferTooSmall)?;
-    app.cycle(outputs, buf);
-    esc.write(Runner::ProcessData, area.start, buf)
-        .await
-        .map_err(Error::Pdi)?;
-    Ok(())
+    /// Unpacks the outputs (when `apply_outputs`), runs the application cycle, packs and writes
+    /// the inputs.
+    async fn cycle<I>(
+        &mut self,
+        layout: Layout,
+        apply_outputs: bool,
+    ) -> Result<(), Error<P::Error, I>> {
+        let out_len = layout.outputs.map_or(0, |a| usize::from(a.length));
+        let in_len = layout.inputs.map_or(0, |a| usize::from(a.length));
+        let outputs = self
+            .buffers
+            .outputs
+            .get(..out_len)
+            .ok_or(Error::BufferTooSmall)?;
+        let inputs = self
+            .buffers
+            .inputs
+            .get_mut(..in_len)
+            .ok_or(Error::BufferTooSmall)?;
+        let (app, images) = (&mut *self.app, &self.images);
+        self.od.lock(|od| {
+            let od = &mut *od.borrow_mut();
+            let pdo = images.as_ref();
+            if let (true, Some(rx)) = (apply_outputs, pdo.and_then(|i| i.outputs.as_ref())) {
+                unpack(rx, outputs, od);
+            }
+            app.cycle(od, apply_outputs.then_some(outputs), inputs);
+            if let Some(tx) = pdo.and_then(|i| i.inputs.as_ref()) {
+                pack(tx, od, inputs);
+            }
+        });
+        if let Some(area) = layout.inputs {
+            self.esc
+                .write(Runner::ProcessData, area.start, inputs)
+                .await
+                .map_err(Error::Pdi)?;
+        }
+        Ok(())
+    }
 }

@@ -101,11 +101,11 @@ impl Application for AcceptAll {}
 
 impl<D> ObjectHooks<D> for AcceptAll {}
 
-/// A [`CycleHandler`] that copies outputs to inputs (as far as both reach).
+/// A [`CycleHandler`] that copies the raw outputs to the raw inputs (as far as both reach).
 pub struct Loopback;
 
-impl CycleHandler for Loopback {
-    fn cycle(&mut self, outputs: Option<&[u8]>, inputs: &mut [u8]) {
+impl<D> CycleHandler<D> for Loopback {
+    fn cycle(&mut self, _od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
         if let Some(outputs) = outputs {
             for (i, o) in inputs.iter_mut().zip(outputs) {
                 *i = *o;
@@ -127,7 +127,7 @@ async fn task(future: Pin<Box<dyn Future<Output = ()>>>, done: Rc<Cell<usize>>) 
 pub fn run<A, C, D, F>(device: Device<A, C, D>, script: impl FnOnce(TestMaster) -> F)
 where
     A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler + 'static,
+    C: CycleHandler<D> + 'static,
     D: ObjectDictionary,
     F: Future<Output = ()> + 'static,
 {
@@ -142,7 +142,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
     script: impl FnOnce(TestMaster) -> F,
 ) where
     A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler + 'static,
+    C: CycleHandler<D> + 'static,
     D: ObjectDictionary,
     P: Pdi + 'static,
     F: Future<Output = ()> + 'static,
@@ -163,7 +163,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
         )),
         Box::pin(stoppable(
             stop,
-            process_data(shared, emu.clone(), device.cycle),
+            process_data(shared, od, emu.clone(), device.cycle),
         )),
         Box::pin(scenario(
             stop,
@@ -216,16 +216,17 @@ async fn esm<P: Pdi, D: ObjectDictionary>(
     panic!("state-machine runner stopped: {error:?}");
 }
 
-async fn process_data<P: Pdi>(
+async fn process_data<P: Pdi, D: ObjectDictionary>(
     shared: &'static SharedEsc<CriticalSectionRawMutex, P>,
+    od: &'static SharedDictionary<CriticalSectionRawMutex, D>,
     emu: Emulator,
-    mut cycle: impl CycleHandler,
+    mut cycle: impl CycleHandler<D>,
 ) {
     let (mut outputs, mut inputs) = (vec![0; MAX_IMAGE], vec![0; MAX_IMAGE]);
     let buffers = Buffers {
         outputs: &mut outputs,
         inputs: &mut inputs,
     };
-    let error = run_process_data(shared, &mut emu.irq_pin(), &mut cycle, buffers).await;
+    let error = run_process_data(shared, &mut emu.irq_pin(), &mut cycle, od, buffers).await;
     panic!("process-data runner stopped: {error:?}");
 }

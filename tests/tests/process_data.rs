@@ -9,7 +9,7 @@ use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
-use ecat_embassy::Application;
+use ecat_embassy::{Application, CycleHandler};
 use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::harness::{self, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
@@ -62,6 +62,19 @@ ecat_core::dictionary! {
 struct App;
 impl Application for App {}
 impl ObjectHooks<Drive> for App {}
+
+/// A drive whose cycle echoes through the dictionary: statusword = controlword, actual position
+/// = target position, actual velocity = target velocity, mode display = mode.
+struct Echo;
+
+impl CycleHandler<Drive> for Echo {
+    fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+        od.statusword = od.controlword;
+        od.position = od.target_position;
+        od.velocity = od.target_velocity;
+        od.mode_display = od.mode;
+    }
+}
 
 const OUT: Area = Area::new(0x1100, 11);
 const IN: Area = Area::new(0x1180, 11);
@@ -218,5 +231,35 @@ fn main_devices_read_the_mapping_one_expedited_upload_at_a_time() {
                 Ok(entry.0.to_le_bytes().to_vec())
             );
         }
+    });
+}
+
+#[test]
+fn op_moves_the_image_through_the_dictionary() {
+    let device = Device::new(common::drive(), App, Echo).with_dictionary(Drive::default());
+    harness::run(device, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        assert_eq!(request_safeop(&master, 11, 11).await, (0x04, 0));
+        let rx = [
+            0x0F, 0x00, 0x10, 0x27, 0x00, 0x00, 0x18, 0xFC, 0xFF, 0xFF, 0x08,
+        ];
+        assert!(master.write(OUT.start, &rx));
+        master.settle().await;
+        assert_eq!(
+            master.read(IN.start, 11),
+            Some(vec![0; 11]),
+            "SAFEOP: outputs never reach the dictionary"
+        );
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        assert!(master.write(OUT.start, &rx));
+        master.settle().await;
+        // statusword 0x000F, position 10 000, velocity -1000, mode display 8.
+        assert_eq!(master.read(IN.start, 11), Some(rx.to_vec()));
+        let rx2 = [
+            0x06, 0x00, 0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x00, 0x80, 0xFF,
+        ];
+        assert!(master.write(OUT.start, &rx2));
+        master.settle().await;
+        assert_eq!(master.read(IN.start, 11), Some(rx2.to_vec()));
     });
 }

@@ -39,8 +39,8 @@ impl ObjectHooks<()> for Hooks {}
 /// Inputs = outputs + 1 (as a little-endian u32), so the exchange is visible.
 struct Increment;
 
-impl CycleHandler for Increment {
-    fn cycle(&mut self, outputs: Option<&[u8]>, inputs: &mut [u8]) {
+impl CycleHandler<()> for Increment {
+    fn cycle(&mut self, _od: &mut (), outputs: Option<&[u8]>, inputs: &mut [u8]) {
         let value = outputs
             .and_then(|o| o.try_into().ok())
             .map_or(0, u32::from_le_bytes);
