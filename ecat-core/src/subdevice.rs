@@ -148,6 +148,10 @@ impl Written {
 struct Pending {
     transition: Transition,
     deadline: Instant,
+    /// The application accepted; the transition still waits for the first outputs.
+    accepted: bool,
+    /// SAFEOP→OP of a device with outputs: waits until valid outputs were received.
+    needs_outputs: bool,
 }
 
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
@@ -179,6 +183,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
     pd_stale: bool,
+    /// Valid outputs arrived since SAFEOP was entered.
+    outputs_received: bool,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -206,6 +212,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             settled: false,
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
+            outputs_received: false,
         }
     }
 
@@ -362,13 +369,25 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if let Some(p) = self.pending
             && now >= p.deadline
         {
-            self.fail(AlStatusCode::UNSPECIFIED_ERROR, p.transition.from);
+            // SAFEOP→OP without outputs is an SM watchdog case (SSC); anything else the
+            // application left unanswered.
+            let code = if p.needs_outputs {
+                AlStatusCode::SM_WATCHDOG
+            } else {
+                AlStatusCode::UNSPECIFIED_ERROR
+            };
+            self.fail(code, p.transition.from);
         }
     }
 
     /// The transition waiting for the application, if any.
     pub fn pending_transition(&self) -> Option<Transition> {
         self.pending.map(|p| p.transition)
+    }
+
+    /// Whether the pending transition still waits for the application's answer.
+    pub fn awaits_application(&self) -> bool {
+        self.pending.is_some_and(|p| !p.accepted)
     }
 
     /// The application's answer to [`Event::TransitionRequested`]: `Ok` completes the transition,
@@ -378,11 +397,34 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         transition: Transition,
         result: Result<(), AlStatusCode>,
     ) {
-        match self.pending {
-            Some(p) if p.transition == transition => {}
+        let needs_outputs = match &mut self.pending {
+            Some(p) if p.transition == transition && !p.accepted => {
+                p.accepted = result.is_ok();
+                p.needs_outputs
+            }
             _ => return,
-        }
+        };
         self.settled = false;
+        if result.is_ok() && needs_outputs {
+            return;
+        }
+        self.finish_transition(transition, result);
+    }
+
+    /// The process-data side received valid outputs (the MainDevice wrote SM2) since SAFEOP was
+    /// entered: a SAFEOP→OP transition the application accepted may complete.
+    pub fn outputs_received(&mut self) {
+        self.outputs_received = true;
+        let Some(p) = &mut self.pending else { return };
+        p.needs_outputs = false;
+        if p.accepted {
+            let t = p.transition;
+            self.settled = false;
+            self.finish_transition(t, Ok(()));
+        }
+    }
+
+    fn finish_transition(&mut self, transition: Transition, result: Result<(), AlStatusCode>) {
         self.pending = None;
         let verified = result
             .map_err(|code| (code, transition.from))
@@ -584,9 +626,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         let deadline = now.saturating_add(self.config.transition_timeout);
+        let outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
         self.pending = Some(Pending {
             transition: t,
             deadline,
+            accepted: false,
+            needs_outputs: t.to == AlState::Op && outputs && !self.outputs_received,
         });
         self.events.push(Event::TransitionRequested(t));
     }
@@ -646,6 +691,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if t.from.has_mailbox() && !t.to.has_mailbox() {
             self.mailbox.stop();
             self.complete_mailbox = false;
+        }
+        if t.to == AlState::SafeOp {
+            self.outputs_received = false;
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;

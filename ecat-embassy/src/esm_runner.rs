@@ -6,7 +6,7 @@ use core::pin::pin;
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
 use ecat_core::{Event, SubDevice, Transition};
-use embassy_futures::select::{Either3, select, select3};
+use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 
@@ -56,6 +56,9 @@ where
 {
     loop {
         od.lock(|od| sub.refresh_process_data(&*od.borrow()));
+        if esc.take_outputs_received() {
+            sub.outputs_received();
+        }
         while let Some(emergency) = esc.take_emergency() {
             sub.emergency(emergency);
         }
@@ -75,8 +78,8 @@ where
             sync(esc, sub).await?;
         }
         match select(esc.esm_events(), until(sub.poll_timeout())).await {
-            embassy_futures::select::Either::First(event) => sub.handle_al_event(event),
-            embassy_futures::select::Either::Second(()) => sub.handle_timeout(now()),
+            Either::First(event) => sub.handle_al_event(event),
+            Either::Second(()) => sub.handle_timeout(now()),
         }
     }
 }
@@ -103,7 +106,8 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
 }
 
 /// Asks the application about `t` while still serving AL events: a new request from the
-/// MainDevice or the deadline ends the wait and drops the application's future.
+/// MainDevice or the deadline ends the wait and drops the application's future. Once the
+/// application accepted, a SAFEOP→OP transition may still wait for the first outputs.
 async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
@@ -112,14 +116,34 @@ async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
 ) -> Result<(), P::Error> {
     let mut decision = pin!(app.on_transition(t));
     while sub.pending_transition() == Some(t) {
-        match select3(&mut decision, until(sub.poll_timeout()), esc.esm_events()).await {
-            Either3::First(result) => sub.complete_transition(t, result),
-            Either3::Second(()) => sub.handle_timeout(now()),
-            Either3::Third(event) => {
-                sub.handle_al_event(event);
-                sync(esc, sub).await?;
+        let event = if sub.awaits_application() {
+            match select3(&mut decision, until(sub.poll_timeout()), esc.esm_events()).await {
+                Either3::First(result) => {
+                    sub.complete_transition(t, result);
+                    None
+                }
+                Either3::Second(()) => {
+                    sub.handle_timeout(now());
+                    None
+                }
+                Either3::Third(event) => Some(event),
             }
+        } else {
+            match select(until(sub.poll_timeout()), esc.esm_events()).await {
+                Either::First(()) => {
+                    sub.handle_timeout(now());
+                    None
+                }
+                Either::Second(event) => Some(event),
+            }
+        };
+        if esc.take_outputs_received() {
+            sub.outputs_received();
         }
+        if let Some(event) = event {
+            sub.handle_al_event(event);
+        }
+        sync(esc, sub).await?;
     }
     Ok(())
 }

@@ -157,6 +157,9 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         if !triggered {
             return Ok(());
         }
+        if layout.outputs.is_some() {
+            self.esc.note_outputs_received();
+        }
         self.cycle(layout, layout.outputs_active && layout.outputs.is_some())
             .await
     }

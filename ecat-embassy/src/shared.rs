@@ -49,6 +49,8 @@ struct Routing {
     pd_news: u32,
     /// Emergencies raised by the application, waiting for the state-machine runner.
     emergencies: Ring<Emergency, EMERGENCIES>,
+    /// The process-data runner received outputs the state-machine runner has not heard of.
+    outputs_received: bool,
     esm_waker: WakerRegistration,
     pd_waker: WakerRegistration,
 }
@@ -106,6 +108,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 esm_started: false,
                 pd_news: 0,
                 emergencies: Ring::new(),
+                outputs_received: false,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
             })),
@@ -182,7 +185,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     pub(crate) async fn esm_events(&self) -> AlEvent {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.esm_events.is_empty() && r.emergencies.is_empty() {
+                if r.esm_events.is_empty() && r.emergencies.is_empty() && !r.outputs_received {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
                 } else {
@@ -202,6 +205,21 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
             r.emergencies.push(emergency);
             r.esm_waker.wake();
         });
+    }
+
+    /// The process-data runner received outputs from the MainDevice.
+    pub(crate) fn note_outputs_received(&self) {
+        self.with(|r| {
+            if !r.outputs_received {
+                r.outputs_received = true;
+                r.esm_waker.wake();
+            }
+        });
+    }
+
+    /// Takes the news that outputs were received.
+    pub(crate) fn take_outputs_received(&self) -> bool {
+        self.with(|r| core::mem::take(&mut r.outputs_received))
     }
 
     /// Takes the next emergency raised by the application.

@@ -189,3 +189,51 @@ fn state_changes_are_reported_in_order() {
         );
     });
 }
+
+#[test]
+fn safeop_to_op_waits_for_the_first_outputs() {
+    let app = Scripted::default();
+    harness::run(device(app), |master| async move {
+        walk_to_without_outputs(&master).await;
+        assert_eq!(
+            master.request(0x08).await,
+            (0x04, 0),
+            "no outputs yet: pending"
+        );
+        master.advance(Duration::from_millis(100)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x04, 0),
+            "still pending"
+        );
+        common::send_outputs(&master).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x08, 0),
+            "outputs arrived: OP"
+        );
+    });
+}
+
+#[test]
+fn safeop_to_op_without_outputs_is_answered_with_0x001b() {
+    let app = Scripted::default();
+    harness::run(device(app), |master| async move {
+        walk_to_without_outputs(&master).await;
+        master.request(0x08).await;
+        master.advance(Duration::from_millis(299)).await;
+        assert_eq!((master.al_status(), master.al_status_code()), (0x04, 0));
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x14, 0x001B),
+            "SM watchdog: no outputs"
+        );
+    });
+}
+
+/// SAFEOP, reached without a single output frame.
+async fn walk_to_without_outputs(master: &ecat_emu::master::TestMaster) {
+    walk_to(master, AlState::PreOp).await;
+    assert_eq!(master.request(0x04).await, (0x04, 0));
+}

@@ -63,5 +63,15 @@ pub async fn walk_to_with(master: &TestMaster, state: AlState, mailbox: &Mailbox
     };
     for &step in path {
         assert_eq!(master.request(step).await, (step, 0), "walking to {state}");
+        if step == 0x04 {
+            // As MainDevices do: cyclic frames with valid outputs from SAFEOP on.
+            send_outputs(master).await;
+        }
     }
+}
+
+/// Writes one output image into SM2 (zeros), as a MainDevice's cyclic frame does.
+pub async fn send_outputs(master: &TestMaster) {
+    master.write(OUTPUTS.start, &vec![0; usize::from(OUTPUTS.length)]);
+    master.settle().await;
 }
