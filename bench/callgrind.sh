@@ -4,19 +4,20 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v valgrind >/dev/null || { echo "valgrind is needed (apt-get install valgrind)"; exit 1; }
-cargo build --release -q -p ecat-bench --bin sdo
-bin=target/release/sdo
-count() { # case n -> total instructions
+cargo build --release -q -p ecat-bench --bins
+count() { # binary case n -> total instructions
     local out; out=$(mktemp)
-    valgrind --tool=callgrind --callgrind-out-file="$out" "$bin" "$1" "$2" >/dev/null 2>&1
+    valgrind --tool=callgrind --callgrind-out-file="$out" "target/release/$1" "$2" "$3" >/dev/null 2>&1
     grep -E '^summary:' "$out" | awk '{print $2}'
     rm -f "$out"
 }
-echo "| case | instructions per case |"
-echo "|---|---|"
-for case in expedited-upload upload-1k-128 upload-1k-1024 download-1k-128 download-1k-1024; do
-    one=$(count "$case" 1)
-    many=$(count "$case" 1001)
-    echo "| $case | $(( (many - one) / 1000 )) |"
+echo "| benchmark | case | instructions per case |"
+echo "|---|---|---|"
+for run in "sdo expedited-upload" "sdo upload-1k-128" "sdo upload-1k-1024" "sdo download-1k-128" \
+           "sdo download-1k-1024" "pd cia402" "pd io64"; do
+    set -- $run
+    one=$(count "$1" "$2" 1)
+    many=$(count "$1" "$2" 1001)
+    echo "| $1 | $2 | $(( (many - one) / 1000 )) |"
 done
-"$bin" sizes | sed 's/^/    /'
+target/release/sdo sizes | sed 's/^/    /'

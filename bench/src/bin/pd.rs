@@ -1,0 +1,124 @@
+//! `pd <case> <n>`: `n` process-data cycles through the core (unpack the outputs into the
+//! dictionary, an application stub, pack the inputs), run under callgrind by
+//! `bench/callgrind.sh`.
+//!
+//! Cases: `cia402` (RxPDO 0x6040 u16, 0x607A i32, 0x60FF i32, 0x6060 i8; TxPDO 0x6041 u16,
+//! 0x6064 i32, 0x606C i32, 0x6061 i8: 11 + 11 bytes), `io64` (64 bytes each way as 16 × u32).
+
+use ecat_core::pdo::image::{pack, unpack};
+use ecat_core::pdo::layout::Layout;
+use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
+
+struct Drive {
+    controlword: u16,
+    target_position: i32,
+    target_velocity: i32,
+    mode: i8,
+    statusword: u16,
+    position: i32,
+    velocity: i32,
+    mode_display: i8,
+    rx: PdoMapping<8>,
+    tx: PdoMapping<8>,
+    rx_assign: PdoAssignment<1>,
+    tx_assign: PdoAssignment<1>,
+}
+
+const RX: [MappingEntry; 4] = [
+    MappingEntry::new(0x6040, 0, 16),
+    MappingEntry::new(0x607A, 0, 32),
+    MappingEntry::new(0x60FF, 0, 32),
+    MappingEntry::new(0x6060, 0, 8),
+];
+const TX: [MappingEntry; 4] = [
+    MappingEntry::new(0x6041, 0, 16),
+    MappingEntry::new(0x6064, 0, 32),
+    MappingEntry::new(0x606C, 0, 32),
+    MappingEntry::new(0x6061, 0, 8),
+];
+
+ecat_core::dictionary! {
+    Drive {
+        0x1600 => pdo(rx, RW_PREOP, "RxPDO", "Entry", default = PdoMapping::mapping(&RX));
+        0x1A00 => pdo(tx, RW_PREOP, "TxPDO", "Entry", default = PdoMapping::mapping(&TX));
+        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));
+        0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 assignment", "PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x6040 => var(controlword, RW | RXPDO, "Controlword");
+        0x6041 => var(statusword, RO | TXPDO, "Statusword");
+        0x6060 => var(mode, RW | RXPDO, "Mode");
+        0x6061 => var(mode_display, RO | TXPDO, "Mode display");
+        0x6064 => var(position, RO | TXPDO, "Position");
+        0x606C => var(velocity, RO | TXPDO, "Velocity");
+        0x607A => var(target_position, RW | RXPDO, "Target position");
+        0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
+    }
+}
+
+struct Io {
+    outputs: [u32; 16],
+    inputs: [u32; 16],
+    rx: PdoMapping<16>,
+    tx: PdoMapping<16>,
+    rx_assign: PdoAssignment<1>,
+    tx_assign: PdoAssignment<1>,
+}
+
+const fn io_mapping(index: u16) -> [MappingEntry; 16] {
+    let mut out = [MappingEntry(0); 16];
+    let mut i = 0;
+    while i < 16 {
+        out[i] = MappingEntry::new(index, i as u8 + 1, 32);
+        i += 1;
+    }
+    out
+}
+
+const IO_RX: [MappingEntry; 16] = io_mapping(0x7000);
+const IO_TX: [MappingEntry; 16] = io_mapping(0x6000);
+
+ecat_core::dictionary! {
+    Io {
+        0x1600 => pdo(rx, RW_PREOP, "RxPDO", "Entry", default = PdoMapping::mapping(&IO_RX));
+        0x1A00 => pdo(tx, RW_PREOP, "TxPDO", "Entry", default = PdoMapping::mapping(&IO_TX));
+        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));
+        0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 assignment", "PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x6000 => array(inputs, RO | TXPDO, "Inputs", "Input");
+        0x7000 => array(outputs, RW | RXPDO, "Outputs", "Output");
+    }
+}
+
+fn cycles<D: ecat_core::dictionary::ObjectDictionary>(od: &mut D, n: usize, app: impl Fn(&mut D)) {
+    let rx = Layout::of(od, Direction::Rx)
+        .ok()
+        .flatten()
+        .expect("RxPDO layout");
+    let tx = Layout::of(od, Direction::Tx)
+        .ok()
+        .flatten()
+        .expect("TxPDO layout");
+    let mut outputs = vec![0x5Au8; usize::from(rx.bytes())];
+    let mut inputs = vec![0u8; usize::from(tx.bytes())];
+    for i in 0..n {
+        outputs[0] = i as u8;
+        unpack(&rx, std::hint::black_box(&outputs), od);
+        app(od);
+        pack(&tx, od, &mut inputs);
+        std::hint::black_box(&inputs);
+    }
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let case = args.next().unwrap_or_else(|| "cia402".into());
+    let n = args.next().and_then(|s| s.parse().ok()).unwrap_or(1);
+    match case.as_str() {
+        "cia402" => cycles(&mut Drive::default(), n, |d| {
+            d.statusword = d.controlword;
+            d.position = d.target_position;
+            d.velocity = d.target_velocity;
+            d.mode_display = d.mode;
+        }),
+        "io64" => cycles(&mut Io::default(), n, |d| d.inputs = d.outputs),
+        other => panic!("unknown case {other}"),
+    }
+}
