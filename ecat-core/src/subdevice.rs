@@ -97,6 +97,7 @@ pub enum Event {
 enum Op {
     WriteEventMask,
     ReadSyncManagers,
+    ReadWatchdog,
     ReadAlControl,
     WritePdiControl(u8),
     ReadMailbox,
@@ -167,6 +168,11 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     channels: Channels,
     read_sync_managers: bool,
     read_al_control: bool,
+    /// The process-data watchdog time (0x0420) is read with every AL control event, for the
+    /// watchdog consistency check at PREOP→SAFEOP.
+    read_watchdog: bool,
+    /// 0x0420 as last read.
+    watchdog_time: u16,
     sm_changed: bool,
     written: Written,
     in_flight: Option<(Op, u32)>,
@@ -201,6 +207,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             channels: Channels::default(),
             read_sync_managers: false,
             read_al_control: false,
+            read_watchdog: false,
+            watchdog_time: 0,
             sm_changed: false,
             written: Written::new(),
             in_flight: None,
@@ -302,6 +310,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.contains(AlEvent::AL_CONTROL) && !self.read_al_control {
             self.read_sync_managers = true;
             self.read_al_control = true;
+            self.read_watchdog = true;
         }
         if event.contains(AlEvent::SM_CHANGE) {
             self.read_sync_managers = true;
@@ -443,6 +452,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if self.read_sync_managers {
             return Some((Op::ReadSyncManagers, 0));
         }
+        if self.read_watchdog {
+            return Some((Op::ReadWatchdog, 0));
+        }
         if self.read_al_control {
             return Some((Op::ReadAlControl, 0));
         }
@@ -514,6 +526,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let (address, len, write) = match op {
             Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
             Op::ReadSyncManagers => (register::SM_BASE, sm_bytes, false),
+            Op::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, false),
             Op::ReadAlControl => (register::AL_CONTROL, 2, false),
             Op::WritePdiControl(n) => (
                 register::sync_manager(n) + Channel::PDI_CONTROL_OFFSET,
@@ -568,6 +581,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
             Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
+            Op::ReadWatchdog => {
+                self.read_watchdog = false;
+                self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
+            }
             Op::ReadSyncManagers => {
                 self.read_sync_managers = false;
                 if let Some(channels) = self
@@ -653,6 +670,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if state.has_process_data() {
             let sizes = self.pd_sizes.map_err(|c| (c, AlState::PreOp))?;
             check::process_data(&self.channels, sizes, self.config)
+                .map_err(|c| (c, AlState::PreOp))?;
+            check::watchdog(&self.channels, sizes, self.watchdog_time)
                 .map_err(|c| (c, AlState::PreOp))?;
         }
         Ok(())

@@ -56,7 +56,14 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
     let mut sub = started(&mut regs);
     configure_all(&mut regs);
     let log = request(&mut regs, &mut sub, 0x0002);
-    assert_eq!(log, [Op::Read(0x0800, 64), Op::Read(0x0120, 2)]);
+    assert_eq!(
+        log,
+        [
+            Op::Read(0x0800, 64),
+            Op::Read(0x0420, 2),
+            Op::Read(0x0120, 2)
+        ]
+    );
     assert_eq!(regs.event, 0, "both events cleared by the reads");
     assert_eq!(
         sub.poll_event(),
@@ -96,6 +103,7 @@ fn refusal_writes_the_code_before_the_error_indication() {
         log,
         [
             Op::Read(0x0800, 64),
+            Op::Read(0x0420, 2),
             Op::Read(0x0120, 2),
             Op::Write(0x0134, vec![0x16, 0]),
             Op::Write(0x0130, vec![0x11, 0]),

@@ -315,3 +315,31 @@ fn sm_change_in_preop_safeop_op_falls_back_with_the_right_code() {
         assert_eq!(master.request(0x02).await, (0x02, 0));
     });
 }
+
+/// SM2's watchdog trigger bit and the process-data watchdog time must agree (0x001F).
+#[test]
+fn inconsistent_watchdog_configuration_is_0x001f() {
+    run(common::drive(), async move |master| {
+        let time = ecat_core::register::WATCHDOG_TIME_PROCESS_DATA;
+        walk_to(&master, AlState::PreOp).await;
+        master.write(time, &0u16.to_le_bytes());
+        assert_eq!(
+            master.request(0x04).await,
+            (0x12, 0x001F),
+            "trigger set, time 0"
+        );
+        walk_to(&master, AlState::PreOp).await;
+        master.write(time, &1000u16.to_le_bytes());
+        master.configure_sm(2, OUTPUTS.start, OUTPUTS.length, SM2_CONTROL & !0x40, true);
+        assert_eq!(
+            master.request(0x04).await,
+            (0x12, 0x001F),
+            "time set, no trigger"
+        );
+        walk_to(&master, AlState::PreOp).await;
+        master.write(time, &0u16.to_le_bytes());
+        master.configure_sm(2, OUTPUTS.start, OUTPUTS.length, SM2_CONTROL & !0x40, true);
+        assert_eq!(master.request(0x04).await, (0x04, 0), "no watchdog at all");
+        master.write(time, &1000u16.to_le_bytes());
+    });
+}

@@ -115,6 +115,24 @@ pub fn process_data(
 
 const EMPTY: Area = Area::new(0, 0);
 
+/// Checks that SM2's watchdog trigger bit and the process-data watchdog time (0x0420) agree:
+/// a trigger with time 0, or a time without the trigger, is 0x001F (conformance.md "Watchdogs").
+/// Devices without outputs have no SM2 watchdog.
+pub fn watchdog(
+    channels: &Channels,
+    sizes: ProcessDataSizes,
+    time: u16,
+) -> Result<(), AlStatusCode> {
+    if sizes.outputs == 0 {
+        return Ok(());
+    }
+    match (channels.outputs().control.watchdog(), time) {
+        (true, 0) => Err(AlStatusCode::INVALID_WATCHDOG_CONFIG),
+        (false, t) if t != 0 => Err(AlStatusCode::INVALID_WATCHDOG_CONFIG),
+        _ => Ok(()),
+    }
+}
+
 fn is_process_data(
     channel: &Channel,
     size: u16,

@@ -19,11 +19,14 @@ pub struct Regs {
 }
 
 impl Regs {
+    /// Registers at zero but the process-data watchdog time (0x0420), at its ESC reset value.
     pub fn new() -> Self {
-        Self {
+        let mut regs = Self {
             mem: vec![0; 0x1_0000],
             event: 0,
-        }
+        };
+        regs.put(register::WATCHDOG_TIME_PROCESS_DATA, &1000u16.to_le_bytes());
+        regs
     }
 
     /// The MainDevice writes AL control.
