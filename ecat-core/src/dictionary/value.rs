@@ -313,15 +313,18 @@ mod tests {
 
     #[test]
     fn strings_keep_their_length_and_refuse_longer_values() {
-        let s = VisibleString::<8>::decode(b"abc").unwrap();
-        assert_eq!((s.size(), s.as_bytes()), (3, &b"abc"[..]));
+        let s = VisibleString::<8>::decode(b"abc");
+        assert_eq!(
+            s.map(|s| (s.size(), s.as_bytes().to_vec())),
+            Ok((3, b"abc".to_vec()))
+        );
         assert_eq!(
             VisibleString::<2>::decode(b"abc"),
             Err(AbortCode::LENGTH_TOO_HIGH)
         );
-        let u = UnicodeString::<4>::decode(&[0x41, 0, 0x42, 0]).unwrap();
+        let u = UnicodeString::<4>::decode(&[0x41, 0, 0x42, 0]);
         let mut out = [0; 4];
-        assert_eq!(u.read_at(1, &mut out), 3);
+        assert_eq!(u.map(|u| u.read_at(1, &mut out)), Ok(3));
         assert_eq!(out[..3], [0, 0x42, 0]);
         assert_eq!(
             UnicodeString::<4>::decode(&[1]),
