@@ -156,7 +156,11 @@ fn cia402_like_layout_is_11_bytes_each_way() {
     let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
     let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
     assert_eq!((rx.bytes(), tx.bytes()), (11, 11));
-    let offsets: Vec<(u16, u8)> = rx.slots().map(|s| (s.bit_offset, s.bit_len)).collect();
+    let offsets: Vec<(u16, u8)> = rx
+        .slots()
+        .iter()
+        .map(|s| (s.bit_offset, s.bit_len))
+        .collect();
     assert_eq!(offsets, [(0, 16), (16, 32), (48, 32), (80, 8)]);
 }
 

@@ -22,6 +22,19 @@ pub trait Value: Sized {
 
     /// Decodes a value from exactly the bytes of an SDO download.
     fn decode(data: &[u8]) -> Result<Self, AbortCode>;
+
+    /// The value as it sits in a process image: its low `BIT_LEN` bits, little endian. Only
+    /// PDO-mappable types (numbers, BOOL, BITn) have one; others give 0.
+    fn to_bits(&self) -> u64 {
+        0
+    }
+
+    /// The value a process image holds in the low `BIT_LEN` bits of `bits`; `None` for types
+    /// that cannot be mapped.
+    fn from_bits(bits: u64) -> Option<Self> {
+        let _ = bits;
+        None
+    }
 }
 
 /// Copies `bytes[offset..]` into `out` as far as both go.
@@ -44,20 +57,24 @@ fn exact<const N: usize>(data: &[u8]) -> Result<[u8; N], AbortCode> {
 }
 
 macro_rules! numbers {
-    ($($ty:ty => $dt:ident,)*) => {$(
+    ($($ty:ty => $dt:ident as $unsigned:ty,)*) => {$(
         impl Value for $ty {
             const DATA_TYPE: DataType = DataType::$dt;
             const BIT_LEN: u16 = <$ty>::BITS as u16;
             fn size(&self) -> usize { core::mem::size_of::<$ty>() }
             fn read_at(&self, offset: usize, out: &mut [u8]) -> usize { copy_from(&self.to_le_bytes(), offset, out) }
             fn decode(data: &[u8]) -> Result<Self, AbortCode> { exact(data).map(<$ty>::from_le_bytes) }
+            #[allow(clippy::cast_sign_loss)]
+            fn to_bits(&self) -> u64 { *self as $unsigned as u64 }
+            #[allow(clippy::cast_possible_truncation)]
+            fn from_bits(bits: u64) -> Option<Self> { Some(bits as $unsigned as $ty) }
         }
     )*};
 }
 
 numbers! {
-    u8 => Unsigned8, u16 => Unsigned16, u32 => Unsigned32, u64 => Unsigned64,
-    i8 => Integer8, i16 => Integer16, i32 => Integer32, i64 => Integer64,
+    u8 => Unsigned8 as u8, u16 => Unsigned16 as u16, u32 => Unsigned32 as u32, u64 => Unsigned64 as u64,
+    i8 => Integer8 as u8, i16 => Integer16 as u16, i32 => Integer32 as u32, i64 => Integer64 as u64,
 }
 
 macro_rules! reals {
@@ -68,6 +85,9 @@ macro_rules! reals {
             fn size(&self) -> usize { core::mem::size_of::<$ty>() }
             fn read_at(&self, offset: usize, out: &mut [u8]) -> usize { copy_from(&self.to_le_bytes(), offset, out) }
             fn decode(data: &[u8]) -> Result<Self, AbortCode> { exact(data).map(<$ty>::from_le_bytes) }
+            fn to_bits(&self) -> u64 { u64::from(<$ty>::to_bits(*self)) }
+            #[allow(clippy::cast_possible_truncation)]
+            fn from_bits(bits: u64) -> Option<Self> { Some(<$ty>::from_bits(bits as _)) }
         }
     )*};
 }
@@ -89,6 +109,12 @@ impl Value for bool {
             [1] => Ok(true),
             _ => Err(AbortCode::VALUE_RANGE),
         }
+    }
+    fn to_bits(&self) -> u64 {
+        u64::from(*self)
+    }
+    fn from_bits(bits: u64) -> Option<Self> {
+        Some(bits & 1 == 1)
     }
 }
 
@@ -131,6 +157,13 @@ impl<const N: u8> Value for Bits<N> {
         } else {
             Ok(Self(b))
         }
+    }
+    fn to_bits(&self) -> u64 {
+        u64::from(self.0)
+    }
+    #[allow(clippy::cast_possible_truncation)]
+    fn from_bits(bits: u64) -> Option<Self> {
+        Some(Self(bits as u8 & Self::MASK))
     }
 }
 

@@ -9,6 +9,35 @@ use crate::dictionary::{Object, ObjectDictionary};
 /// How many mapped entries one direction's image may hold.
 pub const MAX_ENTRIES: usize = 64;
 
+/// How an entry is copied, decided once when the layout is computed: byte-aligned 8/16/32/64-bit
+/// entries as one fixed-width load or store at a byte index, everything else bit by bit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Place {
+    /// One byte at this index.
+    U8(usize),
+    /// Two bytes from this index.
+    U16(usize),
+    /// Four bytes from this index.
+    U32(usize),
+    /// Eight bytes from this index.
+    U64(usize),
+    /// `bit_len` bits from `bit_offset`.
+    Bits,
+}
+
+impl Place {
+    fn of(bit_offset: u16, bit_len: u8) -> Self {
+        let at = usize::from(bit_offset / 8);
+        match (bit_offset.is_multiple_of(8), bit_len) {
+            (true, 8) => Self::U8(at),
+            (true, 16) => Self::U16(at),
+            (true, 32) => Self::U32(at),
+            (true, 64) => Self::U64(at),
+            _ => Self::Bits,
+        }
+    }
+}
+
 /// One mapped entry's place in the image.
 pub struct Slot<D: 'static> {
     /// The mapped object, `None` for a gap.
@@ -19,6 +48,18 @@ pub struct Slot<D: 'static> {
     pub bit_offset: u16,
     /// Length in bits.
     pub bit_len: u8,
+    /// How it is copied.
+    pub place: Place,
+}
+
+impl<D> Slot<D> {
+    const EMPTY: Self = Self {
+        object: None,
+        sub: 0,
+        bit_offset: 0,
+        bit_len: 0,
+        place: Place::Bits,
+    };
 }
 
 impl<D> Clone for Slot<D> {
@@ -31,7 +72,7 @@ impl<D> Copy for Slot<D> {}
 
 /// One direction's image: its slots and its size.
 pub struct Layout<D: 'static> {
-    slots: [Option<Slot<D>>; MAX_ENTRIES],
+    slots: [Slot<D>; MAX_ENTRIES],
     len: usize,
     bits: u32,
 }
@@ -49,7 +90,7 @@ impl<D: ObjectDictionary> Layout<D> {
             return Ok(None);
         };
         let mut layout = Self {
-            slots: [None; MAX_ENTRIES],
+            slots: [Slot::EMPTY; MAX_ENTRIES],
             len: 0,
             bits: 0,
         };
@@ -78,15 +119,23 @@ impl<D: ObjectDictionary> Layout<D> {
             }
         };
         let bit_offset = u16::try_from(self.bits).ok()?;
-        *self.slots.get_mut(self.len)? = Some(Slot {
+        let bit_len = entry.bit_len();
+        let place = Place::of(bit_offset, bit_len);
+        *self.slots.get_mut(self.len)? = Slot {
             object,
             sub: entry.sub(),
             bit_offset,
-            bit_len: entry.bit_len(),
-        });
+            bit_len,
+            place,
+        };
         self.len += 1;
         self.bits += u32::from(entry.bit_len());
         Some(())
+    }
+
+    /// The image size in bits.
+    pub fn bits(&self) -> u32 {
+        self.bits
     }
 
     /// The image size in bytes (bits rounded up).
@@ -95,8 +144,8 @@ impl<D: ObjectDictionary> Layout<D> {
     }
 
     /// The slots in image order.
-    pub fn slots(&self) -> impl Iterator<Item = &Slot<D>> {
-        self.slots.iter().take(self.len).flatten()
+    pub fn slots(&self) -> &[Slot<D>] {
+        self.slots.get(..self.len).unwrap_or_default()
     }
 }
 
