@@ -18,3 +18,4 @@
 )]
 
 pub mod beckhoff;
+pub mod lan9252;

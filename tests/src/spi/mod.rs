@@ -13,6 +13,7 @@
 //! | LAN9252 in SPI mode | [`lan9252`] |
 
 pub mod beckhoff;
+pub mod lan9252;
 
 use core::cell::RefCell;
 use std::rc::Rc;
@@ -103,21 +104,11 @@ impl<C: Chip> FakeSpi<C> {
         Self { chip, probe }
     }
 
-    /// The chip, for tests that poke at it directly.
-    pub fn chip(&mut self) -> &mut C {
-        &mut self.chip
-    }
-}
-
-impl<C> ErrorType for FakeSpi<C> {
-    type Error = BusError;
-}
-
-impl<C: Chip> SpiDevice for FakeSpi<C> {
-    /// Flattens the operations into the byte stream on the wire. During `Operation::Read` the
-    /// master sends 0x00 (embedded-hal leaves it to the HAL; 0x00 is what DMA-driven HALs send),
-    /// as it does for the part of an `Operation::Transfer` beyond its write buffer.
-    async fn transaction(&mut self, operations: &mut [Operation<'_, u8>]) -> Result<(), BusError> {
+    /// Flattens the operations into the byte stream on the wire, lets the chip answer and hands
+    /// its answer back. During `Operation::Read` the master sends 0x00 (embedded-hal leaves it to
+    /// the HAL; 0x00 is what DMA-driven HALs send), as it does for the part of an
+    /// `Operation::Transfer` beyond its write buffer.
+    fn exchange(&mut self, operations: &mut [Operation<'_, u8>]) -> Result<(), BusError> {
         let mut record = self.probe.0.borrow_mut();
         if core::mem::take(&mut record.fail_next) {
             return Err(BusError);
@@ -160,6 +151,21 @@ impl<C: Chip> SpiDevice for FakeSpi<C> {
         record.stats.transactions += 1;
         record.stats.bytes += mosi.len() as u64;
         record.log.push(mosi);
+        Ok(())
+    }
+}
+
+impl<C> ErrorType for FakeSpi<C> {
+    type Error = BusError;
+}
+
+impl<C: Chip> SpiDevice for FakeSpi<C> {
+    /// Performs the transaction, then yields to the executor once: a DMA transfer lets the
+    /// executor run other tasks, so does the fake, and a driver spinning on the bus cannot starve
+    /// the test script, which reports the livelock.
+    async fn transaction(&mut self, operations: &mut [Operation<'_, u8>]) -> Result<(), BusError> {
+        self.exchange(operations)?;
+        embassy_futures::yield_now().await;
         Ok(())
     }
 }

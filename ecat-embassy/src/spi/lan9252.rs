@@ -1,0 +1,646 @@
+//! Microchip LAN9252 (and LAN9253) with its host interface in SPI mode (LAN9252 datasheet, "SPI/SQI
+//! Slave" and "EtherCAT CSR and Process Data RAM Access").
+//!
+//! The LAN9252 puts its own system registers in front of the EtherCAT core; the ESC address space
+//! is reached indirectly:
+//!
+//! - ESC registers (below 0x1000) through the EtherCAT CSR interface: write the data register
+//!   (`ECAT_CSR_DATA`, 0x0300) and/or the command register (`ECAT_CSR_CMD`, 0x0304: busy, read,
+//!   size 1/2/4, address), wait until the command is no longer busy. Sizes and alignment follow
+//!   Table 12-14, "EtherCAT CSR Address vs Size".
+//! - Process RAM (0x1000 on) through the PRAM FIFOs: write address and length
+//!   (`ECAT_PRAM_RD/WR_ADDR_LEN`) and the start bit (`ECAT_PRAM_RD/WR_CMD`) in one transaction,
+//!   then move whole DWORDs through the FIFO (`ECAT_PRAM_RD_DATA` at 0x0000, `ECAT_PRAM_WR_DATA`
+//!   at 0x0020), the first byte in byte lane `address % 4` of the first DWORD.
+//!
+//! Every SPI transaction is an instruction byte (READ 0x03, FAST READ 0x0B with one dummy byte,
+//! WRITE 0x02), two address bytes (bit 14 set: the address increments from DWORD to DWORD; clear:
+//! it stays, which is how a burst drains a FIFO) and whole little-endian DWORDs.
+//!
+//! ## The AL event
+//! Unlike the Beckhoff SPI protocol, nothing delivers the AL event register (0x0220) for free: it
+//! costs an EtherCAT CSR read. The driver reads it only for the reads the IRQ line prompts — reads
+//! of process RAM (the process-data runner's output read, the mailbox) and reads of 0x0220 itself —
+//! and reports it sampled before the access, as [`Pdi`] asks. Every other access (register reads
+//! and writes of the state machine, the input write) reports the state-machine events of the last
+//! value read, less those the driver's reads have cleared since (reads of AL control and of the
+//! SyncManager activation registers):
+//! events that are known to be still pending, never stale ones. Events that arose meanwhile are
+//! not lost: they hold the IRQ line asserted, and the process-data runner, waiting on it, reads
+//! again.
+//!
+//! ## Polling
+//! Only where the chip gives no other guarantee, and each poll shares its transaction with useful
+//! data where it can:
+//! - a CSR read writes a marker into the data register together with the command (one
+//!   transaction), then reads the data register: a value other than the marker is the result, so
+//!   the common case costs no busy poll;
+//! - a CSR write waits for the command to finish (the next CSR command must not overlap it);
+//! - a PRAM read reads the FIFO's available count once per FIFO load;
+//! - a PRAM write trusts a freshly started command with an empty FIFO
+//!   ([`WriteSpace::EmptyAtStart`], 16 DWORDs) and polls only for more, or polls before every
+//!   FIFO load ([`WriteSpace::Polled`]).
+
+use core::ops::Range;
+
+use ecat_core::AlEvent;
+use ecat_core::register::{self, AL_CONTROL, AL_EVENT_REQUEST, PROCESS_RAM};
+use embassy_time::{Duration, Instant, Timer};
+use embedded_hal_async::spi::{Operation, SpiDevice};
+
+use crate::Pdi;
+
+/// SPI instruction READ: address, then data (LAN9252 datasheet, "SPI/SQI Slave", "SPI Read").
+const READ: u8 = 0x03;
+/// SPI instruction FAST READ: address, one dummy byte, then data ("SPI Fast Read").
+const FAST_READ: u8 = 0x0B;
+/// SPI instruction WRITE: address, then data ("SPI Write").
+const WRITE: u8 = 0x02;
+/// SPI address bit 14: the address increments after each DWORD of a burst.
+const AUTO_INCREMENT: u16 = 1 << 14;
+
+/// `ECAT_PRAM_RD_DATA`: the PRAM read FIFO (0x0000..0x001F, all aliases of one FIFO).
+const PRAM_READ_FIFO: u16 = 0x0000;
+/// `ECAT_PRAM_WR_DATA`: the PRAM write FIFO (0x0020..0x003F).
+const PRAM_WRITE_FIFO: u16 = 0x0020;
+/// `IRQ_CFG`, "Interrupt Configuration Register".
+const IRQ_CFG: u16 = 0x0054;
+/// `IRQ_CFG` bit 8 `IRQ_EN` (IRQ output enabled), bit 4 `IRQ_POL` clear (active low), bit 0
+/// `IRQ_BUF_TYPE` (push-pull).
+const IRQ_CFG_ENABLED_ACTIVE_LOW_PUSH_PULL: u32 = 1 << 8 | 1;
+/// `INT_EN`, "Interrupt Enable Register".
+const INT_EN: u16 = 0x005C;
+/// `INT_EN` bit 0 `ECAT_EVENT_EN`: the EtherCAT core's interrupt (AL event & AL event mask) drives
+/// the IRQ output.
+const ECAT_EVENT_EN: u32 = 1 << 0;
+/// `BYTE_TEST`, "Byte Order Test Register": reads [`BYTE_TEST_PATTERN`] once the host interface
+/// works.
+const BYTE_TEST: u16 = 0x0064;
+/// What `BYTE_TEST` reads on a working host interface with the right byte order.
+pub const BYTE_TEST_PATTERN: u32 = 0x8765_4321;
+/// `HW_CFG`, "Hardware Configuration Register".
+const HW_CFG: u16 = 0x0074;
+/// `HW_CFG` bit 27 `READY`: the device is ready to be accessed.
+const HW_CFG_READY: u32 = 1 << 27;
+/// `RESET_CTL`, "Reset Control Register".
+const RESET_CTL: u16 = 0x01F8;
+/// `RESET_CTL` bit 0 `DIGITAL_RST`: resets the whole chip but the PHYs' analog parts.
+const DIGITAL_RST: u32 = 1 << 0;
+/// `ECAT_CSR_DATA`, "EtherCAT CSR Interface Data Register".
+const CSR_DATA: u16 = 0x0300;
+/// `ECAT_CSR_CMD`, "EtherCAT CSR Interface Command Register".
+const CSR_CMD: u16 = 0x0304;
+/// `ECAT_CSR_CMD` bit 31 `CSR_BUSY`: write 1 to start, reads 1 until done.
+const CSR_BUSY: u32 = 1 << 31;
+/// `ECAT_CSR_CMD` bit 30 `R_nW`: 1 = read.
+const CSR_READ: u32 = 1 << 30;
+/// `ECAT_CSR_CMD` bits 18:16 `CSR_SIZE`: 1, 2 or 4 bytes; bits 15:0 `CSR_ADDR`.
+const CSR_SIZE_SHIFT: u32 = 16;
+/// Written into `ECAT_CSR_DATA` before a CSR read: a result other than this proves the read done.
+const CSR_MARKER: u32 = 0xFFFF_FFFF;
+/// `ECAT_PRAM_RD_ADDR_LEN`: bits 15:0 address, bits 31:16 length in bytes.
+const PRAM_READ_ADDR_LEN: u16 = 0x0308;
+/// `ECAT_PRAM_RD_CMD`: bit 31 busy (write 1 to start), bits 12:8 DWORDs available in the FIFO.
+const PRAM_READ_CMD: u16 = 0x030C;
+/// `ECAT_PRAM_WR_ADDR_LEN`: bits 15:0 address, bits 31:16 length in bytes.
+const PRAM_WRITE_ADDR_LEN: u16 = 0x0310;
+/// `ECAT_PRAM_WR_CMD`: bit 31 busy (write 1 to start), bits 12:8 DWORDs of space in the FIFO.
+const PRAM_WRITE_CMD: u16 = 0x0314;
+/// `ECAT_PRAM_RD/WR_CMD` bit 31: write 1 to start the transfer; reads 1 until it is done.
+const PRAM_BUSY: u32 = 1 << 31;
+/// Depth of each PRAM FIFO in DWORDs (the 5-bit count fields reach 16).
+pub const PRAM_FIFO_DWORDS: usize = 16;
+
+/// The events the driver keeps reporting after reading them: those whose clearing it can follow
+/// ([`cleared_by_read`]), which are also the state-machine events.
+const TRACKED: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+
+/// Between two polls of a register that is not ready yet.
+const POLL_INTERVAL: Duration = Duration::from_micros(10);
+
+/// The instruction for reads of the LAN9252's registers and FIFOs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReadInstruction {
+    /// READ (0x03): no dummy byte; for the SPI clocks the datasheet allows READ at.
+    Read,
+    /// FAST READ (0x0B): one dummy byte per read, for the full SPI clock range.
+    FastRead,
+}
+
+/// How a PRAM write learns that the write FIFO has room.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WriteSpace {
+    /// A write command starts on an empty FIFO (the previous write consumed all its data, which
+    /// the chip moves into process RAM long before the next command's start transaction ends): the
+    /// first 16 DWORDs go without a poll, the rest after polling the space count. Saves one
+    /// register read per process-data cycle.
+    EmptyAtStart,
+    /// Poll the space count before every FIFO load, as the datasheet's write flow chart does.
+    Polled,
+}
+
+/// The driver's configuration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Config {
+    /// The read instruction.
+    pub read: ReadInstruction,
+    /// The PRAM write flow control.
+    pub write_space: WriteSpace,
+    /// How long the chip may take to come out of reset (byte-order test, then `HW_CFG.READY`).
+    pub startup_timeout: Duration,
+    /// How long a CSR command or a PRAM FIFO may stay busy or empty.
+    pub busy_timeout: Duration,
+}
+
+impl Default for Config {
+    /// READ, [`WriteSpace::EmptyAtStart`], 1 s to come out of reset, 1 ms per busy wait (a CSR
+    /// command takes well under a microsecond).
+    fn default() -> Self {
+        Self {
+            read: ReadInstruction::Read,
+            write_space: WriteSpace::EmptyAtStart,
+            startup_timeout: Duration::from_secs(1),
+            busy_timeout: Duration::from_millis(1),
+        }
+    }
+}
+
+/// What the driver waited for when it gave up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wait {
+    /// `HW_CFG.READY` after the reset.
+    Ready,
+    /// An EtherCAT CSR command to finish.
+    Csr,
+    /// Data in the PRAM read FIFO.
+    PramRead,
+    /// Space in the PRAM write FIFO.
+    PramWrite,
+}
+
+/// Why the driver failed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Error<E> {
+    /// The SPI transaction failed.
+    Spi(E),
+    /// `BYTE_TEST` never read [`BYTE_TEST_PATTERN`] within the start-up timeout: wiring, SPI
+    /// mode or chip select is wrong (the value read tells which bits go astray).
+    ByteTest {
+        /// The last value read.
+        read: u32,
+    },
+    /// A wait timed out.
+    Timeout(Wait),
+}
+
+/// A [`Pdi`] for the LAN9252 in SPI mode.
+pub struct Lan9252<S> {
+    spi: S,
+    config: Config,
+    /// State-machine events of the last AL event value read, less those cleared since.
+    known: AlEvent,
+}
+
+impl<S: SpiDevice> Lan9252<S> {
+    /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
+    /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
+    /// output, active low, push-pull. `spi` must be in SPI mode 0 or 3.
+    pub async fn start(spi: S, config: Config) -> Result<Self, Error<S::Error>> {
+        let mut chip = Self {
+            spi,
+            config,
+            known: AlEvent::NONE,
+        };
+        chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
+        let deadline = Deadline::after(config.startup_timeout);
+        loop {
+            let read = chip.read_register(BYTE_TEST).await?;
+            if read == BYTE_TEST_PATTERN {
+                break;
+            }
+            deadline
+                .pause()
+                .await
+                .map_err(|Expired| Error::ByteTest { read })?;
+        }
+        while chip.read_register(HW_CFG).await? & HW_CFG_READY == 0 {
+            deadline
+                .pause()
+                .await
+                .map_err(|Expired| Error::Timeout(Wait::Ready))?;
+        }
+        chip.write_dwords(IRQ_CFG, &[IRQ_CFG_ENABLED_ACTIVE_LOW_PUSH_PULL])
+            .await?;
+        chip.write_dwords(INT_EN, &[ECAT_EVENT_EN]).await?;
+        Ok(chip)
+    }
+
+    /// Reads one LAN9252 register (a DWORD).
+    async fn read_register(&mut self, address: u16) -> Result<u32, Error<S::Error>> {
+        let mut value = [0; 4];
+        let header = Header::read(self.config.read, address);
+        self.spi
+            .transaction(&mut [
+                Operation::Write(header.as_slice()),
+                Operation::Read(&mut value),
+            ])
+            .await
+            .map_err(Error::Spi)?;
+        Ok(u32::from_le_bytes(value))
+    }
+
+    /// Writes consecutive LAN9252 registers (at most two) in one transaction.
+    async fn write_dwords(&mut self, address: u16, values: &[u32]) -> Result<(), Error<S::Error>> {
+        let mut bytes = [0; 8];
+        for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
+            chunk.copy_from_slice(&value.to_le_bytes());
+        }
+        let len = 4 * values.len().min(2);
+        let header = Header::write(address, values.len() > 1);
+        self.spi
+            .transaction(&mut [
+                Operation::Write(header.as_slice()),
+                Operation::Write(bytes.get(..len).unwrap_or_default()),
+            ])
+            .await
+            .map_err(Error::Spi)
+    }
+
+    /// An EtherCAT CSR read of `size` (1, 2 or 4) bytes at `address`; the value in the low bytes.
+    async fn read_csr(&mut self, address: u16, size: usize) -> Result<u32, Error<S::Error>> {
+        self.write_dwords(
+            CSR_DATA,
+            &[CSR_MARKER, csr_command(CSR_READ, address, size)],
+        )
+        .await?;
+        let deadline = Deadline::after(self.config.busy_timeout);
+        loop {
+            let data = self.read_register(CSR_DATA).await?;
+            if data != CSR_MARKER {
+                return Ok(data);
+            }
+            // The marker: still busy, or the register holds the marker's value.
+            if self.read_register(CSR_CMD).await? & CSR_BUSY == 0 {
+                return self.read_register(CSR_DATA).await;
+            }
+            deadline
+                .pause()
+                .await
+                .map_err(|Expired| Error::Timeout(Wait::Csr))?;
+        }
+    }
+
+    /// An EtherCAT CSR write of the low `size` (1, 2 or 4) bytes of `value` at `address`.
+    async fn write_csr(
+        &mut self,
+        address: u16,
+        size: usize,
+        value: u32,
+    ) -> Result<(), Error<S::Error>> {
+        self.write_dwords(CSR_DATA, &[value, csr_command(0, address, size)])
+            .await?;
+        let deadline = Deadline::after(self.config.busy_timeout);
+        while self.read_register(CSR_CMD).await? & CSR_BUSY != 0 {
+            deadline
+                .pause()
+                .await
+                .map_err(|Expired| Error::Timeout(Wait::Csr))?;
+        }
+        Ok(())
+    }
+
+    /// The AL event register, through the CSR interface.
+    async fn read_al_event(&mut self) -> Result<AlEvent, Error<S::Error>> {
+        Ok(AlEvent(self.read_csr(AL_EVENT_REQUEST, 4).await?))
+    }
+
+    /// Reads ESC registers (all of `buf` below 0x1000) through the CSR interface.
+    async fn read_registers(
+        &mut self,
+        address: u16,
+        buf: &mut [u8],
+    ) -> Result<(), Error<S::Error>> {
+        let mut position = address;
+        let mut rest = buf;
+        while !rest.is_empty() {
+            let size = csr_size(position, rest.len());
+            let value = self.read_csr(position, size).await?.to_le_bytes();
+            let (piece, tail) = rest.split_at_mut_checked(size).unwrap_or_default();
+            piece.copy_from_slice(value.get(..size).unwrap_or_default());
+            rest = tail;
+            position = position.wrapping_add(size as u16);
+        }
+        Ok(())
+    }
+
+    /// Writes ESC registers (all of `data` below 0x1000) through the CSR interface.
+    async fn write_registers(&mut self, address: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
+        let mut position = address;
+        let mut rest = data;
+        while !rest.is_empty() {
+            let size = csr_size(position, rest.len());
+            let (piece, tail) = rest.split_at_checked(size).unwrap_or_default();
+            let mut value = [0; 4];
+            for (byte, &data) in value.iter_mut().zip(piece) {
+                *byte = data;
+            }
+            self.write_csr(position, size, u32::from_le_bytes(value))
+                .await?;
+            rest = tail;
+            position = position.wrapping_add(size as u16);
+        }
+        Ok(())
+    }
+
+    /// Reads process RAM through the PRAM read FIFO.
+    async fn read_pram(&mut self, address: u16, buf: &mut [u8]) -> Result<(), Error<S::Error>> {
+        if buf.is_empty() {
+            return Ok(());
+        }
+        let stream = FifoStream::new(address, buf.len());
+        self.write_dwords(
+            PRAM_READ_ADDR_LEN,
+            &[stream.address_length(address), PRAM_BUSY],
+        )
+        .await?;
+        let deadline = Deadline::after(self.config.busy_timeout);
+        let mut position = 0;
+        while position < stream.len() {
+            let available = fifo_bytes(self.read_register(PRAM_READ_CMD).await?);
+            if available == 0 {
+                deadline
+                    .pause()
+                    .await
+                    .map_err(|Expired| Error::Timeout(Wait::PramRead))?;
+                continue;
+            }
+            let end = stream.len().min(position + available);
+            let layout = stream.layout(position..end);
+            let (mut head, mut tail) = ([0; 3], [0; 3]);
+            let header = Header::read(self.config.read, PRAM_READ_FIFO);
+            self.spi
+                .transaction(&mut [
+                    Operation::Write(header.as_slice()),
+                    Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
+                    Operation::Read(buf.get_mut(layout.data.clone()).unwrap_or_default()),
+                    Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
+                ])
+                .await
+                .map_err(Error::Spi)?;
+            position = end;
+        }
+        Ok(())
+    }
+
+    /// Writes process RAM through the PRAM write FIFO.
+    async fn write_pram(&mut self, address: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
+        if data.is_empty() {
+            return Ok(());
+        }
+        let stream = FifoStream::new(address, data.len());
+        self.write_dwords(
+            PRAM_WRITE_ADDR_LEN,
+            &[stream.address_length(address), PRAM_BUSY],
+        )
+        .await?;
+        let mut space = match self.config.write_space {
+            WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
+            WriteSpace::Polled => 0,
+        };
+        let deadline = Deadline::after(self.config.busy_timeout);
+        let mut position = 0;
+        while position < stream.len() {
+            if space == 0 {
+                space = fifo_bytes(self.read_register(PRAM_WRITE_CMD).await?);
+                if space == 0 {
+                    deadline
+                        .pause()
+                        .await
+                        .map_err(|Expired| Error::Timeout(Wait::PramWrite))?;
+                    continue;
+                }
+            }
+            let end = stream.len().min(position + space);
+            let layout = stream.layout(position..end);
+            let padding = [0; 3];
+            let header = Header::write(PRAM_WRITE_FIFO, false);
+            self.spi
+                .transaction(&mut [
+                    Operation::Write(header.as_slice()),
+                    Operation::Write(padding.get(..layout.head).unwrap_or_default()),
+                    Operation::Write(data.get(layout.data).unwrap_or_default()),
+                    Operation::Write(padding.get(..layout.tail).unwrap_or_default()),
+                ])
+                .await
+                .map_err(Error::Spi)?;
+            space -= end - position;
+            position = end;
+        }
+        Ok(())
+    }
+}
+
+impl<S: SpiDevice> Pdi for Lan9252<S> {
+    type Error = Error<S::Error>;
+
+    /// Registers through the CSR interface, process RAM through the PRAM read FIFO. A read that
+    /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
+    /// any other read reports the state-machine events known to be pending (see the module docs).
+    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
+        let clears = cleared_by_read(address, buf.len());
+        let (registers, ram) = split_at_process_ram(address, buf);
+        let mut fresh = None;
+        if !ram.is_empty() {
+            fresh = Some(self.read_al_event().await?);
+        }
+        self.read_registers(address, registers).await?;
+        self.read_pram(address.max(PROCESS_RAM), ram).await?;
+        let fresh = fresh.or_else(|| al_event_in(address, registers));
+        let event = fresh.unwrap_or(self.known);
+        self.known = fresh
+            .map_or(self.known, |e| e.intersection(TRACKED))
+            .difference(clears);
+        Ok(event)
+    }
+
+    /// Registers through the CSR interface, process RAM through the PRAM write FIFO. Reports the
+    /// state-machine events known to be pending.
+    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Self::Error> {
+        let (registers, ram) = data
+            .split_at_checked(register_bytes(address, data.len()))
+            .unwrap_or_default();
+        self.write_registers(address, registers).await?;
+        self.write_pram(address.max(PROCESS_RAM), ram).await?;
+        Ok(self.known)
+    }
+}
+
+/// The [`TRACKED`] events a read of `len` bytes at `address` clears in the ESC: AL control (bit 0)
+/// by reading 0x0120, SM change (bit 4) by reading the activation register (offset 6) of a
+/// SyncManager (ESC datasheet section II, 0x0220). SM change stays set until every changed
+/// channel's register is read: forgetting it early only under-reports, which the IRQ line repairs.
+fn cleared_by_read(address: u16, len: usize) -> AlEvent {
+    let start = u32::from(address);
+    let end = start.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
+    let covers = |reg: u16| (start..end).contains(&u32::from(reg));
+    let mut cleared = AlEvent::NONE;
+    if covers(AL_CONTROL) {
+        cleared |= AlEvent::AL_CONTROL;
+    }
+    if (0..16).any(|n| covers(register::sync_manager(n) + 6)) {
+        cleared |= AlEvent::SM_CHANGE;
+    }
+    cleared
+}
+
+/// How many of `len` bytes at `address` are ESC registers (below 0x1000).
+fn register_bytes(address: u16, len: usize) -> usize {
+    usize::from(PROCESS_RAM.saturating_sub(address)).min(len)
+}
+
+/// `buf` at `address` cut into its register part and its process RAM part.
+fn split_at_process_ram(address: u16, buf: &mut [u8]) -> (&mut [u8], &mut [u8]) {
+    let at = register_bytes(address, buf.len());
+    buf.split_at_mut_checked(at).unwrap_or_default()
+}
+
+/// The AL event register, if `registers` (read at `address`) holds all of it.
+fn al_event_in(address: u16, registers: &[u8]) -> Option<AlEvent> {
+    let offset = usize::from(AL_EVENT_REQUEST.checked_sub(address)?);
+    let bytes = registers.get(offset..offset + 4)?;
+    Some(AlEvent(u32::from_le_bytes(bytes.try_into().ok()?)))
+}
+
+/// The largest CSR access at `address` for `remaining` bytes (Table 12-14, "EtherCAT CSR Address
+/// vs Size": 4 bytes on a DWORD boundary, 2 on a WORD boundary, else 1).
+fn csr_size(address: u16, remaining: usize) -> usize {
+    if address.is_multiple_of(4) && remaining >= 4 {
+        4
+    } else if address.is_multiple_of(2) && remaining >= 2 {
+        2
+    } else {
+        1
+    }
+}
+
+/// An `ECAT_CSR_CMD` value that starts a command.
+fn csr_command(read: u32, address: u16, size: usize) -> u32 {
+    CSR_BUSY | read | (size as u32) << CSR_SIZE_SHIFT | u32::from(address)
+}
+
+/// Bytes the FIFO holds (read) or has room for (write), from `ECAT_PRAM_RD/WR_CMD` bits 12:8.
+fn fifo_bytes(command: u32) -> usize {
+    4 * ((command >> 8) & 0x1F) as usize
+}
+
+/// The DWORD stream of one PRAM transfer: `lane` padding bytes, the data, padding to a whole DWORD.
+struct FifoStream {
+    lane: usize,
+    data: usize,
+}
+
+/// Where the bytes of part of a [`FifoStream`] go.
+struct Layout {
+    /// Leading padding bytes.
+    head: usize,
+    /// The data bytes, as positions in the data.
+    data: Range<usize>,
+    /// Trailing padding bytes.
+    tail: usize,
+}
+
+impl FifoStream {
+    fn new(address: u16, data: usize) -> Self {
+        Self {
+            lane: usize::from(address % 4),
+            data,
+        }
+    }
+
+    /// Stream length in bytes: whole DWORDs.
+    fn len(&self) -> usize {
+        (self.lane + self.data).div_ceil(4) * 4
+    }
+
+    /// The `ECAT_PRAM_RD/WR_ADDR_LEN` value.
+    fn address_length(&self, address: u16) -> u32 {
+        let length = u32::try_from(self.data).unwrap_or(u32::MAX) & 0xFFFF;
+        length << 16 | u32::from(address)
+    }
+
+    /// The padding and data bytes of the stream bytes `part`.
+    fn layout(&self, part: Range<usize>) -> Layout {
+        let data_end = self.lane + self.data;
+        let head = self.lane.min(part.end).saturating_sub(part.start);
+        let start = part.start.clamp(self.lane, data_end) - self.lane;
+        let end = part.end.clamp(self.lane, data_end) - self.lane;
+        let tail = part.end.saturating_sub(data_end.max(part.start));
+        Layout {
+            head,
+            data: start..end,
+            tail,
+        }
+    }
+}
+
+/// Instruction and address bytes of one transaction.
+struct Header {
+    bytes: [u8; 4],
+    len: usize,
+}
+
+impl Header {
+    /// A read of `address`, without address increment (a burst drains a FIFO or reads one DWORD).
+    fn read(instruction: ReadInstruction, address: u16) -> Self {
+        let [high, low] = address.to_be_bytes();
+        match instruction {
+            ReadInstruction::Read => Self {
+                bytes: [READ, high, low, 0],
+                len: 3,
+            },
+            ReadInstruction::FastRead => Self {
+                bytes: [FAST_READ, high, low, 0],
+                len: 4,
+            },
+        }
+    }
+
+    /// A write at `address`, incrementing from DWORD to DWORD if `increment`.
+    fn write(address: u16, increment: bool) -> Self {
+        let address = if increment {
+            address | AUTO_INCREMENT
+        } else {
+            address
+        };
+        let [high, low] = address.to_be_bytes();
+        Self {
+            bytes: [WRITE, high, low, 0],
+            len: 3,
+        }
+    }
+
+    fn as_slice(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or_default()
+    }
+}
+
+/// A wait ran out of time.
+struct Expired;
+
+/// When a wait gives up.
+struct Deadline(Instant);
+
+impl Deadline {
+    fn after(timeout: Duration) -> Self {
+        Self(Instant::now().checked_add(timeout).unwrap_or(Instant::MAX))
+    }
+
+    /// Waits [`POLL_INTERVAL`] before the next poll, or fails if the deadline has passed.
+    async fn pause(&self) -> Result<(), Expired> {
+        if Instant::now() >= self.0 {
+            return Err(Expired);
+        }
+        Timer::after(POLL_INTERVAL).await;
+        Ok(())
+    }
+}
