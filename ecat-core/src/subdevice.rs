@@ -98,6 +98,7 @@ enum Op {
     WriteEventMask,
     ReadSyncManagers,
     ReadWatchdog,
+    ReadWatchdogStatus,
     ReadAlControl,
     WritePdiControl(u8),
     ReadMailbox,
@@ -114,6 +115,7 @@ impl Op {
             Op::ReadAlControl => AlEvent::AL_CONTROL,
             Op::ReadSyncManagers => AlEvent::SM_CHANGE,
             Op::ReadMailbox => AlEvent::sync_manager(0),
+            Op::ReadWatchdogStatus => AlEvent::WATCHDOG_PROCESS_DATA,
             Op::WriteMailbox => AlEvent::sync_manager(1),
             _ => AlEvent::NONE,
         }
@@ -173,6 +175,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     read_watchdog: bool,
     /// 0x0420 as last read.
     watchdog_time: u16,
+    /// AL event bit 6 came: read the watchdog status (0x0440), which also acknowledges it.
+    read_watchdog_status: bool,
     sm_changed: bool,
     written: Written,
     in_flight: Option<(Op, u32)>,
@@ -209,6 +213,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             read_al_control: false,
             read_watchdog: false,
             watchdog_time: 0,
+            read_watchdog_status: false,
             sm_changed: false,
             written: Written::new(),
             in_flight: None,
@@ -315,6 +320,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.contains(AlEvent::SM_CHANGE) {
             self.read_sync_managers = true;
             self.sm_changed = true;
+        }
+        if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
+            self.read_watchdog_status = true;
         }
         if self.state.has_mailbox() {
             if event.contains(AlEvent::sync_manager(0)) {
@@ -455,6 +463,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if self.read_watchdog {
             return Some((Op::ReadWatchdog, 0));
         }
+        if self.read_watchdog_status {
+            return Some((Op::ReadWatchdogStatus, 0));
+        }
         if self.read_al_control {
             return Some((Op::ReadAlControl, 0));
         }
@@ -527,6 +538,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
             Op::ReadSyncManagers => (register::SM_BASE, sm_bytes, false),
             Op::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, false),
+            Op::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, false),
             Op::ReadAlControl => (register::AL_CONTROL, 2, false),
             Op::WritePdiControl(n) => (
                 register::sync_manager(n) + Channel::PDI_CONTROL_OFFSET,
@@ -584,6 +596,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::ReadWatchdog => {
                 self.read_watchdog = false;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
+            }
+            Op::ReadWatchdogStatus => {
+                self.read_watchdog_status = false;
+                let running = self.buf[0] & 1 != 0;
+                if !running && self.state == AlState::Op {
+                    // ETG.1000.6: SM watchdog in OP → SAFEOP with error 0x001B.
+                    self.fail(AlStatusCode::SM_WATCHDOG, AlState::SafeOp);
+                }
             }
             Op::ReadSyncManagers => {
                 self.read_sync_managers = false;
@@ -734,6 +754,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let mut mask = ESM_EVENTS;
         if self.state.has_process_data() {
             mask |= self.process_data_trigger();
+        }
+        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
+            mask |= AlEvent::WATCHDOG_PROCESS_DATA;
         }
         if self.state.has_mailbox() {
             if self.mailbox.wants_receive_event() {

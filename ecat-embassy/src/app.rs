@@ -35,4 +35,10 @@ pub trait CycleHandler<D> {
     /// for devices whose process data is not mapped through the dictionary (a fixed layout).
     /// Keep it short: it runs in the interrupt executor with the dictionary locked.
     fn cycle(&mut self, od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]);
+
+    /// Outputs stopped being applied (OP left: by request, SM watchdog, or error): put the
+    /// outputs of the device into their safe state now. Called once per departure from OP.
+    fn safe_state(&mut self, od: &mut D) {
+        let _ = od;
+    }
 }

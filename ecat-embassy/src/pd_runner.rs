@@ -66,7 +66,11 @@ where
         let seen = esc.pd_generation();
         let layout = esc.layout();
         let step = if layout != current {
+            let was_active = current.is_some_and(|l| l.outputs_active);
             current = layout;
+            if was_active && !layout.is_some_and(|l| l.outputs_active) {
+                exchange.safe_state();
+            }
             exchange.on_new_layout(layout).await
         } else if !esc.take_pd_events().is_empty() {
             exchange.on_trigger(layout, true).await
@@ -102,6 +106,12 @@ struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
 }
 
 impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, M, P, C, D> {
+    /// Outputs are no longer applied: the application's safe state.
+    fn safe_state(&mut self) {
+        let app = &mut *self.app;
+        self.od.lock(|od| app.safe_state(&mut od.borrow_mut()));
+    }
+
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
     /// accepted, and valid inputs at once.
     async fn on_new_layout<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {

@@ -10,6 +10,7 @@ use core::task::{Poll, Waker};
 use std::rc::Rc;
 
 use ecat_core::AlEvent;
+use ecat_core::register::{self, Watchdog};
 use ecat_embassy::Pdi;
 
 use crate::esc::{Esc, EscConfig};
@@ -23,6 +24,8 @@ struct Inner {
     irq_waiters: RefCell<Vec<Waker>>,
     /// PDI accesses since the test script last had a turn (see [`Emulator::script_ran`]).
     pdi_streak: Cell<u64>,
+    /// When the process-data watchdog expires, if it runs (virtual time).
+    watchdog_deadline: Cell<Option<embassy_time::Instant>>,
 }
 
 /// PDI accesses in a row, without the test script running, that count as a livelock: a runner
@@ -36,16 +39,59 @@ impl Emulator {
             esc: RefCell::new(Esc::new(config)),
             irq_waiters: RefCell::new(Vec::new()),
             pdi_streak: Cell::new(0),
+            watchdog_deadline: Cell::new(None),
         }))
     }
 
     /// Runs `f` on the ESC, then wakes the IRQ waiters: any access may have changed the line.
     pub fn with<R>(&self, f: impl FnOnce(&mut Esc) -> R) -> R {
-        let result = f(&mut self.0.esc.borrow_mut());
+        let result = {
+            let mut esc = self.0.esc.borrow_mut();
+            let result = f(&mut esc);
+            self.restart_watchdog(&mut esc);
+            result
+        };
+        self.wake_irq_waiters();
+        result
+    }
+
+    /// Lets virtual time act on the ESC: the process-data watchdog expires at its deadline. The
+    /// test master calls it whenever it advances time.
+    pub fn tick(&self) {
+        let due = self
+            .0
+            .watchdog_deadline
+            .get()
+            .is_some_and(|d| embassy_time::Instant::now() >= d);
+        if due {
+            self.0.watchdog_deadline.set(None);
+            self.0.esc.borrow_mut().expire_watchdog();
+            self.wake_irq_waiters();
+        }
+    }
+
+    /// A MainDevice write restarted the process-data watchdog: its deadline is one period
+    /// ((divider + 2) × 40 ns × time, registers 0x0400/0x0420) from now; time 0 disables it.
+    fn restart_watchdog(&self, esc: &mut Esc) {
+        if !esc.take_watchdog_trigger() {
+            return;
+        }
+        let mut regs = [0u8; 2];
+        esc.ecat_read(register::WATCHDOG_DIVIDER, &mut regs);
+        let divider = u16::from_le_bytes(regs);
+        esc.ecat_read(register::WATCHDOG_TIME_PROCESS_DATA, &mut regs);
+        let time = u16::from_le_bytes(regs);
+        let period = Watchdog { divider, time }.period_ns();
+        let deadline =
+            period.map(|ns| embassy_time::Instant::now() + embassy_time::Duration::from_nanos(ns));
+        esc.restart_watchdog();
+        self.0.watchdog_deadline.set(deadline);
+    }
+
+    fn wake_irq_waiters(&self) {
         for waker in self.0.irq_waiters.borrow_mut().drain(..) {
             waker.wake();
         }
-        result
     }
 
     /// The test script got a turn: the runners did not starve it.

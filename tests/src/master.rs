@@ -184,6 +184,7 @@ impl TestMaster {
             let d = if left < step { left } else { step };
             MockDriver::get().advance(d);
             left -= d;
+            self.emu.tick();
             self.settle().await;
         }
     }

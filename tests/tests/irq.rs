@@ -13,7 +13,8 @@ fn idle_subdevice_never_touches_the_pdi() {
     harness::run(
         Device::new(common::drive(), AcceptAll, Loopback),
         |master| async move {
-            for state in [AlState::Init, AlState::PreOp, AlState::Op] {
+            // In OP a silent MainDevice is the SM watchdog's business (tests/tests/watchdog.rs).
+            for state in [AlState::Init, AlState::PreOp, AlState::SafeOp] {
                 walk_to(&master, state).await;
                 let before = master.pdi_accesses();
                 master.advance(Duration::from_secs(2)).await;

@@ -110,6 +110,11 @@ pub struct Esc {
     channels: [ChannelState; MAX_CHANNELS],
     /// AL event bit 0: the MainDevice wrote AL control since the PDI last read it.
     al_control_event: bool,
+    /// AL event bit 6: the process-data watchdog expired; a PDI read of 0x0440 acknowledges it.
+    watchdog_event: bool,
+    /// The MainDevice completed a buffer of a watchdog-triggering SyncManager since the last
+    /// [`Esc::take_watchdog_trigger`].
+    watchdog_triggered: bool,
     /// PDI traffic counters.
     stats: PdiStats,
 }
@@ -124,6 +129,8 @@ impl Esc {
             config,
             channels: Default::default(),
             al_control_event: false,
+            watchdog_event: false,
+            watchdog_triggered: false,
             stats: PdiStats::default(),
         }
     }
@@ -165,6 +172,9 @@ impl Esc {
         if self.al_control_event {
             event |= AlEvent::AL_CONTROL;
         }
+        if self.watchdog_event {
+            event |= AlEvent::WATCHDOG_PROCESS_DATA;
+        }
         for (n, state) in (0..self.config.sync_managers).zip(&self.channels) {
             if state.changed {
                 event |= AlEvent::SM_CHANGE;
@@ -189,6 +199,30 @@ impl Esc {
     /// the process RAM. Bytes of read-only registers are silently ignored.
     pub fn ecat_write(&mut self, address: u16, data: &[u8]) -> bool {
         self.access(Side::Ecat, address, Access::Write(data))
+    }
+
+    /// Whether the MainDevice completed a buffer of a SyncManager with the watchdog trigger bit
+    /// (control bit 6) since the last call: the process-data watchdog restarts (ESC datasheet
+    /// section I, "Watchdog"). The time is kept by the caller (the emulator's virtual clock).
+    pub fn take_watchdog_trigger(&mut self) -> bool {
+        core::mem::take(&mut self.watchdog_triggered)
+    }
+
+    /// The process-data watchdog runs: 0x0440 bit 0 = 1.
+    pub fn restart_watchdog(&mut self) {
+        self.memory
+            .write(usize::from(register::WATCHDOG_STATUS_PROCESS_DATA), &[1, 0]);
+    }
+
+    /// The process-data watchdog expired: 0x0440 bit 0 = 0, AL event bit 6, the SM watchdog
+    /// counter (0x0442) counts it.
+    pub fn expire_watchdog(&mut self) {
+        self.memory
+            .write(usize::from(register::WATCHDOG_STATUS_PROCESS_DATA), &[0, 0]);
+        let counter = usize::from(register::WATCHDOG_COUNTER);
+        let count = self.memory.byte(counter).saturating_add(1);
+        self.memory.set_byte(counter, count);
+        self.watchdog_event = true;
     }
 
     /// The PDI traffic so far.
@@ -244,6 +278,11 @@ impl Esc {
             }
             (Area::SyncManager(n, buffer), access) => {
                 let offsets = buffer.offset(range.start)..buffer.offset(range.end);
+                let completes =
+                    matches!(access, Access::Write(_)) && offsets.end == buffer.length();
+                if side == Side::Ecat && completes && self.memory.channel(n).control.watchdog() {
+                    self.watchdog_triggered = true;
+                }
                 self.channels.get_mut(usize::from(n)).is_some_and(|state| {
                     state.access(&buffer, side, &offsets, access, &mut self.memory)
                 })

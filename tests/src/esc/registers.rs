@@ -187,6 +187,9 @@ impl Esc {
         if address == usize::from(register::AL_CONTROL) {
             self.al_control_event = false;
         }
+        if address == usize::from(register::WATCHDOG_STATUS_PROCESS_DATA) {
+            self.watchdog_event = false;
+        }
         if let Some((ACTIVATE_OFFSET, state)) = self.channel_register(address) {
             state.changed = false;
         }

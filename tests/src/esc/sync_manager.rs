@@ -86,6 +86,11 @@ impl Buffer {
             .is_some_and(|offset| offset < self.length)
     }
 
+    /// Bytes in one buffer.
+    pub(super) fn length(&self) -> usize {
+        self.length
+    }
+
     /// The offset of `address` in the area.
     pub(super) fn offset(&self, address: usize) -> usize {
         address.saturating_sub(self.start)
