@@ -7,10 +7,12 @@
 //! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events |
 //! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
+//! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
 //! | [`harness`] | runs the real runners on `embassy-executor` with the mock time driver |
 pub mod coe_client;
+pub mod devices;
 pub mod emulator;
 pub mod esc;
 pub mod harness;

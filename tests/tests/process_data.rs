@@ -8,56 +8,12 @@ use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
-use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
+use ecat_core::pdo::MappingEntry;
 use ecat_embassy::{Application, CycleHandler};
 use ecat_emu::coe_client::{SdoClient, SdoError};
+use ecat_emu::devices::{DRIVE_TX, Drive};
 use ecat_emu::harness::{self, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
-
-struct Drive {
-    controlword: u16,
-    target_position: i32,
-    target_velocity: i32,
-    mode: i8,
-    statusword: u16,
-    position: i32,
-    velocity: i32,
-    mode_display: i8,
-    rx1: PdoMapping<8>,
-    tx1: PdoMapping<8>,
-    rx_assign: PdoAssignment<2>,
-    tx_assign: PdoAssignment<2>,
-}
-
-const RX: [MappingEntry; 4] = [
-    MappingEntry::new(0x6040, 0, 16),
-    MappingEntry::new(0x607A, 0, 32),
-    MappingEntry::new(0x60FF, 0, 32),
-    MappingEntry::new(0x6060, 0, 8),
-];
-const TX: [MappingEntry; 4] = [
-    MappingEntry::new(0x6041, 0, 16),
-    MappingEntry::new(0x6064, 0, 32),
-    MappingEntry::new(0x606C, 0, 32),
-    MappingEntry::new(0x6061, 0, 8),
-];
-
-ecat_core::dictionary! {
-    Drive {
-        0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX));
-        0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX));
-        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
-        0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x6040 => var(controlword, RW | RXPDO, "Controlword");
-        0x6041 => var(statusword, RO | TXPDO, "Statusword");
-        0x6060 => var(mode, RW | RXPDO, "Modes of operation");
-        0x6061 => var(mode_display, RO | TXPDO, "Modes of operation display");
-        0x6064 => var(position, RO | TXPDO, "Position actual value");
-        0x606C => var(velocity, RO | TXPDO, "Velocity actual value");
-        0x607A => var(target_position, RW | RXPDO, "Target position");
-        0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
-    }
-}
 
 struct App;
 impl Application for App {}
@@ -225,7 +181,7 @@ fn main_devices_read_the_mapping_one_expedited_upload_at_a_time() {
         assert_eq!(c.upload(0x1C13, 0, false).await, Ok(vec![1]));
         assert_eq!(c.upload(0x1C13, 1, false).await, Ok(vec![0x00, 0x1A]));
         assert_eq!(c.upload(0x1A00, 0, false).await, Ok(vec![4]));
-        for (sub, entry) in (1u8..).zip(TX) {
+        for (sub, entry) in (1u8..).zip(DRIVE_TX) {
             assert_eq!(
                 c.upload(0x1A00, sub, false).await,
                 Ok(entry.0.to_le_bytes().to_vec())

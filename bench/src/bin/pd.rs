@@ -8,51 +8,7 @@
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-
-struct Drive {
-    controlword: u16,
-    target_position: i32,
-    target_velocity: i32,
-    mode: i8,
-    statusword: u16,
-    position: i32,
-    velocity: i32,
-    mode_display: i8,
-    rx: PdoMapping<8>,
-    tx: PdoMapping<8>,
-    rx_assign: PdoAssignment<1>,
-    tx_assign: PdoAssignment<1>,
-}
-
-const RX: [MappingEntry; 4] = [
-    MappingEntry::new(0x6040, 0, 16),
-    MappingEntry::new(0x607A, 0, 32),
-    MappingEntry::new(0x60FF, 0, 32),
-    MappingEntry::new(0x6060, 0, 8),
-];
-const TX: [MappingEntry; 4] = [
-    MappingEntry::new(0x6041, 0, 16),
-    MappingEntry::new(0x6064, 0, 32),
-    MappingEntry::new(0x606C, 0, 32),
-    MappingEntry::new(0x6061, 0, 8),
-];
-
-ecat_core::dictionary! {
-    Drive {
-        0x1600 => pdo(rx, RW_PREOP, "RxPDO", "Entry", default = PdoMapping::mapping(&RX));
-        0x1A00 => pdo(tx, RW_PREOP, "TxPDO", "Entry", default = PdoMapping::mapping(&TX));
-        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));
-        0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 assignment", "PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x6040 => var(controlword, RW | RXPDO, "Controlword");
-        0x6041 => var(statusword, RO | TXPDO, "Statusword");
-        0x6060 => var(mode, RW | RXPDO, "Mode");
-        0x6061 => var(mode_display, RO | TXPDO, "Mode display");
-        0x6064 => var(position, RO | TXPDO, "Position");
-        0x606C => var(velocity, RO | TXPDO, "Velocity");
-        0x607A => var(target_position, RW | RXPDO, "Target position");
-        0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
-    }
-}
+use ecat_emu::devices::Drive;
 
 struct Io {
     outputs: [u32; 16],

@@ -41,24 +41,25 @@ struct Target {
     domain: bool,
 }
 
+/// Which way a segmented transfer goes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Upload,
+    Download,
+}
+
 /// A transfer that continues with segments.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Transfer {
-    Idle,
-    Upload {
-        target: Target,
-        size: usize,
-        offset: usize,
-        toggle: bool,
-        deadline: Instant,
-    },
-    Download {
-        target: Target,
-        size: usize,
-        received: usize,
-        toggle: bool,
-        deadline: Instant,
-    },
+struct Segmented {
+    kind: Kind,
+    target: Target,
+    /// The whole value's size.
+    size: usize,
+    /// Bytes sent (upload) or received (download) so far.
+    done: usize,
+    /// The toggle bit the next segment must carry.
+    toggle: bool,
+    deadline: Instant,
 }
 
 /// What a request is served with: the dictionary, the hooks, the state and the time.
@@ -76,7 +77,7 @@ pub struct Context<'a, D, H> {
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
 #[derive(Debug)]
 pub struct SdoServer<const N: usize> {
-    transfer: Transfer,
+    transfer: Option<Segmented>,
     timed_out: bool,
     buf: [u8; N],
 }
@@ -94,7 +95,7 @@ impl<const N: usize> SdoServer<N> {
     /// A server with no transfer in progress.
     pub const fn new() -> Self {
         Self {
-            transfer: Transfer::Idle,
+            transfer: None,
             timed_out: false,
             buf: [0; N],
         }
@@ -135,7 +136,7 @@ impl<const N: usize> SdoServer<N> {
                 last,
             } => self.download_segment(cx, toggle, segment_data(request, unused), last, out),
             Request::Abort => {
-                self.transfer = Transfer::Idle;
+                self.transfer = None;
                 return 0;
             }
             Request::Unknown => Err(AbortCode::COMMAND_SPECIFIER),
@@ -146,7 +147,7 @@ impl<const N: usize> SdoServer<N> {
                 let (index, sub) = self
                     .current_target()
                     .map_or((index, sub), |t| (t.index, t.sub));
-                self.transfer = Transfer::Idle;
+                self.transfer = None;
                 abort(out, index, sub, code)
             }
         }
@@ -154,33 +155,25 @@ impl<const N: usize> SdoServer<N> {
 
     /// When [`SdoServer::handle_timeout`] must be called, if a transfer waits for a segment.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        match self.transfer {
-            Transfer::Idle => None,
-            Transfer::Upload { deadline, .. } | Transfer::Download { deadline, .. } => {
-                Some(deadline)
-            }
-        }
+        self.transfer.map(|t| t.deadline)
     }
 
     /// Drops a transfer whose next segment did not come in time.
     pub fn handle_timeout(&mut self, now: Instant) {
         if self.poll_timeout().is_some_and(|deadline| now >= deadline) {
-            self.transfer = Transfer::Idle;
+            self.transfer = None;
             self.timed_out = true;
         }
     }
 
     /// Drops any transfer (the mailbox stopped).
     pub fn reset(&mut self) {
-        self.transfer = Transfer::Idle;
+        self.transfer = None;
         self.timed_out = false;
     }
 
     fn current_target(&self) -> Option<Target> {
-        match self.transfer {
-            Transfer::Idle => None,
-            Transfer::Upload { target, .. } | Transfer::Download { target, .. } => Some(target),
-        }
+        self.transfer.map(|t| t.target)
     }
 
     fn upload<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -189,7 +182,7 @@ impl<const N: usize> SdoServer<N> {
         target: Target,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.transfer = Transfer::Idle;
+        self.transfer = None;
         self.timed_out = false;
         let (object, target) = resolve::<D>(target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
@@ -220,14 +213,7 @@ impl<const N: usize> SdoServer<N> {
                 size_bytes,
             );
             if sent < size {
-                let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
-                self.transfer = Transfer::Upload {
-                    target,
-                    size,
-                    offset: sent,
-                    toggle: false,
-                    deadline,
-                };
+                self.begin(cx.now, Kind::Upload, target, size, sent);
             }
             header + sent
         };
@@ -240,19 +226,12 @@ impl<const N: usize> SdoServer<N> {
         toggle: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Transfer::Upload {
+        let Segmented {
             target,
             size,
-            offset,
-            toggle: expected,
+            done: offset,
             ..
-        } = self.transfer
-        else {
-            return Err(self.no_transfer());
-        };
-        if toggle != expected {
-            return Err(AbortCode::TOGGLE_BIT);
-        }
+        } = self.next_segment(Kind::Upload, toggle)?;
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
         let room = body.len().saturating_sub(SEGMENT_HEADER);
@@ -269,18 +248,7 @@ impl<const N: usize> SdoServer<N> {
         if let Some(command) = body.first_mut() {
             *command = response::upload_segment(toggle, unused as u8, last);
         }
-        self.transfer = if last {
-            Transfer::Idle
-        } else {
-            let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
-            Transfer::Upload {
-                target,
-                size,
-                offset: offset + n,
-                toggle: !toggle,
-                deadline,
-            }
-        };
+        self.advance(cx.now, offset + n, last);
         Ok(finish(
             out,
             Service::SdoResponse,
@@ -296,7 +264,7 @@ impl<const N: usize> SdoServer<N> {
         (expedited, size_indicated, unused): (bool, bool, u8),
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.transfer = Transfer::Idle;
+        self.transfer = None;
         self.timed_out = false;
         let (object, target) = resolve::<D>(target, cx.state, Direction::Write)?;
         let data = if expedited {
@@ -351,14 +319,7 @@ impl<const N: usize> SdoServer<N> {
                 .ok_or(AbortCode::OUT_OF_MEMORY)?
                 .copy_from_slice(first);
         }
-        let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
-        self.transfer = Transfer::Download {
-            target,
-            size,
-            received: first.len(),
-            toggle: false,
-            deadline,
-        };
+        self.begin(cx.now, Kind::Download, target, size, first.len());
         let len = write_sdo(
             body_of(out),
             response::download(target.complete),
@@ -376,19 +337,12 @@ impl<const N: usize> SdoServer<N> {
         last: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Transfer::Download {
+        let Segmented {
             target,
             size,
-            received,
-            toggle: expected,
+            done: received,
             ..
-        } = self.transfer
-        else {
-            return Err(self.no_transfer());
-        };
-        if toggle != expected {
-            return Err(AbortCode::TOGGLE_BIT);
-        }
+        } = self.next_segment(Kind::Download, toggle)?;
         let total = received + data.len();
         if total > size {
             return Err(AbortCode::LENGTH_TOO_HIGH);
@@ -409,18 +363,7 @@ impl<const N: usize> SdoServer<N> {
                 store(cx, object, target, value, 0, true)?;
             }
         }
-        self.transfer = if last {
-            Transfer::Idle
-        } else {
-            let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
-            Transfer::Download {
-                target,
-                size,
-                received: total,
-                toggle: !toggle,
-                deadline,
-            }
-        };
+        self.advance(cx.now, total, last);
         let body = body_of(out);
         if let Some(segment) = body.get_mut(..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
             segment.fill(0);
@@ -433,6 +376,44 @@ impl<const N: usize> SdoServer<N> {
             Service::SdoResponse,
             SEGMENT_HEADER + MIN_SEGMENT_DATA,
         ))
+    }
+
+    /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
+    /// toggle 0.
+    fn begin(&mut self, now: Instant, kind: Kind, target: Target, size: usize, done: usize) {
+        let deadline = now.saturating_add(Self::SEGMENT_TIMEOUT);
+        self.transfer = Some(Segmented {
+            kind,
+            target,
+            size,
+            done,
+            toggle: false,
+            deadline,
+        });
+    }
+
+    /// The transfer a segment of `kind` with `toggle` continues: none is 0x05040001 (or
+    /// 0x05040000 after a timeout), a toggle that did not alternate 0x05030000.
+    fn next_segment(&mut self, kind: Kind, toggle: bool) -> Result<Segmented, AbortCode> {
+        match self.transfer {
+            Some(t) if t.kind == kind && t.toggle == toggle => Ok(t),
+            Some(t) if t.kind == kind => Err(AbortCode::TOGGLE_BIT),
+            _ => Err(self.no_transfer()),
+        }
+    }
+
+    /// A segment moved the transfer to `done` bytes: it ends, or waits for the next segment
+    /// with the other toggle.
+    fn advance(&mut self, now: Instant, done: usize, last: bool) {
+        self.transfer = match self.transfer {
+            Some(t) if !last => Some(Segmented {
+                done,
+                toggle: !t.toggle,
+                deadline: now.saturating_add(Self::SEGMENT_TIMEOUT),
+                ..t
+            }),
+            _ => None,
+        };
     }
 
     /// The abort for a segment that belongs to no transfer.
