@@ -166,13 +166,13 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         let [l0, l1] = len.to_le_bytes();
         self.put(0x1000, &[l0, l1, 0, 0, 0, (self.counter << 4) | 3]);
         self.put(0x1006, payload);
-        self.sub.handle_al_event(AlEvent::sync_manager(0));
+        // The MainDevice read the previous answer: SM1's read event is latched in the AL event
+        // register and arrives with the SM0 event of this request, as in the real rhythm.
+        self.sub.handle_al_event(AlEvent::sync_manager(0) | AlEvent::sync_manager(1));
         self.drive();
         while self.sub.service_mailbox(Instant::from_micros(0), od, hooks) {
             self.drive();
         }
-        self.drive();
-        self.sub.handle_al_event(AlEvent::sync_manager(1));
         self.drive();
         let send = 0x1000 + usize::from(self.mailbox);
         let length = usize::from(u16::from_le_bytes([self.mem[send], self.mem[send + 1]]));
