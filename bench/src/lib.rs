@@ -168,7 +168,8 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         self.put(0x1006, payload);
         // The MainDevice read the previous answer: SM1's read event is latched in the AL event
         // register and arrives with the SM0 event of this request, as in the real rhythm.
-        self.sub.handle_al_event(AlEvent::sync_manager(0) | AlEvent::sync_manager(1));
+        self.sub
+            .handle_al_event(AlEvent::sync_manager(0) | AlEvent::sync_manager(1));
         self.drive();
         while self.sub.service_mailbox(Instant::from_micros(0), od, hooks) {
             self.drive();

@@ -96,7 +96,7 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
                 esc.read(Runner::Esm, address, buf, clears).await?
             }
             ecat_core::Access::Write { address, data, .. } => {
-                esc.write(Runner::Esm, address, data).await?
+                esc.write(Runner::Esm, address, data, clears).await?
             }
         };
         sub.access_done(now(), event);

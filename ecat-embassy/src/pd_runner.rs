@@ -207,7 +207,12 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         });
         if let Some(area) = layout.inputs {
             self.esc
-                .write(Runner::ProcessData, area.start, inputs)
+                .write(
+                    Runner::ProcessData,
+                    area.start,
+                    inputs,
+                    AlEvent::sync_manager(3),
+                )
                 .await
                 .map_err(Error::Pdi)?;
         }

@@ -146,14 +146,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         .await
     }
 
-    /// Writes at `address` for `runner`; returns the AL event seen.
+    /// Writes at `address` for `runner`; returns the AL event seen, less the bits the write
+    /// clears (writing SM1's buffer clears its read event).
     pub(crate) async fn write(
         &self,
         runner: Runner,
         address: u16,
         data: &[u8],
+        clears: AlEvent,
     ) -> Result<AlEvent, P::Error> {
-        let event = self.pdi.lock().await.write(address, data).await?;
+        let event = self
+            .pdi
+            .lock()
+            .await
+            .write(address, data)
+            .await?
+            .difference(clears);
         self.observe(runner, event);
         Ok(event)
     }
