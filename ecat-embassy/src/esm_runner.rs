@@ -56,12 +56,7 @@ where
 {
     loop {
         od.lock(|od| sub.refresh_process_data(&*od.borrow()));
-        if esc.take_outputs_received() {
-            sub.outputs_received();
-        }
-        while let Some(emergency) = esc.take_emergency() {
-            sub.emergency(emergency);
-        }
+        absorb(esc, sub);
         sync(esc, sub).await?;
         while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
             sync(esc, sub).await?;
@@ -69,7 +64,9 @@ where
         // Serving without an answer (a client abort, a repeated counter) still changes what the
         // core wants written, e.g. the event mask that re-arms SM0.
         sync(esc, sub).await?;
+        let mut events = false;
         while let Some(event) = sub.poll_event() {
+            events = true;
             match event {
                 Event::TransitionRequested(t) => answer(esc, sub, app, t).await?,
                 Event::StateChanged(t) => app.on_state_change(t),
@@ -77,10 +74,30 @@ where
             }
             sync(esc, sub).await?;
         }
+        if events {
+            // What the events led to (a new state, emergencies absorbed while answering) may
+            // have given the mailbox work: one more pass before waiting.
+            continue;
+        }
         match select(esc.esm_events(), until(sub.poll_timeout())).await {
             Either::First(event) => sub.handle_al_event(event),
             Either::Second(()) => sub.handle_timeout(now()),
         }
+    }
+}
+
+/// Hands the core what the rest of the firmware told the runner: emergencies the application
+/// raised and outputs the process-data runner received. Taking them is what lets
+/// [`SharedEsc::esm_events`] wait again.
+fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
+    esc: &SharedEsc<M, P>,
+    sub: &mut SubDevice<'_, MBX>,
+) {
+    if esc.take_outputs_received() {
+        sub.outputs_received();
+    }
+    while let Some(emergency) = esc.take_emergency() {
+        sub.emergency(emergency);
     }
 }
 
@@ -137,9 +154,7 @@ async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
                 Either::Second(event) => Some(event),
             }
         };
-        if esc.take_outputs_received() {
-            sub.outputs_received();
-        }
+        absorb(esc, sub);
         if let Some(event) = event {
             sub.handle_al_event(event);
         }

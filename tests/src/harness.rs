@@ -30,6 +30,37 @@ use crate::master::TestMaster;
 /// Serialises scenarios: the mock time driver is one per process.
 static SERIAL: Mutex<()> = Mutex::new(());
 
+/// A scenario still running after this much wall-clock time is hung (a task spinning without
+/// yielding): the test process aborts with a message instead of hanging CI. Scenarios take
+/// milliseconds; all their waiting is in virtual time.
+const HANG_LIMIT: std::time::Duration = std::time::Duration::from_secs(60);
+
+/// Aborts the process if the scenario it guards outlives [`HANG_LIMIT`].
+struct HangGuard(std::sync::mpsc::Sender<()>);
+
+impl HangGuard {
+    fn arm() -> Self {
+        let (done, finished) = std::sync::mpsc::channel::<()>();
+        std::thread::spawn(move || {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                finished.recv_timeout(HANG_LIMIT)
+            {
+                eprintln!(
+                    "harness: scenario still running after {HANG_LIMIT:?}: a task spins without yielding"
+                );
+                std::process::abort();
+            }
+        });
+        Self(done)
+    }
+}
+
+impl Drop for HangGuard {
+    fn drop(&mut self) {
+        let _ = self.0.send(());
+    }
+}
+
 /// Largest process image the harness's runner buffers hold.
 const MAX_IMAGE: usize = 1024;
 /// Largest mailbox the harness's SubDevice holds.
@@ -148,6 +179,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
     F: Future<Output = ()> + 'static,
 {
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
+    let _guard = HangGuard::arm();
     MockDriver::get().reset();
     let emu = Emulator::new(device.esc);
     (device.before_start)(&TestMaster::new(emu.clone()));

@@ -316,3 +316,39 @@ fn emergencies_need_a_mailbox_state() {
         );
     });
 }
+
+/// An emergency raised while a transition waits for the application is queued, not spun on: the
+/// runner keeps waiting (the emulator's livelock detector would fail the test otherwise) and the
+/// emergency goes out once the transition is over.
+#[test]
+fn an_emergency_during_a_pending_transition_waits_its_turn() {
+    use ecat_core::{AlStatusCode, Transition};
+    use ecat_embassy::Application;
+    use embassy_time::{Duration, Timer};
+
+    #[derive(Clone, Default)]
+    struct Slow;
+    impl Application for Slow {
+        async fn on_transition(&mut self, t: Transition) -> Result<(), AlStatusCode> {
+            if t.to == AlState::SafeOp {
+                Timer::after(Duration::from_millis(50)).await;
+            }
+            Ok(())
+        }
+    }
+    impl ecat_core::dictionary::ObjectHooks<TestOd> for Slow {}
+
+    let device = Device::new(common::drive(), Slow, Loopback).with_dictionary(TestOd::default());
+    harness::run(device, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        assert_eq!(master.request(0x04).await, (0x02, 0), "pending");
+        master.raise_emergency(emergency(0x1234));
+        master.settle().await;
+        master.advance(Duration::from_millis(50)).await;
+        assert_eq!((master.al_status(), master.al_status_code()), (0x04, 0));
+        assert_eq!(
+            client(&master).read().await,
+            Some(emergency_frame(1, 0x1234))
+        );
+    });
+}
