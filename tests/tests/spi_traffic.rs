@@ -85,12 +85,9 @@ fn per_cycle<P: Pdi + 'static>(
     result.get().expect("measured")
 }
 
-fn beckhoff(size: u16) -> SpiStats {
-    per_cycle(EscConfig::default(), size, |emu, probe| {
-        BeckhoffSpi::new(
-            FakeSpi::new(BeckhoffEsc::new(emu.clone()), probe),
-            beckhoff::Config::default(),
-        )
+fn beckhoff(size: u16, config: beckhoff::Config) -> SpiStats {
+    per_cycle(EscConfig::default(), size, move |emu, probe| {
+        BeckhoffSpi::new(FakeSpi::new(BeckhoffEsc::new(emu.clone()), probe), config)
     })
 }
 
@@ -144,7 +141,7 @@ fn report(name: &str, size: u16, measured: SpiStats, minimum: SpiStats) {
 #[test]
 fn beckhoff_cycles_are_two_transactions_with_five_bytes_of_overhead() {
     for (size, expected) in [(11, 27), (64, 133)] {
-        let measured = beckhoff(size);
+        let measured = beckhoff(size, beckhoff::Config::default());
         let minimum = beckhoff_minimum(u64::from(size));
         report("Beckhoff (ET1100/AX58100)", size, measured, minimum);
         assert_eq!(
@@ -157,6 +154,25 @@ fn beckhoff_cycles_are_two_transactions_with_five_bytes_of_overhead() {
         assert_eq!(measured, minimum);
         assert_eq!(measured.bytes - 2 * u64::from(size), 5, "overhead");
     }
+    // Without the wait state byte, as SOES's stock ET1100 driver: 2 transactions, 26 bytes.
+    let slow_clock = beckhoff::Config {
+        read_latency: beckhoff::ReadLatency::SlowClock,
+        ..beckhoff::Config::default()
+    };
+    let measured = beckhoff(11, slow_clock);
+    report(
+        "Beckhoff, no wait state byte",
+        11,
+        measured,
+        beckhoff_minimum(11),
+    );
+    assert_eq!(
+        measured,
+        SpiStats {
+            transactions: 2,
+            bytes: 26
+        }
+    );
 }
 
 #[test]

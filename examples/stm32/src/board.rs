@@ -1,0 +1,86 @@
+//! Clocks, pins and interrupts (pin assignment and priorities: README.md).
+
+use embassy_stm32::exti::{self, ExtiInput};
+use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
+use embassy_stm32::mode::Async;
+use embassy_stm32::rcc::{Pll, PllMul, PllPreDiv, PllRDiv, PllSource, Sysclk};
+use embassy_stm32::spi::{self, Spi};
+use embassy_stm32::time::Hertz;
+use embassy_stm32::{bind_interrupts, dma, interrupt, peripherals};
+use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
+
+use crate::io::DigitalIo;
+
+bind_interrupts!(struct Irqs {
+    DMA1_CHANNEL1 => dma::InterruptHandler<peripherals::DMA1_CH1>;
+    DMA1_CHANNEL2 => dma::InterruptHandler<peripherals::DMA1_CH2>;
+    EXTI9_5 => exti::InterruptHandler<interrupt::typelevel::EXTI9_5>;
+    EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
+});
+
+/// SPI1 with DMA and the ESC's chip select: the bus the PDI driver owns.
+pub type EscSpi = ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output<'static>, NoDelay>;
+
+/// SPI clock: the AX58100 and the LAN9252 (READ instruction) both take 20 MHz; SPI1's kernel clock
+/// (170 MHz) divided by 16 gives 10.6 MHz, the fastest rate not above it.
+const SPI_CLOCK: Hertz = Hertz(20_000_000);
+
+/// What the firmware gets from the board.
+pub struct Board {
+    /// The ESC's SPI bus.
+    pub spi: EscSpi,
+    /// The ESC's PDI interrupt line (active low).
+    pub irq: ExtiInput<'static, Async>,
+    /// The ESC's SYNC0 output (active low, from the distributed clock).
+    pub sync0: ExtiInput<'static, Async>,
+    /// The application's pins.
+    pub io: DigitalIo,
+}
+
+impl Board {
+    /// Clocks at 170 MHz (HSI16 → PLL), then the peripherals.
+    pub fn init() -> Self {
+        let mut config = embassy_stm32::Config::default();
+        config.rcc.pll = Some(Pll {
+            source: PllSource::HSI,
+            prediv: PllPreDiv::DIV4,
+            mul: PllMul::MUL85,
+            divp: None,
+            divq: None,
+            divr: Some(PllRDiv::DIV2),
+        });
+        config.rcc.sys = Sysclk::PLL1_R;
+        config.rcc.boost = true;
+        let p = embassy_stm32::init(config);
+
+        let mut spi_config = spi::Config::default();
+        // Mode 3, the ESCs' usual PDI configuration (0x0150 = 0x03); the LAN9252 takes mode 0 or 3.
+        spi_config.mode = spi::MODE_3;
+        spi_config.frequency = SPI_CLOCK;
+        let bus = Spi::new(
+            p.SPI1, p.PB3, p.PB5, p.PB4, p.DMA1_CH1, p.DMA1_CH2, Irqs, spi_config,
+        );
+        let cs = Output::new(p.PB6, Level::High, Speed::VeryHigh);
+        let spi = ExclusiveDevice::new_no_delay(bus, cs).unwrap_or_else(|e| match e {});
+
+        Self {
+            spi,
+            irq: ExtiInput::new(p.PA10, p.EXTI10, Pull::Up, Irqs),
+            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Up, Irqs),
+            io: DigitalIo::new(
+                [
+                    Output::new(p.PA5, Level::Low, Speed::Low),
+                    Output::new(p.PA6, Level::Low, Speed::Low),
+                    Output::new(p.PA7, Level::Low, Speed::Low),
+                    Output::new(p.PC7, Level::Low, Speed::Low),
+                ],
+                [
+                    Input::new(p.PC13, Pull::None),
+                    Input::new(p.PA0, Pull::Down),
+                    Input::new(p.PA1, Pull::Down),
+                    Input::new(p.PA4, Pull::Down),
+                ],
+            ),
+        }
+    }
+}

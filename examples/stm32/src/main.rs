@@ -1,0 +1,181 @@
+//! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
+//! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`).
+//!
+//! Two executors (priorities: README.md):
+//! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
+//!   owns the PDI IRQ line, and the SYNC0 task: an exchange preempts the mailbox and the state
+//!   machine at once;
+//! - the thread executor runs the start-up and the state-machine/mailbox runner.
+#![no_std]
+#![no_main]
+#![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
+
+use core::cell::RefCell;
+
+use defmt::{error, info, unwrap};
+use defmt_rtt as _;
+use ecat_core::device::{MailboxConfig, ProcessDataSizes};
+use ecat_core::dictionary::ObjectHooks;
+use ecat_core::{DeviceConfig, SubDevice, Transition};
+use ecat_embassy::pd_runner::Buffers;
+use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_process_data};
+use ecat_stm32::board::{Board, EscSpi};
+use ecat_stm32::io::{self, DigitalIo};
+use embassy_executor::{Executor, InterruptExecutor, SendSpawner, Spawner};
+use embassy_stm32::exti::ExtiInput;
+use embassy_stm32::interrupt::{self, InterruptExt, Priority};
+use embassy_stm32::mode::Async;
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+use panic_probe as _;
+use static_cell::StaticCell;
+
+#[cfg(all(feature = "ax58100", feature = "lan9252"))]
+compile_error!("choose one ESC: feature `ax58100` or `lan9252`");
+
+#[cfg(not(feature = "lan9252"))]
+mod esc {
+    //! AX58100 (or ET1100/ET1200): the Beckhoff SPI protocol, whole regions per transaction.
+    use ecat_embassy::spi::beckhoff::{BeckhoffSpi, Config};
+
+    use super::EscSpi;
+
+    pub type Pdi = BeckhoffSpi<EscSpi>;
+    /// The AX58100's ESC: 8 SyncManagers, process RAM up to 0x3000 (the ET1100's 8 KiB).
+    pub const SYNC_MANAGERS: u8 = 8;
+    pub const PROCESS_RAM_END: u32 = 0x3000;
+
+    pub async fn start(spi: EscSpi) -> Result<Pdi, core::convert::Infallible> {
+        Ok(BeckhoffSpi::new(spi, Config::default()))
+    }
+}
+
+#[cfg(feature = "lan9252")]
+mod esc {
+    //! LAN9252: reset, byte-order test, ready check, IRQ output enabled.
+    use ecat_embassy::spi::lan9252::{Config, Error, Lan9252};
+
+    use super::EscSpi;
+
+    pub type Pdi = Lan9252<EscSpi>;
+    /// The LAN9252's ESC: 4 SyncManagers, 4 KiB of process RAM.
+    pub const SYNC_MANAGERS: u8 = 4;
+    pub const PROCESS_RAM_END: u32 = 0x2000;
+
+    pub async fn start(
+        spi: EscSpi,
+    ) -> Result<Pdi, Error<<EscSpi as embedded_hal_async::spi::ErrorType>::Error>> {
+        Lan9252::start(spi, Config::default()).await
+    }
+}
+
+/// Mailboxes of 128 bytes at 0x1000/0x1080; 1 byte of outputs, 1 byte of inputs.
+const DEVICE: DeviceConfig = {
+    let mut config = DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, 128),
+        ProcessDataSizes {
+            outputs: 1,
+            inputs: 1,
+        },
+    );
+    config.sync_manager_count = esc::SYNC_MANAGERS;
+    config.process_ram_end = esc::PROCESS_RAM_END;
+    config
+};
+const _: () = assert!(DEVICE.validate().is_ok());
+
+type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;
+type Dictionary = SharedDictionary<CriticalSectionRawMutex, ()>;
+
+static ESC: StaticCell<Esc> = StaticCell::new();
+static DICTIONARY: Dictionary = Mutex::new(RefCell::new(()));
+static EXECUTOR_HIGH: InterruptExecutor = InterruptExecutor::new();
+static EXECUTOR_LOW: StaticCell<Executor> = StaticCell::new();
+
+/// The process-data executor's interrupt: UART4 is unused on this board.
+#[embassy_stm32::interrupt]
+unsafe fn UART4() {
+    // SAFETY: the executor was started on this interrupt; only the interrupt handler calls it.
+    unsafe { EXECUTOR_HIGH.on_interrupt() }
+}
+
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    let board = Board::init();
+    info!("ecat digital I/O starting");
+    interrupt::UART4.set_priority(Priority::P6);
+    let high = EXECUTOR_HIGH.start(interrupt::UART4);
+    EXECUTOR_LOW
+        .init(Executor::new())
+        .run(|spawner| spawner.spawn(unwrap!(start(spawner, high, board))))
+}
+
+/// Brings the ESC up (the LAN9252 needs a reset sequence), then starts the runners.
+#[embassy_executor::task]
+async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
+    let Board {
+        spi,
+        irq,
+        sync0,
+        io,
+    } = board;
+    let pdi = match esc::start(spi).await {
+        Ok(pdi) => pdi,
+        Err(e) => {
+            error!("ESC start-up failed: {}", defmt::Debug2Format(&e));
+            return;
+        }
+    };
+    let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
+    high.spawn(unwrap!(process_data(esc, irq, io)));
+    high.spawn(unwrap!(sync(sync0)));
+    spawner.spawn(unwrap!(state_machine(esc)));
+}
+
+/// State hooks: accept every transition, log state changes.
+struct Hooks;
+
+impl Application for Hooks {
+    fn on_state_change(&mut self, transition: Transition) {
+        info!(
+            "AL state {=u8:#x} -> {=u8:#x}",
+            transition.from as u8, transition.to as u8
+        );
+        if !transition.to.has_process_data() {
+            io::on_process_data_stopped();
+        }
+    }
+}
+
+impl ObjectHooks<()> for Hooks {}
+
+/// The state machine and the mailbox, in the thread executor.
+#[embassy_executor::task]
+async fn state_machine(esc: &'static Esc) {
+    let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
+    let error = run_esm(esc, &mut sub, &mut Hooks, &DICTIONARY).await;
+    error!("PDI failed: {}", defmt::Debug2Format(&error));
+}
+
+/// The process-data exchange, in the interrupt executor; owns the PDI IRQ line.
+#[embassy_executor::task]
+async fn process_data(esc: &'static Esc, mut irq: ExtiInput<'static, Async>, mut io: DigitalIo) {
+    let (mut outputs, mut inputs) = ([0; 1], [0; 1]);
+    let buffers = Buffers {
+        outputs: &mut outputs,
+        inputs: &mut inputs,
+    };
+    let error = run_process_data(esc, &mut irq, &mut io, &DICTIONARY, buffers).await;
+    io.apply(0);
+    error!("process data stopped: {}", defmt::Debug2Format(&error));
+}
+
+/// SYNC0 from the ESC's distributed clock: samples the inputs (in the interrupt executor, so the
+/// instant does not depend on the mailbox's work).
+#[embassy_executor::task]
+async fn sync(mut sync0: ExtiInput<'static, Async>) {
+    loop {
+        sync0.wait_for_falling_edge().await;
+        io::on_sync0();
+    }
+}
