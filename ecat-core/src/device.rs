@@ -5,6 +5,7 @@
 //! MainDevice reads (mailbox words 0x0018..0x001B, SM category), so what the device checks and what
 //! it advertises cannot disagree.
 
+use crate::sync::SupportedSync;
 use crate::time::Duration;
 use crate::{AlStatusCode, register};
 
@@ -97,6 +98,10 @@ pub struct DeviceConfig {
     /// SubDevice reads all their activation registers on an SM-change event, which is what clears
     /// the event in the ESC.
     pub sync_manager_count: u8,
+    /// The sync types the device supports (0x1C32:04). Default: free-run and SM-synchronous.
+    pub sync: SupportedSync,
+    /// The cycle of free-run mode. Default: 1 ms.
+    pub free_run_cycle: Duration,
     /// How long the application may leave an upward transition pending before the SubDevice
     /// answers it with [`AlStatusCode::UNSPECIFIED_ERROR`]. Well below the 5 s MainDevices wait.
     pub transition_timeout: Duration,
@@ -117,6 +122,8 @@ impl DeviceConfig {
             process_data,
             process_ram_end: Self::DEFAULT_PROCESS_RAM_END,
             sync_manager_count: 8,
+            sync: SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM),
+            free_run_cycle: Duration::from_millis(1),
             transition_timeout: Self::DEFAULT_TRANSITION_TIMEOUT,
         }
     }

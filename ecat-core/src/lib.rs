@@ -24,6 +24,7 @@
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
+//! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
 #![no_std]
@@ -51,6 +52,7 @@ pub mod process_data;
 pub mod register;
 pub mod ring;
 pub mod subdevice;
+pub mod sync;
 pub mod sync_manager;
 pub mod time;
 

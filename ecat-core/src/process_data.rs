@@ -3,6 +3,7 @@
 
 use crate::AlEvent;
 use crate::device::Area;
+use crate::time::Duration;
 
 /// The process-data areas as the MainDevice configured SM2 and SM3, valid in SAFEOP and OP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -14,6 +15,8 @@ pub struct Layout {
     /// The AL event that starts a cycle: SM2 written by the MainDevice, or for an input-only device
     /// SM3 read by it.
     pub trigger: AlEvent,
+    /// Free-run: a cycle every this long on a local timer, and no trigger event.
+    pub free_run: Option<Duration>,
     /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
     /// moving, but never handed to the application.
     pub outputs_active: bool,

@@ -32,6 +32,7 @@ use crate::pdo::layout::Layout as PdoLayout;
 use crate::process_data::Layout;
 use crate::register;
 use crate::ring::Ring;
+use crate::sync::{self, SyncType};
 use crate::sync_manager::Channel;
 use crate::sync_manager::check::{self, Channels};
 use crate::time::Instant;
@@ -195,6 +196,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     pd_stale: bool,
     /// Valid outputs arrived since SAFEOP was entered.
     outputs_received: bool,
+    /// The sync type the dictionary asks for, or why it cannot be.
+    sync: Result<SyncType, AlStatusCode>,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -226,6 +229,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
             outputs_received: false,
+            sync: Ok(SyncType::SmSynchronous),
         }
     }
 
@@ -287,6 +291,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             trigger: self.process_data_trigger(),
+            free_run: (self.sync == Ok(SyncType::FreeRun)).then_some(self.config.free_run_cycle),
             outputs_active: self.state == AlState::Op,
         })
     }
@@ -294,7 +299,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
         let sizes = self.pd_sizes.unwrap_or_default();
-        if sizes.outputs > 0 {
+        if self.sync == Ok(SyncType::FreeRun) {
+            AlEvent::NONE
+        } else if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
         } else if sizes.inputs > 0 {
             AlEvent::sync_manager(3)
@@ -691,8 +698,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             let sizes = self.pd_sizes.map_err(|c| (c, AlState::PreOp))?;
             check::process_data(&self.channels, sizes, self.config)
                 .map_err(|c| (c, AlState::PreOp))?;
+            self.check_sync(sizes).map_err(|c| (c, AlState::PreOp))?;
             check::watchdog(&self.channels, sizes, self.watchdog_time)
                 .map_err(|c| (c, AlState::PreOp))?;
+        }
+        Ok(())
+    }
+
+    /// The sync type must be supported; free-run needs SM2 in 3-buffer mode (0x0029).
+    fn check_sync(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
+        let sync = self.sync?;
+        let one_buffer =
+            self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;
+        if sync == SyncType::FreeRun && sizes.outputs > 0 && one_buffer {
+            return Err(AlStatusCode::FREE_RUN_NEEDS_3_BUFFER);
         }
         Ok(())
     }
@@ -834,10 +853,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// SubDevice handles AL events; without assignment objects (0x1C12/0x1C13) the device
     /// configuration's fixed sizes apply. An unusable mapping answers PREOP→SAFEOP with 0x0025
     /// (outputs) or 0x0024 (inputs).
-    pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &D) {
+    ///
+    /// It also takes the sync type the MainDevice chose (0x1C32:01, see [`crate::sync`]) and
+    /// fills what the stack knows into 0x1C32: the supported types (SI4) and, in free-run, the
+    /// cycle time (SI2).
+    pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
         if !core::mem::take(&mut self.pd_stale) {
             return;
         }
+        self.sync = sync::requested(od, self.config);
+        sync::fill(od, self.config, self.sync.ok());
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
             Ok(Some(layout)) => Ok(layout.bytes()),

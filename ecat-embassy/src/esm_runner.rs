@@ -55,7 +55,7 @@ where
     D: ObjectDictionary,
 {
     loop {
-        od.lock(|od| sub.refresh_process_data(&*od.borrow()));
+        od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
         absorb(esc, sub);
         sync(esc, sub).await?;
         while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {

@@ -7,11 +7,13 @@ use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::process_data::Layout;
-use embassy_futures::select::{Either, select};
+use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::raw::RawMutex;
+use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
 use crate::shared::Runner;
+use crate::time::{to_embassy, until_instant as until};
 use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
 
 /// Why the process-data runner stopped.
@@ -62,6 +64,8 @@ where
         images: None,
     };
     let mut current: Option<Layout> = None;
+    // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
+    let mut tick: Option<Instant> = None;
     loop {
         let seen = esc.pd_generation();
         let layout = esc.layout();
@@ -71,17 +75,23 @@ where
             if was_active && !layout.is_some_and(|l| l.outputs_active) {
                 exchange.safe_state();
             }
+            tick = layout
+                .and_then(|l| l.free_run)
+                .map(|cycle| Instant::now() + to_embassy(cycle));
             exchange.on_new_layout(layout).await
         } else if !esc.take_pd_events().is_empty() {
             exchange.on_trigger(layout, true).await
         } else if !esc.esm_started() || esc.esm_holds_irq() {
-            esc.pd_news_since(seen).await;
-            Ok(())
+            match select(esc.pd_news_since(seen), until(tick)).await {
+                Either::First(()) => Ok(()),
+                Either::Second(()) => exchange.on_tick(layout, &mut tick).await,
+            }
         } else {
-            match select(irq.wait_for_low(), esc.pd_news_since(seen)).await {
-                Either::First(Ok(())) => exchange.on_trigger(layout, false).await,
-                Either::First(Err(e)) => Err(Error::Irq(e)),
-                Either::Second(()) => Ok(()),
+            match select3(irq.wait_for_low(), esc.pd_news_since(seen), until(tick)).await {
+                Either3::First(Ok(())) => exchange.on_trigger(layout, false).await,
+                Either3::First(Err(e)) => Err(Error::Irq(e)),
+                Either3::Second(()) => Ok(()),
+                Either3::Third(()) => exchange.on_tick(layout, &mut tick).await,
             }
         };
         if let Err(e) = step {
@@ -129,15 +139,45 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         self.cycle(layout, false).await
     }
 
+    /// Free-run: a cycle is due. Reads the outputs (their SM2 event, coming along, tells whether
+    /// the MainDevice sent any) and runs the cycle; the next one is due one cycle later.
+    async fn on_tick<I>(
+        &mut self,
+        layout: Option<Layout>,
+        tick: &mut Option<Instant>,
+    ) -> Result<(), Error<P::Error, I>> {
+        let Some(layout) = layout else { return Ok(()) };
+        if let (Some(next), Some(cycle)) = (tick.as_mut(), layout.free_run) {
+            *next += to_embassy(cycle);
+        }
+        if let Some(area) = layout.outputs {
+            let buf = self
+                .buffers
+                .outputs
+                .get_mut(..usize::from(area.length))
+                .ok_or(Error::BufferTooSmall)?;
+            let event = self
+                .esc
+                .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
+                .await
+                .map_err(Error::Pdi)?;
+            if event.intersects(AlEvent::sync_manager(2)) {
+                self.esc.note_outputs_received();
+            }
+        }
+        self.cycle(layout, layout.outputs_active && layout.outputs.is_some())
+            .await
+    }
+
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
     async fn on_trigger<I>(
         &mut self,
         layout: Option<Layout>,
         known: bool,
     ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout else {
-            // Not exchanging process data: the IRQ is for the state machine; reading the AL
-            // event routes it there.
+        let Some(layout) = layout.filter(|l| l.free_run.is_none()) else {
+            // Not exchanging process data on events (none, or free-run): the IRQ is for the state
+            // machine; reading the AL event routes it there.
             self.esc
                 .read_al_event(Runner::ProcessData)
                 .await

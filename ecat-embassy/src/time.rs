@@ -7,6 +7,19 @@ pub(crate) fn now() -> ecat_core::Instant {
     ecat_core::Instant::from_micros(embassy_time::Instant::now().as_micros())
 }
 
+/// The core's duration as Embassy's.
+pub(crate) fn to_embassy(duration: ecat_core::Duration) -> embassy_time::Duration {
+    embassy_time::Duration::from_micros(duration.as_micros())
+}
+
+/// Completes at the Embassy `deadline`, or never when there is none.
+pub(crate) async fn until_instant(deadline: Option<embassy_time::Instant>) {
+    match deadline {
+        Some(at) => Timer::at(at).await,
+        None => core::future::pending().await,
+    }
+}
+
 /// Completes at `deadline`, or never when there is none.
 pub(crate) async fn until(deadline: Option<ecat_core::Instant>) {
     match deadline {

@@ -1,0 +1,159 @@
+//! Synchronisation of the process-data cycle (ETG.1020 §6 / ETG.1000.6 Table 74, objects 0x1C32
+//! for the outputs and 0x1C33 for the inputs): what triggers a cycle, and the parameters the
+//! MainDevice reads and sets.
+//!
+//! | sync type (0x1C32:01) | cycle trigger |
+//! |---|---|
+//! | 0 free-run | a local timer, [`DeviceConfig::free_run_cycle`](crate::DeviceConfig::free_run_cycle) |
+//! | 1 SM-synchronous | SM2 written by the MainDevice (SM3 read, for an input-only device) |
+//! | 2 DC SYNC0 | the SYNC0 signal (not supported yet: refused with 0x0028) |
+//!
+//! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard
+//! subindices; the stack reads the sync type the MainDevice chose and fills the rest:
+//!
+//! ```text
+//! 0x1C32 => record(sync_out: SyncParameters, "SM output parameter") {
+//!     1 => sync_type, RW_PREOP, "Synchronization type";
+//!     2 => cycle_time, RO, "Cycle time";
+//!     4 => supported, RO, "Synchronization types supported";
+//!     5 => min_cycle_time, RO, "Minimum cycle time";
+//!     0x0B => sm_event_missed, RO, "SM event missed counter";
+//!     0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
+//!     0x20 => sync_error, RO, "Sync error";
+//! };
+//! ```
+
+use crate::AlStatusCode;
+use crate::device::DeviceConfig;
+use crate::dictionary::ObjectDictionary;
+
+/// The sync type of 0x1C32:01 / 0x1C33:01 (ETG.1000.6 Table 74).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SyncType {
+    /// 0: free-run, cycles on a local timer.
+    FreeRun,
+    /// 1: synchronous with the SM2 event (SM3 for an input-only device).
+    SmSynchronous,
+    /// 2: synchronous with DC SYNC0.
+    DcSync0,
+    /// 3: synchronous with DC SYNC1.
+    DcSync1,
+    /// 0x22: synchronous with the SM2 event (0x1C33 only).
+    Sm2Synchronous,
+    /// Any other value.
+    Unknown(u16),
+}
+
+impl SyncType {
+    /// The type of the 0x1C32:01 value `code`.
+    pub const fn from_code(code: u16) -> Self {
+        match code {
+            0 => Self::FreeRun,
+            1 => Self::SmSynchronous,
+            2 => Self::DcSync0,
+            3 => Self::DcSync1,
+            0x22 => Self::Sm2Synchronous,
+            other => Self::Unknown(other),
+        }
+    }
+
+    /// The 0x1C32:01 value.
+    pub const fn code(self) -> u16 {
+        match self {
+            Self::FreeRun => 0,
+            Self::SmSynchronous => 1,
+            Self::DcSync0 => 2,
+            Self::DcSync1 => 3,
+            Self::Sm2Synchronous => 0x22,
+            Self::Unknown(code) => code,
+        }
+    }
+}
+
+/// The sync types a device supports: 0x1C32:04 (ETG.1000.6 Table 74).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SupportedSync(pub u16);
+
+impl SupportedSync {
+    /// Bit 0: free-run.
+    pub const FREE_RUN: u16 = 0x0001;
+    /// Bit 1: SM-synchronous.
+    pub const SM: u16 = 0x0002;
+    /// Bit 2: DC SYNC0.
+    pub const SYNC0: u16 = 0x0004;
+    /// Bit 3: DC SYNC1.
+    pub const SYNC1: u16 = 0x0008;
+
+    /// Whether `sync` is supported.
+    pub const fn supports(self, sync: SyncType) -> bool {
+        let bit = match sync {
+            SyncType::FreeRun => Self::FREE_RUN,
+            SyncType::SmSynchronous | SyncType::Sm2Synchronous => Self::SM,
+            SyncType::DcSync0 => Self::SYNC0,
+            SyncType::DcSync1 => Self::SYNC1,
+            SyncType::Unknown(_) => return false,
+        };
+        self.0 & bit != 0
+    }
+}
+
+/// The value of a sync manager parameter object (0x1C32/0x1C33).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct SyncParameters {
+    /// SI1: the sync type ([`SyncType::code`]), chosen by the MainDevice in PREOP.
+    pub sync_type: u16,
+    /// SI2: the cycle time in ns (free-run: the local cycle).
+    pub cycle_time: u32,
+    /// SI4: the supported sync types ([`SupportedSync`]).
+    pub supported: u16,
+    /// SI5: the minimum cycle time in ns.
+    pub min_cycle_time: u32,
+    /// SI0x0B: SM events missed.
+    pub sm_event_missed: u16,
+    /// SI0x0C: cycles that took longer than the cycle time.
+    pub cycle_time_too_small: u16,
+    /// SI0x20: a synchronisation error occurred.
+    pub sync_error: bool,
+}
+
+/// The output sync manager parameter object.
+pub const OUTPUT_PARAMETERS: u16 = 0x1C32;
+
+/// Fills what the stack knows into 0x1C32 (when the dictionary has it): the supported sync types
+/// (SI4) and, in free-run, the cycle time in ns (SI2).
+pub fn fill<D: ObjectDictionary>(od: &mut D, device: &DeviceConfig, active: Option<SyncType>) {
+    let Some(object) = D::object(OUTPUT_PARAMETERS) else {
+        return;
+    };
+    (object.store)(od, 4, u64::from(device.sync.0));
+    if active == Some(SyncType::FreeRun) {
+        (object.store)(
+            od,
+            2,
+            device.free_run_cycle.as_micros().saturating_mul(1_000),
+        );
+    }
+}
+
+/// The sync type the dictionary's 0x1C32:01 asks for, checked against the device
+/// (conformance.md "Sync parameters"): unsupported free-run is 0x0027, any other unsupported type
+/// 0x0028. Without 0x1C32 the device runs SM-synchronous when it supports it, else free-run.
+pub fn requested<D: ObjectDictionary>(
+    od: &D,
+    device: &DeviceConfig,
+) -> Result<SyncType, AlStatusCode> {
+    let Some(object) = D::object(OUTPUT_PARAMETERS) else {
+        let sm = device.sync.supports(SyncType::SmSynchronous);
+        return Ok(if sm {
+            SyncType::SmSynchronous
+        } else {
+            SyncType::FreeRun
+        });
+    };
+    let code = u16::try_from((object.load)(od, 1)).unwrap_or(u16::MAX);
+    match SyncType::from_code(code) {
+        sync if device.sync.supports(sync) => Ok(sync),
+        SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
+        _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
+    }
+}
