@@ -235,17 +235,24 @@ impl<S: SpiDevice> Lan9252<S> {
         Ok(chip)
     }
 
+    /// One SPI transaction: the driver's only await on the SPI device (one instance of its
+    /// transaction future in the firmware, about 0.5 KB of flash less than one per call site).
+    async fn transfer(
+        &mut self,
+        operations: &mut [Operation<'_, u8>],
+    ) -> Result<(), Error<S::Error>> {
+        self.spi.transaction(operations).await.map_err(Error::Spi)
+    }
+
     /// Reads one LAN9252 register (a DWORD).
     async fn read_register(&mut self, address: u16) -> Result<u32, Error<S::Error>> {
         let mut value = [0; 4];
         let header = Header::read(self.config.read, address);
-        self.spi
-            .transaction(&mut [
-                Operation::Write(header.as_slice()),
-                Operation::Read(&mut value),
-            ])
-            .await
-            .map_err(Error::Spi)?;
+        self.transfer(&mut [
+            Operation::Write(header.as_slice()),
+            Operation::Read(&mut value),
+        ])
+        .await?;
         Ok(u32::from_le_bytes(value))
     }
 
@@ -257,13 +264,11 @@ impl<S: SpiDevice> Lan9252<S> {
         }
         let len = 4 * values.len().min(2);
         let header = Header::write(address, values.len() > 1);
-        self.spi
-            .transaction(&mut [
-                Operation::Write(header.as_slice()),
-                Operation::Write(bytes.get(..len).unwrap_or_default()),
-            ])
-            .await
-            .map_err(Error::Spi)
+        self.transfer(&mut [
+            Operation::Write(header.as_slice()),
+            Operation::Write(bytes.get(..len).unwrap_or_default()),
+        ])
+        .await
     }
 
     /// An EtherCAT CSR read of `size` (1, 2 or 4) bytes at `address`; the value in the low bytes.
@@ -378,15 +383,13 @@ impl<S: SpiDevice> Lan9252<S> {
             let layout = stream.layout(position..end);
             let (mut head, mut tail) = ([0; 3], [0; 3]);
             let header = Header::read(self.config.read, PRAM_READ_FIFO);
-            self.spi
-                .transaction(&mut [
-                    Operation::Write(header.as_slice()),
-                    Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
-                    Operation::Read(buf.get_mut(layout.data.clone()).unwrap_or_default()),
-                    Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
-                ])
-                .await
-                .map_err(Error::Spi)?;
+            self.transfer(&mut [
+                Operation::Write(header.as_slice()),
+                Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
+                Operation::Read(buf.get_mut(layout.data.clone()).unwrap_or_default()),
+                Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
+            ])
+            .await?;
             position = end;
         }
         Ok(())
@@ -424,15 +427,13 @@ impl<S: SpiDevice> Lan9252<S> {
             let layout = stream.layout(position..end);
             let padding = [0; 3];
             let header = Header::write(PRAM_WRITE_FIFO, false);
-            self.spi
-                .transaction(&mut [
-                    Operation::Write(header.as_slice()),
-                    Operation::Write(padding.get(..layout.head).unwrap_or_default()),
-                    Operation::Write(data.get(layout.data).unwrap_or_default()),
-                    Operation::Write(padding.get(..layout.tail).unwrap_or_default()),
-                ])
-                .await
-                .map_err(Error::Spi)?;
+            self.transfer(&mut [
+                Operation::Write(header.as_slice()),
+                Operation::Write(padding.get(..layout.head).unwrap_or_default()),
+                Operation::Write(data.get(layout.data).unwrap_or_default()),
+                Operation::Write(padding.get(..layout.tail).unwrap_or_default()),
+            ])
+            .await?;
             space -= end - position;
             position = end;
         }
