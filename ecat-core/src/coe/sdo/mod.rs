@@ -290,13 +290,7 @@ impl<const N: usize> SdoServer<N> {
             here
         };
         store(cx, object, target, data, 0, true)?;
-        let len = write_sdo(
-            body_of(out),
-            response::download(target.complete),
-            target,
-            [0; 4],
-        );
-        Ok(finish(out, Service::SdoResponse, len))
+        Ok(download_response(out, target))
     }
 
     fn begin_segmented_download<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -320,13 +314,7 @@ impl<const N: usize> SdoServer<N> {
                 .copy_from_slice(first);
         }
         self.begin(cx.now, Kind::Download, target, size, first.len());
-        let len = write_sdo(
-            body_of(out),
-            response::download(target.complete),
-            target,
-            [0; 4],
-        );
-        Ok(finish(out, Service::SdoResponse, len))
+        Ok(download_response(out, target))
     }
 
     fn download_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -637,6 +625,17 @@ fn segment_data(request: &[u8], unused: u8) -> &[u8] {
     } else {
         data
     }
+}
+
+/// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
+fn download_response(out: &mut [u8], target: Target) -> usize {
+    let len = write_sdo(
+        body_of(out),
+        response::download(target.complete),
+        target,
+        [0; 4],
+    );
+    finish(out, Service::SdoResponse, len)
 }
 
 /// Writes command, index, subindex and four data bytes; returns 8.
