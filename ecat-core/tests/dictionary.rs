@@ -30,9 +30,9 @@ ecat_core::dictionary! {
             3 => product_code, RO, "Product code";
         };
         0x2000 => array(flags, RW | TXPDO, "Flags", "Flag", default = true);
-        0x6060 => var(mode, RW | RXPDO, "Modes of operation", default = 8, min = -1, max = 10, unit = 0x0000_0000);
+        0x6060 => var(mode, RW | RXPDO, "Modes of operation", default = 8, min = -1, max = 10, unit = 0x0000);
         0x6061 => var(level, RW_PREOP, "Level");
-        0x607A => var(position, RW | RXPDO | BACKUP, "Target position", min = -1000, max = 1000, unit = 0x0001_0000);
+        0x607A => var(position, RW | RXPDO | BACKUP, "Target position", min = -1000, max = 1000, unit = 0x0001);
     }
 }
 
@@ -94,10 +94,7 @@ fn metadata_comes_from_the_field_types() {
     assert_eq!(record.entry(0).unwrap().data_type, DataType::Unsigned8);
 
     let position = Od::object(0x607A).unwrap().info.entry(0).unwrap();
-    assert_eq!(
-        (position.unit, position.access.backup()),
-        (0x0001_0000, true)
-    );
+    assert_eq!((position.unit, position.access.backup()), (0x0001, true));
     assert!(Od::object(0x1001).is_none());
 }
 

@@ -35,10 +35,10 @@ ecat_core::dictionary! {
             1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
             3 => product_code, RO, "Product code";
         };
-        0x2000 => array(gains, RW | TXPDO | BACKUP, "Gains", "Gain", default = 10, min = 0, max = 1000, unit = 0x00FD_0000);
+        0x2000 => array(gains, RW | TXPDO | BACKUP, "Gains", "Gain", default = 10, min = 0, max = 1000, unit = 0x00FD);
         0x2001 => var(setting, RW_PREOP | SETTINGS, "Réglage");
         0x6000 => var(inputs, RO | TXPDO, "Inputs");
-        0x607A => var(position, RW | RXPDO | BACKUP, "Target position", default = 5, min = -1000, max = 1000, unit = 0x0001_0000);
+        0x607A => var(position, RW | RXPDO | BACKUP, "Target position", default = 5, min = -1000, max = 1000, unit = 0x0001);
         0x7000 => record(outputs: Outputs, "Outputs") {
             1 => value, RW | RXPDO, "Value";
             2 => other, RW | RXPDO | BACKUP, "Other";
@@ -415,7 +415,7 @@ fn position_fixed(vi: u8) -> [u8; 10] {
     [0x7A, 0x60, 0x00, vi, 0x04, 0x00, 0x20, 0x00, 0x7F, 0x01]
 }
 
-const UNIT: [u8; 4] = [0x00, 0x00, 0x01, 0x00];
+const UNIT: [u8; 2] = [0x01, 0x00];
 const DEFAULT: [u8; 4] = [0x05, 0x00, 0x00, 0x00];
 const MIN: [u8; 4] = [0x18, 0xFC, 0xFF, 0xFF];
 const MAX: [u8; 4] = [0xE8, 0x03, 0x00, 0x00];
@@ -480,7 +480,7 @@ fn entry_description_clears_the_bits_of_undeclared_values() {
     let inputs = |vi| ask(&[0x05, 0x00, 0x00, 0x00, 0x00, 0x60, 0x00, vi]);
     assert_eq!(
         inputs(0x78),
-        message(0x06, &[&fixed(0x08), &[0, 0, 0, 0], b"Inputs"])
+        message(0x06, &[&fixed(0x08), &[0, 0], b"Inputs"])
     );
     assert_eq!(inputs(0x70), message(0x06, &[&fixed(0x00), b"Inputs"]));
     // 0x1018:01 declares a default only.
@@ -505,7 +505,7 @@ fn entry_description_of_an_array_element_uses_the_element_description() {
             0x06,
             &[
                 &[0x00, 0x20, 0x03, 0x78, 0x03, 0x00, 0x10, 0x00, 0xBF, 0x01], // INTEGER16, 16 bits, RW|TXPDO|BACKUP
-                &[0x00, 0x00, 0xFD, 0x00],                                     // unit
+                &[0xFD, 0x00],                                                 // unit
                 &[0x0A, 0x00, 0x00, 0x00, 0xE8, 0x03], // default 10, min 0, max 1000
                 b"Gain",
             ]
@@ -518,7 +518,7 @@ fn entry_description_of_an_array_element_uses_the_element_description() {
             0x06,
             &[
                 &[0x00, 0x20, 0x00, 0x08, 0x05, 0x00, 0x08, 0x00, 0x07, 0x00],
-                &[0, 0, 0, 0],
+                &[0, 0],
                 b"Number of entries"
             ]
         )
@@ -582,9 +582,9 @@ fn a_string_default_fills_the_entry_bit_length() {
         ask_with::<Od>(
             &mut info,
             &[0x05, 0x00, 0x00, 0x00, 0x08, 0x10, 0x00, 0x18],
-            6 + 10 + 4 + 7
+            6 + 10 + 2 + 7
         ),
-        message(0x06, &[&fixed(0x08), &[0, 0, 0, 0], b"Manufac"])
+        message(0x06, &[&fixed(0x08), &[0, 0], b"Manufac"])
     );
     // No room for the fixed part.
     assert_eq!(

@@ -215,7 +215,7 @@ impl ListType {
 pub struct ValueInfo(pub u8);
 
 impl ValueInfo {
-    /// Bit 3: the unit type, u32 (ETG.1004 unit code).
+    /// Bit 3: the unit type, u16.
     pub const UNIT_TYPE: u8 = 0x08;
     /// Bit 4: the default value.
     pub const DEFAULT_VALUE: u8 = 0x10;
@@ -389,7 +389,7 @@ fn object_description<D: ObjectDictionary>(
 
 /// Get Entry Description (ETG.1000.6 §5.6.3.6). Request: u16 index, u8 subindex, u8 value info.
 /// Response: u16 index, u8 subindex, u8 value info (the bits honoured), u16 data type, u16 bit
-/// length, u16 object access, then the fields value info announces (unit u32, default, minimum,
+/// length, u16 object access, then the fields value info announces (unit u16, default, minimum,
 /// maximum, see the module documentation), then the name (cut to fit, no terminator).
 fn entry_description<D: ObjectDictionary>(
     params: &[u8],

@@ -29,8 +29,9 @@ pub struct EntryInfo {
     pub bit_len: u16,
     /// Access rights and flags.
     pub access: Access,
-    /// The unit (ETG.1004 unit code), 0 for none.
-    pub unit: u32,
+    /// The unit type sent in the SDO Information entry description (UNSIGNED16, ETG.1000.6
+    /// §5.6.3.6 "Get Entry Description"), 0 for none.
+    pub unit: u16,
     /// Which of default, minimum and maximum the dictionary declares.
     pub limits: Limits,
 }
