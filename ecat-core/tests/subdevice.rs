@@ -19,6 +19,19 @@ fn request(regs: &mut Regs, sub: &mut SubDevice<'_>, control: u16) -> Vec<Op> {
     regs.drive(sub, T0)
 }
 
+/// The MainDevice requests `to`, the application accepts; returns the accesses after the answer.
+fn step_up(
+    regs: &mut Regs,
+    sub: &mut SubDevice<'_>,
+    control: u16,
+    from: AlState,
+    to: AlState,
+) -> Vec<Op> {
+    request(regs, sub, control);
+    sub.complete_transition(up(from, to), Ok(()));
+    regs.drive(sub, T0)
+}
+
 /// A SubDevice after its start-up accesses.
 fn started(regs: &mut Regs) -> SubDevice<'static> {
     let mut sub = SubDevice::new(&DEVICE);
@@ -121,25 +134,16 @@ fn process_data_trigger_joins_the_event_mask_in_safeop() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
     configure_all(&mut regs);
-    for (control, from, to) in [
-        (2, AlState::Init, AlState::PreOp),
-        (4, AlState::PreOp, AlState::SafeOp),
-    ] {
-        request(&mut regs, &mut sub, control);
-        sub.complete_transition(up(from, to), Ok(()));
-        let log = regs.drive(&mut sub, T0);
-        if to == AlState::SafeOp {
-            assert_eq!(
-                log,
-                [
-                    Op::Write(0x0204, vec![0x11, 0x05, 0, 0]),
-                    Op::Write(0x0817, vec![0]),
-                    Op::Write(0x081F, vec![0]),
-                    Op::Write(0x0130, vec![4, 0]),
-                ]
-            );
-        }
-    }
+    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    assert_eq!(
+        step_up(&mut regs, &mut sub, 4, AlState::PreOp, AlState::SafeOp),
+        [
+            Op::Write(0x0204, vec![0x11, 0x05, 0, 0]),
+            Op::Write(0x0817, vec![0]),
+            Op::Write(0x081F, vec![0]),
+            Op::Write(0x0130, vec![4, 0]),
+        ]
+    );
     let layout = sub.process_data().expect("layout in SAFEOP");
     assert_eq!(
         (layout.outputs, layout.inputs),
@@ -218,4 +222,68 @@ fn application_refusal_carries_its_code() {
     sub.complete_transition(up(AlState::Init, AlState::PreOp), Err(AlStatusCode(0x8001)));
     regs.drive(&mut sub, T0);
     assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0011, 0x8001));
+}
+
+#[test]
+fn register_reads_clear_the_events_the_esc_clears() {
+    use ecat_core::AlEvent;
+    let cleared = AlEvent::cleared_by_register_read;
+    assert_eq!(cleared(0x0120, 2), AlEvent::AL_CONTROL);
+    assert_eq!(
+        cleared(0x011F, 2),
+        AlEvent::AL_CONTROL,
+        "a read that spans 0x0120"
+    );
+    assert_eq!(cleared(0x011F, 1), AlEvent::NONE);
+    assert_eq!(
+        cleared(0x0121, 1),
+        AlEvent::NONE,
+        "only the low byte clears it"
+    );
+    assert_eq!(cleared(0x0806, 1), AlEvent::SM_CHANGE, "SM0 activation");
+    assert_eq!(
+        cleared(0x0800, 6),
+        AlEvent::NONE,
+        "SM0 without its activation byte"
+    );
+    assert_eq!(cleared(0x0878, 8), AlEvent::SM_CHANGE, "SM15");
+    assert_eq!(cleared(0x0880, 8), AlEvent::NONE, "no SM16");
+    assert_eq!(cleared(0x0440, 2), AlEvent::WATCHDOG_PROCESS_DATA);
+    assert_eq!(
+        cleared(0x0000, 0x1000),
+        AlEvent::AL_CONTROL | AlEvent::SM_CHANGE | AlEvent::WATCHDOG_PROCESS_DATA
+    );
+    assert_eq!(cleared(0x0120, 0), AlEvent::NONE, "an empty read");
+    assert_eq!(cleared(0xFFFF, usize::MAX), AlEvent::NONE, "no overflow");
+}
+
+#[test]
+fn expired_watchdog_in_op_reads_0x0440_and_falls_back_to_safeop() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    step_up(&mut regs, &mut sub, 4, AlState::PreOp, AlState::SafeOp);
+    step_up(&mut regs, &mut sub, 8, AlState::SafeOp, AlState::Op);
+    sub.outputs_received();
+    regs.drive(&mut sub, T0);
+    assert_eq!(sub.state(), AlState::Op);
+    assert!(
+        sub.event_mask()
+            .contains(ecat_core::AlEvent::WATCHDOG_PROCESS_DATA)
+    );
+
+    regs.put(ecat_core::register::WATCHDOG_STATUS_PROCESS_DATA, &[0, 0]); // expired
+    regs.event |= ecat_core::AlEvent::WATCHDOG_PROCESS_DATA.bits();
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(log.first(), Some(&Op::Read(0x0440, 2)));
+    assert_eq!(
+        (sub.state(), sub.al_status_code()),
+        (AlState::SafeOp, AlStatusCode(0x001B))
+    );
+    assert_eq!(
+        regs.event & ecat_core::AlEvent::WATCHDOG_PROCESS_DATA.bits(),
+        0
+    );
 }

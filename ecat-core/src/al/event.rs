@@ -39,6 +39,30 @@ impl AlEvent {
         Self(u32::from_le_bytes(bytes))
     }
 
+    /// The register-sourced events a PDI read of `len` bytes from `address` clears (ESC datasheet
+    /// section II, 0x0220): AL control (bit 0) by reading 0x0120, SM change (bit 4) by reading
+    /// a SyncManager's activation register (offset 6), the process-data watchdog (bit 6) by
+    /// reading 0x0440. SM change stays set until the activation register of every changed channel
+    /// is read, so a caller that forgets it after one channel only under-reports. The SyncManager
+    /// buffer events (bits 8..) depend on the SyncManager configuration and are not included.
+    pub fn cleared_by_register_read(address: u16, len: usize) -> Self {
+        use crate::register;
+        let start = u32::from(address);
+        let end = start.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
+        let covers = |reg: u16| (start..end).contains(&u32::from(reg));
+        let mut cleared = Self::NONE;
+        if covers(register::AL_CONTROL) {
+            cleared |= Self::AL_CONTROL;
+        }
+        if (0..16).any(|n| covers(register::sync_manager(n).saturating_add(6))) {
+            cleared |= Self::SM_CHANGE;
+        }
+        if covers(register::WATCHDOG_STATUS_PROCESS_DATA) {
+            cleared |= Self::WATCHDOG_PROCESS_DATA;
+        }
+        cleared
+    }
+
     /// The raw register value.
     pub const fn bits(self) -> u32 {
         self.0

@@ -63,6 +63,13 @@ impl Regs {
             let clears = access.clears();
             match access {
                 Access::Read { address, buf, .. } => {
+                    let register_events =
+                        AlEvent::AL_CONTROL | AlEvent::SM_CHANGE | AlEvent::WATCHDOG_PROCESS_DATA;
+                    assert_eq!(
+                        clears.intersection(register_events),
+                        AlEvent::cleared_by_register_read(address, buf.len()),
+                        "the core's idea of what reading {address:#06x} clears is the ESC's"
+                    );
                     let a = usize::from(address);
                     buf.copy_from_slice(&self.mem[a..a + buf.len()]);
                     log.push(Op::Read(address, buf.len()));

@@ -44,7 +44,7 @@
 use core::ops::Range;
 
 use ecat_core::AlEvent;
-use ecat_core::register::{self, AL_CONTROL, AL_EVENT_REQUEST, PROCESS_RAM};
+use ecat_core::register::{AL_EVENT_REQUEST, PROCESS_RAM};
 use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
@@ -112,7 +112,7 @@ const PRAM_BUSY: u32 = 1 << 31;
 pub const PRAM_FIFO_DWORDS: usize = 16;
 
 /// The events the driver keeps reporting after reading them: those whose clearing it can follow
-/// ([`cleared_by_read`]), which are also the state-machine events.
+/// ([`AlEvent::cleared_by_register_read`]), which are also the state-machine events.
 const TRACKED: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 
 /// Between two polls of a register that is not ready yet.
@@ -448,7 +448,7 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
     /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
     /// any other read reports the state-machine events known to be pending (see the module docs).
     async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
-        let clears = cleared_by_read(address, buf.len());
+        let clears = AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED);
         let (registers, ram) = split_at_process_ram(address, buf);
         let mut fresh = None;
         if !ram.is_empty() {
@@ -474,24 +474,6 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
         self.write_pram(address.max(PROCESS_RAM), ram).await?;
         Ok(self.known)
     }
-}
-
-/// The [`TRACKED`] events a read of `len` bytes at `address` clears in the ESC: AL control (bit 0)
-/// by reading 0x0120, SM change (bit 4) by reading the activation register (offset 6) of a
-/// SyncManager (ESC datasheet section II, 0x0220). SM change stays set until every changed
-/// channel's register is read: forgetting it early only under-reports, which the IRQ line repairs.
-fn cleared_by_read(address: u16, len: usize) -> AlEvent {
-    let start = u32::from(address);
-    let end = start.saturating_add(u32::try_from(len).unwrap_or(u32::MAX));
-    let covers = |reg: u16| (start..end).contains(&u32::from(reg));
-    let mut cleared = AlEvent::NONE;
-    if covers(AL_CONTROL) {
-        cleared |= AlEvent::AL_CONTROL;
-    }
-    if (0..16).any(|n| covers(register::sync_manager(n) + 6)) {
-        cleared |= AlEvent::SM_CHANGE;
-    }
-    cleared
 }
 
 /// How many of `len` bytes at `address` are ESC registers (below 0x1000).
