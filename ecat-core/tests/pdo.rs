@@ -298,3 +298,37 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2_000, ..ProptestConfig::default() })]
+
+    /// Fuzz target for the PDO configuration parser: arbitrary SDO writes (any bytes, any
+    /// subindex, including raw mapping entries naming missing, unmappable or oversized objects)
+    /// into the mapping and assignment objects, then the layout of both directions and a
+    /// pack/unpack into images of any length. Nothing panics; a usable layout fits its image.
+    #[test]
+    fn any_pdo_configuration_is_refused_or_fits(
+        writes in proptest::collection::vec(
+            (
+                prop_oneof![Just(0x1600u16), Just(0x1A00), Just(0x1C12), Just(0x1C13)],
+                0u8..12,
+                proptest::collection::vec(any::<u8>(), 0..6),
+            ),
+            0..24,
+        ),
+        image_len in 0usize..40,
+    ) {
+        let mut od = Od::default();
+        for (index, sub, data) in &writes {
+            let _ = write(&mut od, *index, *sub, data);
+        }
+        for direction in [Direction::Rx, Direction::Tx] {
+            let Ok(Some(layout)) = Layout::of(&od, direction) else { continue };
+            let end = layout.slots().iter().map(|s| u32::from(s.bit_offset) + u32::from(s.bit_len)).max();
+            prop_assert!(end.unwrap_or(0) <= u32::from(layout.bytes()) * 8);
+            let mut image = vec![0xA5; image_len];
+            pack(&layout, &od, &mut image);
+            unpack(&layout, &image, &mut od);
+        }
+    }
+}
