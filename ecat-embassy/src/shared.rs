@@ -123,15 +123,8 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         buf: &mut [u8],
         clears: AlEvent,
     ) -> Result<AlEvent, P::Error> {
-        let event = self
-            .pdi
-            .lock()
-            .await
-            .read(address, buf)
-            .await?
-            .difference(clears);
-        self.observe(runner, event);
-        Ok(event)
+        let seen = self.pdi.lock().await.read(address, buf).await?;
+        Ok(self.observe_access(runner, seen, clears))
     }
 
     /// Reads the AL event register (0x0220) for `runner`, which routes what it holds.
@@ -155,15 +148,15 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         data: &[u8],
         clears: AlEvent,
     ) -> Result<AlEvent, P::Error> {
-        let event = self
-            .pdi
-            .lock()
-            .await
-            .write(address, data)
-            .await?
-            .difference(clears);
+        let seen = self.pdi.lock().await.write(address, data).await?;
+        Ok(self.observe_access(runner, seen, clears))
+    }
+
+    /// The AL event `runner` saw during its access, less the bits the access cleared, routed.
+    fn observe_access(&self, runner: Runner, seen: AlEvent, clears: AlEvent) -> AlEvent {
+        let event = seen.difference(clears);
         self.observe(runner, event);
-        Ok(event)
+        event
     }
 
     /// Routes one AL event value: state-machine events to the state-machine runner (unless it made

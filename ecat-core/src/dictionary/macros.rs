@@ -105,15 +105,10 @@ macro_rules! __ecat_object {
                 code: $crate::dictionary::ObjectCode::Var,
                 name: $name,
                 max_sub: 0,
-                entries: &[$crate::dictionary::EntryInfo {
-                    sub: 0,
-                    name: $name,
-                    data_type: $crate::dictionary::data_type_of(|d: &$dict| &d.$field),
-                    bit_len: $crate::dictionary::bit_len_of(|d: &$dict| &d.$field),
-                    access: $crate::__ecat_access!($($acc)|+),
-                    unit: $crate::__ecat_or!(0 $(, $unit)?),
-                    limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
-                }],
+                entries: &[$crate::__ecat_entry!(
+                    0, $name, data_type_of, bit_len_of, |d: &$dict| &d.$field,
+                    [$($acc)|+], [$($unit)?], [$($default)?; $($min)?; $($max)?]
+                )],
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
                 0 => Ok($crate::dictionary::read_value(&d.$field, offset, out)),
@@ -154,15 +149,10 @@ macro_rules! __ecat_object {
                 max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field),
                 entries: &[
                     $crate::dictionary::EntryInfo::subindex_count("Number of entries"),
-                    $crate::dictionary::EntryInfo {
-                        sub: 1,
-                        name: $element,
-                        data_type: $crate::dictionary::element_type_of(|d: &$dict| &d.$field),
-                        bit_len: $crate::dictionary::element_bit_len_of(|d: &$dict| &d.$field),
-                        access: $crate::__ecat_access!($($acc)|+),
-                        unit: $crate::__ecat_or!(0 $(, $unit)?),
-                        limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
-                    },
+                    $crate::__ecat_entry!(
+                        1, $element, element_type_of, element_bit_len_of, |d: &$dict| &d.$field,
+                        [$($acc)|+], [$($unit)?], [$($default)?; $($min)?; $($max)?]
+                    ),
                 ],
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
@@ -212,15 +202,10 @@ macro_rules! __ecat_object {
                         access: $crate::__ecat_access!($($acc)|+),
                         ..$crate::dictionary::EntryInfo::subindex_count("Number of entries")
                     },
-                    $crate::dictionary::EntryInfo {
-                        sub: 1,
-                        name: $element,
-                        data_type: $crate::dictionary::element_type_of(|d: &$dict| &d.$field.items),
-                        bit_len: $crate::dictionary::element_bit_len_of(|d: &$dict| &d.$field.items),
-                        access: $crate::__ecat_access!($($acc)|+),
-                        unit: 0,
-                        limits: $crate::dictionary::Limits(0),
-                    },
+                    $crate::__ecat_entry!(
+                        1, $element, element_type_of, element_bit_len_of, |d: &$dict| &d.$field.items,
+                        [$($acc)|+], [], [;;]
+                    ),
                 ],
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
@@ -259,15 +244,10 @@ macro_rules! __ecat_object {
                 max_sub: $crate::dictionary::last_sub(&[$($sub),+]),
                 entries: &[
                     $crate::dictionary::EntryInfo::subindex_count("Highest sub-index supported"),
-                    $( $crate::dictionary::EntryInfo {
-                        sub: $sub,
-                        name: $sname,
-                        data_type: $crate::dictionary::data_type_of(|d: &$dict| &d.$field.$sfield),
-                        bit_len: $crate::dictionary::bit_len_of(|d: &$dict| &d.$field.$sfield),
-                        access: $crate::__ecat_access!($($acc)|+),
-                        unit: $crate::__ecat_or!(0 $(, $unit)?),
-                        limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
-                    }, )+
+                    $( $crate::__ecat_entry!(
+                        $sub, $sname, data_type_of, bit_len_of, |d: &$dict| &d.$field.$sfield,
+                        [$($acc)|+], [$($unit)?], [$($default)?; $($min)?; $($max)?]
+                    ), )+
                 ],
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
@@ -361,6 +341,26 @@ macro_rules! __ecat_or {
     };
     ($fallback:expr, $value:expr) => {
         $value
+    };
+}
+
+/// One `EntryInfo`: its type and bit length from the field `get` reaches (through `type_of` and
+/// `bits_of`, e.g. `data_type_of`/`bit_len_of` or their `element_` forms for arrays), its access,
+/// unit and declared limits.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_entry {
+    ($sub:expr, $name:expr, $type_of:ident, $bits_of:ident, $get:expr,
+     [$($acc:ident)|+], [$($unit:expr)?], [$($default:expr)?; $($min:expr)?; $($max:expr)?]) => {
+        $crate::dictionary::EntryInfo {
+            sub: $sub,
+            name: $name,
+            data_type: $crate::dictionary::$type_of($get),
+            bit_len: $crate::dictionary::$bits_of($get),
+            access: $crate::__ecat_access!($($acc)|+),
+            unit: $crate::__ecat_or!(0 $(, $unit)?),
+            limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
+        }
     };
 }
 
