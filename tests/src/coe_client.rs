@@ -3,6 +3,7 @@
 //! also send what a broken client would.
 
 use ecat_core::coe::AbortCode;
+use ecat_core::device::MailboxConfig;
 use ecat_core::mailbox::{MailboxHeader, MailboxType, next_counter};
 
 use crate::master::TestMaster;
@@ -39,6 +40,12 @@ impl<'m> SdoClient<'m> {
             counter: 0,
             round_trips: 0,
         }
+    }
+
+    /// A client for a SubDevice whose SM0/SM1 follow `mailbox`.
+    pub fn for_mailbox(master: &'m TestMaster, mailbox: &MailboxConfig) -> Self {
+        let (rx, tx) = (mailbox.receive, mailbox.send);
+        Self::new(master, (rx.start, rx.length), (tx.start, tx.length))
     }
 
     /// Sends one mailbox message (header built here with the next counter) and returns the

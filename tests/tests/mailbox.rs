@@ -4,7 +4,7 @@
 mod common;
 
 use common::od::{BlobApp, TestOd};
-use common::{MAILBOX, walk_to, walk_to_with};
+use common::{MAILBOX, client, walk_to, walk_to_with};
 use ecat_core::AlState;
 use ecat_core::coe::{AbortCode, Emergency};
 use ecat_core::device::MailboxConfig;
@@ -25,14 +25,6 @@ fn run(script: impl AsyncFnOnce(TestMaster) + 'static) {
     let device = Device::new(common::drive(), BlobApp::default(), Loopback)
         .with_dictionary(TestOd::default());
     harness::run(device, |master| async move { script(master).await })
-}
-
-fn client(master: &TestMaster) -> SdoClient<'_> {
-    SdoClient::new(
-        master,
-        (MAILBOX.receive.start, 128),
-        (MAILBOX.send.start, 128),
-    )
 }
 
 /// The mailbox error reply with `detail` and SubDevice counter `counter`, padded to SM1.

@@ -3,14 +3,14 @@
 
 mod common;
 
-use common::{MAILBOX, walk_to};
+use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::pdo::MappingEntry;
 use ecat_embassy::{Application, CycleHandler};
-use ecat_emu::coe_client::{SdoClient, SdoError};
+use ecat_emu::coe_client::SdoError;
 use ecat_emu::devices::{DRIVE_TX, Drive};
 use ecat_emu::harness::{self, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
@@ -38,14 +38,6 @@ const IN: Area = Area::new(0x1180, 11);
 fn run(script: impl AsyncFnOnce(TestMaster) + 'static) {
     let device = Device::new(common::drive(), App, Loopback).with_dictionary(Drive::default());
     harness::run(device, |master| async move { script(master).await })
-}
-
-fn client(master: &TestMaster) -> SdoClient<'_> {
-    SdoClient::new(
-        master,
-        (MAILBOX.receive.start, 128),
-        (MAILBOX.send.start, 128),
-    )
 }
 
 async fn request_safeop(master: &TestMaster, outputs: u16, inputs: u16) -> (u16, u16) {

@@ -4,7 +4,7 @@
 mod common;
 
 use common::od::{BlobApp, TestOd};
-use common::{MAILBOX, walk_to, walk_to_with};
+use common::{MAILBOX, client, walk_to, walk_to_with};
 use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::MailboxConfig;
@@ -15,15 +15,6 @@ use embassy_time::Duration;
 
 fn device(app: BlobApp) -> Device<BlobApp, Loopback, TestOd> {
     Device::new(common::drive(), app, Loopback).with_dictionary(TestOd::default())
-}
-
-fn client(master: &TestMaster) -> SdoClient<'_> {
-    client_for(master, &MAILBOX)
-}
-
-fn client_for<'m>(master: &'m TestMaster, mailbox: &MailboxConfig) -> SdoClient<'m> {
-    let (rx, tx) = (mailbox.receive, mailbox.send);
-    SdoClient::new(master, (rx.start, rx.length), (tx.start, tx.length))
 }
 
 fn run(script: impl AsyncFnOnce(TestMaster) + 'static) {
@@ -168,7 +159,7 @@ fn blob_round_trip(mailbox: MailboxConfig, round_trips: usize) {
     device.config.bootstrap_mailbox = None;
     harness::run(device, move |master| async move {
         walk_to_with(&master, AlState::PreOp, &mailbox).await;
-        let mut c = client_for(&master, &mailbox);
+        let mut c = SdoClient::for_mailbox(&master, &mailbox);
         let data: Vec<u8> = (0..10_240u32).map(|i| (i * 7 + i / 256) as u8).collect();
         c.download(0x2001, 0, false, &data).await.unwrap();
         assert_eq!(

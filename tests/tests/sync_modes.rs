@@ -3,13 +3,12 @@
 
 mod common;
 
-use common::{MAILBOX, walk_to};
+use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::sync::SupportedSync;
 use ecat_embassy::{Application, CycleHandler};
-use ecat_emu::coe_client::SdoClient;
 use ecat_emu::devices::Drive;
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
@@ -35,14 +34,6 @@ fn run(sync: u16, script: impl AsyncFnOnce(TestMaster) + 'static) {
     let mut device = Device::new(common::drive(), App, Counter).with_dictionary(Drive::default());
     device.config.sync = SupportedSync(sync);
     harness::run(device, |master| async move { script(master).await })
-}
-
-fn client(master: &TestMaster) -> SdoClient<'_> {
-    SdoClient::new(
-        master,
-        (MAILBOX.receive.start, 128),
-        (MAILBOX.send.start, 128),
-    )
 }
 
 async fn safeop(master: &TestMaster, sm2_control: u8) -> (u16, u16) {

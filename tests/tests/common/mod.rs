@@ -11,6 +11,11 @@ pub const MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1000, 128);
 pub const OUTPUTS: Area = Area::new(0x1100, 12);
 pub const INPUTS: Area = Area::new(0x1180, 11);
 
+/// An SDO client for the devices above (mailbox at [`MAILBOX`]).
+pub fn client(master: &TestMaster) -> ecat_emu::coe_client::SdoClient<'_> {
+    ecat_emu::coe_client::SdoClient::for_mailbox(master, &MAILBOX)
+}
+
 /// A drive-like device: 128-byte mailboxes, 12 bytes of outputs, 11 bytes of inputs, BOOT
 /// supported with the same mailbox layout.
 pub fn drive() -> DeviceConfig {
