@@ -39,14 +39,12 @@ const HANG_LIMIT: std::time::Duration = std::time::Duration::from_secs(60);
 struct HangGuard(std::sync::mpsc::Sender<()>);
 
 impl HangGuard {
-    fn arm() -> Self {
+    fn arm(limit: std::time::Duration) -> Self {
         let (done, finished) = std::sync::mpsc::channel::<()>();
         std::thread::spawn(move || {
-            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
-                finished.recv_timeout(HANG_LIMIT)
-            {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = finished.recv_timeout(limit) {
                 eprintln!(
-                    "harness: scenario still running after {HANG_LIMIT:?}: a task spins without yielding"
+                    "harness: scenario still running after {limit:?}: a task spins without yielding"
                 );
                 std::process::abort();
             }
@@ -66,7 +64,8 @@ const MAX_IMAGE: usize = 1024;
 /// Largest mailbox the harness's SubDevice holds.
 const MAX_MAILBOX: usize = 1024;
 
-type Stop = Signal<CriticalSectionRawMutex, ()>;
+/// Tells every runner of a scenario to stop.
+pub type Stop = Signal<CriticalSectionRawMutex, ()>;
 
 /// The device under test.
 pub struct Device<A, C, D = ()> {
@@ -145,10 +144,10 @@ impl<D> CycleHandler<D> for Loopback {
     }
 }
 
-/// Three tasks per scenario; a scenario that panics leaves its tasks behind, so the pool has
-/// room for many.
-#[embassy_executor::task(pool_size = 96)]
-async fn task(future: Pin<Box<dyn Future<Output = ()>>>, done: Rc<Cell<usize>>) {
+/// Two tasks per device and one script per scenario; a scenario that panics leaves its tasks
+/// behind, so the pool has room for many.
+#[embassy_executor::task(pool_size = 256)]
+async fn task(future: BoxedTask, done: Rc<Cell<usize>>) {
     future.await;
     done.set(done.get() + 1);
 }
@@ -178,31 +177,143 @@ pub fn run_with_pdi<A, C, D, P, F>(
     P: Pdi + 'static,
     F: Future<Output = ()> + 'static,
 {
+    execute(Some(HANG_LIMIT), |stop| {
+        let emu = Emulator::new(device.esc);
+        (device.before_start)(&TestMaster::new(emu.clone()));
+        let pdi = make_pdi(&emu);
+        let (mut futures, shared) = device.runners(&emu, pdi, stop);
+        let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
+        futures.push(Box::pin(scenario(
+            stop,
+            TestMaster::new(emu),
+            script(master),
+        )));
+        futures
+    });
+}
+
+/// Runs several SubDevices, each on its own emulated ESC, and `script` with their emulators (in
+/// the order given) until the script ends; then stops the runners. For MainDevices that talk to
+/// the ESCs at the frame level.
+pub fn run_many<F>(devices: Vec<Box<dyn Spawn>>, script: impl FnOnce(Vec<Emulator>) -> F)
+where
+    F: Future<Output = ()> + 'static,
+{
+    execute_many(devices, script, Some(HANG_LIMIT));
+}
+
+/// Like [`run_many`] but for as long as the script runs, without the test harness's limit on
+/// wall-clock time: for programs that serve emulated SubDevices (a virtual slave, a demo).
+pub fn serve<F>(devices: Vec<Box<dyn Spawn>>, script: impl FnOnce(Vec<Emulator>) -> F)
+where
+    F: Future<Output = ()> + 'static,
+{
+    execute_many(devices, script, None);
+}
+
+fn execute_many<F>(
+    devices: Vec<Box<dyn Spawn>>,
+    script: impl FnOnce(Vec<Emulator>) -> F,
+    limit: Option<std::time::Duration>,
+) where
+    F: Future<Output = ()> + 'static,
+{
+    execute(limit, |stop| {
+        let mut futures = Vec::new();
+        let mut emulators = Vec::new();
+        for device in devices {
+            let emu = device.emulator();
+            futures.extend(device.spawn(&emu, stop));
+            emulators.push(emu);
+        }
+        let masters: Vec<TestMaster> = emulators.iter().cloned().map(TestMaster::new).collect();
+        let script = script(emulators);
+        futures.push(Box::pin(async move {
+            for master in &masters {
+                master.settle().await;
+            }
+            script.await;
+            stop.signal(());
+        }));
+        futures
+    });
+}
+
+/// A device that [`run_many`] can start next to devices of other types.
+pub trait Spawn {
+    /// A new emulated ESC for the device, loaded with its SII image.
+    fn emulator(&self) -> Emulator;
+    /// The device's two runners on `emu`, stopping when `stop` is signalled.
+    fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<BoxedTask>;
+}
+
+impl<A, C, D> Spawn for Device<A, C, D>
+where
+    A: Application + ObjectHooks<D> + 'static,
+    C: CycleHandler<D> + 'static,
+    D: ObjectDictionary,
+{
+    fn emulator(&self) -> Emulator {
+        let emu = Emulator::new(self.esc);
+        (self.before_start)(&TestMaster::new(emu.clone()));
+        emu
+    }
+
+    fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<BoxedTask> {
+        self.runners(emu, emu.pdi(), stop).0
+    }
+}
+
+impl<A, C, D> Device<A, C, D>
+where
+    A: Application + ObjectHooks<D> + 'static,
+    C: CycleHandler<D> + 'static,
+    D: ObjectDictionary,
+{
+    /// The state-machine and process-data runners of this device on `pdi`, and the shared ESC
+    /// handle they use.
+    fn runners<P: Pdi + 'static>(
+        self,
+        emu: &Emulator,
+        pdi: P,
+        stop: &'static Stop,
+    ) -> (
+        Vec<BoxedTask>,
+        &'static SharedEsc<CriticalSectionRawMutex, P>,
+    ) {
+        let shared: &'static SharedEsc<CriticalSectionRawMutex, P> =
+            Box::leak(Box::new(SharedEsc::new(pdi)));
+        let od: &'static SharedDictionary<CriticalSectionRawMutex, D> =
+            Box::leak(Box::new(BlockingMutex::new(RefCell::new(self.od))));
+        let futures: Vec<BoxedTask> = vec![
+            Box::pin(stoppable(
+                stop,
+                esm(shared, od, self.config, self.app, self.device_id),
+            )),
+            Box::pin(stoppable(
+                stop,
+                process_data(shared, od, emu.clone(), self.cycle),
+            )),
+        ];
+        (futures, shared)
+    }
+}
+
+/// A runner or script, as the harness spawns it.
+pub type BoxedTask = Pin<Box<dyn Future<Output = ()>>>;
+
+/// Runs the tasks `build` makes (on a fresh virtual clock, one scenario at a time) until all of
+/// them ended; aborts the process if that takes longer than `limit` of wall-clock time.
+fn execute(
+    limit: Option<std::time::Duration>,
+    build: impl FnOnce(&'static Stop) -> Vec<BoxedTask>,
+) {
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
-    let _guard = HangGuard::arm();
+    let _guard = limit.map(HangGuard::arm);
     MockDriver::get().reset();
-    let emu = Emulator::new(device.esc);
-    (device.before_start)(&TestMaster::new(emu.clone()));
-    let shared: &'static SharedEsc<CriticalSectionRawMutex, P> =
-        Box::leak(Box::new(SharedEsc::new(make_pdi(&emu))));
     let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
-    let od: &'static SharedDictionary<CriticalSectionRawMutex, D> =
-        Box::leak(Box::new(BlockingMutex::new(RefCell::new(device.od))));
-    let futures: [Pin<Box<dyn Future<Output = ()>>>; 3] = [
-        Box::pin(stoppable(
-            stop,
-            esm(shared, od, device.config, device.app, device.device_id),
-        )),
-        Box::pin(stoppable(
-            stop,
-            process_data(shared, od, emu.clone(), device.cycle),
-        )),
-        Box::pin(scenario(
-            stop,
-            TestMaster::new(emu.clone()),
-            script(TestMaster::new(emu).with_firmware(move |e| shared.raise_emergency(e))),
-        )),
-    ];
+    let futures = build(stop);
+    let count = futures.len();
     let done = Rc::new(Cell::new(0));
     let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
     let finished = done.clone();
@@ -215,7 +326,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
                 }
             }
         },
-        || finished.get() == 3,
+        || finished.get() == count,
     );
 }
 

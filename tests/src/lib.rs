@@ -17,4 +17,6 @@ pub mod emulator;
 pub mod esc;
 pub mod harness;
 pub mod master;
+pub mod pcap;
+pub mod real_master;
 pub mod spi;
