@@ -1,0 +1,4 @@
+//! Host programs around ecat: demos, the virtual slave, the ESI/SII writer. The modules here are
+//! what those programs share.
+
+pub mod net;

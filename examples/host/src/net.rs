@@ -1,0 +1,132 @@
+//! An EtherCAT port on a Linux network interface: raw Ethernet frames in and out through an
+//! `AF_PACKET` socket (via `pnet_datalink`).
+
+use std::fmt;
+use std::io;
+use std::time::Duration;
+
+use pnet_datalink::{Channel, Config, DataLinkReceiver, DataLinkSender, NetworkInterface};
+
+/// The EtherType of EtherCAT frames (ETG.1000.4 §5.2.1).
+pub const ETHERTYPE_ETHERCAT: u16 = 0x88A4;
+
+/// How long a receive waits before the receiving thread looks at its stop flag again.
+pub const RECEIVE_POLL: Duration = Duration::from_millis(100);
+
+/// Why an interface could not be opened.
+#[derive(Debug)]
+pub enum OpenError {
+    /// No interface of that name; the names that exist.
+    NoSuchInterface {
+        /// The name asked for.
+        name: String,
+        /// The interfaces the system has.
+        available: Vec<String>,
+    },
+    /// Raw sockets need root or `CAP_NET_RAW`.
+    NotPermitted(io::Error),
+    /// Any other failure of the socket.
+    Io(io::Error),
+}
+
+impl fmt::Display for OpenError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NoSuchInterface { name, available } => write!(
+                f,
+                "no network interface named {name:?} (available: {})",
+                available.join(", ")
+            ),
+            Self::NotPermitted(e) => write!(
+                f,
+                "cannot open a raw socket ({e}): run as root or grant the binary CAP_NET_RAW \
+                 (sudo setcap cap_net_raw+ep <binary>)"
+            ),
+            Self::Io(e) => write!(f, "cannot open a raw socket: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for OpenError {}
+
+/// The sending and receiving halves of a raw socket on one interface.
+pub struct Port {
+    /// Sends frames.
+    pub tx: Box<dyn DataLinkSender>,
+    /// Receives frames; a receive times out after [`RECEIVE_POLL`].
+    pub rx: Box<dyn DataLinkReceiver>,
+}
+
+/// Opens a raw socket on the interface `name`.
+pub fn open(name: &str) -> Result<Port, OpenError> {
+    let interfaces = pnet_datalink::interfaces();
+    let Some(interface) = interfaces.iter().find(|i| i.name == name) else {
+        return Err(OpenError::NoSuchInterface {
+            name: name.to_owned(),
+            available: interfaces.iter().map(|i: &NetworkInterface| i.name.clone()).collect(),
+        });
+    };
+    let config = Config {
+        read_timeout: Some(RECEIVE_POLL),
+        promiscuous: true,
+        ..Config::default()
+    };
+    match pnet_datalink::channel(interface, config) {
+        Ok(Channel::Ethernet(tx, rx)) => Ok(Port { tx, rx }),
+        Ok(_) => Err(OpenError::Io(io::Error::other("not an Ethernet channel"))),
+        Err(e) if e.kind() == io::ErrorKind::PermissionDenied => Err(OpenError::NotPermitted(e)),
+        Err(e) => Err(OpenError::Io(e)),
+    }
+}
+
+/// Whether `frame` is an EtherCAT frame from a MainDevice, i.e. one the SubDevices must process:
+/// EtherType 0x88A4 and a source MAC without the locally-administered bit. The first ESC of a line
+/// sets that bit in every frame it processes (ETG.1000.4 §5.2.1), so the frames the virtual slave
+/// sends back (which an `AF_PACKET` socket also sees) are not processed twice.
+pub fn is_request(frame: &[u8]) -> bool {
+    let ethertype = frame
+        .get(12..14)
+        .and_then(|t| t.try_into().ok())
+        .map(u16::from_be_bytes);
+    let source = frame.get(6).copied().unwrap_or(0);
+    ethertype == Some(ETHERTYPE_ETHERCAT) && source & 0x02 == 0
+}
+
+/// Whether a receive error only means that no frame arrived in time.
+pub fn is_timeout(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock | io::ErrorKind::Interrupted
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(source0: u8, ethertype: [u8; 2]) -> Vec<u8> {
+        let mut f = vec![0xFF; 6];
+        f.extend_from_slice(&[source0, 0x10, 0x10, 0x10, 0x10, 0x10]);
+        f.extend_from_slice(&ethertype);
+        f.extend_from_slice(&[0; 46]);
+        f
+    }
+
+    #[test]
+    fn only_master_frames_are_requests() {
+        assert!(is_request(&frame(0x10, [0x88, 0xA4])));
+        assert!(!is_request(&frame(0x12, [0x88, 0xA4])), "our own reply");
+        assert!(!is_request(&frame(0x10, [0x08, 0x00])), "IPv4");
+        assert!(!is_request(&[0x10; 13]), "truncated");
+    }
+
+    #[test]
+    fn a_missing_interface_lists_the_available_ones() {
+        let Err(e) = open("no-such-if0") else {
+            panic!("opened a missing interface")
+        };
+        let text = e.to_string();
+        assert!(text.starts_with("no network interface named \"no-such-if0\""), "{text}");
+        assert!(text.contains("lo"), "{text}");
+    }
+}
