@@ -26,28 +26,31 @@ pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
     }
     let end = layout.bits();
     let padding = (8 - end % 8) % 8;
-    if let (Ok(offset), Ok(padding)) = (u16::try_from(end), u8::try_from(padding)) {
+    if let (Ok(offset), Ok(padding @ 1..)) = (u16::try_from(end), u8::try_from(padding)) {
         put_bits(image, offset, padding, 0);
     }
 }
 
 /// The slot's bits in `image`; bits beyond the image read as 0.
 fn get<D>(image: &[u8], slot: &Slot<D>) -> u64 {
-    let word = |at: usize, n: usize| image.get(at..at + n);
     let value = match slot.place {
-        Place::U8(at) => image.get(at).map(|b| u64::from(*b)),
-        Place::U16(at) => word(at, 2)
-            .and_then(|s| s.try_into().ok())
-            .map(|b| u64::from(u16::from_le_bytes(b))),
-        Place::U32(at) => word(at, 4)
-            .and_then(|s| s.try_into().ok())
-            .map(|b| u64::from(u32::from_le_bytes(b))),
-        Place::U64(at) => word(at, 8)
-            .and_then(|s| s.try_into().ok())
-            .map(u64::from_le_bytes),
+        Place::U8(at) => image.get(at).map(|&b| u64::from(b)),
+        Place::U16(at) => chunk(image, at).map(|b| u64::from(u16::from_le_bytes(b))),
+        Place::U32(at) => chunk(image, at).map(|b| u64::from(u32::from_le_bytes(b))),
+        Place::U64(at) => chunk(image, at).map(u64::from_le_bytes),
         Place::Bits => None,
     };
     value.unwrap_or_else(|| get_bits(image, slot.bit_offset, slot.bit_len))
+}
+
+/// The `N` bytes of `image` from `at`, if it has them.
+fn chunk<const N: usize>(image: &[u8], at: usize) -> Option<[u8; N]> {
+    image.get(at..)?.first_chunk().copied()
+}
+
+/// The `N` bytes of `image` from `at`, if it has them, for writing.
+fn chunk_mut<const N: usize>(image: &mut [u8], at: usize) -> Option<&mut [u8; N]> {
+    image.get_mut(at..)?.first_chunk_mut()
 }
 
 /// Writes the slot's bits into `image`; bits beyond the image are dropped.
@@ -55,15 +58,9 @@ fn get<D>(image: &[u8], slot: &Slot<D>) -> u64 {
 fn put<D>(image: &mut [u8], slot: &Slot<D>, bits: u64) {
     let done = match slot.place {
         Place::U8(at) => image.get_mut(at).map(|b| *b = bits as u8),
-        Place::U16(at) => image
-            .get_mut(at..at + 2)
-            .map(|s| s.copy_from_slice(&(bits as u16).to_le_bytes())),
-        Place::U32(at) => image
-            .get_mut(at..at + 4)
-            .map(|s| s.copy_from_slice(&(bits as u32).to_le_bytes())),
-        Place::U64(at) => image
-            .get_mut(at..at + 8)
-            .map(|s| s.copy_from_slice(&bits.to_le_bytes())),
+        Place::U16(at) => chunk_mut(image, at).map(|b| *b = (bits as u16).to_le_bytes()),
+        Place::U32(at) => chunk_mut(image, at).map(|b| *b = (bits as u32).to_le_bytes()),
+        Place::U64(at) => chunk_mut(image, at).map(|b| *b = bits.to_le_bytes()),
         Place::Bits => None,
     };
     if done.is_none() {
