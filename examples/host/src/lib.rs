@@ -2,3 +2,4 @@
 //! what those programs share.
 
 pub mod net;
+pub mod plot;
