@@ -102,6 +102,9 @@ pub struct DeviceConfig {
     pub sync: SupportedSync,
     /// The cycle of free-run mode. Default: 1 ms.
     pub free_run_cycle: Duration,
+    /// The shortest cycle the device keeps up with (0x1C32:05); a DC SYNC0 cycle below it is
+    /// refused at PREOP→SAFEOP with 0x0036. Default: 250 µs.
+    pub min_cycle_time: Duration,
     /// How long the application may leave an upward transition pending before the SubDevice
     /// answers it with [`AlStatusCode::UNSPECIFIED_ERROR`]. Well below the 5 s MainDevices wait.
     pub transition_timeout: Duration,
@@ -124,6 +127,7 @@ impl DeviceConfig {
             sync_manager_count: 8,
             sync: SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM),
             free_run_cycle: Duration::from_millis(1),
+            min_cycle_time: Duration::from_micros(250),
             transition_timeout: Self::DEFAULT_TRANSITION_TIMEOUT,
         }
     }

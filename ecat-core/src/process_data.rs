@@ -1,5 +1,6 @@
-//! Where the process-data image lives while the SubDevice is in SAFEOP or OP, and which AL event
-//! triggers its exchange in SyncManager-synchronous mode.
+//! Where the process-data image lives while the SubDevice is in SAFEOP or OP, and what triggers
+//! its exchange: an AL event in SyncManager-synchronous mode, a local timer in free-run, the
+//! SYNC0 signal in DC mode.
 
 use crate::AlEvent;
 use crate::device::Area;
@@ -17,7 +18,16 @@ pub struct Layout {
     pub trigger: AlEvent,
     /// Free-run: a cycle every this long on a local timer, and no trigger event.
     pub free_run: Option<Duration>,
+    /// DC SYNC0 mode: a cycle on every SYNC0 pulse, and no trigger event.
+    pub sync0: bool,
     /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
     /// moving, but never handed to the application.
     pub outputs_active: bool,
+}
+
+impl Layout {
+    /// Whether cycles come from a clock (the local timer or SYNC0) rather than an AL event.
+    pub fn clocked(&self) -> bool {
+        self.free_run.is_some() || self.sync0
+    }
 }

@@ -32,7 +32,7 @@ use crate::pdo::layout::Layout as PdoLayout;
 use crate::process_data::Layout;
 use crate::register;
 use crate::ring::Ring;
-use crate::sync::{self, SyncType};
+use crate::sync::{self, DcSettings, SyncType};
 use crate::sync_manager::Channel;
 use crate::sync_manager::check::{self, Channels};
 use crate::time::Instant;
@@ -100,6 +100,7 @@ enum Op {
     ReadSyncManagers,
     ReadWatchdog,
     ReadWatchdogStatus,
+    ReadDc,
     ReadAlControl,
     WritePdiControl(u8),
     ReadMailbox,
@@ -178,6 +179,11 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     watchdog_time: u16,
     /// AL event bit 6 came: read the watchdog status (0x0440), which also acknowledges it.
     read_watchdog_status: bool,
+    /// A DC-capable device reads the DC activation and SYNC0 cycle with every AL control event,
+    /// for the DC checks at PREOP→SAFEOP.
+    read_dc: bool,
+    /// The DC registers as last read.
+    dc: DcSettings,
     sm_changed: bool,
     written: Written,
     in_flight: Option<(Op, u32)>,
@@ -196,6 +202,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     pd_stale: bool,
     /// Valid outputs arrived since SAFEOP was entered.
     outputs_received: bool,
+    /// A SYNC0-triggered cycle ran since SAFEOP was entered (DC mode).
+    sync_received: bool,
     /// The sync type the dictionary asks for, or why it cannot be.
     sync: Result<SyncType, AlStatusCode>,
 }
@@ -217,6 +225,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             read_watchdog: false,
             watchdog_time: 0,
             read_watchdog_status: false,
+            read_dc: false,
+            dc: DcSettings::default(),
             sm_changed: false,
             written: Written::new(),
             in_flight: None,
@@ -229,6 +239,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
             outputs_received: false,
+            sync_received: false,
             sync: Ok(SyncType::SmSynchronous),
         }
     }
@@ -292,6 +303,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             inputs: area(self.channels.inputs(), sizes.inputs),
             trigger: self.process_data_trigger(),
             free_run: (self.sync == Ok(SyncType::FreeRun)).then_some(self.config.free_run_cycle),
+            sync0: self.sync == Ok(SyncType::DcSync0),
             outputs_active: self.state == AlState::Op,
         })
     }
@@ -299,7 +311,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
         let sizes = self.pd_sizes.unwrap_or_default();
-        if self.sync == Ok(SyncType::FreeRun) {
+        if matches!(self.sync, Ok(SyncType::FreeRun | SyncType::DcSync0)) {
             AlEvent::NONE
         } else if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
@@ -323,6 +335,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.read_sync_managers = true;
             self.read_al_control = true;
             self.read_watchdog = true;
+            self.read_dc = self.config.sync.dc();
         }
         if event.contains(AlEvent::SM_CHANGE) {
             self.read_sync_managers = true;
@@ -393,12 +406,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if let Some(p) = self.pending
             && now >= p.deadline
         {
-            // SAFEOP→OP without outputs is an SM watchdog case (SSC); anything else the
-            // application left unanswered.
-            let code = if p.needs_outputs {
-                AlStatusCode::SM_WATCHDOG
-            } else {
-                AlStatusCode::UNSPECIFIED_ERROR
+            // SAFEOP→OP without outputs is an SM watchdog case (SSC), in DC mode without any
+            // SYNC0 a missing sync; anything else the application left unanswered.
+            let no_sync = self.sync == Ok(SyncType::DcSync0) && !self.sync_received;
+            let code = match (p.needs_outputs, no_sync) {
+                (true, true) => AlStatusCode::NO_SYNC_ERROR,
+                (true, false) => AlStatusCode::SM_WATCHDOG,
+                (false, _) => AlStatusCode::UNSPECIFIED_ERROR,
             };
             self.fail(code, p.transition.from);
         }
@@ -448,6 +462,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
+    /// The process-data side ran a SYNC0-triggered cycle (DC mode): a SAFEOP→OP transition that
+    /// times out waiting for outputs is then an SM watchdog case (0x001B), not a missing SYNC0
+    /// (0x002D).
+    pub fn sync_received(&mut self) {
+        self.sync_received = true;
+    }
+
     fn finish_transition(&mut self, transition: Transition, result: Result<(), AlStatusCode>) {
         self.pending = None;
         let verified = result
@@ -472,6 +493,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if self.read_watchdog_status {
             return Some((Op::ReadWatchdogStatus, 0));
+        }
+        if self.read_dc {
+            return Some((Op::ReadDc, 0));
         }
         if self.read_al_control {
             return Some((Op::ReadAlControl, 0));
@@ -546,6 +570,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::ReadSyncManagers => (register::SM_BASE, sm_bytes, false),
             Op::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, false),
             Op::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, false),
+            Op::ReadDc => (register::DC_ACTIVATION, DcSettings::READ_LEN, false),
             Op::ReadAlControl => (register::AL_CONTROL, 2, false),
             Op::WritePdiControl(n) => (
                 register::sync_manager(n) + Channel::PDI_CONTROL_OFFSET,
@@ -603,6 +628,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::ReadWatchdog => {
                 self.read_watchdog = false;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
+            }
+            Op::ReadDc => {
+                self.read_dc = false;
+                let bytes = self.buf.get(..DcSettings::READ_LEN).unwrap_or_default();
+                let dc = DcSettings::from_bytes(bytes);
+                self.pd_stale |= dc != self.dc;
+                self.dc = dc;
             }
             Op::ReadWatchdogStatus => {
                 self.read_watchdog_status = false;
@@ -705,9 +737,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         Ok(())
     }
 
-    /// The sync type must be supported; free-run needs SM2 in 3-buffer mode (0x0029).
+    /// The sync type must be supported; free-run needs SM2 in 3-buffer mode (0x0029); a
+    /// DC-capable device checks the DC SYNC unit ([`sync::check_dc`]).
     fn check_sync(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
         let sync = self.sync?;
+        if self.config.sync.dc() {
+            sync::check_dc(sync, self.dc, self.config)?;
+        }
         let one_buffer =
             self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;
         if sync == SyncType::FreeRun && sizes.outputs > 0 && one_buffer {
@@ -752,6 +788,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if t.to == AlState::SafeOp {
             self.outputs_received = false;
+            self.sync_received = false;
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;
@@ -862,7 +899,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         self.sync = sync::requested(od, self.config);
-        sync::fill(od, self.config, self.sync.ok());
+        sync::fill(od, self.config, self.sync.ok(), self.dc);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
             Ok(Some(layout)) => Ok(layout.bytes()),

@@ -6,7 +6,11 @@
 //! |---|---|
 //! | 0 free-run | a local timer, [`DeviceConfig::free_run_cycle`](crate::DeviceConfig::free_run_cycle) |
 //! | 1 SM-synchronous | SM2 written by the MainDevice (SM3 read, for an input-only device) |
-//! | 2 DC SYNC0 | the SYNC0 signal (not supported yet: refused with 0x0028) |
+//! | 2 DC SYNC0 | the SYNC0 signal of the ESC's distributed-clocks unit |
+//! | 3 DC SYNC1 | not supported: refused with 0x0028 |
+//!
+//! In DC SYNC0 mode the SubDevice reads the DC activation (0x0981) and the SYNC0 cycle time
+//! (0x09A0) with every AL control event and checks them at PREOP→SAFEOP ([`check_dc`]).
 //!
 //! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard
 //! subindices; the stack reads the sync type the MainDevice chose and fills the rest:
@@ -26,6 +30,7 @@
 use crate::AlStatusCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::ObjectDictionary;
+use crate::register::DcActivation;
 
 /// The sync type of 0x1C32:01 / 0x1C33:01 (ETG.1000.6 Table 74).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -84,16 +89,20 @@ impl SupportedSync {
     /// Bit 3: DC SYNC1.
     pub const SYNC1: u16 = 0x0008;
 
-    /// Whether `sync` is supported.
+    /// Whether `sync` is supported. DC SYNC1 never is: the stack has no SYNC1-triggered cycle.
     pub const fn supports(self, sync: SyncType) -> bool {
         let bit = match sync {
             SyncType::FreeRun => Self::FREE_RUN,
             SyncType::SmSynchronous | SyncType::Sm2Synchronous => Self::SM,
             SyncType::DcSync0 => Self::SYNC0,
-            SyncType::DcSync1 => Self::SYNC1,
-            SyncType::Unknown(_) => return false,
+            SyncType::DcSync1 | SyncType::Unknown(_) => return false,
         };
         self.0 & bit != 0
+    }
+
+    /// Whether the device can run DC-synchronous, so the SubDevice reads the DC registers.
+    pub const fn dc(self) -> bool {
+        self.0 & Self::SYNC0 != 0
     }
 }
 
@@ -116,22 +125,83 @@ pub struct SyncParameters {
     pub sync_error: bool,
 }
 
+/// What the MainDevice configured in the ESC's DC SYNC unit (ESC datasheet section II,
+/// 0x0981 and 0x09A0), as the SubDevice read it with the last AL control event.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct DcSettings {
+    /// 0x0981.
+    pub activation: DcActivation,
+    /// 0x09A0: the SYNC0 cycle in ns.
+    pub sync0_cycle_ns: u32,
+}
+
+impl DcSettings {
+    /// The bytes the SubDevice reads: 0x0981 up to the end of 0x09A0.
+    pub const READ_LEN: usize = 0x09A4 - 0x0981;
+
+    /// The settings in the bytes read from 0x0981 on.
+    pub fn from_bytes(bytes: &[u8]) -> Self {
+        let cycle = bytes
+            .get(0x09A0 - 0x0981..)
+            .and_then(|b| b.first_chunk())
+            .map_or(0, |b| u32::from_le_bytes(*b));
+        Self {
+            activation: DcActivation(bytes.first().copied().unwrap_or(0)),
+            sync0_cycle_ns: cycle,
+        }
+    }
+}
+
+/// The DC configuration checks at PREOP→SAFEOP (conformance.md "Distributed clocks"): the SYNC
+/// unit activated without SYNC0, SYNC1 without SYNC0, DC SYNC0 requested without SYNC0
+/// running, or SYNC0 running while the device is told to run free or SM-synchronous: 0x0030;
+/// a SYNC0 cycle of 0 (single shot) or below the device's minimum cycle: 0x0036.
+pub fn check_dc(sync: SyncType, dc: DcSettings, device: &DeviceConfig) -> Result<(), AlStatusCode> {
+    let bits = dc.activation.0;
+    let cyclic = bits & DcActivation::CYCLIC_OPERATION != 0;
+    let sync0 = bits & DcActivation::SYNC0 != 0;
+    let sync1 = bits & DcActivation::SYNC1 != 0;
+    let wanted = sync == SyncType::DcSync0;
+    let without_sync0 = (cyclic || sync1) && !sync0;
+    if without_sync0 || wanted != dc.activation.sync0() {
+        return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
+    }
+    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    if wanted && (dc.sync0_cycle_ns == 0 || u64::from(dc.sync0_cycle_ns) < min_ns) {
+        return Err(AlStatusCode::DC_SYNC0_CYCLE_TIME);
+    }
+    Ok(())
+}
+
 /// The output sync manager parameter object.
 pub const OUTPUT_PARAMETERS: u16 = 0x1C32;
 
 /// Fills what the stack knows into 0x1C32 (when the dictionary has it): the supported sync types
-/// (SI4) and, in free-run, the cycle time in ns (SI2).
-pub fn fill<D: ObjectDictionary>(od: &mut D, device: &DeviceConfig, active: Option<SyncType>) {
+/// (SI4), the minimum cycle time (SI5) and the cycle time in ns (SI2): the local cycle in
+/// free-run, the SYNC0 cycle in DC mode.
+pub fn fill<D: ObjectDictionary>(
+    od: &mut D,
+    device: &DeviceConfig,
+    active: Option<SyncType>,
+    dc: DcSettings,
+) {
     let Some(object) = D::object(OUTPUT_PARAMETERS) else {
         return;
     };
     (object.store)(od, 4, u64::from(device.sync.0));
-    if active == Some(SyncType::FreeRun) {
-        (object.store)(
+    (object.store)(
+        od,
+        5,
+        device.min_cycle_time.as_micros().saturating_mul(1_000),
+    );
+    match active {
+        Some(SyncType::FreeRun) => (object.store)(
             od,
             2,
             device.free_run_cycle.as_micros().saturating_mul(1_000),
-        );
+        ),
+        Some(SyncType::DcSync0) => (object.store)(od, 2, u64::from(dc.sync0_cycle_ns)),
+        _ => {}
     }
 }
 

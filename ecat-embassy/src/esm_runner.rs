@@ -93,6 +93,9 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
 ) {
+    if esc.take_sync_received() {
+        sub.sync_received();
+    }
     if esc.take_outputs_received() {
         sub.outputs_received();
     }

@@ -7,7 +7,7 @@ use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::process_data::Layout;
-use embassy_futures::select::{Either, Either3, select, select3};
+use embassy_futures::select::{Either4, select4};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
@@ -42,9 +42,13 @@ pub struct Buffers<'b> {
 /// the output area — which brings the AL event along — and one write of the input area. Between
 /// the two, under one short lock of `od`: the outputs are unpacked into their mapped entries (in
 /// OP only), the application's cycle runs, the mapped input entries are packed.
-pub async fn run_process_data<M, P, I, C, D>(
+///
+/// `sync0` is the ESC's SYNC0 output (a pulse per DC cycle; its rising edge starts a cycle when
+/// the MainDevice chose DC SYNC0 mode). A device without DC passes [`NoSync0`].
+pub async fn run_process_data<M, P, I, S, C, D>(
     esc: &SharedEsc<M, P>,
     irq: &mut I,
+    sync0: &mut S,
     app: &mut C,
     od: &SharedDictionary<M, D>,
     buffers: Buffers<'_>,
@@ -53,6 +57,7 @@ where
     M: RawMutex,
     P: Pdi,
     I: Wait,
+    S: Wait<Error = I::Error>,
     C: CycleHandler<D>,
     D: ObjectDictionary,
 {
@@ -81,17 +86,22 @@ where
             exchange.on_new_layout(layout).await
         } else if !esc.take_pd_events().is_empty() {
             exchange.on_trigger(layout, true).await
-        } else if !esc.esm_started() || esc.esm_holds_irq() {
-            match select(esc.pd_news_since(seen), until(tick)).await {
-                Either::First(()) => Ok(()),
-                Either::Second(()) => exchange.on_tick(layout, &mut tick).await,
-            }
         } else {
-            match select3(irq.wait_for_low(), esc.pd_news_since(seen), until(tick)).await {
-                Either3::First(Ok(())) => exchange.on_trigger(layout, false).await,
-                Either3::First(Err(e)) => Err(Error::Irq(e)),
-                Either3::Second(()) => Ok(()),
-                Either3::Third(()) => exchange.on_tick(layout, &mut tick).await,
+            let irq_free = esc.esm_started() && !esc.esm_holds_irq();
+            let sync0_on = layout.is_some_and(|l| l.sync0);
+            match select4(
+                when(irq_free, irq.wait_for_low()),
+                esc.pd_news_since(seen),
+                until(tick),
+                when(sync0_on, sync0.wait_for_rising_edge()),
+            )
+            .await
+            {
+                Either4::First(Ok(())) => exchange.on_trigger(layout, false).await,
+                Either4::First(Err(e)) | Either4::Fourth(Err(e)) => Err(Error::Irq(e)),
+                Either4::Second(()) => Ok(()),
+                Either4::Third(()) => exchange.on_tick(layout, &mut tick).await,
+                Either4::Fourth(Ok(())) => exchange.on_sync0(layout).await,
             }
         };
         if let Err(e) = step {
@@ -150,6 +160,19 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         if let (Some(next), Some(cycle)) = (tick.as_mut(), layout.free_run) {
             *next += to_embassy(cycle);
         }
+        self.clocked_cycle(layout).await
+    }
+
+    async fn on_sync0<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
+        let Some(layout) = layout.filter(|l| l.sync0) else {
+            return Ok(());
+        };
+        self.esc.note_sync_received();
+        self.clocked_cycle(layout).await
+    }
+
+    /// A cycle started by a clock (free-run timer or SYNC0): read the outputs, run the cycle.
+    async fn clocked_cycle<I>(&mut self, layout: Layout) -> Result<(), Error<P::Error, I>> {
         if let Some(area) = layout.outputs {
             let buf = self
                 .buffers
@@ -175,7 +198,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         layout: Option<Layout>,
         known: bool,
     ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(|l| l.free_run.is_none()) else {
+        let Some(layout) = layout.filter(|l| !l.clocked()) else {
             // Not exchanging process data on events (none, or free-run): the IRQ is for the state
             // machine; reading the AL event routes it there.
             self.esc
@@ -257,5 +280,56 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 .map_err(Error::Pdi)?;
         }
         Ok(())
+    }
+}
+
+/// `future` when `enabled`, else a future that never completes.
+async fn when<F: core::future::Future>(enabled: bool, future: F) -> F::Output {
+    if enabled {
+        future.await
+    } else {
+        core::future::pending().await
+    }
+}
+
+/// The SYNC0 input of a device without distributed clocks: it never pulses.
+pub struct NoSync0<E = core::convert::Infallible>(core::marker::PhantomData<E>);
+
+impl<E> NoSync0<E> {
+    /// No SYNC0 pin.
+    pub const fn new() -> Self {
+        Self(core::marker::PhantomData)
+    }
+}
+
+impl<E> Default for NoSync0<E> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<E: embedded_hal::digital::Error> embedded_hal::digital::ErrorType for NoSync0<E> {
+    type Error = E;
+}
+
+impl<E: embedded_hal::digital::Error> Wait for NoSync0<E> {
+    async fn wait_for_high(&mut self) -> Result<(), E> {
+        core::future::pending().await
+    }
+
+    async fn wait_for_low(&mut self) -> Result<(), E> {
+        core::future::pending().await
+    }
+
+    async fn wait_for_rising_edge(&mut self) -> Result<(), E> {
+        core::future::pending().await
+    }
+
+    async fn wait_for_falling_edge(&mut self) -> Result<(), E> {
+        core::future::pending().await
+    }
+
+    async fn wait_for_any_edge(&mut self) -> Result<(), E> {
+        core::future::pending().await
     }
 }

@@ -51,6 +51,8 @@ struct Routing {
     emergencies: Ring<Emergency, EMERGENCIES>,
     /// The process-data runner received outputs the state-machine runner has not heard of.
     outputs_received: bool,
+    /// The process-data runner ran a SYNC0 cycle the state-machine runner has not heard of.
+    sync_received: bool,
     esm_waker: WakerRegistration,
     pd_waker: WakerRegistration,
 }
@@ -109,6 +111,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 pd_news: 0,
                 emergencies: Ring::new(),
                 outputs_received: false,
+                sync_received: false,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
             })),
@@ -186,7 +189,11 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     pub(crate) async fn esm_events(&self) -> AlEvent {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.esm_events.is_empty() && r.emergencies.is_empty() && !r.outputs_received {
+                if r.esm_events.is_empty()
+                    && r.emergencies.is_empty()
+                    && !r.outputs_received
+                    && !r.sync_received
+                {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
                 } else {
@@ -216,6 +223,21 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 r.esm_waker.wake();
             }
         });
+    }
+
+    /// The process-data runner ran a SYNC0-triggered cycle.
+    pub(crate) fn note_sync_received(&self) {
+        self.with(|r| {
+            if !r.sync_received {
+                r.sync_received = true;
+                r.esm_waker.wake();
+            }
+        });
+    }
+
+    /// Takes the news that a SYNC0-triggered cycle ran.
+    pub(crate) fn take_sync_received(&self) -> bool {
+        self.with(|r| core::mem::take(&mut r.sync_received))
     }
 
     /// Takes the news that outputs were received.

@@ -10,7 +10,7 @@ use core::task::{Poll, Waker};
 use std::rc::Rc;
 
 use ecat_core::AlEvent;
-use ecat_core::register::{self, Watchdog};
+use ecat_core::register::{self, DcActivation, Watchdog};
 use ecat_embassy::Pdi;
 
 use crate::esc::{Esc, EscConfig};
@@ -26,6 +26,11 @@ struct Inner {
     pdi_streak: Cell<u64>,
     /// When the process-data watchdog expires, if it runs (virtual time).
     watchdog_deadline: Cell<Option<embassy_time::Instant>>,
+    /// SYNC0 pulses generated so far.
+    sync0_pulses: Cell<u64>,
+    /// The system time (ns) of the last SYNC0 pulse generated.
+    sync0_last: Cell<Option<u64>>,
+    sync0_waiters: RefCell<Vec<Waker>>,
 }
 
 /// PDI accesses in a row, without the test script running, that count as a livelock: a runner
@@ -40,6 +45,9 @@ impl Emulator {
             irq_waiters: RefCell::new(Vec::new()),
             pdi_streak: Cell::new(0),
             watchdog_deadline: Cell::new(None),
+            sync0_pulses: Cell::new(0),
+            sync0_last: Cell::new(None),
+            sync0_waiters: RefCell::new(Vec::new()),
         }))
     }
 
@@ -55,9 +63,10 @@ impl Emulator {
         result
     }
 
-    /// Lets virtual time act on the ESC: the process-data watchdog expires at its deadline. The
-    /// test master calls it whenever it advances time.
+    /// Lets virtual time act on the ESC: the process-data watchdog expires at its deadline, the
+    /// DC SYNC unit pulses SYNC0. The test master calls it whenever it advances time.
     pub fn tick(&self) {
+        self.tick_sync0();
         let due = self
             .0
             .watchdog_deadline
@@ -86,6 +95,59 @@ impl Emulator {
             period.map(|ns| embassy_time::Instant::now() + embassy_time::Duration::from_nanos(ns));
         esc.restart_watchdog();
         self.0.watchdog_deadline.set(deadline);
+    }
+
+    /// The DC SYNC unit (ESC datasheet section I, "SyncSignal generation"): with cyclic
+    /// operation and SYNC0 activated (0x0981 bits 0 and 1), SYNC0 pulses at the start time
+    /// (0x0990) and every SYNC0 cycle (0x09A0) after it, on the system time (here: virtual time in
+    /// ns). Pulses due since the last tick merge into one edge, as a level-sampling input would
+    /// see them; a cycle of 0 gives a single pulse.
+    fn tick_sync0(&self) {
+        let now = embassy_time::Instant::now()
+            .as_micros()
+            .saturating_mul(1_000);
+        let (activation, start, cycle) = {
+            let mut esc = self.0.esc.borrow_mut();
+            let mut activation = [0u8; 1];
+            esc.ecat_read(register::DC_ACTIVATION, &mut activation);
+            let mut start = [0u8; 8];
+            esc.ecat_read(register::DC_START_TIME, &mut start);
+            let mut cycle = [0u8; 4];
+            esc.ecat_read(register::DC_SYNC0_CYCLE_TIME, &mut cycle);
+            (
+                DcActivation(activation[0]),
+                u64::from_le_bytes(start),
+                u64::from(u32::from_le_bytes(cycle)),
+            )
+        };
+        if !activation.sync0() {
+            self.0.sync0_last.set(None);
+            return;
+        }
+        let due = match (self.0.sync0_last.get(), cycle) {
+            (None, _) if now >= start => Some(start),
+            (Some(last), 1..) if now >= last.saturating_add(cycle) => {
+                Some(last + (now - last) / cycle * cycle)
+            }
+            _ => None,
+        };
+        if let Some(pulse) = due {
+            self.0.sync0_last.set(Some(pulse));
+            self.0.sync0_pulses.set(self.0.sync0_pulses.get() + 1);
+            for waker in self.0.sync0_waiters.borrow_mut().drain(..) {
+                waker.wake();
+            }
+        }
+    }
+
+    /// The SYNC0 output, for the process-data runner of a DC device.
+    pub fn sync0_pin(&self) -> Sync0Pin {
+        Sync0Pin(self.clone())
+    }
+
+    /// SYNC0 pulses so far.
+    pub fn sync0_pulses(&self) -> u64 {
+        self.0.sync0_pulses.get()
     }
 
     fn wake_irq_waiters(&self) {
@@ -182,6 +244,57 @@ impl embedded_hal_async::digital::Wait for IrqPin {
     async fn wait_for_any_edge(&mut self) -> Result<(), Infallible> {
         let before = self.0.with(|esc| esc.irq());
         self.0.wait_irq(|asserted| asserted != before).await;
+        Ok(())
+    }
+}
+
+/// The ESC's SYNC0 output: a pulse (rising edge) per DC cycle, see [`Emulator::tick`].
+pub struct Sync0Pin(Emulator);
+
+impl Sync0Pin {
+    /// Completes at the next pulse.
+    async fn pulse(&self) {
+        let seen = self.0.sync0_pulses();
+        poll_fn(|cx| {
+            if self.0.sync0_pulses() != seen {
+                Poll::Ready(())
+            } else {
+                self.0.0.sync0_waiters.borrow_mut().push(cx.waker().clone());
+                Poll::Pending
+            }
+        })
+        .await
+    }
+}
+
+impl embedded_hal::digital::ErrorType for Sync0Pin {
+    type Error = Infallible;
+}
+
+/// SYNC0 is a short pulse: every wait completes at the next pulse, but "low", the line's rest
+/// level, which holds at once.
+impl embedded_hal_async::digital::Wait for Sync0Pin {
+    async fn wait_for_high(&mut self) -> Result<(), Infallible> {
+        self.pulse().await;
+        Ok(())
+    }
+
+    async fn wait_for_low(&mut self) -> Result<(), Infallible> {
+        Ok(())
+    }
+
+    async fn wait_for_rising_edge(&mut self) -> Result<(), Infallible> {
+        self.pulse().await;
+        Ok(())
+    }
+
+    async fn wait_for_falling_edge(&mut self) -> Result<(), Infallible> {
+        self.pulse().await;
+        Ok(())
+    }
+
+    async fn wait_for_any_edge(&mut self) -> Result<(), Infallible> {
+        self.pulse().await;
         Ok(())
     }
 }

@@ -370,6 +370,7 @@ async fn process_data<P: Pdi, D: ObjectDictionary>(
         outputs: &mut outputs,
         inputs: &mut inputs,
     };
-    let error = run_process_data(shared, &mut emu.irq_pin(), &mut cycle, od, buffers).await;
+    let (mut irq, mut sync0) = (emu.irq_pin(), emu.sync0_pin());
+    let error = run_process_data(shared, &mut irq, &mut sync0, &mut cycle, od, buffers).await;
     panic!("process-data runner stopped: {error:?}");
 }

@@ -1,5 +1,6 @@
-//! Sync modes (conformance.md "Sync parameters"): the MainDevice picks the sync type in 0x1C32:01
-//! during PREOP; PREOP→SAFEOP checks it against the device; free-run cycles on the local timer.
+//! Sync modes (conformance.md "Sync parameters", "Distributed clocks"): the MainDevice picks the
+//! sync type in 0x1C32:01 during PREOP; PREOP→SAFEOP checks it against the device (and the DC
+//! SYNC unit in DC mode); free-run cycles on the local timer, DC mode on SYNC0.
 
 mod common;
 
@@ -7,12 +8,14 @@ use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
+use ecat_core::register;
 use ecat_core::sync::SupportedSync;
 use ecat_embassy::{Application, CycleHandler};
+use ecat_emu::coe_client::SdoClient;
 use ecat_emu::devices::Drive;
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
-use embassy_time::Duration;
+use embassy_time::{Duration, Instant};
 
 struct App;
 impl Application for App {}
@@ -104,14 +107,139 @@ fn free_run_cycles_on_the_local_timer() {
     });
 }
 
+const DC: u16 = BOTH | SupportedSync::SYNC0;
+
+/// Programs the ESC's DC SYNC unit as a MainDevice does: SYNC0 cycle, start time `start_in`
+/// from now (system time = virtual time in ns), then the activation byte.
+fn program_dc(master: &TestMaster, activation: u8, cycle_ns: u32, start_in: Duration) {
+    let start = (Instant::now() + start_in).as_micros() * 1_000;
+    assert!(master.write(register::DC_SYNC0_CYCLE_TIME, &cycle_ns.to_le_bytes()));
+    assert!(master.write(register::DC_START_TIME, &start.to_le_bytes()));
+    assert!(master.write(register::DC_ACTIVATION, &[activation]));
+}
+
+/// PREOP with sync type `sync_type` in 0x1C32:01; the SDO client for more (a new client would
+/// start its mailbox counter at 1 again, and the SubDevice drop its first request as a repeat).
+async fn preop_with_sync_type(master: &TestMaster, sync_type: u16) -> SdoClient<'_> {
+    walk_to(master, AlState::PreOp).await;
+    let mut c = client(master);
+    c.download(0x1C32, 1, false, &sync_type.to_le_bytes())
+        .await
+        .unwrap();
+    c
+}
+
 #[test]
-fn dc_sync0_is_not_supported_yet() {
-    run(BOTH, async |master| {
-        walk_to(&master, AlState::PreOp).await;
-        client(&master)
-            .download(0x1C32, 1, false, &[2, 0])
-            .await
-            .unwrap();
+fn dc_sync0_cycles_on_every_sync0_pulse_and_reports_its_cycle() {
+    run(DC, async |master| {
+        let mut c = preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        assert_eq!(
+            c.upload(0x1C32, 2, false).await,
+            Ok(1_000_000u32.to_le_bytes().to_vec()),
+            "the SYNC0 cycle in ns"
+        );
+        assert_eq!(
+            c.upload(0x1C32, 5, false).await,
+            Ok(250_000u32.to_le_bytes().to_vec()),
+            "the minimum cycle in ns"
+        );
+        let before = cycles(&master);
+        common::send_outputs(&master).await;
+        common::send_outputs(&master).await;
+        assert_eq!(cycles(&master), before, "SM2 writes do not start DC cycles");
+        let pulses = master.emulator().sync0_pulses();
+        master.advance(Duration::from_millis(10)).await;
+        assert_eq!(master.emulator().sync0_pulses() - pulses, 10);
+        assert_eq!(
+            cycles(&master).wrapping_sub(before),
+            10,
+            "one cycle per SYNC0 pulse"
+        );
+        assert_eq!(
+            master.request(0x08).await,
+            (0x08, 0),
+            "outputs seen at SYNC0"
+        );
+    });
+}
+
+#[test]
+fn dc_configuration_errors_are_0x0030() {
+    // (sync type, activation): SYNC0 mode without SYNC0; the SYNC unit on without SYNC0;
+    // SYNC1 without SYNC0; SYNC0 running while the device is told to run SM-synchronous.
+    for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (1, 0x03), (0, 0x03)] {
+        run(DC, async move |master| {
+            preop_with_sync_type(&master, sync_type).await;
+            program_dc(&master, activation, 1_000_000, Duration::from_millis(1));
+            assert_eq!(
+                safeop(&master, SM2_CONTROL).await,
+                (0x12, 0x0030),
+                "sync type {sync_type}, activation {activation:#04x}"
+            );
+        });
+    }
+}
+
+#[test]
+fn a_sync0_cycle_below_the_minimum_or_single_shot_is_0x0036() {
+    for cycle in [0, 100_000, 249_999] {
+        run(DC, async move |master| {
+            preop_with_sync_type(&master, 2).await;
+            program_dc(&master, 0x03, cycle, Duration::from_millis(1));
+            assert_eq!(
+                safeop(&master, SM2_CONTROL).await,
+                (0x12, 0x0036),
+                "cycle {cycle} ns"
+            );
+        });
+    }
+    run(DC, async move |master| {
+        preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x03, 250_000, Duration::from_millis(1));
+        assert_eq!(
+            safeop(&master, SM2_CONTROL).await,
+            (0x04, 0),
+            "the minimum itself"
+        );
+    });
+}
+
+#[test]
+fn safeop_to_op_without_sync0_is_0x002d_and_with_sync0_but_no_outputs_0x001b() {
+    run(DC, async |master| {
+        preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_secs(60));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        common::send_outputs(&master).await;
+        master.write_al_control(0x08);
+        master.advance(Duration::from_millis(1_100)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x14, 0x002D),
+            "no SYNC0 before the transition timeout"
+        );
+    });
+    run(DC, async |master| {
+        preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        master.write_al_control(0x08);
+        master.advance(Duration::from_millis(1_100)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x14, 0x001B),
+            "SYNC0 runs but the MainDevice sends no outputs"
+        );
+    });
+}
+
+#[test]
+fn sync1_is_not_supported() {
+    run(DC | SupportedSync::SYNC1, async |master| {
+        preop_with_sync_type(&master, 3).await;
+        program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0028));
     });
 }

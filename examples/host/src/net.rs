@@ -63,7 +63,10 @@ pub fn open(name: &str) -> Result<Port, OpenError> {
     let Some(interface) = interfaces.iter().find(|i| i.name == name) else {
         return Err(OpenError::NoSuchInterface {
             name: name.to_owned(),
-            available: interfaces.iter().map(|i: &NetworkInterface| i.name.clone()).collect(),
+            available: interfaces
+                .iter()
+                .map(|i: &NetworkInterface| i.name.clone())
+                .collect(),
         });
     };
     let config = Config {
@@ -126,7 +129,10 @@ mod tests {
             panic!("opened a missing interface")
         };
         let text = e.to_string();
-        assert!(text.starts_with("no network interface named \"no-such-if0\""), "{text}");
+        assert!(
+            text.starts_with("no network interface named \"no-such-if0\""),
+            "{text}"
+        );
         assert!(text.contains("lo"), "{text}");
     }
 }

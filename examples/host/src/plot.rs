@@ -119,7 +119,11 @@ fn draw_panel(out: &mut String, y0: f64, x: &[f64], x_label: &str, panel: &Panel
             .filter(|(_, v)| v.is_finite())
             .map(|(&xv, &yv)| format!("{:.1},{:.1}", px(xv), py(yv)))
             .collect();
-        let dash = if series.dashed { r#" stroke-dasharray="6 4""# } else { "" };
+        let dash = if series.dashed {
+            r#" stroke-dasharray="6 4""#
+        } else {
+            ""
+        };
         let _ = writeln!(
             out,
             r#"<polyline fill="none" stroke="{}" stroke-width="1.6"{dash} points="{}"/>"#,
@@ -181,8 +185,14 @@ mod tests {
         );
         // First point: left edge, bottom of the plot; last: right edge, top.
         let bottom = TOP + PANEL_HEIGHT - TOP - BOTTOM;
-        assert!(doc.contains(&format!(r#"points="{LEFT:.1},{bottom:.1} "#)), "{doc}");
-        assert!(doc.contains(&format!(" {:.1},{TOP:.1}\"", WIDTH - RIGHT)), "{doc}");
+        assert!(
+            doc.contains(&format!(r#"points="{LEFT:.1},{bottom:.1} "#)),
+            "{doc}"
+        );
+        assert!(
+            doc.contains(&format!(" {:.1},{TOP:.1}\"", WIDTH - RIGHT)),
+            "{doc}"
+        );
         assert!(doc.contains("a &lt; b"));
         assert!(doc.starts_with("<svg") && doc.ends_with("</svg>\n"));
     }

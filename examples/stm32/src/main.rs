@@ -17,7 +17,7 @@ use defmt_rtt as _;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{DeviceConfig, SubDevice, Transition};
-use ecat_embassy::pd_runner::Buffers;
+use ecat_embassy::pd_runner::{Buffers, NoSync0};
 use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_process_data};
 use ecat_stm32::board::{Board, EscSpi};
 use ecat_stm32::io::{self, DigitalIo};
@@ -165,7 +165,10 @@ async fn process_data(esc: &'static Esc, mut irq: ExtiInput<'static, Async>, mut
         outputs: &mut outputs,
         inputs: &mut inputs,
     };
-    let error = run_process_data(esc, &mut irq, &mut io, &DICTIONARY, buffers).await;
+    // The device runs SM-synchronous (DEVICE.sync has no DC SYNC0): SYNC0 only latches the
+    // inputs, in its own task below.
+    let mut no_sync0 = NoSync0::new();
+    let error = run_process_data(esc, &mut irq, &mut no_sync0, &mut io, &DICTIONARY, buffers).await;
     io.apply(0);
     error!("process data stopped: {}", defmt::Debug2Format(&error));
 }

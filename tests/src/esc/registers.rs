@@ -38,7 +38,7 @@ enum Writer {
 
 /// The registers a single port writes (excluding FMMUs and SyncManagers): first address,
 /// length, writer.
-const WRITABLE: [(u16, u16, Side); 12] = [
+const WRITABLE: [(u16, u16, Side); 16] = [
     (register::STATION_ADDRESS, 2, Side::Ecat),
     (register::STATION_ALIAS, 2, Side::Pdi),
     (register::DL_CONTROL, 4, Side::Ecat),
@@ -51,6 +51,10 @@ const WRITABLE: [(u16, u16, Side); 12] = [
     (register::WATCHDOG_TIME_PDI, 2, Side::Ecat),
     (register::WATCHDOG_TIME_PROCESS_DATA, 2, Side::Ecat),
     (register::SII_INTERFACE, SII_INTERFACE_SIZE, Side::Ecat),
+    (register::DC_CYCLIC_UNIT_CONTROL, 1, Side::Ecat),
+    (register::DC_ACTIVATION, 1, Side::Ecat),
+    (register::DC_START_TIME, 8, Side::Ecat),
+    (register::DC_SYNC0_CYCLE_TIME, 8, Side::Ecat),
 ];
 
 /// The offset of `address` in the register `[start, start + len)`, if it falls into it.

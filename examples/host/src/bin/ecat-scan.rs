@@ -52,9 +52,8 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
 }
 
 fn main() -> ExitCode {
-    let result = parse(std::env::args().skip(1)).and_then(|args| {
-        futures_lite::future::block_on(run(args)).map_err(|e| e.to_string())
-    });
+    let result = parse(std::env::args().skip(1))
+        .and_then(|args| futures_lite::future::block_on(run(args)).map_err(|e| e.to_string()));
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -67,7 +66,9 @@ fn main() -> ExitCode {
 type Group = SubDeviceGroup<MAX_SUBDEVICES, MAX_PDI, ethercrab::DefaultLock, Op>;
 
 async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
-    let (tx, rx, pdu_loop) = STORAGE.try_split().map_err(|()| "PDU storage split twice")?;
+    let (tx, rx, pdu_loop) = STORAGE
+        .try_split()
+        .map_err(|()| "PDU storage split twice")?;
     let task = tx_rx_task(&args.iface, tx, rx)?;
     std::thread::spawn(move || futures_lite::future::block_on(task));
     let main = MainDevice::new(
@@ -112,8 +113,17 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     if args.echo {
         check_echo(&group, &main).await?;
     }
-    println!("{} cycles, working counter {expected} every cycle", args.cycles);
-    group.into_safe_op(&main).await?.into_pre_op(&main).await?.into_init(&main).await?;
+    println!(
+        "{} cycles, working counter {expected} every cycle",
+        args.cycles
+    );
+    group
+        .into_safe_op(&main)
+        .await?
+        .into_pre_op(&main)
+        .await?
+        .into_init(&main)
+        .await?;
     println!("back in INIT");
     Ok(())
 }
@@ -157,7 +167,11 @@ async fn check_echo(group: &Group, main: &MainDevice<'_>) -> Result<(), String> 
                 io.outputs()
             ));
         }
-        println!("  {:#06x} echoes {:02x?}", sub.configured_address(), io.inputs());
+        println!(
+            "  {:#06x} echoes {:02x?}",
+            sub.configured_address(),
+            io.inputs()
+        );
     }
     Ok(())
 }

@@ -20,7 +20,8 @@ use ecat_examples::net::{self, Port};
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
 
-const USAGE: &str = "usage: ecat-virtual-slave --iface IFNAME [--device NAME] [--count N] [--pcap FILE]";
+const USAGE: &str =
+    "usage: ecat-virtual-slave --iface IFNAME [--device NAME] [--count N] [--pcap FILE]";
 
 /// Frames waiting for the line; an empty frame wakes the line to look at [`STOP`].
 static FRAMES: Channel<CriticalSectionRawMutex, Vec<u8>, 64> = Channel::new();
@@ -169,15 +170,18 @@ fn pump_clock() {
         let real = start.elapsed();
         let virtual_ = Duration::from_micros((embassy_time::Instant::now() - origin).as_micros());
         if let Some(behind) = real.checked_sub(virtual_) {
-            embassy_time::MockDriver::get()
-                .advance(embassy_time::Duration::from_micros(behind.as_micros() as u64));
+            embassy_time::MockDriver::get().advance(embassy_time::Duration::from_micros(
+                behind.as_micros() as u64,
+            ));
         }
     }
 }
 
 fn capture(pcap: &mut Option<PcapWriter<std::io::BufWriter<std::fs::File>>>, frame: &[u8]) {
     if let Some(pcap) = pcap {
-        let now = SystemTime::now().duration_since(UNIX_EPOCH).unwrap_or_default();
+        let now = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .unwrap_or_default();
         if let Err(e) = pcap.write_frame(now, frame) {
             eprintln!("ecat-virtual-slave: capture failed: {e}");
         }
