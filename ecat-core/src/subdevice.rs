@@ -899,7 +899,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         self.sync = sync::requested(od, self.config);
-        sync::fill(od, self.config, self.sync.ok(), self.dc);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
             Ok(Some(layout)) => Ok(layout.bytes()),
@@ -912,6 +911,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 inputs: size(Direction::Tx, fixed.inputs)?,
             })
         });
+        let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
+        sync::fill(od, self.config, self.sync.ok(), self.dc, has_outputs);
     }
 
     /// Raises an emergency: queued, and sent when SM1 is free. Refused (returns `false`) below

@@ -175,33 +175,52 @@ pub fn check_dc(sync: SyncType, dc: DcSettings, device: &DeviceConfig) -> Result
 
 /// The output sync manager parameter object.
 pub const OUTPUT_PARAMETERS: u16 = 0x1C32;
+/// The input sync manager parameter object.
+pub const INPUT_PARAMETERS: u16 = 0x1C33;
 
-/// Fills what the stack knows into 0x1C32 (when the dictionary has it): the supported sync types
-/// (SI4), the minimum cycle time (SI5) and the cycle time in ns (SI2): the local cycle in
-/// free-run, the SYNC0 cycle in DC mode.
+/// The sync type of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
+/// SM-synchronous mode the inputs are latched with the SM2 event when there are outputs
+/// (0x22), with the SM3 event otherwise (1); free-run and DC modes are the same for both.
+pub const fn input_sync_type(output: SyncType, has_outputs: bool) -> SyncType {
+    match output {
+        SyncType::SmSynchronous | SyncType::Sm2Synchronous if has_outputs => {
+            SyncType::Sm2Synchronous
+        }
+        SyncType::Sm2Synchronous => SyncType::SmSynchronous,
+        other => other,
+    }
+}
+
+/// Fills what the stack knows into 0x1C32 and 0x1C33 (those the dictionary has): the supported
+/// sync types (SI4), the minimum cycle time (SI5) and the cycle time in ns (SI2: the local cycle
+/// in free-run, the SYNC0 cycle in DC mode); in 0x1C33 also the inputs' sync type (SI1,
+/// [`input_sync_type`]).
 pub fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
     active: Option<SyncType>,
     dc: DcSettings,
+    has_outputs: bool,
 ) {
-    let Some(object) = D::object(OUTPUT_PARAMETERS) else {
-        return;
+    let cycle_ns = match active {
+        Some(SyncType::FreeRun) => Some(device.free_run_cycle.as_micros().saturating_mul(1_000)),
+        Some(SyncType::DcSync0) => Some(u64::from(dc.sync0_cycle_ns)),
+        _ => None,
     };
-    (object.store)(od, 4, u64::from(device.sync.0));
-    (object.store)(
-        od,
-        5,
-        device.min_cycle_time.as_micros().saturating_mul(1_000),
-    );
-    match active {
-        Some(SyncType::FreeRun) => (object.store)(
-            od,
-            2,
-            device.free_run_cycle.as_micros().saturating_mul(1_000),
-        ),
-        Some(SyncType::DcSync0) => (object.store)(od, 2, u64::from(dc.sync0_cycle_ns)),
-        _ => {}
+    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
+        let Some(object) = D::object(index) else {
+            continue;
+        };
+        (object.store)(od, 4, u64::from(device.sync.0));
+        (object.store)(od, 5, min_ns);
+        if let Some(ns) = cycle_ns {
+            (object.store)(od, 2, ns);
+        }
+        if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
+            let input = input_sync_type(output, has_outputs);
+            (object.store)(od, 1, u64::from(input.code()));
+        }
     }
 }
 
@@ -225,5 +244,34 @@ pub fn requested<D: ObjectDictionary>(
         sync if device.sync.supports(sync) => Ok(sync),
         SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inputs_follow_the_outputs_sync_type() {
+        use SyncType::*;
+        assert_eq!(input_sync_type(SmSynchronous, true), Sm2Synchronous);
+        assert_eq!(input_sync_type(SmSynchronous, false), SmSynchronous);
+        assert_eq!(input_sync_type(FreeRun, true), FreeRun);
+        assert_eq!(input_sync_type(DcSync0, false), DcSync0);
+    }
+
+    #[test]
+    fn dc_settings_come_from_0x0981_and_0x09a0() {
+        let mut bytes = [0u8; DcSettings::READ_LEN];
+        bytes[0] = 0x03;
+        bytes[0x09A0 - 0x0981..].copy_from_slice(&500_000u32.to_le_bytes());
+        let dc = DcSettings::from_bytes(&bytes);
+        assert_eq!(dc.activation, DcActivation(0x03));
+        assert_eq!(dc.sync0_cycle_ns, 500_000);
+        assert_eq!(
+            DcSettings::from_bytes(&[]),
+            DcSettings::default(),
+            "short read"
+        );
     }
 }

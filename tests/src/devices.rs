@@ -34,6 +34,8 @@ pub struct Drive {
     pub tx_assign: PdoAssignment<2>,
     /// 0x1C32.
     pub sync_out: SyncParameters,
+    /// 0x1C33.
+    pub sync_in: SyncParameters,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -60,6 +62,15 @@ ecat_core::dictionary! {
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
         0x1C32 => record(sync_out: SyncParameters, "SM output parameter") {
             1 => sync_type, RW_PREOP, "Synchronization type", default = 1;
+            2 => cycle_time, RO, "Cycle time";
+            4 => supported, RO, "Synchronization types supported";
+            5 => min_cycle_time, RO, "Minimum cycle time";
+            0x0B => sm_event_missed, RO, "SM event missed counter";
+            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
+            0x20 => sync_error, RO, "Sync error";
+        };
+        0x1C33 => record(sync_in: SyncParameters, "SM input parameter") {
+            1 => sync_type, RO, "Synchronization type", default = 0x22;
             2 => cycle_time, RO, "Cycle time";
             4 => supported, RO, "Synchronization types supported";
             5 => min_cycle_time, RO, "Minimum cycle time";

@@ -67,6 +67,12 @@ fn sm_synchronous_by_default_and_the_supported_types_are_readable() {
             Ok(vec![0x03, 0x00]),
             "free-run and SM"
         );
+        assert_eq!(
+            c.upload(0x1C33, 1, false).await,
+            Ok(vec![0x22, 0x00]),
+            "inputs latched with the SM2 event"
+        );
+        assert_eq!(c.upload(0x1C33, 4, false).await, Ok(vec![0x03, 0x00]));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
         let before = cycles(&master);
         master.advance(Duration::from_millis(10)).await;
@@ -89,6 +95,11 @@ fn free_run_cycles_on_the_local_timer() {
             c.upload(0x1C32, 2, false).await,
             Ok(1_000_000u32.to_le_bytes().to_vec()),
             "1 ms in ns"
+        );
+        assert_eq!(c.upload(0x1C33, 1, false).await, Ok(vec![0, 0]), "free-run");
+        assert_eq!(
+            c.upload(0x1C33, 2, false).await,
+            Ok(1_000_000u32.to_le_bytes().to_vec())
         );
         let before = cycles(&master);
         master.advance(Duration::from_millis(10)).await;
@@ -144,6 +155,11 @@ fn dc_sync0_cycles_on_every_sync0_pulse_and_reports_its_cycle() {
             c.upload(0x1C32, 5, false).await,
             Ok(250_000u32.to_le_bytes().to_vec()),
             "the minimum cycle in ns"
+        );
+        assert_eq!(c.upload(0x1C33, 1, false).await, Ok(vec![2, 0]), "DC SYNC0");
+        assert_eq!(
+            c.upload(0x1C33, 2, false).await,
+            Ok(1_000_000u32.to_le_bytes().to_vec())
         );
         let before = cycles(&master);
         common::send_outputs(&master).await;
