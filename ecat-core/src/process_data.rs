@@ -20,6 +20,8 @@ pub struct Layout {
     pub free_run: Option<Duration>,
     /// DC SYNC0 mode: a cycle on every SYNC0 pulse, and no trigger event.
     pub sync0: bool,
+    /// The nominal cycle of a clocked mode: the free-run cycle or the SYNC0 cycle.
+    pub cycle: Option<Duration>,
     /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
     /// moving, but never handed to the application.
     pub outputs_active: bool,

@@ -304,6 +304,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             trigger: self.process_data_trigger(),
             free_run: (self.sync == Ok(SyncType::FreeRun)).then_some(self.config.free_run_cycle),
             sync0: self.sync == Ok(SyncType::DcSync0),
+            cycle: match self.sync {
+                Ok(SyncType::FreeRun) => Some(self.config.free_run_cycle),
+                Ok(SyncType::DcSync0) => Some(self.dc.sync0_cycle()),
+                _ => None,
+            },
             outputs_active: self.state == AlState::Op,
         })
     }

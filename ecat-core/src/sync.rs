@@ -31,6 +31,7 @@ use crate::AlStatusCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::ObjectDictionary;
 use crate::register::DcActivation;
+use crate::time::{Duration, Instant};
 
 /// The sync type of 0x1C32:01 / 0x1C33:01 (ETG.1000.6 Table 74).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -139,6 +140,11 @@ impl DcSettings {
     /// The bytes the SubDevice reads: 0x0981 up to the end of 0x09A0.
     pub const READ_LEN: usize = 0x09A4 - 0x0981;
 
+    /// The SYNC0 cycle (µs resolution).
+    pub const fn sync0_cycle(self) -> Duration {
+        Duration::from_micros(self.sync0_cycle_ns as u64 / 1_000)
+    }
+
     /// The settings in the bytes read from 0x0981 on.
     pub fn from_bytes(bytes: &[u8]) -> Self {
         let cycle = bytes
@@ -244,6 +250,75 @@ pub fn requested<D: ObjectDictionary>(
         sync if device.sync.supports(sync) => Ok(sync),
         SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
+    }
+}
+
+/// Watches the process-data cycles and keeps the diagnostic entries of 0x1C32/0x1C33 (ETG.1020
+/// §6.3, conformance.md "Sync parameters") up to date:
+/// - SI2 in SM-synchronous mode: the measured time between the last two cycles (in free-run and
+///   DC mode SI2 is the configured cycle, see [`fill`]);
+/// - SI 0x0B, SM-event missed: DC-mode cycles in OP for which the MainDevice had not written new
+///   outputs (SM2) since the previous SYNC0;
+/// - SI 0x0C, cycle time too small: clocked cycles (free-run, SYNC0) that started more than 1.5
+///   cycles after the previous one, i.e. a cycle was lost because the last one took too long;
+/// - SI 0x20, sync error: whether the last cycle missed its SM event or overran.
+///
+/// The counters restart when the process data restarts ([`CycleMonitor::reset`] at SAFEOP).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct CycleMonitor {
+    last: Option<Instant>,
+    missed: u16,
+    overruns: u16,
+}
+
+/// What one process-data cycle saw.
+#[derive(Debug, Clone, Copy)]
+pub struct CycleReport {
+    /// When the cycle started.
+    pub now: Instant,
+    /// The nominal cycle of a clocked mode (free-run timer, SYNC0), `None` when event-driven.
+    pub nominal: Option<Duration>,
+    /// DC mode in OP: the cycle is expected to find new outputs.
+    pub expects_outputs: bool,
+    /// The MainDevice wrote new outputs (SM2 event) since the previous cycle.
+    pub new_outputs: bool,
+}
+
+impl CycleMonitor {
+    /// Forgets the past cycles and zeroes the counters.
+    pub fn reset(&mut self) {
+        *self = Self::default();
+    }
+
+    /// Accounts for one cycle and stores the diagnostics into `od`'s 0x1C32/0x1C33.
+    pub fn cycle<D: ObjectDictionary>(&mut self, od: &mut D, report: CycleReport) {
+        let elapsed = self
+            .last
+            .map(|last| report.now.as_micros().saturating_sub(last.as_micros()));
+        self.last = Some(report.now);
+        let missed = report.expects_outputs && !report.new_outputs;
+        let overrun = match (elapsed, report.nominal) {
+            (Some(elapsed), Some(cycle)) => {
+                elapsed.saturating_mul(2) > cycle.as_micros().saturating_mul(3)
+            }
+            _ => false,
+        };
+        self.missed = self.missed.saturating_add(u16::from(missed));
+        self.overruns = self.overruns.saturating_add(u16::from(overrun));
+        let measured_ns = elapsed
+            .filter(|_| report.nominal.is_none())
+            .map(|us| us.saturating_mul(1_000).min(u64::from(u32::MAX)));
+        for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
+            let Some(object) = D::object(index) else {
+                continue;
+            };
+            if let Some(ns) = measured_ns {
+                (object.store)(od, 2, ns);
+            }
+            (object.store)(od, 0x0B, u64::from(self.missed));
+            (object.store)(od, 0x0C, u64::from(self.overruns));
+            (object.store)(od, 0x20, u64::from(missed || overrun));
+        }
     }
 }
 

@@ -7,13 +7,14 @@ use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::process_data::Layout;
+use ecat_core::sync::{CycleMonitor, CycleReport};
 use embassy_futures::select::{Either4, select4};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
 use crate::shared::Runner;
-use crate::time::{to_embassy, until_instant as until};
+use crate::time::{now, to_embassy, until_instant as until};
 use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
 
 /// Why the process-data runner stopped.
@@ -67,6 +68,7 @@ where
         od,
         buffers,
         images: None,
+        monitor: CycleMonitor::default(),
     };
     let mut current: Option<Layout> = None;
     // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
@@ -123,6 +125,8 @@ struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
     od: &'a SharedDictionary<M, D>,
     buffers: Buffers<'a>,
     images: Option<Images<D>>,
+    /// The diagnostics of 0x1C32/0x1C33.
+    monitor: CycleMonitor,
 }
 
 impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, M, P, C, D> {
@@ -139,6 +143,9 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             self.images = None;
             return Ok(());
         };
+        if self.images.is_none() {
+            self.monitor.reset();
+        }
         self.images = self.od.lock(|od| {
             let od = od.borrow();
             Some(Images {
@@ -146,7 +153,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });
-        self.cycle(layout, false).await
+        self.cycle(layout, false, None).await
     }
 
     /// Free-run: a cycle is due. Reads the outputs (their SM2 event, coming along, tells whether
@@ -173,6 +180,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 
     /// A cycle started by a clock (free-run timer or SYNC0): read the outputs, run the cycle.
     async fn clocked_cycle<I>(&mut self, layout: Layout) -> Result<(), Error<P::Error, I>> {
+        let mut new_outputs = false;
         if let Some(area) = layout.outputs {
             let buf = self
                 .buffers
@@ -184,12 +192,13 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
                 .await
                 .map_err(Error::Pdi)?;
-            if event.intersects(AlEvent::sync_manager(2)) {
+            new_outputs = event.intersects(AlEvent::sync_manager(2));
+            if new_outputs {
                 self.esc.note_outputs_received();
             }
         }
-        self.cycle(layout, layout.outputs_active && layout.outputs.is_some())
-            .await
+        let apply = layout.outputs_active && layout.outputs.is_some();
+        self.cycle(layout, apply, Some(new_outputs)).await
     }
 
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
@@ -230,19 +239,29 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         if !triggered {
             return Ok(());
         }
-        if layout.outputs.is_some() {
+        let new_outputs = layout.outputs.is_some();
+        if new_outputs {
             self.esc.note_outputs_received();
         }
-        self.cycle(layout, layout.outputs_active && layout.outputs.is_some())
-            .await
+        self.cycle(
+            layout,
+            layout.outputs_active && new_outputs,
+            Some(new_outputs),
+        )
+        .await
     }
 
     /// Unpacks the outputs (when `apply_outputs`), runs the application cycle, packs and writes
     /// the inputs.
+    /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
+    /// application's cycle, the inputs out. `new_outputs`, for a cycle of the sync mode (not the
+    /// one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
+    /// for the cycle diagnostics.
     async fn cycle<I>(
         &mut self,
         layout: Layout,
         apply_outputs: bool,
+        new_outputs: Option<bool>,
     ) -> Result<(), Error<P::Error, I>> {
         let out_len = layout.outputs.map_or(0, |a| usize::from(a.length));
         let in_len = layout.inputs.map_or(0, |a| usize::from(a.length));
@@ -256,9 +275,18 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             .inputs
             .get_mut(..in_len)
             .ok_or(Error::BufferTooSmall)?;
-        let (app, images) = (&mut *self.app, &self.images);
+        let (app, images, monitor) = (&mut *self.app, &self.images, &mut self.monitor);
+        let report = new_outputs.map(|new_outputs| CycleReport {
+            now: now(),
+            nominal: layout.cycle,
+            expects_outputs: layout.sync0 && layout.outputs_active && layout.outputs.is_some(),
+            new_outputs,
+        });
         self.od.lock(|od| {
             let od = &mut *od.borrow_mut();
+            if let Some(report) = report {
+                monitor.cycle(od, report);
+            }
             let pdo = images.as_ref();
             if let (true, Some(rx)) = (apply_outputs, pdo.and_then(|i| i.outputs.as_ref())) {
                 unpack(rx, outputs, od);

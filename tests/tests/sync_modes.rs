@@ -287,3 +287,81 @@ fn free_run_needs_3_buffer_outputs() {
         );
     });
 }
+
+fn u16_of(bytes: Result<Vec<u8>, ecat_emu::coe_client::SdoError>) -> u16 {
+    let bytes = bytes.expect("upload");
+    u16::from_le_bytes([bytes[0], bytes[1]])
+}
+
+#[test]
+fn sm_synchronous_measures_the_cycle_time() {
+    run(BOTH, async |master| {
+        let mut c = preop_with_sync_type(&master, 1).await;
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        for _ in 0..3 {
+            master.advance(Duration::from_millis(2)).await;
+            common::send_outputs(&master).await;
+        }
+        let two_ms = 2_000_000u32.to_le_bytes().to_vec();
+        assert_eq!(c.upload(0x1C32, 2, false).await, Ok(two_ms.clone()));
+        assert_eq!(c.upload(0x1C33, 2, false).await, Ok(two_ms));
+    });
+}
+
+#[test]
+fn dc_cycles_without_new_outputs_count_as_sm_events_missed() {
+    run(DC, async |master| {
+        let mut c = preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        common::send_outputs(&master).await;
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        for _ in 0..4 {
+            common::send_outputs(&master).await;
+            master.advance(Duration::from_millis(1)).await;
+        }
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 0x0B, false).await),
+            0,
+            "outputs every cycle"
+        );
+        assert_eq!(
+            c.upload(0x1C32, 0x20, false).await,
+            Ok(vec![0]),
+            "no sync error"
+        );
+        master.advance(Duration::from_millis(5)).await;
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 0x0B, false).await),
+            5,
+            "five SYNC0 without outputs"
+        );
+        assert_eq!(
+            c.upload(0x1C32, 0x20, false).await,
+            Ok(vec![1]),
+            "sync error"
+        );
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 0x0C, false).await),
+            0,
+            "no cycle lost"
+        );
+    });
+}
+
+#[test]
+fn lost_clocked_cycles_count_as_cycle_time_too_small() {
+    run(DC, async |master| {
+        let mut c = preop_with_sync_type(&master, 2).await;
+        // 500 µs SYNC0, but the runner gets a turn once per millisecond: every other cycle is lost.
+        program_dc(&master, 0x03, 500_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        master.advance(Duration::from_millis(5)).await;
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 0x0C, false).await),
+            4,
+            "every cycle after the first"
+        );
+    });
+}
