@@ -19,6 +19,7 @@ use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
 
 /// Why the process-data runner stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<P, I> {
     /// The PDI failed.
     Pdi(P),

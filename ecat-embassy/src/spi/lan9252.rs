@@ -167,6 +167,7 @@ impl Default for Config {
 
 /// What the driver waited for when it gave up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Wait {
     /// `HW_CFG.READY` after the reset.
     Ready,
@@ -180,6 +181,7 @@ pub enum Wait {
 
 /// Why the driver failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<E> {
     /// The SPI transaction failed.
     Spi(E),

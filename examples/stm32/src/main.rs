@@ -122,7 +122,7 @@ async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
     let pdi = match esc::start(spi).await {
         Ok(pdi) => pdi,
         Err(e) => {
-            error!("ESC start-up failed: {}", defmt::Debug2Format(&e));
+            error!("ESC start-up failed: {}", e);
             return;
         }
     };
@@ -154,7 +154,7 @@ impl ObjectHooks<()> for Hooks {}
 async fn state_machine(esc: &'static Esc) {
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut Hooks, &DICTIONARY).await;
-    error!("PDI failed: {}", defmt::Debug2Format(&error));
+    error!("PDI failed: {}", error);
 }
 
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line.
@@ -170,7 +170,7 @@ async fn process_data(esc: &'static Esc, mut irq: ExtiInput<'static, Async>, mut
     let mut no_sync0 = NoSync0::new();
     let error = run_process_data(esc, &mut irq, &mut no_sync0, &mut io, &DICTIONARY, buffers).await;
     io.apply(0);
-    error!("process data stopped: {}", defmt::Debug2Format(&error));
+    error!("process data stopped: {}", error);
 }
 
 /// SYNC0 from the ESC's distributed clock: samples the inputs (in the interrupt executor, so the
