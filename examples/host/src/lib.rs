@@ -1,5 +1,8 @@
 //! Host programs around ecat: demos, the virtual slave, the ESI/SII writer. The modules here are
 //! what those programs share.
 
+pub mod bridge;
+pub mod catalog;
+pub mod cia402;
 pub mod net;
 pub mod plot;
