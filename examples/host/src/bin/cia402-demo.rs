@@ -16,7 +16,7 @@ use ecat_emu::harness;
 use ecat_emu::line::Line;
 use ecat_emu::master::TestMaster;
 use ecat_emu::real_master;
-use ecat_examples::cia402::{Phase, Pdo, Profile, State};
+use ecat_examples::cia402::{Feedback, Pdo, Phase, Profile, State, mode_names, state_name};
 use ecat_examples::{bridge, catalog, plot};
 use embassy_futures::select::{Either, select};
 use embassy_time::{Duration, MockDriver};
@@ -115,7 +115,7 @@ impl Demo {
         let name: heapless::String<64> = sub.sdo_read(0x1008, 0).await.map_err(sdo)?;
         let modes: u32 = sub.sdo_read(0x6502, 0).await.map_err(sdo)?;
         println!("PREOP: 0x1018:01 = {vendor:#010x}, 0x1008 = {name:?}, 0x6502 = {modes:#010x} ({})",
-            ecat_examples::cia402::mode_names(modes));
+            mode_names(modes));
         let pdo = Pdo::read(&sub).await.map_err(sdo)?;
         drop(sub);
         let group: Group = group.into_op(self.main).await.map_err(|e| format!("to OP: {e}"))?;
@@ -137,7 +137,7 @@ impl Demo {
                     "t={:>5} ms  {:<8} {:<24} position {:>9}  velocity {:>8}",
                     cycles,
                     profile.phase().name(),
-                    state.name(),
+                    state_name(state),
                     feedback.position,
                     feedback.velocity
                 );
@@ -166,7 +166,7 @@ impl Demo {
         group: &Group,
         pdo: &Pdo,
         profile: &Profile,
-    ) -> Result<(State, ecat_examples::cia402::Feedback), String> {
+    ) -> Result<(Option<State>, Feedback), String> {
         let sub = group.subdevice(self.main, 0).map_err(|e| e.to_string())?;
         {
             let mut outputs = sub.outputs_raw_mut();
@@ -181,7 +181,7 @@ impl Demo {
         }
         MockDriver::get().advance(CYCLE);
         let inputs = sub.inputs_raw();
-        let feedback = pdo.read(&inputs);
+        let feedback = pdo.read_feedback(&inputs);
         Ok((State::from_statusword(feedback.statusword), feedback))
     }
 }
