@@ -83,6 +83,8 @@ pub struct Device<A, C, D = ()> {
     pub before_start: fn(&TestMaster),
     /// The object dictionary.
     pub od: D,
+    /// The SII EEPROM image the ESC loads at power-on (empty: no EEPROM).
+    pub eeprom: Vec<u8>,
 }
 
 impl<A, C> Device<A, C, ()> {
@@ -96,6 +98,7 @@ impl<A, C> Device<A, C, ()> {
             device_id: 0,
             before_start: |_| {},
             od: (),
+            eeprom: Vec::new(),
         }
     }
 }
@@ -110,6 +113,7 @@ impl<A, C, D> Device<A, C, D> {
             esc,
             device_id,
             before_start,
+            eeprom,
             ..
         } = self;
         Device {
@@ -120,7 +124,14 @@ impl<A, C, D> Device<A, C, D> {
             device_id,
             before_start,
             od,
+            eeprom,
         }
+    }
+
+    /// The same device with the SII EEPROM image `eeprom`.
+    pub fn with_eeprom(mut self, eeprom: Vec<u8>) -> Self {
+        self.eeprom = eeprom;
+        self
     }
 }
 
@@ -178,8 +189,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
     F: Future<Output = ()> + 'static,
 {
     execute(Some(HANG_LIMIT), |stop| {
-        let emu = Emulator::new(device.esc);
-        (device.before_start)(&TestMaster::new(emu.clone()));
+        let emu = device.emulator();
         let pdi = make_pdi(&emu);
         let (mut futures, shared) = device.runners(&emu, pdi, stop);
         let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
@@ -254,9 +264,7 @@ where
     D: ObjectDictionary,
 {
     fn emulator(&self) -> Emulator {
-        let emu = Emulator::new(self.esc);
-        (self.before_start)(&TestMaster::new(emu.clone()));
-        emu
+        Device::emulator(self)
     }
 
     fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<BoxedTask> {
@@ -270,6 +278,17 @@ where
     C: CycleHandler<D> + 'static,
     D: ObjectDictionary,
 {
+    /// A new emulated ESC for the device: its EEPROM loaded, then what the MainDevice did
+    /// before the firmware started.
+    fn emulator(&self) -> Emulator {
+        let emu = Emulator::new(self.esc);
+        if !self.eeprom.is_empty() {
+            emu.with(|esc| esc.load_eeprom(self.eeprom.clone()));
+        }
+        (self.before_start)(&TestMaster::new(emu.clone()));
+        emu
+    }
+
     /// The state-machine and process-data runners of this device on `pdi`, and the shared ESC
     /// handle they use.
     fn runners<P: Pdi + 'static>(

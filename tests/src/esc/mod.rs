@@ -9,8 +9,12 @@
 
 mod access;
 mod area;
+pub mod datagram;
+mod dc;
+pub mod fmmu;
 mod memory;
 mod registers;
+pub mod sii;
 mod sync_manager;
 #[cfg(test)]
 mod tests;
@@ -117,6 +121,12 @@ pub struct Esc {
     watchdog_triggered: bool,
     /// PDI traffic counters.
     stats: PdiStats,
+    /// The SII EEPROM contents, words little-endian.
+    eeprom: Vec<u8>,
+    /// The SII control/status register as the ESC last set it.
+    previous_sii_status: u16,
+    /// The local clock of the DC unit, ns.
+    local_time_ns: u64,
 }
 
 impl Esc {
@@ -132,6 +142,9 @@ impl Esc {
             watchdog_event: false,
             watchdog_triggered: false,
             stats: PdiStats::default(),
+            eeprom: Vec::new(),
+            previous_sii_status: 0,
+            local_time_ns: 0,
         }
     }
 
@@ -225,6 +238,12 @@ impl Esc {
         self.watchdog_event = true;
     }
 
+    /// Sets register bytes as the ESC's own hardware does (link status, …), whatever the port
+    /// rights say.
+    pub fn set_register(&mut self, address: u16, data: &[u8]) {
+        self.memory.write(usize::from(address), data);
+    }
+
     /// The PDI traffic so far.
     pub fn stats(&self) -> PdiStats {
         self.stats
@@ -235,6 +254,7 @@ impl Esc {
     fn access(&mut self, side: Side, address: u16, mut access: Access<'_>) -> bool {
         let start = usize::from(address);
         let end = start.saturating_add(access.len()).min(ADDRESS_SPACE);
+        let write = matches!(access, Access::Write(_));
         let mut served = end - start == access.len();
         let mut position = start;
         while position < end {
@@ -242,6 +262,9 @@ impl Esc {
             let part = access.part(position - start..run_end - start);
             served &= self.access_area(side, area, position..run_end, part);
             position = run_end;
+        }
+        if write {
+            self.sii_written(side, start..end);
         }
         served
     }
