@@ -70,6 +70,21 @@ pub struct ProcessDataSizes {
     pub inputs: u16,
 }
 
+/// The identity of a device (ETG.1000.6 Table 4, object 0x1018; SII words 0x08..0x0F). One
+/// value serves both: the dictionary declares 0x1018 as a record of this type initialised from
+/// the device's constant, and [`crate::sii`] writes the same constant into the EEPROM image.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Identity {
+    /// 0x1018:01, assigned by the EtherCAT Technology Group.
+    pub vendor_id: u32,
+    /// 0x1018:02.
+    pub product_code: u32,
+    /// 0x1018:03.
+    pub revision: u32,
+    /// 0x1018:04.
+    pub serial: u32,
+}
+
 /// Why a [`DeviceConfig`] is unusable.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ConfigError {

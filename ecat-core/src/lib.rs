@@ -51,6 +51,7 @@ pub mod pdo;
 pub mod process_data;
 pub mod register;
 pub mod ring;
+pub mod sii;
 pub mod subdevice;
 pub mod sync;
 pub mod sync_manager;

@@ -1,7 +1,22 @@
-//! Sample device dictionaries for tests, benchmarks and demos.
+//! Sample devices for tests, benchmarks, demos and the virtual slave: each one description
+//! (names, identity, [`DeviceConfig`]), one dictionary, one application, and the SII image
+//! generated from them ([`Sample::eeprom`]).
+//!
+//! | device | process data | application |
+//! |---|---|---|
+//! | [`drive`] | CiA402-like, 11 bytes each way, configurable PDOs | echoes the set-points as actual values |
+//! | [`dio`] | 2 output bytes, 2 input bytes | inputs = outputs (outputs wired to inputs) |
+//! | [`sensor`] | inputs only: i32 value + u16 status | the value counts the cycles |
 
+use ecat_core::DeviceConfig;
+use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
+use ecat_core::dictionary::{ObjectDictionary, VisibleString};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
+use ecat_core::sii::{self, Names};
 use ecat_core::sync::SyncParameters;
+use ecat_embassy::CycleHandler;
+
+use crate::harness::{AcceptAll, Device};
 
 /// A CiA402-like drive's process data: RxPDO 0x1600 = controlword, target position, target
 /// velocity, mode of operation (11 bytes); TxPDO 0x1A00 = statusword, actual position, actual
@@ -36,6 +51,8 @@ pub struct Drive {
     pub sync_out: SyncParameters,
     /// 0x1C33.
     pub sync_in: SyncParameters,
+    /// 0x1018.
+    pub identity: Identity,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -56,6 +73,12 @@ pub const DRIVE_TX: [MappingEntry; 4] = [
 
 ecat_core::dictionary! {
     Drive {
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = DRIVE_IDENTITY.vendor_id;
+            2 => product_code, RO, "Product code", default = DRIVE_IDENTITY.product_code;
+            3 => revision, RO, "Revision number", default = DRIVE_IDENTITY.revision;
+            4 => serial, RO, "Serial number", default = DRIVE_IDENTITY.serial;
+        };
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_RX));
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
@@ -87,4 +110,259 @@ ecat_core::dictionary! {
         0x607A => var(target_position, RW | RXPDO, "Target position");
         0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
     }
+}
+
+/// The vendor ID of the sample devices (in the range the ETG leaves for tests).
+pub const VENDOR_ID: u32 = 0xE000_0001;
+
+/// 0x1018 of [`Drive`].
+pub const DRIVE_IDENTITY: Identity = Identity {
+    vendor_id: VENDOR_ID,
+    product_code: 0x0000_0402,
+    revision: 1,
+    serial: 0x0000_0001,
+};
+
+/// 128-byte mailboxes at 0x1000 and 0x1080, as every sample device has.
+const MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1000, 128);
+
+/// A sample device: what the harness runs and what the EEPROM holds.
+pub struct Sample<A, C, D> {
+    /// The names in the SII strings.
+    pub names: Names<'static>,
+    /// The identity (= 0x1018).
+    pub identity: Identity,
+    /// The device, ready for [`harness::run_many`](crate::harness::run_many).
+    pub device: Device<A, C, D>,
+}
+
+impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
+    fn new(names: Names<'static>, identity: Identity, device: Device<A, C, D>) -> Self {
+        let mut sample = Self {
+            names,
+            identity,
+            device,
+        };
+        let eeprom = sample.eeprom();
+        sample.device.eeprom = eeprom;
+        sample
+    }
+
+    /// The SII image generated from the description and the dictionary's defaults.
+    pub fn eeprom(&self) -> Vec<u8> {
+        let mut image = vec![0; sii::MAX_SIZE];
+        match sii::write(
+            &self.names,
+            &self.identity,
+            &self.device.config,
+            &self.device.od,
+            &mut image,
+        ) {
+            Ok(len) => image.truncate(len),
+            Err(e) => panic!("sample device's SII image: {e:?}"),
+        }
+        image
+    }
+}
+
+/// Echoes the set-points of [`Drive`] as its actual values.
+pub struct DriveEcho;
+
+impl CycleHandler<Drive> for DriveEcho {
+    fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+        od.statusword = od.controlword;
+        od.position = od.target_position;
+        od.velocity = od.target_velocity;
+        od.mode_display = od.mode;
+    }
+}
+
+/// The CiA402-like drive: configurable PDOs, SM-synchronous or free-run.
+pub fn drive() -> Sample<AcceptAll, DriveEcho, Drive> {
+    let config = DeviceConfig::new(
+        MAILBOX,
+        ProcessDataSizes {
+            outputs: 11,
+            inputs: 11,
+        },
+    );
+    let device = Device::new(config, AcceptAll, DriveEcho).with_dictionary(Drive::default());
+    Sample::new(
+        Names {
+            name: "ecat sample drive",
+            order_code: "ECAT-DRIVE",
+            group: "ecat samples",
+        },
+        DRIVE_IDENTITY,
+        device,
+    )
+}
+
+/// A digital I/O module: 16 outputs, 16 inputs, fixed PDOs.
+#[derive(Debug)]
+pub struct Dio {
+    /// 0x1000.
+    pub device_type: u32,
+    /// 0x1008.
+    pub name: VisibleString<32>,
+    /// 0x1018.
+    pub identity: Identity,
+    /// 0x1600.
+    pub rx: PdoMapping<2>,
+    /// 0x1A00.
+    pub tx: PdoMapping<2>,
+    /// 0x1C12.
+    pub rx_assign: PdoAssignment<1>,
+    /// 0x1C13.
+    pub tx_assign: PdoAssignment<1>,
+    /// 0x6000: the input bytes.
+    pub inputs: [u8; 2],
+    /// 0x7000: the output bytes.
+    pub outputs: [u8; 2],
+}
+
+/// 0x1018 of [`Dio`].
+pub const DIO_IDENTITY: Identity = Identity {
+    vendor_id: VENDOR_ID,
+    product_code: 0x0000_1001,
+    revision: 1,
+    serial: 0x0000_0001,
+};
+
+const DIO_RX: [MappingEntry; 2] = [
+    MappingEntry::new(0x7000, 1, 8),
+    MappingEntry::new(0x7000, 2, 8),
+];
+const DIO_TX: [MappingEntry; 2] = [
+    MappingEntry::new(0x6000, 1, 8),
+    MappingEntry::new(0x6000, 2, 8),
+];
+
+ecat_core::dictionary! {
+    Dio {
+        0x1000 => var(device_type, RO, "Device type", default = 0x0000_1389);
+        0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat sample dio"));
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = DIO_IDENTITY.vendor_id;
+            2 => product_code, RO, "Product code", default = DIO_IDENTITY.product_code;
+            3 => revision, RO, "Revision number", default = DIO_IDENTITY.revision;
+            4 => serial, RO, "Serial number", default = DIO_IDENTITY.serial;
+        };
+        0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&DIO_RX));
+        0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&DIO_TX));
+        0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+        0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x6000 => array(inputs, RO | TXPDO, "Digital inputs", "Input byte");
+        0x7000 => array(outputs, RW | RXPDO, "Digital outputs", "Output byte");
+    }
+}
+
+/// The outputs of [`Dio`] wired to its inputs.
+pub struct DioLoop;
+
+impl CycleHandler<Dio> for DioLoop {
+    fn cycle(&mut self, od: &mut Dio, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+        od.inputs = od.outputs;
+    }
+}
+
+/// The digital I/O module.
+pub fn dio() -> Sample<AcceptAll, DioLoop, Dio> {
+    let config = DeviceConfig::new(
+        MAILBOX,
+        ProcessDataSizes {
+            outputs: 2,
+            inputs: 2,
+        },
+    );
+    let device = Device::new(config, AcceptAll, DioLoop).with_dictionary(Dio::default());
+    Sample::new(
+        Names {
+            name: "ecat sample dio",
+            order_code: "ECAT-DIO-16",
+            group: "ecat samples",
+        },
+        DIO_IDENTITY,
+        device,
+    )
+}
+
+/// An input-only sensor: a measured value and a status word.
+#[derive(Debug)]
+pub struct Sensor {
+    /// 0x1000.
+    pub device_type: u32,
+    /// 0x1018.
+    pub identity: Identity,
+    /// 0x1A00.
+    pub tx: PdoMapping<2>,
+    /// 0x1C12: no RxPDO.
+    pub rx_assign: PdoAssignment<1>,
+    /// 0x1C13.
+    pub tx_assign: PdoAssignment<1>,
+    /// 0x6000.
+    pub value: i32,
+    /// 0x6001.
+    pub status: u16,
+}
+
+/// 0x1018 of [`Sensor`].
+pub const SENSOR_IDENTITY: Identity = Identity {
+    vendor_id: VENDOR_ID,
+    product_code: 0x0000_2001,
+    revision: 1,
+    serial: 0x0000_0001,
+};
+
+const SENSOR_TX: [MappingEntry; 2] = [
+    MappingEntry::new(0x6000, 0, 32),
+    MappingEntry::new(0x6001, 0, 16),
+];
+
+ecat_core::dictionary! {
+    Sensor {
+        0x1000 => var(device_type, RO, "Device type", default = 0x0000_1389);
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = SENSOR_IDENTITY.vendor_id;
+            2 => product_code, RO, "Product code", default = SENSOR_IDENTITY.product_code;
+            3 => revision, RO, "Revision number", default = SENSOR_IDENTITY.revision;
+            4 => serial, RO, "Serial number", default = SENSOR_IDENTITY.serial;
+        };
+        0x1A00 => pdo(tx, RO, "Measurement", "Mapped object", default = PdoMapping::mapping(&SENSOR_TX));
+        0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[]));
+        0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x6000 => var(value, RO | TXPDO, "Value");
+        0x6001 => var(status, RO | TXPDO, "Status");
+    }
+}
+
+/// Counts the cycles in the sensor's value; status 0x0001 = "valid".
+pub struct SensorCounter;
+
+impl CycleHandler<Sensor> for SensorCounter {
+    fn cycle(&mut self, od: &mut Sensor, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+        od.value = od.value.wrapping_add(1);
+        od.status = 0x0001;
+    }
+}
+
+/// The input-only sensor.
+pub fn sensor() -> Sample<AcceptAll, SensorCounter, Sensor> {
+    let config = DeviceConfig::new(
+        MAILBOX,
+        ProcessDataSizes {
+            outputs: 0,
+            inputs: 6,
+        },
+    );
+    let device = Device::new(config, AcceptAll, SensorCounter).with_dictionary(Sensor::default());
+    Sample::new(
+        Names {
+            name: "ecat sample sensor",
+            order_code: "ECAT-SENSOR",
+            group: "ecat samples",
+        },
+        SENSOR_IDENTITY,
+        device,
+    )
 }

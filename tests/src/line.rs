@@ -53,7 +53,9 @@ impl Line {
             Frame::Foreign => return Some(frame.len()),
             Frame::Runt => return None,
         };
-        let now = embassy_time::Instant::now().as_micros().saturating_mul(1_000);
+        let now = embassy_time::Instant::now()
+            .as_micros()
+            .saturating_mul(1_000);
         for emu in &self.escs {
             // A frame from the MainDevice: the test script is running, not a spinning runner.
             emu.script_ran();

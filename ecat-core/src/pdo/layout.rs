@@ -149,12 +149,12 @@ impl<D: ObjectDictionary> Layout<D> {
     }
 }
 
-fn count<D>(od: &D, object: &Object<D>) -> u8 {
+pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {
     let mut b = [0u8; 1];
     (object.read)(od, 0, 0, &mut b).map_or(0, |_| b[0])
 }
 
-fn read_u16<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u16> {
+pub(crate) fn read_u16<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u16> {
     let mut b = [0u8; 2];
     (object.read)(od, sub, 0, &mut b)
         .ok()
@@ -162,7 +162,7 @@ fn read_u16<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u16> {
         .map(|_| u16::from_le_bytes(b))
 }
 
-fn read_u32<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u32> {
+pub(crate) fn read_u32<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u32> {
     let mut b = [0u8; 4];
     (object.read)(od, sub, 0, &mut b)
         .ok()

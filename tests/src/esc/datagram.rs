@@ -108,7 +108,8 @@ impl Esc {
             let a = usize::from(a);
             u16::from_le_bytes([self.memory.byte(a), self.memory.byte(a + 1)])
         };
-        let alias_enabled = self.memory.u32_le(usize::from(register::DL_CONTROL)) & ALIAS_ENABLE != 0;
+        let alias_enabled =
+            self.memory.u32_le(usize::from(register::DL_CONTROL)) & ALIAS_ENABLE != 0;
         adp == word(register::STATION_ADDRESS)
             || (alias_enabled && adp == word(register::STATION_ALIAS))
     }
@@ -133,8 +134,7 @@ impl Esc {
                 }
             }
         }
-        if matches!(op, Operation::Write | Operation::ReadWrite) && self.ecat_write(ado, &arrived)
-        {
+        if matches!(op, Operation::Write | Operation::ReadWrite) && self.ecat_write(ado, &arrived) {
             wkc += if op == Operation::ReadWrite { 2 } else { 1 };
             self.dc_written(start..start + arrived.len());
         }
@@ -169,8 +169,10 @@ impl Esc {
         (0..usize::from(self.config.fmmus))
             .map(|n| {
                 let mut bytes = [0; Fmmu::SIZE];
-                self.memory
-                    .read(usize::from(register::FMMU_BASE) + n * Fmmu::SIZE, &mut bytes);
+                self.memory.read(
+                    usize::from(register::FMMU_BASE) + n * Fmmu::SIZE,
+                    &mut bytes,
+                );
                 Fmmu::from_bytes(&bytes)
             })
             .collect()

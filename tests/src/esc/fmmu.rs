@@ -86,7 +86,7 @@ mod tests {
             2, 0, // 2 bytes
             3, 4, // bits 3..=4 of the second byte
             0x00, 0x10, // physical 0x1000
-            5, // physical bit 5
+            5,    // physical bit 5
             2, 1, 0, 0, 0,
         ];
         let f = Fmmu::from_bytes(&bytes);

@@ -10,6 +10,7 @@
 //! 0x0508 (8 bytes read, 2 bytes written).
 
 use ecat_core::register;
+use ecat_core::sii::crc8;
 
 use super::Esc;
 use super::access::Side;
@@ -34,20 +35,6 @@ const WRITE_ENABLE_ERROR: u16 = 1 << 14;
 
 /// Word 7 of the configuration area holds the CRC of words 0..6 in its low byte.
 const CONFIG_BYTES: usize = 14;
-
-/// The CRC-8 of the SII configuration area (ETG.1000.6 §5.4: polynomial x⁸+x²+x+1 = 0x07,
-/// initial value 0xFF, no reflection, no final XOR) over `bytes`.
-pub fn crc8(bytes: &[u8]) -> u8 {
-    bytes.iter().fold(0xFF, |crc, &byte| {
-        (0..8).fold(crc ^ byte, |crc, _| {
-            if crc & 0x80 != 0 {
-                (crc << 1) ^ 0x07
-            } else {
-                crc << 1
-            }
-        })
-    })
-}
 
 impl Esc {
     /// Puts `image` (SII words, little-endian) into the EEPROM and loads the configuration area

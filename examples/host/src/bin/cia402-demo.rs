@@ -61,7 +61,11 @@ fn run(plot_path: &str) -> Result<(), String> {
             real_master::config(),
         );
         let scenario = async {
-            let mut demo = Demo { main, masters, samples: Vec::new() };
+            let mut demo = Demo {
+                main,
+                masters,
+                samples: Vec::new(),
+            };
             demo.run().await
         };
         *result.borrow_mut() = match select(transport, scenario).await {
@@ -114,12 +118,20 @@ impl Demo {
         let vendor: u32 = sub.sdo_read(0x1018, 1).await.map_err(sdo)?;
         let name: heapless::String<64> = sub.sdo_read(0x1008, 0).await.map_err(sdo)?;
         let modes: u32 = sub.sdo_read(0x6502, 0).await.map_err(sdo)?;
-        println!("PREOP: 0x1018:01 = {vendor:#010x}, 0x1008 = {name:?}, 0x6502 = {modes:#010x} ({})",
-            mode_names(modes));
+        println!(
+            "PREOP: 0x1018:01 = {vendor:#010x}, 0x1008 = {name:?}, 0x6502 = {modes:#010x} ({})",
+            mode_names(modes)
+        );
         let pdo = Pdo::read(&sub).await.map_err(sdo)?;
         drop(sub);
-        let group: Group = group.into_op(self.main).await.map_err(|e| format!("to OP: {e}"))?;
-        println!("OP: {} output bytes, {} input bytes", pdo.outputs, pdo.inputs);
+        let group: Group = group
+            .into_op(self.main)
+            .await
+            .map_err(|e| format!("to OP: {e}"))?;
+        println!(
+            "OP: {} output bytes, {} input bytes",
+            pdo.outputs, pdo.inputs
+        );
         let mut profile = Profile::new();
         let mut cycles = 0u32;
         while profile.phase() != Phase::Done {
@@ -199,16 +211,36 @@ fn write_plot(path: &str, samples: &[Sample]) -> Result<(), String> {
                 title: "Position",
                 unit: "counts",
                 series: vec![
-                    plot::Series { name: "commanded", colour: "#d62728", values: &cp, dashed: true },
-                    plot::Series { name: "actual", colour: "#1f77b4", values: &ap, dashed: false },
+                    plot::Series {
+                        name: "commanded",
+                        colour: "#d62728",
+                        values: &cp,
+                        dashed: true,
+                    },
+                    plot::Series {
+                        name: "actual",
+                        colour: "#1f77b4",
+                        values: &ap,
+                        dashed: false,
+                    },
                 ],
             },
             plot::Panel {
                 title: "Velocity",
                 unit: "counts/s",
                 series: vec![
-                    plot::Series { name: "commanded", colour: "#d62728", values: &cv, dashed: true },
-                    plot::Series { name: "actual", colour: "#1f77b4", values: &av, dashed: false },
+                    plot::Series {
+                        name: "commanded",
+                        colour: "#d62728",
+                        values: &cv,
+                        dashed: true,
+                    },
+                    plot::Series {
+                        name: "actual",
+                        colour: "#1f77b4",
+                        values: &av,
+                        dashed: false,
+                    },
                 ],
             },
         ],

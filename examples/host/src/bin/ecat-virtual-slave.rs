@@ -14,7 +14,8 @@ use std::process::ExitCode;
 use ecat_examples::bridge::{self, Options};
 use ecat_examples::catalog;
 
-const USAGE: &str = "usage: ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE]";
+const USAGE: &str =
+    "usage: ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE]";
 
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Options, String> {
     let (mut iface, mut devices, mut count, mut pcap) = (None, None, 1usize, None);

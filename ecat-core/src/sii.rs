@@ -1,0 +1,465 @@
+//! The SII EEPROM image (ETG.1000.6 §5.4, Tables 2–4; ETG.2010 categories), generated from the
+//! same description the SubDevice checks the MainDevice against ([`DeviceConfig`]), its identity
+//! ([`Identity`], which the dictionary's 0x1018 also holds) and the dictionary's default PDO
+//! assignment and mapping. What the MainDevice reads and what the device does cannot disagree.
+//!
+//! Layout written by [`write`]:
+//!
+//! | words | contents |
+//! |---|---|
+//! | 0x00..0x07 | configuration area: PDI control (SPI), zeros, CRC-8 of words 0..6 in word 7 |
+//! | 0x08..0x0F | identity: vendor ID, product code, revision, serial number |
+//! | 0x14..0x17 | bootstrap mailbox (receive offset/size, send offset/size), zero without BOOT |
+//! | 0x18..0x1B | standard mailbox |
+//! | 0x1C | mailbox protocols: CoE |
+//! | 0x3E, 0x3F | EEPROM size (16 Kbit → 15), version 1 |
+//! | 0x40.. | categories: Strings (10), General (30), FMMU (40), SyncManager (41), TxPDO (50), RxPDO (51), end 0xFFFF |
+//!
+//! Process-data SyncManagers: SM2 (outputs) starts after the last mailbox byte, SM3 (inputs)
+//! after SM2's three buffers, both 8-byte aligned; their default lengths are the images the
+//! default PDO assignment describes. Every reserved bit is 0: some MainDevices reject unknown bits.
+
+use crate::device::{DeviceConfig, Identity, MailboxConfig};
+use crate::dictionary::ObjectDictionary;
+use crate::pdo::layout::{count, read_u16, read_u32};
+use crate::pdo::{Direction, MappingEntry};
+
+/// The names the SII strings carry.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Names<'a> {
+    /// The device's name (General NameIdx; ethercrab's `name()`).
+    pub name: &'a str,
+    /// The order code (General OrderIdx).
+    pub order_code: &'a str,
+    /// The device group (General GroupIdx).
+    pub group: &'a str,
+}
+
+/// Why no image was written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SiiError {
+    /// The buffer is too small for the image.
+    BufferTooSmall,
+    /// More than 255 strings, or a string longer than 255 bytes.
+    TooManyStrings,
+}
+
+/// CoE details bit 0: SDO supported (ETG.2010 Table 4).
+const COE_SDO: u8 = 0x01;
+/// CoE details bit 1: SDO Information.
+const COE_SDO_INFO: u8 = 0x02;
+/// CoE details bit 2: PDO assignment writable.
+const COE_PDO_ASSIGN: u8 = 0x04;
+/// CoE details bit 3: PDO mapping writable.
+const COE_PDO_CONFIG: u8 = 0x08;
+/// CoE details bit 5: SDO complete access.
+const COE_COMPLETE_ACCESS: u8 = 0x20;
+/// Mailbox protocol CoE (word 0x1C).
+const PROTOCOL_COE: u16 = 0x0004;
+/// PDI control word 0: SPI (0x05).
+const PDI_SPI: u16 = 0x0005;
+/// SyncManager control bytes: mailbox out/in, 3-buffer out with watchdog, 3-buffer in.
+const SM_CONTROL: [u8; 4] = [0x26, 0x22, 0x64, 0x20];
+/// FMMU usage (ETG.2010 Table 9): outputs, inputs, SyncManager status.
+const FMMU_OUTPUTS: u8 = 0x01;
+const FMMU_INPUTS: u8 = 0x02;
+const FMMU_SM_STATUS: u8 = 0x03;
+/// Category types (ETG.2010 Table 3).
+const CAT_STRINGS: u16 = 10;
+const CAT_GENERAL: u16 = 30;
+const CAT_FMMU: u16 = 40;
+const CAT_SYNC_MANAGER: u16 = 41;
+const CAT_TXPDO: u16 = 50;
+const CAT_RXPDO: u16 = 51;
+const CAT_END: u16 = 0xFFFF;
+/// Word 0x3E: EEPROM size in Kbit − 1 (16 Kbit).
+const SIZE_KBIT_MINUS_ONE: u16 = 15;
+/// Largest image: 16 Kbit.
+pub const MAX_SIZE: usize = 2048;
+
+/// Writes the SII image of the device into `out`; returns its length in bytes.
+pub fn write<D: ObjectDictionary>(
+    names: &Names<'_>,
+    identity: &Identity,
+    config: &DeviceConfig,
+    od: &D,
+    out: &mut [u8],
+) -> Result<usize, SiiError> {
+    let mut w = Writer {
+        out,
+        at: 0,
+        overflow: false,
+    };
+    w.words(&[PDI_SPI, 0, 0, 0, 0, 0, 0]);
+    let crc = crc8(w.out.get(..14).unwrap_or_default());
+    w.u16(u16::from(crc));
+    for value in [
+        identity.vendor_id,
+        identity.product_code,
+        identity.revision,
+        identity.serial,
+    ] {
+        w.u32(value);
+    }
+    w.words(&[0; 4]);
+    w.mailbox(config.bootstrap_mailbox.as_ref());
+    w.mailbox(Some(&config.mailbox));
+    w.u16(PROTOCOL_COE);
+    w.fill_to(0x3E * 2);
+    w.words(&[SIZE_KBIT_MINUS_ONE, 1]);
+    let image = ProcessImage::of(config, od);
+    let strings = Strings::new(names, od)?;
+    w.category(CAT_STRINGS, |w| strings.write(w, od));
+    w.category(CAT_GENERAL, |w| general(w, coe_details(od)));
+    w.category(CAT_FMMU, |w| image.fmmus(w));
+    w.category(CAT_SYNC_MANAGER, |w| image.sync_managers(w, config));
+    for (category, direction) in [(CAT_TXPDO, Direction::Tx), (CAT_RXPDO, Direction::Rx)] {
+        if count_pdos(od, direction) > 0 {
+            w.category(category, |w| pdos(w, od, direction));
+        }
+    }
+    w.u16(CAT_END);
+    if w.overflow {
+        return Err(SiiError::BufferTooSmall);
+    }
+    Ok(w.at)
+}
+
+/// The CRC-8 of the configuration area (ETG.1000.6 §5.4: polynomial 0x07, initial 0xFF).
+pub fn crc8(bytes: &[u8]) -> u8 {
+    bytes.iter().fold(0xFF, |crc, &byte| {
+        (0..8).fold(crc ^ byte, |crc, _| {
+            if crc & 0x80 != 0 {
+                (crc << 1) ^ 0x07
+            } else {
+                crc << 1
+            }
+        })
+    })
+}
+
+/// Writes little-endian words into the buffer, remembering whether it ran out.
+struct Writer<'a> {
+    out: &'a mut [u8],
+    at: usize,
+    overflow: bool,
+}
+
+impl Writer<'_> {
+    fn bytes(&mut self, bytes: &[u8]) {
+        match self.out.get_mut(self.at..self.at + bytes.len()) {
+            Some(dst) => dst.copy_from_slice(bytes),
+            None => self.overflow = true,
+        }
+        self.at += bytes.len();
+    }
+
+    fn u8(&mut self, value: u8) {
+        self.bytes(&[value]);
+    }
+
+    fn u16(&mut self, value: u16) {
+        self.bytes(&value.to_le_bytes());
+    }
+
+    fn u32(&mut self, value: u32) {
+        self.bytes(&value.to_le_bytes());
+    }
+
+    fn words(&mut self, words: &[u16]) {
+        for &word in words {
+            self.u16(word);
+        }
+    }
+
+    /// Zeros up to byte `end`.
+    fn fill_to(&mut self, end: usize) {
+        while self.at < end {
+            self.u8(0);
+        }
+    }
+
+    /// Receive offset/size, send offset/size; zeros without a mailbox.
+    fn mailbox(&mut self, mailbox: Option<&MailboxConfig>) {
+        let words = mailbox.map_or([0; 4], |m| {
+            [
+                m.receive.start,
+                m.receive.length,
+                m.send.start,
+                m.send.length,
+            ]
+        });
+        self.words(&words);
+    }
+
+    /// A category: type, size in words, `body` padded to whole words.
+    fn category(&mut self, kind: u16, body: impl FnOnce(&mut Self)) {
+        self.u16(kind);
+        let size_at = self.at;
+        self.u16(0);
+        let start = self.at;
+        body(self);
+        if !(self.at - start).is_multiple_of(2) {
+            self.u8(0);
+        }
+        let words = u16::try_from((self.at - start) / 2).unwrap_or(u16::MAX);
+        if let Some(size) = self.out.get_mut(size_at..size_at + 2) {
+            size.copy_from_slice(&words.to_le_bytes());
+        }
+    }
+}
+
+/// String indices of the General category (1-based; the PDO and entry names follow from
+/// [`FIRST_PDO_STRING`] on).
+const GROUP: u8 = 1;
+const ORDER: u8 = 2;
+const NAME: u8 = 3;
+const FIRST_PDO_STRING: usize = 4;
+
+/// The Strings category: the three names, then for the TxPDOs and then the RxPDOs each PDO's name
+/// followed by the names of its mapped entries (gaps have none), in the order [`pdos`] numbers
+/// them.
+struct Strings<'a> {
+    names: Names<'a>,
+    count: u8,
+}
+
+impl<'a> Strings<'a> {
+    fn new<D: ObjectDictionary>(names: &Names<'a>, od: &D) -> Result<Self, SiiError> {
+        let mut count = FIRST_PDO_STRING - 1;
+        for direction in [Direction::Tx, Direction::Rx] {
+            pdo_strings(od, direction, |_| count += 1);
+        }
+        let long = [names.name, names.order_code, names.group]
+            .iter()
+            .any(|s| s.len() > 255);
+        match u8::try_from(count) {
+            Ok(count) if !long => Ok(Self {
+                names: *names,
+                count,
+            }),
+            _ => Err(SiiError::TooManyStrings),
+        }
+    }
+
+    fn write<D: ObjectDictionary>(&self, w: &mut Writer<'_>, od: &D) {
+        w.u8(self.count);
+        for s in [self.names.group, self.names.order_code, self.names.name] {
+            string(w, s);
+        }
+        for direction in [Direction::Tx, Direction::Rx] {
+            pdo_strings(od, direction, |s| string(w, s));
+        }
+    }
+}
+
+/// Calls `f` with the PDO and entry names of `direction`, in string-table order.
+fn pdo_strings<D: ObjectDictionary>(od: &D, direction: Direction, mut f: impl FnMut(&'static str)) {
+    for_each_pdo(od, direction, |_, name, entries| {
+        f(name);
+        for entry in entries.iter().filter(|e| e.index() != 0) {
+            f(entry_name(od, *entry));
+        }
+    });
+}
+
+/// One string: length byte and bytes (cut at 255).
+fn string(w: &mut Writer<'_>, s: &str) {
+    let bytes = s.as_bytes().get(..s.len().min(255)).unwrap_or_default();
+    w.u8(u8::try_from(bytes.len()).unwrap_or(u8::MAX));
+    w.bytes(bytes);
+}
+
+/// The General category (ETG.2010 Table 6), 32 bytes.
+fn general(w: &mut Writer<'_>, coe: u8) {
+    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe, 0, 0, 0, 0, 0, 0]);
+    w.u16(0); // current on E-bus
+    w.bytes(&[GROUP, 0]); // group index (compatibility), reserved
+    w.u16(0x0011); // physical ports 0 and 1: MII
+    w.u16(0); // physical memory address of the identification
+    w.bytes(&[0; 14]);
+}
+
+/// The CoE details the dictionary supports: SDO, SDO Information and complete access always;
+/// PDO assignment / configuration when 0x1C12/0x1C13 / their mapping objects are writable.
+fn coe_details<D: ObjectDictionary>(od: &D) -> u8 {
+    let mut details = COE_SDO | COE_SDO_INFO | COE_COMPLETE_ACCESS;
+    let writable = |index: u16| {
+        D::object(index)
+            .and_then(|o| o.info.entry(0))
+            .is_some_and(|e| e.access.writable())
+    };
+    for direction in [Direction::Rx, Direction::Tx] {
+        if writable(direction.assignment()) {
+            details |= COE_PDO_ASSIGN;
+        }
+        for_each_pdo(od, direction, |pdo, _, _| {
+            if writable(pdo) {
+                details |= COE_PDO_CONFIG;
+            }
+        });
+    }
+    details
+}
+
+/// The default images and where their SyncManagers sit.
+struct ProcessImage {
+    outputs: u16,
+    inputs: u16,
+}
+
+impl ProcessImage {
+    /// Sizes from the default PDO assignment, or the fixed sizes of a device without one.
+    fn of<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> Self {
+        let bits = |direction| {
+            let mut bits = 0u32;
+            for_each_pdo(od, direction, |_, _, entries| {
+                bits += entries.iter().map(|e| u32::from(e.bit_len())).sum::<u32>();
+            });
+            u16::try_from(bits.div_ceil(8)).unwrap_or(u16::MAX)
+        };
+        let has = |direction: Direction| D::object(direction.assignment()).is_some();
+        Self {
+            outputs: if has(Direction::Rx) {
+                bits(Direction::Rx)
+            } else {
+                config.process_data.outputs
+            },
+            inputs: if has(Direction::Tx) {
+                bits(Direction::Tx)
+            } else {
+                config.process_data.inputs
+            },
+        }
+    }
+
+    /// FMMU usages: outputs, inputs (for the images that exist), mailbox status.
+    fn fmmus(&self, w: &mut Writer<'_>) {
+        if self.outputs > 0 {
+            w.u8(FMMU_OUTPUTS);
+        }
+        if self.inputs > 0 {
+            w.u8(FMMU_INPUTS);
+        }
+        w.u8(FMMU_SM_STATUS);
+    }
+
+    /// SM0..SM3: start, length, control, status 0, enable, type.
+    fn sync_managers(&self, w: &mut Writer<'_>, config: &DeviceConfig) {
+        let mailboxes = [Some(&config.mailbox), config.bootstrap_mailbox.as_ref()];
+        let mailbox_end = mailboxes
+            .into_iter()
+            .flatten()
+            .flat_map(|m| [m.receive.end(), m.send.end()])
+            .max()
+            .unwrap_or(0);
+        let align = |a: u32| u16::try_from(a.div_ceil(8) * 8).unwrap_or(u16::MAX);
+        let outputs_start = align(mailbox_end);
+        let inputs_start = align(u32::from(outputs_start) + 3 * u32::from(self.outputs));
+        let channels = [
+            (
+                config.mailbox.receive.start,
+                config.mailbox.receive.length,
+                1u8,
+            ),
+            (config.mailbox.send.start, config.mailbox.send.length, 1),
+            (outputs_start, self.outputs, u8::from(self.outputs > 0)),
+            (inputs_start, self.inputs, u8::from(self.inputs > 0)),
+        ];
+        for (kind, ((start, length, enable), control)) in
+            (1..).zip(channels.into_iter().zip(SM_CONTROL))
+        {
+            w.u16(start);
+            w.u16(length);
+            w.bytes(&[control, 0, enable, kind]);
+        }
+    }
+}
+
+/// The number of PDOs the assignment of `direction` lists.
+fn count_pdos<D: ObjectDictionary>(od: &D, direction: Direction) -> usize {
+    let mut n = 0;
+    for_each_pdo(od, direction, |_, _, _| n += 1);
+    n
+}
+
+/// Calls `f(pdo index, pdo name, entries)` for every PDO the assignment of `direction` lists.
+fn for_each_pdo<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    mut f: impl FnMut(u16, &'static str, &[MappingEntry]),
+) {
+    let Some(assignment) = D::object(direction.assignment()) else {
+        return;
+    };
+    for n in 1..=count(od, assignment) {
+        let Some(index) = read_u16(od, assignment, n) else {
+            continue;
+        };
+        let Some(mapping) = D::object(index).filter(|_| direction.is_mapping(index)) else {
+            continue;
+        };
+        let mut entries = [MappingEntry(0); 64];
+        let mut len = 0;
+        for sub in 1..=count(od, mapping) {
+            if let (Some(slot), Some(entry)) = (entries.get_mut(len), read_u32(od, mapping, sub)) {
+                *slot = MappingEntry(entry);
+                len += 1;
+            }
+        }
+        f(
+            index,
+            mapping.info.name,
+            entries.get(..len).unwrap_or_default(),
+        );
+    }
+}
+
+/// A PDO category (ETG.2010 Table 14): per PDO index, entry count, SyncManager, DC sync 0, name
+/// string, flags 0; per entry index, subindex, name string, data type, bit length, flags 0.
+fn pdos<D: ObjectDictionary>(w: &mut Writer<'_>, od: &D, direction: Direction) {
+    let mut next = FIRST_PDO_STRING;
+    if direction == Direction::Rx {
+        pdo_strings(od, Direction::Tx, |_| next += 1);
+    }
+    let mut index_of = |present: bool| {
+        let index = if present {
+            u8::try_from(next).unwrap_or(0)
+        } else {
+            0
+        };
+        next += usize::from(present);
+        index
+    };
+    let sm = match direction {
+        Direction::Rx => 2,
+        Direction::Tx => 3,
+    };
+    for_each_pdo(od, direction, |index, _, entries| {
+        w.u16(index);
+        let n = u8::try_from(entries.len()).unwrap_or(u8::MAX);
+        w.bytes(&[n, sm, 0, index_of(true)]);
+        w.u16(0);
+        for entry in entries {
+            w.u16(entry.index());
+            w.bytes(&[entry.sub(), index_of(entry.index() != 0)]);
+            w.bytes(&[entry_type(od, *entry), entry.bit_len()]);
+            w.u16(0);
+        }
+    });
+}
+
+/// The data type of a mapped entry (the low byte of its code, as the SII stores it); 0 for a
+/// gap.
+fn entry_type<D: ObjectDictionary>(_od: &D, entry: MappingEntry) -> u8 {
+    D::object(entry.index())
+        .and_then(|o| o.info.entry(entry.sub()))
+        .map_or(0, |e| e.data_type.code().to_le_bytes()[0])
+}
+
+/// The name of a mapped entry: its entry description's name.
+fn entry_name<D: ObjectDictionary>(_od: &D, entry: MappingEntry) -> &'static str {
+    D::object(entry.index())
+        .and_then(|o| o.info.entry(entry.sub()))
+        .map_or("", |e| e.name)
+}
