@@ -99,39 +99,38 @@ impl PowerDriveSystem {
     pub fn update(&mut self, controlword: u16, options: &OptionCodes, standstill: bool) -> Step {
         let edge = controlword & FAULT_RESET != 0 && !self.fault_reset;
         self.fault_reset = controlword & FAULT_RESET != 0;
-        let mut taken = self.complete(standstill);
-        if taken.is_empty() {
-            taken = self.command(Command::decode(controlword), edge, options);
-        }
+        let transitions = match self.complete(standstill) {
+            Some(completed) => completed,
+            None => self.command(Command::decode(controlword), edge, options),
+        };
         Step {
-            transitions: taken,
+            transitions,
             motion: self.motion(),
         }
     }
 
     /// The automatic transitions: 1 after initialisation, and the end of a pending stop (5, 8,
-    /// 12, 14, or staying in Quick stop active).
-    fn complete(&mut self, standstill: bool) -> Transitions {
+    /// 12, 14, or staying in Quick stop active). `Some` when one happened: the cycle's command
+    /// then waits for the next cycle.
+    fn complete(&mut self, standstill: bool) -> Option<Transitions> {
+        let none = Transitions::default();
         if self.state == State::NotReadyToSwitchOn {
             self.state = State::SwitchOnDisabled;
-            return Transitions::default().with(1);
+            return Some(none.with(1));
         }
-        let Some(reaction) = self.pending else {
-            return Transitions::default();
-        };
+        let reaction = self.pending?;
         if !standstill && reaction.ramp != Ramp::Disable {
-            return Transitions::default();
+            return None;
         }
         self.pending = None;
-        let from = self.state;
-        self.state = reaction.then;
-        match (from, reaction.then) {
-            (State::OperationEnabled, State::SwitchedOn) => Transitions::default().with(5),
-            (State::OperationEnabled, _) => Transitions::default().with(8),
-            (State::QuickStopActive, State::SwitchOnDisabled) => Transitions::default().with(12),
-            (State::FaultReactionActive, _) => Transitions::default().with(14),
-            _ => Transitions::default(),
-        }
+        let from = core::mem::replace(&mut self.state, reaction.then);
+        Some(match (from, reaction.then) {
+            (State::OperationEnabled, State::SwitchedOn) => none.with(5),
+            (State::OperationEnabled, _) => none.with(8),
+            (State::QuickStopActive, State::SwitchOnDisabled) => none.with(12),
+            (State::FaultReactionActive, _) => none.with(14),
+            _ => none,
+        })
     }
 
     /// The transition a command takes in the current state (Table 27); a stop becomes pending.
