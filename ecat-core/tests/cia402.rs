@@ -581,7 +581,8 @@ fn mode_codes_and_bits() {
 
 // --- the standard-object check --------------------------------------------------------------
 
-pub struct Good {
+/// A dictionary with the required objects and 0x607D, all as CiA 402-2 declares them.
+struct Good {
     error_code: u16,
     controlword: u16,
     statusword: u16,
@@ -606,7 +607,8 @@ ecat_core::dictionary! {
     }
 }
 
-pub struct Bad {
+/// 0x6041 as UNSIGNED32.
+struct Bad {
     error_code: u16,
     controlword: u16,
     statusword: u32,
@@ -626,7 +628,8 @@ ecat_core::dictionary! {
     }
 }
 
-pub struct ReadOnlyControl {
+/// 0x6040 read-only.
+struct ReadOnlyControl {
     error_code: u16,
     controlword: u16,
 }
@@ -638,7 +641,8 @@ ecat_core::dictionary! {
     }
 }
 
-pub struct Unmapped {
+/// 0x603F not TxPDO-mappable.
+struct Unmapped {
     error_code: u16,
 }
 
@@ -648,7 +652,8 @@ ecat_core::dictionary! {
     }
 }
 
-pub struct Partial {
+/// Without 0x6502.
+struct Partial {
     error_code: u16,
     controlword: u16,
     statusword: u16,
