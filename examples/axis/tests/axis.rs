@@ -2,7 +2,9 @@
 //! its target in a stated number of cycles, software limits, following error, fault injection
 //! and reset, and the stop ramps of the option codes.
 
-use ecat_axis::{Axis, AxisApp, AxisOd, RX_MAPPING, SUPPORTED_MODES, TX_MAPPING};
+use ecat_axis::{
+    Axis, AxisApp, AxisOd, Motor, RX_MAPPING, SUPPORTED_MODES, TORQUE_ACCELERATION, TX_MAPPING,
+};
 use ecat_core::cia402::objects;
 use ecat_core::cia402::{SoftwarePositionLimit, State};
 use ecat_core::coe::AbortCode;
@@ -361,4 +363,32 @@ fn leaving_op_commands_a_quick_stop() {
     assert_eq!((axis.state(), od.velocity), (State::QuickStopActive, 0));
     axis.cycle(&mut od, None, &mut []);
     assert_eq!(axis.state(), State::SwitchOnDisabled);
+}
+
+#[test]
+fn motor_ramps_end_and_positions_stay_exact() {
+    let mut motor = Motor::new();
+    motor.set_velocity(-5);
+    // 1 count/s² over 1 ms rounds to 0: every ramp still takes at least 1 count/s per cycle.
+    motor.decelerate(1, 1_000_000);
+    assert_eq!(motor.velocity(), -4);
+    // A deceleration of 0 stops at once.
+    motor.decelerate(0, 1_000_000);
+    assert!(motor.standstill());
+    // 3 counts/s over 1 ms cycles: 1 count after 334 cycles, none lost to rounding.
+    motor.set_velocity(3);
+    for _ in 0..333 {
+        motor.integrate(1_000_000);
+    }
+    assert_eq!(motor.position(), 0);
+    motor.integrate(1_000_000);
+    assert_eq!(motor.position(), 1);
+    // Saturation instead of overflow.
+    motor.set_velocity(i32::MAX);
+    motor.accelerate(i64::MAX, u32::MAX);
+    for _ in 0..10 {
+        motor.integrate(u32::MAX);
+    }
+    assert_eq!((motor.velocity(), motor.position()), (i32::MAX, i32::MAX));
+    assert_eq!(TORQUE_ACCELERATION, 1_000);
 }
