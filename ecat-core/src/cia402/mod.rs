@@ -5,7 +5,7 @@
 //! The profile *decides*, the application *moves*: every cycle the application hands
 //! [`PowerDriveSystem::update`] the controlword and whether its motor stands still, and gets a
 //! [`Motion`] back (follow the mode, stop with a ramp, hold, or power off). It then builds the
-//! statusword with [`statusword`] from the state and the flags only it knows.
+//! statusword with [`statusword()`] from the state and the flags only it knows.
 //!
 //! | module | spec concept |
 //! |---|---|
@@ -13,7 +13,7 @@
 //! | [`controlword`] | the device control commands (§6.2.1.2, Table 28) |
 //! | [`option_code`] | 0x605A/0x605B/0x605C/0x605E: the stop ramps and the state after them (§6.2.3) |
 //! | [`pds`] | the state machine with transitions 0..16 (§6.2.1.1, Figure 19, Table 27) |
-//! | [`statusword`] | the statusword bits (§6.2.1.3, Table 29) |
+//! | [`statusword`](mod@statusword) | the statusword bits (§6.2.1.3, Table 29) |
 //! | [`mode`] | modes of operation 0x6060/0x6061/0x6502 (§6.2.2, Tables 31–33) |
 //! | [`objects`] | the standard objects a drive declares, and a check of a dictionary against them |
 
