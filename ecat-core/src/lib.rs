@@ -27,6 +27,7 @@
 //! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
+//! | [`cia402`] | the CiA 402 drive profile: PDS state machine, option codes, statusword, modes (IEC 61800-7-201 §6.2) |
 #![no_std]
 #![cfg_attr(
     not(test),
@@ -42,6 +43,7 @@
 )]
 
 pub mod al;
+pub mod cia402;
 pub mod coe;
 pub mod device;
 pub mod dictionary;

@@ -137,7 +137,9 @@ pub struct Sample<A, C, D> {
 }
 
 impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
-    fn new(names: Names<'static>, identity: Identity, device: Device<A, C, D>) -> Self {
+    /// The sample with `device.eeprom` generated from the names, identity, configuration and
+    /// dictionary.
+    pub fn new(names: Names<'static>, identity: Identity, device: Device<A, C, D>) -> Self {
         let mut sample = Self {
             names,
             identity,

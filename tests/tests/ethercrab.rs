@@ -137,7 +137,6 @@ fn three_subdevices_reach_op_and_exchange_10000_cycles() {
             .await
             .expect("SDO write 0x607A");
         let target: i32 = drive.sdo_read(0x607A, 0).await.expect("SDO read 0x607A");
-        drop(drive);
         let group = to_op(main, group, &masters).await;
         let sizes: Vec<(usize, usize)> = group
             .iter(main)

@@ -8,8 +8,8 @@
 use std::collections::HashMap;
 use std::ops::Deref;
 
-pub use ecat_core::cia402::State;
 use ecat_core::cia402::Mode;
+pub use ecat_core::cia402::State;
 use ethercrab::SubDeviceRef;
 use ethercrab::error::Error;
 
@@ -133,8 +133,14 @@ impl Pdo {
             for e in 1..=entries {
                 let entry: u32 = sub.sdo_read(pdo, e).await?;
                 let (index, bits) = ((entry >> 16) as u16, entry as u8);
-                if index != 0 && bit % 8 == 0 {
-                    slots.insert(index, Slot { byte: bit / 8, bits });
+                if index != 0 && bit.is_multiple_of(8) {
+                    slots.insert(
+                        index,
+                        Slot {
+                            byte: bit / 8,
+                            bits,
+                        },
+                    );
                 }
                 bit += usize::from(bits);
             }
@@ -283,7 +289,7 @@ impl Profile {
         match self.phase {
             Phase::Enable => self.enable(state, feedback),
             Phase::Csp => self.csp(),
-            Phase::Csv => self.csv(),
+            Phase::Csv => self.csv(dt),
             Phase::QuickStop => {
                 self.command.controlword = controlword::QUICK_STOP;
                 self.setpoint = Setpoint {
@@ -334,7 +340,11 @@ impl Profile {
         let speed = std::f64::consts::PI * (std::f64::consts::PI * s).sin() / 2.0;
         self.setpoint = Setpoint {
             position: self.start + CSP_DISTANCE * shape,
-            velocity: if s < 1.0 { CSP_DISTANCE / CSP_TIME * speed } else { 0.0 },
+            velocity: if s < 1.0 {
+                CSP_DISTANCE / CSP_TIME * speed
+            } else {
+                0.0
+            },
         };
         self.command.mode = Mode::CyclicSyncPosition.code();
         self.command.target_position = self.setpoint.position.round() as i32;
@@ -344,11 +354,13 @@ impl Profile {
         }
     }
 
-    fn csv(&mut self) {
+    fn csv(&mut self, dt: f64) {
         let ramp = (self.t / CSV_RAMP).min(1.0);
         let velocity = CSV_VELOCITY * ramp;
+        // The position the commanded velocity integrates to, for the plot.
+        self.start += velocity * dt;
         self.setpoint = Setpoint {
-            position: f64::NAN,
+            position: self.start,
             velocity,
         };
         self.command.mode = Mode::CyclicSyncVelocity.code();
@@ -385,7 +397,10 @@ mod tests {
         for _ in 0..1500 {
             p.step(Some(State::OperationEnabled), Feedback::default(), 0.001);
             let step = p.commanded().position - last;
-            assert!((0.0..=CSP_DISTANCE / CSP_TIME * 1.6 * 0.001).contains(&step), "{step}");
+            assert!(
+                (0.0..=CSP_DISTANCE / CSP_TIME * 1.6 * 0.001).contains(&step),
+                "{step}"
+            );
             last = p.commanded().position;
         }
         assert!((last - CSP_DISTANCE).abs() < 1.0, "{last}");

@@ -1,6 +1,7 @@
 //! Host programs around ecat: demos, the virtual slave, the ESI/SII writer. The modules here are
 //! what those programs share.
 
+pub mod axis;
 pub mod bridge;
 pub mod catalog;
 pub mod cia402;

@@ -25,7 +25,7 @@ use ethercrab::{MainDevice, SubDeviceGroup, Timeouts};
 /// One cycle of virtual time.
 const CYCLE: Duration = Duration::from_millis(1);
 
-type Group = SubDeviceGroup<1, 64, ethercrab::DefaultLock, ethercrab::subdevice_group::Op>;
+type Group = SubDeviceGroup<2, 64, ethercrab::DefaultLock, ethercrab::subdevice_group::Op>;
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -100,7 +100,7 @@ impl Demo {
         let now = || embassy_time::Instant::now().as_micros() * 1_000;
         let group = self
             .main
-            .init_single_group::<1, 64>(now)
+            .init_single_group::<2, 64>(now)
             .await
             .map_err(|e| format!("scan: {e}"))?;
         let sub = group.subdevice(self.main, 0).map_err(|e| e.to_string())?;
@@ -123,19 +123,30 @@ impl Demo {
             mode_names(modes)
         );
         let pdo = Pdo::read(&sub).await.map_err(sdo)?;
-        drop(sub);
-        let group: Group = group
-            .into_op(self.main)
+        // OP follows the first valid outputs, so the cyclic frames start before it (ethercrab's
+        // `into_op` would wait without sending any).
+        let group = group
+            .into_safe_op(self.main)
             .await
-            .map_err(|e| format!("to OP: {e}"))?;
+            .map_err(|e| format!("to SAFEOP: {e}"))?;
         println!(
-            "OP: {} output bytes, {} input bytes",
+            "SAFEOP: {} output bytes, {} input bytes",
             pdo.outputs, pdo.inputs
         );
+        let group: Group = group
+            .request_into_op(self.main)
+            .await
+            .map_err(|e| format!("requesting OP: {e}"))?;
         let mut profile = Profile::new();
         let mut cycles = 0u32;
+        let mut op = false;
+        let mut last_phase = Phase::Enable;
         while profile.phase() != Phase::Done {
-            let (state, feedback) = self.exchange(&group, &pdo, &profile).await?;
+            let (all_op, state, feedback) = self.exchange(&group, &pdo, &profile).await?;
+            if all_op && !op {
+                println!("OP after {cycles} cycles");
+                op = true;
+            }
             profile.step(state, feedback, CYCLE.as_micros() as f64 / 1e6);
             self.samples.push(Sample {
                 ms: f64::from(cycles),
@@ -144,15 +155,18 @@ impl Demo {
                 commanded_velocity: profile.commanded().velocity,
                 actual_velocity: f64::from(feedback.velocity),
             });
-            if cycles % 250 == 0 {
+            let phase = profile.phase();
+            if cycles.is_multiple_of(250) || phase != last_phase {
                 println!(
-                    "t={:>5} ms  {:<8} {:<24} position {:>9}  velocity {:>8}",
+                    "t={:>5} ms  {:<9} {:<20} statusword {:#06x}  position {:>7}  velocity {:>7}",
                     cycles,
-                    profile.phase().name(),
+                    phase.name(),
                     state_name(state),
+                    feedback.statusword,
                     feedback.position,
                     feedback.velocity
                 );
+                last_phase = phase;
             }
             cycles += 1;
             if cycles > 20_000 {
@@ -163,9 +177,11 @@ impl Demo {
             .samples
             .iter()
             .map(|s| (s.commanded_position - s.actual_position).abs())
+            .filter(|e| e.is_finite())
             .fold(0.0, f64::max);
         println!(
-            "done: {cycles} cycles, final position {}, largest position error {worst:.0} counts",
+            "done: {cycles} cycles of 1 ms, final position {} counts; in CSP the actual position \
+             trails the command by at most {worst:.0} counts (one exchange of latency)",
             self.samples.last().map_or(0.0, |s| s.actual_position)
         );
         Ok(core::mem::take(&mut self.samples))
@@ -178,7 +194,7 @@ impl Demo {
         group: &Group,
         pdo: &Pdo,
         profile: &Profile,
-    ) -> Result<(Option<State>, Feedback), String> {
+    ) -> Result<(bool, Option<State>, Feedback), String> {
         let sub = group.subdevice(self.main, 0).map_err(|e| e.to_string())?;
         {
             let mut outputs = sub.outputs_raw_mut();
@@ -194,7 +210,11 @@ impl Demo {
         MockDriver::get().advance(CYCLE);
         let inputs = sub.inputs_raw();
         let feedback = pdo.read_feedback(&inputs);
-        Ok((State::from_statusword(feedback.statusword), feedback))
+        Ok((
+            response.all_op(),
+            State::from_statusword(feedback.statusword),
+            feedback,
+        ))
     }
 }
 

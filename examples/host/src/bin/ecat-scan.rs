@@ -95,8 +95,21 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             id.serial
         );
     }
-    let group = group.into_op(&main).await?;
-    println!("all SubDevices in OP");
+    // A SubDevice enters OP after the first valid outputs: request OP, then run the cycle.
+    let group: Group = group
+        .into_safe_op(&main)
+        .await?
+        .request_into_op(&main)
+        .await?;
+    let mut waited = 0;
+    while !group.tx_rx(&main).await?.all_op() {
+        waited += 1;
+        if waited > 1000 {
+            return Err("not all SubDevices reached OP within 1000 cycles".into());
+        }
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    println!("all SubDevices in OP after {waited} cycles");
     let expected = expected_wkc(&group, &main);
     for cycle in 0..args.cycles {
         write_outputs(&group, &main, cycle);
@@ -159,7 +172,10 @@ async fn check_echo(group: &Group, main: &MainDevice<'_>) -> Result<(), String> 
     }
     for sub in group.iter(main) {
         let io = sub.io_raw();
-        if io.inputs().len() == io.outputs().len() && io.inputs() != io.outputs() {
+        if io.inputs().len() != io.outputs().len() {
+            continue;
+        }
+        if io.inputs() != io.outputs() {
             return Err(format!(
                 "{:#06x}: inputs {:02x?} do not echo outputs {:02x?}",
                 sub.configured_address(),

@@ -1,0 +1,47 @@
+//! The device control commands of the controlword 0x6040 (IEC 61800-7-201 §6.2.1.2, Table 28).
+//!
+//! Bits 0..3 and 7 form the command: 0 switch on, 1 enable voltage, 2 quick stop (active low),
+//! 3 enable operation, 7 fault reset. While bit 7 is set no other command is decoded (every
+//! command of Table 28 has bit 7 clear); the fault reset itself is the rising edge of bit 7,
+//! which [`PowerDriveSystem`](super::PowerDriveSystem) detects across cycles.
+//!
+//! conformance.md words "switch on" as 0x07/0xC7; Table 28 gives `0xxx 0111`, i.e. mask 0x8F:
+//! bit 3 tells "switch on" (0x07) from "switch on + enable operation" (0x0F), so this module
+//! uses 0x8F.
+
+/// Controlword bit 7: fault reset (rising edge).
+pub const FAULT_RESET: u16 = 1 << 7;
+
+/// A device control command of Table 28. "Disable operation" has the bits of "switch on", and
+/// "switch on + enable operation" those of "enable operation": the state decides which one is
+/// meant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Command {
+    /// `0xxx xx0x` (mask 0x82): transitions 7, 9, 10, 12.
+    DisableVoltage,
+    /// `0xxx x01x` (mask 0x86): transitions 7, 10, 11.
+    QuickStop,
+    /// `0xxx x110` (mask 0x87): transitions 2, 6, 8.
+    Shutdown,
+    /// `0xxx 0111` (mask 0x8F): switch on (3) or disable operation (5).
+    SwitchOn,
+    /// `0xxx 1111` (mask 0x8F): enable operation (4, 16) or switch on + enable operation (3+4).
+    EnableOperation,
+}
+
+impl Command {
+    /// The command in `controlword`; `None` while bit 7 (fault reset) is set.
+    pub fn decode(controlword: u16) -> Option<Self> {
+        const MASKS: [(u16, u16, Command); 5] = [
+            (0x82, 0x00, Command::DisableVoltage),
+            (0x86, 0x02, Command::QuickStop),
+            (0x87, 0x06, Command::Shutdown),
+            (0x8F, 0x07, Command::SwitchOn),
+            (0x8F, 0x0F, Command::EnableOperation),
+        ];
+        MASKS
+            .into_iter()
+            .find(|&(mask, value, _)| controlword & mask == value)
+            .map(|(_, _, command)| command)
+    }
+}

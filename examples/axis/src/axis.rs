@@ -1,0 +1,253 @@
+//! The process-data cycle of the axis: the CiA 402 state machine decides, the simulated motor
+//! moves (the structure of the SSC `CiA402_Application`/`CiA402_DummyMotionControl`).
+
+use ecat_core::cia402::statusword::StatusFlags;
+use ecat_core::cia402::{
+    Mode, Motion, OptionCodes, PowerDriveSystem, Ramp, SoftwarePositionLimit, State, mode,
+    statusword,
+};
+use ecat_embassy::CycleHandler;
+
+use crate::AxisOd;
+use crate::motor::{Motor, TORQUE_ACCELERATION, saturate};
+
+/// The cycle time when 0x1C32:02 is 0 (no cycle configured): 1 ms.
+pub const DEFAULT_CYCLE_NS: u32 = 1_000_000;
+
+/// The controlword [`Axis::safe_state`](CycleHandler::safe_state) leaves in the dictionary:
+/// quick stop (IEC 61800-7-201 Table 28).
+const QUICK_STOP: u16 = 0x0002;
+
+/// What one cycle of motion reports into the statusword and the actual values.
+#[derive(Debug, Default)]
+struct Report {
+    target_reached: bool,
+    internal_limit: bool,
+    follows_command: bool,
+    following_error: bool,
+    /// 0x60F4.
+    error: i32,
+    /// 0x6077.
+    torque: i16,
+}
+
+/// One axis: the [`CycleHandler`] of the drive.
+#[derive(Debug, Clone, Default)]
+pub struct Axis {
+    pds: PowerDriveSystem,
+    motor: Motor,
+    fault: Option<u16>,
+}
+
+impl Axis {
+    /// An axis at power on: Not ready to switch on, motor at rest at 0.
+    pub const fn new() -> Self {
+        Self {
+            pds: PowerDriveSystem::new(),
+            motor: Motor::new(),
+            fault: None,
+        }
+    }
+
+    /// The PDS state.
+    pub const fn state(&self) -> State {
+        self.pds.state()
+    }
+
+    /// The simulated motor.
+    pub const fn motor(&self) -> &Motor {
+        &self.motor
+    }
+
+    /// An application fault with CiA 301 error code `code` (e.g. 0x2310 continuous over
+    /// current): the next cycle stores it in 0x603F and starts the fault reaction (transition
+    /// 13). A fault reset (transition 15) clears 0x603F.
+    pub fn inject_fault(&mut self, code: u16) {
+        self.fault = Some(code);
+    }
+
+    /// One cycle over the dictionary: the body of [`CycleHandler::cycle`].
+    pub fn step(&mut self, od: &mut AxisOd) {
+        let dt = match od.sync_out.cycle_time {
+            0 => DEFAULT_CYCLE_NS,
+            configured => configured,
+        };
+        let options = OptionCodes {
+            quick_stop: od.quick_stop_option,
+            shutdown: od.shutdown_option,
+            disable_operation: od.disable_operation_option,
+            fault_reaction: od.fault_reaction_option,
+        };
+        if let Some(code) = self.fault.take() {
+            od.error_code = code;
+            self.pds.fault(&options);
+        }
+        let step = self
+            .pds
+            .update(od.controlword, &options, self.motor.standstill());
+        if step.transitions.contains(15) {
+            od.error_code = 0;
+        }
+        od.error_register = u8::from(od.error_code != 0);
+        od.mode_display = mode::display(od.mode, od.mode_display, od.supported_modes);
+        let mut report = match step.motion {
+            Motion::Off | Motion::Stop(Ramp::Disable) => self.halt(dt, false),
+            Motion::Hold => self.halt(dt, true),
+            Motion::Stop(ramp) => self.stop(od, ramp, dt),
+            Motion::Follow => self.follow(od, dt),
+        };
+        report.internal_limit |= self.enforce(od.position_limit);
+        self.publish(od, &report);
+    }
+
+    /// No torque (the unpowered dummy motor has no inertia and stops at once), or holding at
+    /// standstill with `target_reached`.
+    fn halt(&mut self, dt: u32, target_reached: bool) -> Report {
+        self.motor.set_velocity(0);
+        self.motor.integrate(dt);
+        Report {
+            target_reached,
+            ..Report::default()
+        }
+    }
+
+    /// Decelerates with the ramp: 0x6084 for the slow down ramp, 0x6085 for the quick stop ramp
+    /// and for the current and voltage limits (the dummy motor has neither). Target reached once
+    /// at standstill.
+    fn stop(&mut self, od: &AxisOd, ramp: Ramp, dt: u32) -> Report {
+        let deceleration = match ramp {
+            Ramp::SlowDown => od.profile_deceleration,
+            _ => od.quick_stop_deceleration,
+        };
+        self.motor.decelerate(deceleration, dt);
+        self.motor.integrate(dt);
+        Report {
+            target_reached: self.motor.standstill(),
+            ..Report::default()
+        }
+    }
+
+    /// Operation enabled: the active mode (0x6061); no supported mode holds the motor.
+    fn follow(&mut self, od: &AxisOd, dt: u32) -> Report {
+        match Mode::from_code(od.mode_display) {
+            Some(Mode::CyclicSyncPosition) => self.csp(od, dt),
+            Some(Mode::CyclicSyncVelocity) => self.csv(od, dt),
+            Some(Mode::CyclicSyncTorque) => self.cst(od, dt),
+            _ => self.halt(dt, false),
+        }
+    }
+
+    /// CSP: moves to the target position (clamped into 0x607D), at most at 0x607F. The
+    /// following error is target − actual; bit 13 when it exceeds 0x6065 (no time window 0x6066:
+    /// at once). Target reached when at the target.
+    fn csp(&mut self, od: &AxisOd, dt: u32) -> Report {
+        let (target, clamped) = clamp(od.position_limit, od.target_position);
+        let max = i64::from(od.max_profile_velocity);
+        let distance = i64::from(target) - i64::from(self.motor.position());
+        let needed = distance.saturating_mul(1_000_000_000) / i64::from(dt.max(1));
+        if needed.abs() <= max {
+            self.motor.move_to(target, saturate(needed));
+        } else {
+            self.motor.set_velocity(saturate(needed.clamp(-max, max)));
+            self.motor.integrate(dt);
+        }
+        let error = i64::from(target) - i64::from(self.motor.position());
+        Report {
+            target_reached: error == 0,
+            internal_limit: clamped,
+            follows_command: true,
+            following_error: od.following_error_window != u32::MAX
+                && error.unsigned_abs() > u64::from(od.following_error_window),
+            error: saturate(error),
+            torque: 0,
+        }
+    }
+
+    /// CSV: runs at target velocity + 0x60B1, limited to 0x607F. Target reached when running at
+    /// the commanded velocity.
+    fn csv(&mut self, od: &AxisOd, dt: u32) -> Report {
+        let commanded = i64::from(od.target_velocity) + i64::from(od.velocity_offset);
+        let max = i64::from(od.max_profile_velocity);
+        self.motor
+            .set_velocity(saturate(commanded.clamp(-max, max)));
+        self.motor.integrate(dt);
+        Report {
+            target_reached: i64::from(self.motor.velocity()) == commanded,
+            internal_limit: commanded.abs() > max,
+            follows_command: true,
+            ..Report::default()
+        }
+    }
+
+    /// CST: target torque + 0x60B2 accelerates the load by [`TORQUE_ACCELERATION`] per 0.1 %;
+    /// at the speed limit 0x607F no torque is applied in that direction. Target reached when
+    /// the commanded torque is applied.
+    fn cst(&mut self, od: &AxisOd, dt: u32) -> Report {
+        let commanded = od.target_torque.saturating_add(od.torque_offset);
+        let max = i64::from(od.max_profile_velocity);
+        let velocity = i64::from(self.motor.velocity());
+        let at_limit = (commanded > 0 && velocity >= max) || (commanded < 0 && velocity <= -max);
+        let torque = if at_limit { 0 } else { commanded };
+        self.motor
+            .accelerate(i64::from(torque) * TORQUE_ACCELERATION, dt);
+        let limited = i64::from(self.motor.velocity()).clamp(-max, max);
+        self.motor.set_velocity(saturate(limited));
+        self.motor.integrate(dt);
+        Report {
+            target_reached: !at_limit,
+            internal_limit: at_limit,
+            follows_command: true,
+            torque,
+            ..Report::default()
+        }
+    }
+
+    /// Stops the motor at a software position limit it crossed; whether it did.
+    fn enforce(&mut self, limit: SoftwarePositionLimit) -> bool {
+        let (position, clamped) = clamp(limit, self.motor.position());
+        if clamped {
+            self.motor.stop_at(position);
+        }
+        clamped
+    }
+
+    /// The actual values and the statusword into the dictionary.
+    fn publish(&self, od: &mut AxisOd, report: &Report) {
+        od.position = self.motor.position();
+        od.velocity = self.motor.velocity();
+        od.torque = report.torque;
+        od.following_error = report.error;
+        let flags = StatusFlags {
+            voltage_enabled: true,
+            warning: false,
+            remote: true,
+            target_reached: report.target_reached,
+            internal_limit: report.internal_limit,
+            follows_command: report.follows_command,
+            following_error: report.following_error,
+        };
+        od.statusword = statusword(self.pds.state(), flags);
+    }
+}
+
+/// `position` clamped into the software position limits (active when min < max), and whether
+/// it was outside.
+fn clamp(limit: SoftwarePositionLimit, position: i32) -> (i32, bool) {
+    if limit.min >= limit.max {
+        return (position, false);
+    }
+    let clamped = position.clamp(limit.min, limit.max);
+    (clamped, clamped != position)
+}
+
+impl CycleHandler<AxisOd> for Axis {
+    fn cycle(&mut self, od: &mut AxisOd, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+        self.step(od);
+    }
+
+    /// Leaving OP commands a quick stop: the drive stops with the 0x605A reaction while the
+    /// MainDevice's controlword no longer arrives.
+    fn safe_state(&mut self, od: &mut AxisOd) {
+        od.controlword = QUICK_STOP;
+    }
+}

@@ -1,0 +1,56 @@
+//! # ecat-axis: a dummy CiA 402 servo axis
+//!
+//! The object dictionary of a CiA 402 drive ([`AxisOd`]) and its application: [`AxisApp`]
+//! (the ESM hooks and the SDO check of 0x6060) and [`Axis`] (the process-data cycle: the
+//! [`PowerDriveSystem`](ecat_core::cia402::PowerDriveSystem) decides, a simulated [`Motor`]
+//! moves). No std, no heap: the same code serves the host demo, a virtual SubDevice and the
+//! STM32 firmware.
+//!
+//! Modes: cyclic synchronous position (8), velocity (9) and torque (10); 0x6502 = 0x0000_0380.
+//! Units: position in counts, velocity in counts/s, acceleration in counts/s², torque in 0.1 %
+//! of the rated torque (CiA 402-2 default units).
+#![no_std]
+#![cfg_attr(
+    not(test),
+    deny(
+        clippy::unwrap_used,
+        clippy::expect_used,
+        clippy::panic,
+        clippy::indexing_slicing,
+        clippy::unreachable,
+        clippy::todo,
+        clippy::unimplemented
+    )
+)]
+
+mod app;
+mod axis;
+mod motor;
+mod od;
+
+pub use app::AxisApp;
+pub use axis::{Axis, DEFAULT_CYCLE_NS};
+pub use motor::{Motor, TORQUE_ACCELERATION};
+pub use od::{AxisOd, IDENTITY, RX_MAPPING, SUPPORTED_MODES, TX_MAPPING};
+
+use ecat_core::DeviceConfig;
+use ecat_core::device::{MailboxConfig, ProcessDataSizes};
+use ecat_core::sii::Names;
+
+/// The axis's device description: 128-byte mailboxes at 0x1000, the default PDOs' image sizes
+/// (RxPDO 13 bytes, TxPDO 19 bytes; with 0x1C12/0x1C13 the mapping decides), SM-synchronous or
+/// free-run.
+pub const DEVICE: DeviceConfig = DeviceConfig::new(
+    MailboxConfig::contiguous(0x1000, 128),
+    ProcessDataSizes {
+        outputs: 13,
+        inputs: 19,
+    },
+);
+
+/// The names the SII image and the ESI file carry.
+pub const NAMES: Names<'static> = Names {
+    name: "ecat CiA402 dummy axis",
+    order_code: "ECAT-AXIS",
+    group: "ecat samples",
+};

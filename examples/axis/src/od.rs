@@ -1,0 +1,186 @@
+//! The dictionary of the axis: the CiA 301 communication objects, the PDOs, the sync parameters
+//! and the CiA 402 objects of [`ecat_core::cia402::objects`].
+
+use ecat_core::cia402::SoftwarePositionLimit;
+use ecat_core::device::Identity;
+use ecat_core::dictionary::VisibleString;
+use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
+use ecat_core::sync::SyncParameters;
+
+/// 0x1018 of the axis; the SII image carries the same value.
+pub const IDENTITY: Identity = Identity {
+    vendor_id: 0xE000_0001,
+    product_code: 0x0001_0402,
+    revision: 1,
+    serial: 1,
+};
+
+/// 0x6502 of the axis: CSP (bit 7), CSV (bit 8), CST (bit 9).
+pub const SUPPORTED_MODES: u32 = 0x0000_0380;
+
+/// RxPDO 0x1600: controlword, target position, target velocity, target torque, modes of operation
+/// (13 bytes).
+pub const RX_MAPPING: [MappingEntry; 5] = [
+    MappingEntry::new(0x6040, 0, 16),
+    MappingEntry::new(0x607A, 0, 32),
+    MappingEntry::new(0x60FF, 0, 32),
+    MappingEntry::new(0x6071, 0, 16),
+    MappingEntry::new(0x6060, 0, 8),
+];
+
+/// TxPDO 0x1A00: statusword, position actual, velocity actual, torque actual, modes of operation
+/// display, following error actual value, error code (19 bytes).
+pub const TX_MAPPING: [MappingEntry; 7] = [
+    MappingEntry::new(0x6041, 0, 16),
+    MappingEntry::new(0x6064, 0, 32),
+    MappingEntry::new(0x606C, 0, 32),
+    MappingEntry::new(0x6077, 0, 16),
+    MappingEntry::new(0x6061, 0, 8),
+    MappingEntry::new(0x60F4, 0, 32),
+    MappingEntry::new(0x603F, 0, 16),
+];
+
+/// The object dictionary of the axis. Build it with [`AxisOd::new`] (0x1C00 needs its
+/// per-element values).
+#[derive(Debug)]
+pub struct AxisOd {
+    /// 0x1000 device type: 0x0002_0192 (CiA 402, servo drive).
+    pub device_type: u32,
+    /// 0x1001 error register: bit 0 (generic error) while 0x603F is not 0.
+    pub error_register: u8,
+    /// 0x1008.
+    pub device_name: VisibleString<16>,
+    /// 0x1009.
+    pub hardware_version: VisibleString<8>,
+    /// 0x100A.
+    pub software_version: VisibleString<8>,
+    /// 0x1018.
+    pub identity: Identity,
+    /// 0x1C00 sync manager communication types: mailbox out, mailbox in, outputs, inputs.
+    pub sm_types: [u8; 4],
+    /// 0x1600.
+    pub rx_mapping: PdoMapping<8>,
+    /// 0x1A00.
+    pub tx_mapping: PdoMapping<8>,
+    /// 0x1C12.
+    pub rx_assign: PdoAssignment<1>,
+    /// 0x1C13.
+    pub tx_assign: PdoAssignment<1>,
+    /// 0x1C32: SI2 is the cycle time the motor integrates over.
+    pub sync_out: SyncParameters,
+    /// 0x603F error code (CiA 301 emergency error codes).
+    pub error_code: u16,
+    /// 0x6040.
+    pub controlword: u16,
+    /// 0x6041.
+    pub statusword: u16,
+    /// 0x605A.
+    pub quick_stop_option: i16,
+    /// 0x605B.
+    pub shutdown_option: i16,
+    /// 0x605C.
+    pub disable_operation_option: i16,
+    /// 0x605E.
+    pub fault_reaction_option: i16,
+    /// 0x6060.
+    pub mode: i8,
+    /// 0x6061.
+    pub mode_display: i8,
+    /// 0x6064, counts.
+    pub position: i32,
+    /// 0x6065, counts; 0xFFFF_FFFF switches the following error check off.
+    pub following_error_window: u32,
+    /// 0x606C, counts/s.
+    pub velocity: i32,
+    /// 0x6071, 0.1 % of rated torque.
+    pub target_torque: i16,
+    /// 0x6077, 0.1 % of rated torque.
+    pub torque: i16,
+    /// 0x607A, counts.
+    pub target_position: i32,
+    /// 0x607D, counts; active when min < max.
+    pub position_limit: SoftwarePositionLimit,
+    /// 0x607F, counts/s: the speed limit of every mode.
+    pub max_profile_velocity: u32,
+    /// 0x6084, counts/s²: the slow down ramp.
+    pub profile_deceleration: u32,
+    /// 0x6085, counts/s²: the quick stop ramp.
+    pub quick_stop_deceleration: u32,
+    /// 0x60B1, counts/s.
+    pub velocity_offset: i32,
+    /// 0x60B2, 0.1 % of rated torque.
+    pub torque_offset: i16,
+    /// 0x60F4, counts.
+    pub following_error: i32,
+    /// 0x60FF, counts/s.
+    pub target_velocity: i32,
+    /// 0x6502.
+    pub supported_modes: u32,
+}
+
+ecat_core::dictionary! {
+    AxisOd {
+        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+        0x1001 => var(error_register, RO, "Error register");
+        0x1008 => var(device_name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat axis"));
+        0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"sim"));
+        0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
+        0x1018 => record(identity: Identity, "Identity object") {
+            1 => vendor_id, RO, "Vendor ID", default = IDENTITY.vendor_id;
+            2 => product_code, RO, "Product code", default = IDENTITY.product_code;
+            3 => revision, RO, "Revision number", default = IDENTITY.revision;
+            4 => serial, RO, "Serial number", default = IDENTITY.serial;
+        };
+        0x1600 => pdo(rx_mapping, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX_MAPPING));
+        0x1A00 => pdo(tx_mapping, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX_MAPPING));
+        0x1C00 => array(sm_types, RO, "Sync manager type", "SM type");
+        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+        0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x1C32 => record(sync_out: SyncParameters, "SM output parameter") {
+            1 => sync_type, RW_PREOP, "Synchronization type", default = 1;
+            2 => cycle_time, RW_PREOP, "Cycle time";
+            4 => supported, RO, "Synchronization types supported";
+            5 => min_cycle_time, RO, "Minimum cycle time";
+            0x0B => sm_event_missed, RO, "SM event missed counter";
+            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
+            0x20 => sync_error, RO, "Sync error";
+        };
+        0x603F => var(error_code, RO | TXPDO, "Error code");
+        0x6040 => var(controlword, RW | RXPDO, "Controlword");
+        0x6041 => var(statusword, RO | TXPDO, "Statusword");
+        0x605A => var(quick_stop_option, RW, "Quick stop option code", default = 2, min = 0, max = 8);
+        0x605B => var(shutdown_option, RW, "Shutdown option code", default = 0, min = 0, max = 1);
+        0x605C => var(disable_operation_option, RW, "Disable operation option code", default = 1, min = 0, max = 1);
+        0x605E => var(fault_reaction_option, RW, "Fault reaction option code", default = 2, min = 0, max = 4);
+        0x6060 => var(mode, RW | RXPDO, "Modes of operation");
+        0x6061 => var(mode_display, RO | TXPDO, "Modes of operation display");
+        0x6064 => var(position, RO | TXPDO, "Position actual value");
+        0x6065 => var(following_error_window, RW, "Following error window", default = 10_000);
+        0x606C => var(velocity, RO | TXPDO, "Velocity actual value");
+        0x6071 => var(target_torque, RW | RXPDO, "Target torque");
+        0x6077 => var(torque, RO | TXPDO, "Torque actual value");
+        0x607A => var(target_position, RW | RXPDO, "Target position");
+        0x607D => record(position_limit: SoftwarePositionLimit, "Software position limit") {
+            1 => min, RW, "Min position limit";
+            2 => max, RW, "Max position limit";
+        };
+        0x607F => var(max_profile_velocity, RW, "Max profile velocity", default = 1_000_000);
+        0x6084 => var(profile_deceleration, RW, "Profile deceleration", default = 1_000_000);
+        0x6085 => var(quick_stop_deceleration, RW, "Quick stop deceleration", default = 10_000_000);
+        0x60B1 => var(velocity_offset, RW | RXPDO, "Velocity offset");
+        0x60B2 => var(torque_offset, RW | RXPDO, "Torque offset");
+        0x60F4 => var(following_error, RO | TXPDO, "Following error actual value");
+        0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
+        0x6502 => var(supported_modes, RO, "Supported drive modes", default = SUPPORTED_MODES);
+    }
+}
+
+impl AxisOd {
+    /// The dictionary at power on: every declared default, and 0x1C00 = 1, 2, 3, 4.
+    pub fn new() -> Self {
+        Self {
+            sm_types: [1, 2, 3, 4],
+            ..Self::default()
+        }
+    }
+}
