@@ -6,10 +6,18 @@
 //! the project's masters reference): harmless here, because the emulated line answers every
 //! frame at once.
 
+use core::cell::RefCell;
 use core::future::{Future, poll_fn};
 use core::task::Poll;
+use std::rc::Rc;
 
+use embassy_futures::select::{Either, select};
 use ethercrab::{MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, Timeouts};
+
+use crate::emulator::Emulator;
+use crate::harness::{self, Spawn};
+use crate::line::Line;
+use crate::master::TestMaster;
 
 /// Frames ethercrab may have in flight (a power of two).
 const MAX_FRAMES: usize = 16;
@@ -91,4 +99,47 @@ async fn transport(mut tx: PduTx<'static>, mut rx: PduRx<'static>, mut medium: i
         }
     })
     .await
+}
+
+/// Runs `scenario` with an ethercrab MainDevice in front of a [`Line`] of `devices` (the real
+/// runners on the harness executor, virtual time), and returns what it returned. The scenario
+/// also gets a [`TestMaster`] per SubDevice, to let the runners settle after each frame.
+pub fn run_on_line<T: 'static>(
+    devices: Vec<Box<dyn Spawn>>,
+    timeouts: Timeouts,
+    scenario: impl AsyncFnOnce(&'static MainDevice<'static>, Vec<TestMaster>) -> T + 'static,
+) -> T {
+    let result = Rc::new(RefCell::new(None));
+    let out = result.clone();
+    harness::run_many(devices, move |escs: Vec<Emulator>| async move {
+        let masters: Vec<TestMaster> = escs.iter().cloned().map(TestMaster::new).collect();
+        let line = Line::new(escs);
+        let (main, transport) = main_device(
+            move |frame: &mut [u8]| line.process(frame),
+            timeouts,
+            config(),
+        );
+        match select(transport, scenario(main, masters)).await {
+            Either::First(()) => panic!("ethercrab's transport stopped"),
+            Either::Second(value) => *out.borrow_mut() = Some(value),
+        }
+    });
+    let value = result.borrow_mut().take();
+    match value {
+        Some(value) => value,
+        None => panic!("the scenario did not run"),
+    }
+}
+
+/// After a frame: lets the SubDevices' runners react, then one millisecond of virtual time passes
+/// (the emulated ESCs' watchdogs and SYNC units see it) and they settle again.
+pub async fn next_cycle(masters: &[TestMaster]) {
+    for master in masters {
+        master.settle().await;
+    }
+    embassy_time::MockDriver::get().advance(embassy_time::Duration::from_millis(1));
+    for master in masters {
+        master.emulator().tick();
+        master.settle().await;
+    }
 }

@@ -4,47 +4,15 @@
 //! PREOP → SAFEOP → OP, cyclic LRW with the working counter asserted and the data checked end to
 //! end, and a refused transition surfacing its AL status code at the MainDevice.
 
-use core::cell::RefCell;
-use std::rc::Rc;
-
 use ecat_emu::devices;
-use ecat_emu::emulator::Emulator;
 use ecat_emu::harness::{self, Spawn};
-use ecat_emu::line::Line;
 use ecat_emu::master::TestMaster;
-use ecat_emu::real_master;
-use embassy_futures::select::{Either, select};
-use embassy_time::{Duration, MockDriver};
+use ecat_emu::real_master::{next_cycle, run_on_line};
 use ethercrab::subdevice_group::{Op, PreOp};
 use ethercrab::{DefaultLock, MainDevice, SubDeviceGroup, Timeouts};
 
 const MAX: usize = 8;
 const PDI: usize = 128;
-
-/// Runs `scenario` with ethercrab on a line of `devices`; returns what the scenario returned.
-fn with_ethercrab<T: 'static>(
-    devices: Vec<Box<dyn Spawn>>,
-    timeouts: Timeouts,
-    scenario: impl AsyncFnOnce(&'static MainDevice<'static>, Vec<TestMaster>) -> T + 'static,
-) -> T {
-    let result = Rc::new(RefCell::new(None));
-    let out = result.clone();
-    harness::run_many(devices, move |escs: Vec<Emulator>| async move {
-        let masters: Vec<TestMaster> = escs.iter().cloned().map(TestMaster::new).collect();
-        let line = Line::new(escs);
-        let (main, transport) = real_master::main_device(
-            move |frame: &mut [u8]| line.process(frame),
-            timeouts,
-            real_master::config(),
-        );
-        match select(transport, scenario(main, masters)).await {
-            Either::First(()) => panic!("ethercrab's transport stopped"),
-            Either::Second(value) => *out.borrow_mut() = Some(value),
-        }
-    });
-    let value = result.borrow_mut().take();
-    value.expect("the scenario ran")
-}
 
 fn three() -> Vec<Box<dyn Spawn>> {
     vec![
@@ -52,18 +20,6 @@ fn three() -> Vec<Box<dyn Spawn>> {
         Box::new(devices::dio().device),
         Box::new(devices::sensor().device),
     ]
-}
-
-/// Lets the SubDevices' runners react to the last frame, then one cycle of virtual time passes.
-async fn settle(masters: &[TestMaster]) {
-    for master in masters {
-        master.settle().await;
-    }
-    MockDriver::get().advance(Duration::from_millis(1));
-    for master in masters {
-        master.emulator().tick();
-        master.settle().await;
-    }
 }
 
 /// PREOP → SAFEOP, then OP while the cyclic frames run: a SubDevice enters OP only after valid
@@ -78,7 +34,7 @@ async fn to_op(
     let group = group.request_into_op(main).await.expect("OP requested");
     for _ in 0..100 {
         let response = group.tx_rx(main).await.expect("cycle");
-        settle(masters).await;
+        next_cycle(masters).await;
         if response.all_op() {
             return group;
         }
@@ -90,7 +46,7 @@ async fn to_op(
 /// `description()` the SII name string.
 #[test]
 fn discovery_reads_identity_and_names_from_the_generated_sii() {
-    let found = with_ethercrab(three(), Timeouts::default(), async |main, _| {
+    let found = run_on_line(three(), Timeouts::default(), async |main, _| {
         let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
             .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
             .await
@@ -125,7 +81,7 @@ fn discovery_reads_identity_and_names_from_the_generated_sii() {
 #[test]
 fn three_subdevices_reach_op_and_exchange_10000_cycles() {
     let cycles = 10_000u32;
-    let report = with_ethercrab(three(), Timeouts::default(), async move |main, masters| {
+    let report = run_on_line(three(), Timeouts::default(), async move |main, masters| {
         let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
             .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
             .await
@@ -160,7 +116,7 @@ fn three_subdevices_reach_op_and_exchange_10000_cycles() {
             if response.working_counter != 3 + 3 + 1 {
                 wrong_wkc += 1;
             }
-            settle(&masters).await;
+            next_cycle(&masters).await;
             // The inputs of this frame carry the SubDevices' answer to the previous one.
             let drive_in = drive.inputs_raw();
             let dio_in = dio.inputs_raw();
@@ -195,5 +151,56 @@ fn three_subdevices_reach_op_and_exchange_10000_cycles() {
         echo_ok,
         cycles - 1,
         "outputs reached the applications, inputs came back"
+    );
+}
+
+/// Refuses PREOP→SAFEOP as a device whose inputs are misconfigured would.
+struct RefuseSafeOp;
+
+impl ecat_embassy::Application for RefuseSafeOp {
+    async fn on_transition(
+        &mut self,
+        t: ecat_core::Transition,
+    ) -> Result<(), ecat_core::AlStatusCode> {
+        match t.to {
+            ecat_core::AlState::SafeOp => Err(ecat_core::AlStatusCode::INVALID_INPUT_CONFIG),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl<D> ecat_core::dictionary::ObjectHooks<D> for RefuseSafeOp {}
+
+#[test]
+fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {
+    let sample = devices::dio();
+    let refusing = harness::Device::new(sample.device.config, RefuseSafeOp, devices::DioLoop)
+        .with_dictionary(devices::Dio::default())
+        .with_eeprom(sample.eeprom());
+    let timeouts = Timeouts {
+        state_transition: std::time::Duration::from_millis(200),
+        ..Timeouts::default()
+    };
+    let (result, status, code) =
+        run_on_line(vec![Box::new(refusing)], timeouts, async |main, _| {
+            let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
+                .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
+                .await
+                .expect("discovery");
+            let result = group
+                .into_safe_op(main)
+                .await
+                .map(|_| ())
+                .map_err(|e| e.to_string());
+            let read = |register| ethercrab::Command::fprd(0x1000, register).receive::<u16>(main);
+            let status = read(0x0130).await.expect("AL status");
+            let code = read(0x0134).await.expect("AL status code");
+            (result, status, code)
+        });
+    assert!(result.is_err(), "ethercrab gives up on SAFEOP");
+    assert_eq!(status, 0x0012, "PREOP with the error indication");
+    assert_eq!(
+        code, 0x001E,
+        "invalid input configuration, as the application said"
     );
 }
