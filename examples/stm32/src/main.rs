@@ -19,7 +19,8 @@ use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{DeviceConfig, SubDevice, Transition};
 use ecat_embassy::pd_runner::{Buffers, NoSync0};
 use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_process_data};
-use ecat_stm32::board::{Board, EscSpi};
+use ecat_stm32::board::Board;
+use ecat_stm32::esc;
 use ecat_stm32::io::{self, DigitalIo};
 use embassy_executor::{Executor, InterruptExecutor, SendSpawner, Spawner};
 use embassy_stm32::exti::ExtiInput;
@@ -30,58 +31,14 @@ use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use panic_probe as _;
 use static_cell::StaticCell;
 
-#[cfg(all(feature = "ax58100", feature = "lan9252"))]
-compile_error!("choose one ESC: feature `ax58100` or `lan9252`");
-
-#[cfg(not(feature = "lan9252"))]
-mod esc {
-    //! AX58100 (or ET1100/ET1200): the Beckhoff SPI protocol, whole regions per transaction.
-    use ecat_embassy::spi::beckhoff::{BeckhoffSpi, Config};
-
-    use super::EscSpi;
-
-    pub type Pdi = BeckhoffSpi<EscSpi>;
-    /// The AX58100's ESC: 8 SyncManagers, process RAM up to 0x3000 (the ET1100's 8 KiB).
-    pub const SYNC_MANAGERS: u8 = 8;
-    pub const PROCESS_RAM_END: u32 = 0x3000;
-
-    pub async fn start(spi: EscSpi) -> Result<Pdi, core::convert::Infallible> {
-        Ok(BeckhoffSpi::new(spi, Config::default()))
-    }
-}
-
-#[cfg(feature = "lan9252")]
-mod esc {
-    //! LAN9252: reset, byte-order test, ready check, IRQ output enabled.
-    use ecat_embassy::spi::lan9252::{Config, Error, Lan9252};
-
-    use super::EscSpi;
-
-    pub type Pdi = Lan9252<EscSpi>;
-    /// The LAN9252's ESC: 4 SyncManagers, 4 KiB of process RAM.
-    pub const SYNC_MANAGERS: u8 = 4;
-    pub const PROCESS_RAM_END: u32 = 0x2000;
-
-    pub async fn start(
-        spi: EscSpi,
-    ) -> Result<Pdi, Error<<EscSpi as embedded_hal_async::spi::ErrorType>::Error>> {
-        Lan9252::start(spi, Config::default()).await
-    }
-}
-
 /// Mailboxes of 128 bytes at 0x1000/0x1080; 1 byte of outputs, 1 byte of inputs.
-const DEVICE: DeviceConfig = {
-    let mut config = DeviceConfig::new(
-        MailboxConfig::contiguous(0x1000, 128),
-        ProcessDataSizes {
-            outputs: 1,
-            inputs: 1,
-        },
-    );
-    config.sync_manager_count = esc::SYNC_MANAGERS;
-    config.process_ram_end = esc::PROCESS_RAM_END;
-    config
-};
+const DEVICE: DeviceConfig = esc::fit(DeviceConfig::new(
+    MailboxConfig::contiguous(0x1000, 128),
+    ProcessDataSizes {
+        outputs: 1,
+        inputs: 1,
+    },
+));
 const _: () = assert!(DEVICE.validate().is_ok());
 
 type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;

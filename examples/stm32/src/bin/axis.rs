@@ -1,0 +1,108 @@
+//! ecat on an STM32G474: the CiA402 dummy axis of `ecat-axis` (the same application the host
+//! demo and the virtual slave run) behind an AX58100 (default) or a LAN9252 (feature `lan9252`).
+//! DC SYNC0 capable: SYNC0 (EXTI8) starts the cycle when the MainDevice selects DC mode.
+//!
+//! Executors as in `src/main.rs`: the process-data runner in an `InterruptExecutor` on UART4 at
+//! priority 6, the state-machine/mailbox runner in the thread executor.
+#![no_std]
+#![no_main]
+#![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
+
+use core::cell::RefCell;
+
+use defmt::{error, info, unwrap};
+use defmt_rtt as _;
+use ecat_axis::{Axis, AxisApp, AxisOd};
+use ecat_core::sync::SupportedSync;
+use ecat_core::{DeviceConfig, SubDevice};
+use ecat_embassy::pd_runner::Buffers;
+use ecat_embassy::{SharedDictionary, SharedEsc, run_esm, run_process_data};
+use ecat_stm32::board::Board;
+use ecat_stm32::esc;
+use embassy_executor::{Executor, InterruptExecutor, SendSpawner, Spawner};
+use embassy_stm32::exti::ExtiInput;
+use embassy_stm32::interrupt::{self, InterruptExt, Priority};
+use embassy_stm32::mode::Async;
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+use panic_probe as _;
+use static_cell::StaticCell;
+
+/// The axis's description on this ESC, with DC SYNC0 added: the board wires SYNC0.
+const DEVICE: DeviceConfig = {
+    let mut config = esc::fit(ecat_axis::DEVICE);
+    config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
+    config
+};
+const _: () = assert!(DEVICE.validate().is_ok());
+
+type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;
+type Dictionary = SharedDictionary<CriticalSectionRawMutex, AxisOd>;
+
+static ESC: StaticCell<Esc> = StaticCell::new();
+static DICTIONARY: StaticCell<Dictionary> = StaticCell::new();
+static EXECUTOR_HIGH: InterruptExecutor = InterruptExecutor::new();
+static EXECUTOR_LOW: StaticCell<Executor> = StaticCell::new();
+
+/// The process-data executor's interrupt: UART4 is unused on this board.
+#[embassy_stm32::interrupt]
+unsafe fn UART4() {
+    // SAFETY: the executor was started on this interrupt; only the interrupt handler calls it.
+    unsafe { EXECUTOR_HIGH.on_interrupt() }
+}
+
+#[cortex_m_rt::entry]
+fn main() -> ! {
+    let board = Board::init();
+    info!("ecat CiA402 axis starting");
+    interrupt::UART4.set_priority(Priority::P6);
+    let high = EXECUTOR_HIGH.start(interrupt::UART4);
+    EXECUTOR_LOW
+        .init(Executor::new())
+        .run(|spawner| spawner.spawn(unwrap!(start(spawner, high, board))))
+}
+
+/// Brings the ESC up, then starts the runners. The board's digital I/O stays unused.
+#[embassy_executor::task]
+async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
+    let Board {
+        spi, irq, sync0, ..
+    } = board;
+    let pdi = match esc::start(spi).await {
+        Ok(pdi) => pdi,
+        Err(e) => {
+            error!("ESC start-up failed: {}", e);
+            return;
+        }
+    };
+    let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
+    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::new())));
+    high.spawn(unwrap!(process_data(esc, od, irq, sync0)));
+    spawner.spawn(unwrap!(state_machine(esc, od)));
+}
+
+/// The state machine and the mailbox, in the thread executor.
+#[embassy_executor::task]
+async fn state_machine(esc: &'static Esc, od: &'static Dictionary) {
+    let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
+    let error = run_esm(esc, &mut sub, &mut AxisApp, od).await;
+    error!("PDI failed: {}", error);
+}
+
+/// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines.
+#[embassy_executor::task]
+async fn process_data(
+    esc: &'static Esc,
+    od: &'static Dictionary,
+    mut irq: ExtiInput<'static, Async>,
+    mut sync0: ExtiInput<'static, Async>,
+) {
+    let (mut outputs, mut inputs) = ([0; 32], [0; 32]);
+    let buffers = Buffers {
+        outputs: &mut outputs,
+        inputs: &mut inputs,
+    };
+    let mut axis = Axis::new();
+    let error = run_process_data(esc, &mut irq, &mut sync0, &mut axis, od, buffers).await;
+    error!("process data stopped: {}", error);
+}

@@ -1,0 +1,52 @@
+//! The ESC on the SPI bus, chosen by feature: its PDI driver, its start-up and what it has
+//! (SyncManagers, process RAM), for every firmware of this board.
+
+use ecat_core::DeviceConfig;
+
+#[cfg(all(feature = "ax58100", feature = "lan9252"))]
+compile_error!("choose one ESC: feature `ax58100` or `lan9252`");
+
+#[cfg(not(feature = "lan9252"))]
+mod chip {
+    //! AX58100 (or ET1100/ET1200): the Beckhoff SPI protocol, whole regions per transaction.
+    use ecat_embassy::spi::beckhoff::{BeckhoffSpi, Config};
+
+    use crate::board::EscSpi;
+
+    pub type Pdi = BeckhoffSpi<EscSpi>;
+    /// The AX58100's ESC: 8 SyncManagers, process RAM up to 0x3000 (the ET1100's 8 KiB).
+    pub const SYNC_MANAGERS: u8 = 8;
+    pub const PROCESS_RAM_END: u32 = 0x3000;
+
+    pub async fn start(spi: EscSpi) -> Result<Pdi, core::convert::Infallible> {
+        Ok(BeckhoffSpi::new(spi, Config::default()))
+    }
+}
+
+#[cfg(feature = "lan9252")]
+mod chip {
+    //! LAN9252: reset, byte-order test, ready check, IRQ output enabled.
+    use ecat_embassy::spi::lan9252::{Config, Error, Lan9252};
+
+    use crate::board::EscSpi;
+
+    pub type Pdi = Lan9252<EscSpi>;
+    /// The LAN9252's ESC: 4 SyncManagers, 4 KiB of process RAM.
+    pub const SYNC_MANAGERS: u8 = 4;
+    pub const PROCESS_RAM_END: u32 = 0x2000;
+
+    pub async fn start(
+        spi: EscSpi,
+    ) -> Result<Pdi, Error<<EscSpi as embedded_hal_async::spi::ErrorType>::Error>> {
+        Lan9252::start(spi, Config::default()).await
+    }
+}
+
+pub use chip::{PROCESS_RAM_END, Pdi, SYNC_MANAGERS, start};
+
+/// `config` adjusted to this ESC's SyncManagers and process RAM.
+pub const fn fit(mut config: DeviceConfig) -> DeviceConfig {
+    config.sync_manager_count = SYNC_MANAGERS;
+    config.process_ram_end = PROCESS_RAM_END;
+    config
+}
