@@ -3,6 +3,7 @@
 //! "PDI" is a `memcpy`).
 
 use ecat_core::coe::AbortCode;
+use ecat_core::device::Identity;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{Domain, ObjectDictionary, ObjectHooks, VisibleString};
 use ecat_core::{Access, AlEvent, AlState, DeviceConfig, Instant, SubDevice, Transition, register};
@@ -18,19 +19,15 @@ pub const fn device(mailbox: u16) -> DeviceConfig {
     )
 }
 
-/// The identity object and a 1 KiB string.
-pub struct Identity {
-    /// 0x1018:01.
-    pub vendor_id: u32,
-    /// 0x1018:02.
-    pub product_code: u32,
-    /// 0x1018:03.
-    pub revision: u32,
-    /// 0x1018:04.
-    pub serial: u32,
-}
+/// 0x1018.
+pub const IDENTITY: Identity = Identity {
+    vendor_id: 0xE000_0001,
+    product_code: 0x0000_0402,
+    revision: 1,
+    serial: 0x1234_5678,
+};
 
-/// The benchmark dictionary.
+/// The benchmark dictionary: the identity object and a 1 KiB string.
 pub struct Od {
     /// 0x1000.
     pub device_type: u32,
@@ -45,12 +42,7 @@ pub struct Od {
 ecat_core::dictionary! {
     Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
-        0x1018 => record(identity: Identity, "Identity object") {
-            1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
-            2 => product_code, RO, "Product code", default = 0x0000_0402;
-            3 => revision, RO, "Revision number", default = 1;
-            4 => serial, RO, "Serial number", default = 0x1234_5678;
-        };
+        0x1018 => identity(identity, IDENTITY);
         0x2000 => var(text, RW, "Text");
         0x2001 => var(blob, RW, "Blob");
     }

@@ -205,3 +205,57 @@ fn declared_limits_encode_in_the_entry_type() {
     let info = Od::object(0x607A).unwrap().info.entry(0).unwrap().limits;
     assert!(!info.has(Limit::Default) && info.has(Limit::Min));
 }
+
+mod identity_kind {
+    use ecat_core::device::Identity;
+    use ecat_core::dictionary::{Access, Limit, ObjectCode, ObjectDictionary};
+
+    const IDENTITY: Identity = Identity {
+        vendor_id: 0xE000_0001,
+        product_code: 0x0000_0402,
+        revision: 7,
+        serial: 0x1234_5678,
+    };
+
+    struct Od {
+        identity: Identity,
+    }
+
+    ecat_core::dictionary! {
+        Od {
+            0x1018 => identity(identity, IDENTITY);
+        }
+    }
+
+    #[test]
+    fn identity_is_the_standard_record_initialised_from_the_constant() {
+        let object = Od::object(0x1018).expect("0x1018");
+        assert_eq!(object.info.code, ObjectCode::Record);
+        assert_eq!(object.info.name, "Identity object");
+        assert_eq!(object.info.max_sub, 4);
+        let names: Vec<_> = (1..=4)
+            .map(|s| object.info.entry(s).unwrap().name)
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "Vendor ID",
+                "Product code",
+                "Revision number",
+                "Serial number"
+            ]
+        );
+        assert!((1..=4).all(|s| object.info.entry(s).unwrap().access == Access::RO));
+        let od = Od::default();
+        assert_eq!(od.identity, IDENTITY);
+        let mut out = [0u8; 4];
+        (object.read)(&od, 3, 0, &mut out).unwrap();
+        assert_eq!(u32::from_le_bytes(out), 7);
+        assert_eq!((object.limit)(4, Limit::Default, &mut out), 4);
+        assert_eq!(
+            u32::from_le_bytes(out),
+            0x1234_5678,
+            "the default is the constant"
+        );
+    }
+}

@@ -73,12 +73,7 @@ pub const DRIVE_TX: [MappingEntry; 4] = [
 
 ecat_core::dictionary! {
     Drive {
-        0x1018 => record(identity: Identity, "Identity object") {
-            1 => vendor_id, RO, "Vendor ID", default = DRIVE_IDENTITY.vendor_id;
-            2 => product_code, RO, "Product code", default = DRIVE_IDENTITY.product_code;
-            3 => revision, RO, "Revision number", default = DRIVE_IDENTITY.revision;
-            4 => serial, RO, "Serial number", default = DRIVE_IDENTITY.serial;
-        };
+        0x1018 => identity(identity, DRIVE_IDENTITY);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_RX));
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
@@ -244,12 +239,7 @@ ecat_core::dictionary! {
     Dio {
         0x1000 => var(device_type, RO, "Device type", default = 0x0000_1389);
         0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat sample dio"));
-        0x1018 => record(identity: Identity, "Identity object") {
-            1 => vendor_id, RO, "Vendor ID", default = DIO_IDENTITY.vendor_id;
-            2 => product_code, RO, "Product code", default = DIO_IDENTITY.product_code;
-            3 => revision, RO, "Revision number", default = DIO_IDENTITY.revision;
-            4 => serial, RO, "Serial number", default = DIO_IDENTITY.serial;
-        };
+        0x1018 => identity(identity, DIO_IDENTITY);
         0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&DIO_RX));
         0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&DIO_TX));
         0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
@@ -324,12 +314,7 @@ const SENSOR_TX: [MappingEntry; 2] = [
 ecat_core::dictionary! {
     Sensor {
         0x1000 => var(device_type, RO, "Device type", default = 0x0000_1389);
-        0x1018 => record(identity: Identity, "Identity object") {
-            1 => vendor_id, RO, "Vendor ID", default = SENSOR_IDENTITY.vendor_id;
-            2 => product_code, RO, "Product code", default = SENSOR_IDENTITY.product_code;
-            3 => revision, RO, "Revision number", default = SENSOR_IDENTITY.revision;
-            4 => serial, RO, "Serial number", default = SENSOR_IDENTITY.serial;
-        };
+        0x1018 => identity(identity, SENSOR_IDENTITY);
         0x1A00 => pdo(tx, RO, "Measurement", "Mapped object", default = PdoMapping::mapping(&SENSOR_TX));
         0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[]));
         0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));

@@ -12,9 +12,15 @@
 ///             SUB => field, ACCESS, "Name" [, default = …] [, min = …] [, max = …] [, unit = …];
 ///         };
 ///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
+///         0x1018 => identity(field, IDENTITY);
 ///     }
 /// }
 /// ```
+///
+/// `identity` declares the identity object as the standard read-only record of a
+/// [`device::Identity`](crate::device::Identity) field, initialised from the device's constant
+/// `IDENTITY` — the same constant the SII image (and the ESI file) are generated from, so 0x1018
+/// and the EEPROM cannot disagree.
 ///
 /// `pdo` declares a PDO mapping (0x1600..0x17FF, 0x1A00..0x1BFF; field type
 /// [`PdoMapping<N>`](crate::pdo::PdoMapping)) or assignment object (0x1C12, 0x1C13;
@@ -232,6 +238,14 @@ macro_rules! __ecat_object {
             store: |_: &mut $dict, _: u8, _: u64| {},
         }
     };
+    ($dict:ident, $index:literal, identity ( $field:ident, $value:expr )) => {
+        $crate::__ecat_object!($dict, $index, record ( $field : Identity, "Identity object" ) {
+            1 => vendor_id, RO, "Vendor ID", default = $value.vendor_id;
+            2 => product_code, RO, "Product code", default = $value.product_code;
+            3 => revision, RO, "Revision number", default = $value.revision;
+            4 => serial, RO, "Serial number", default = $value.serial;
+        })
+    };
     ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
            $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
@@ -299,6 +313,9 @@ macro_rules! __ecat_default {
     };
     (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
         $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
+    };
+    (identity ( $field:ident, $value:expr )) => {
+        $value
     };
     (record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal

@@ -125,12 +125,7 @@ ecat_core::dictionary! {
         0x1008 => var(device_name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat axis"));
         0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"sim"));
         0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
-        0x1018 => record(identity: Identity, "Identity object") {
-            1 => vendor_id, RO, "Vendor ID", default = IDENTITY.vendor_id;
-            2 => product_code, RO, "Product code", default = IDENTITY.product_code;
-            3 => revision, RO, "Revision number", default = IDENTITY.revision;
-            4 => serial, RO, "Serial number", default = IDENTITY.serial;
-        };
+        0x1018 => identity(identity, IDENTITY);
         0x1600 => pdo(rx_mapping, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX_MAPPING));
         0x1A00 => pdo(tx_mapping, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX_MAPPING));
         0x1C00 => array(sm_types, RO, "Sync manager type", "SM type");

@@ -4,15 +4,17 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use ecat_core::coe::AbortCode;
+use ecat_core::device::Identity;
 use ecat_core::dictionary::{Bits, Domain, ObjectHooks, VisibleString};
 use ecat_embassy::Application;
 
-pub struct Identity {
-    pub vendor_id: u32,
-    pub product_code: u32,
-    pub revision: u32,
-    pub serial: u32,
-}
+/// 0x1018.
+pub const IDENTITY: Identity = Identity {
+    vendor_id: 0xE000_0001,
+    product_code: 0x0000_0402,
+    revision: 1,
+    serial: 0x1234_5678,
+};
 
 pub struct Params {
     pub enable: bool,
@@ -45,12 +47,7 @@ ecat_core::dictionary! {
         0x1008 => var(device_name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat test device"));
         0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"1.0"));
         0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
-        0x1018 => record(identity: Identity, "Identity object") {
-            1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
-            2 => product_code, RO, "Product code", default = 0x0000_0402;
-            3 => revision, RO, "Revision number", default = 1;
-            4 => serial, RO, "Serial number", default = 0x1234_5678;
-        };
+        0x1018 => identity(identity, IDENTITY);
         0x1C00 => array(sm_types, RO, "Sync manager type", "SM type");
         0x2000 => var(text, RW, "Text");
         0x2001 => var(blob, RW, "Blob");
