@@ -162,6 +162,24 @@ impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
     }
 }
 
+/// A sample device in the samples group: (name, order code), identity, fixed (output, input)
+/// sizes for the description, its cycle, its dictionary at its defaults, 128-byte mailboxes.
+fn sample<C, D: ObjectDictionary + Default>(
+    (name, order_code): (&'static str, &'static str),
+    identity: Identity,
+    (outputs, inputs): (u16, u16),
+    cycle: C,
+) -> Sample<AcceptAll, C, D> {
+    let config = DeviceConfig::new(MAILBOX, ProcessDataSizes { outputs, inputs });
+    let device = Device::new(config, AcceptAll, cycle).with_dictionary(D::default());
+    let names = Names {
+        name,
+        order_code,
+        group: "ecat samples",
+    };
+    Sample::new(names, identity, device)
+}
+
 /// Echoes the set-points of [`Drive`] as its actual values.
 pub struct DriveEcho;
 
@@ -176,22 +194,11 @@ impl CycleHandler<Drive> for DriveEcho {
 
 /// The CiA402-like drive: configurable PDOs, SM-synchronous or free-run.
 pub fn drive() -> Sample<AcceptAll, DriveEcho, Drive> {
-    let config = DeviceConfig::new(
-        MAILBOX,
-        ProcessDataSizes {
-            outputs: 11,
-            inputs: 11,
-        },
-    );
-    let device = Device::new(config, AcceptAll, DriveEcho).with_dictionary(Drive::default());
-    Sample::new(
-        Names {
-            name: "ecat sample drive",
-            order_code: "ECAT-DRIVE",
-            group: "ecat samples",
-        },
+    sample(
+        ("ecat sample drive", "ECAT-DRIVE"),
         DRIVE_IDENTITY,
-        device,
+        (11, 11),
+        DriveEcho,
     )
 }
 
@@ -260,22 +267,11 @@ impl CycleHandler<Dio> for DioLoop {
 
 /// The digital I/O module.
 pub fn dio() -> Sample<AcceptAll, DioLoop, Dio> {
-    let config = DeviceConfig::new(
-        MAILBOX,
-        ProcessDataSizes {
-            outputs: 2,
-            inputs: 2,
-        },
-    );
-    let device = Device::new(config, AcceptAll, DioLoop).with_dictionary(Dio::default());
-    Sample::new(
-        Names {
-            name: "ecat sample dio",
-            order_code: "ECAT-DIO-16",
-            group: "ecat samples",
-        },
+    sample(
+        ("ecat sample dio", "ECAT-DIO-16"),
         DIO_IDENTITY,
-        device,
+        (2, 2),
+        DioLoop,
     )
 }
 
@@ -335,21 +331,10 @@ impl CycleHandler<Sensor> for SensorCounter {
 
 /// The input-only sensor.
 pub fn sensor() -> Sample<AcceptAll, SensorCounter, Sensor> {
-    let config = DeviceConfig::new(
-        MAILBOX,
-        ProcessDataSizes {
-            outputs: 0,
-            inputs: 6,
-        },
-    );
-    let device = Device::new(config, AcceptAll, SensorCounter).with_dictionary(Sensor::default());
-    Sample::new(
-        Names {
-            name: "ecat sample sensor",
-            order_code: "ECAT-SENSOR",
-            group: "ecat samples",
-        },
+    sample(
+        ("ecat sample sensor", "ECAT-SENSOR"),
         SENSOR_IDENTITY,
-        device,
+        (0, 6),
+        SensorCounter,
     )
 }

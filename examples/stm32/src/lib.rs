@@ -8,3 +8,39 @@
 pub mod board;
 pub mod esc;
 pub mod io;
+
+/// The two executors every firmware of this board runs (priorities: README.md): defines the
+/// statics, the UART4 handler (UART4 is unused on this board, its vector runs the interrupt
+/// executor) and `run_executors(init)`, which starts the interrupt executor at priority 6 and
+/// runs the thread executor, handing `init` both spawners.
+#[macro_export]
+macro_rules! executors {
+    () => {
+        use embassy_stm32::interrupt;
+
+        static EXECUTOR_HIGH: embassy_executor::InterruptExecutor =
+            embassy_executor::InterruptExecutor::new();
+        static EXECUTOR_LOW: static_cell::StaticCell<embassy_executor::Executor> =
+            static_cell::StaticCell::new();
+
+        /// The process-data executor's interrupt.
+        #[embassy_stm32::interrupt]
+        unsafe fn UART4() {
+            // SAFETY: the executor was started on this interrupt; only the interrupt handler
+            // calls it.
+            unsafe { EXECUTOR_HIGH.on_interrupt() }
+        }
+
+        /// Starts the interrupt executor on UART4 at priority 6, then runs the thread executor.
+        fn run_executors(
+            init: impl FnOnce(embassy_executor::SendSpawner, embassy_executor::Spawner),
+        ) -> ! {
+            use embassy_stm32::interrupt::{InterruptExt, Priority};
+            interrupt::UART4.set_priority(Priority::P6);
+            let high = EXECUTOR_HIGH.start(interrupt::UART4);
+            EXECUTOR_LOW
+                .init(embassy_executor::Executor::new())
+                .run(|spawner| init(high, spawner))
+        }
+    };
+}

@@ -22,9 +22,9 @@ use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_proces
 use ecat_stm32::board::Board;
 use ecat_stm32::esc;
 use ecat_stm32::io::{self, DigitalIo};
-use embassy_executor::{Executor, InterruptExecutor, SendSpawner, Spawner};
+use embassy_executor::{SendSpawner, Spawner};
 use embassy_stm32::exti::ExtiInput;
-use embassy_stm32::interrupt::{self, InterruptExt, Priority};
+
 use embassy_stm32::mode::Async;
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
@@ -46,25 +46,13 @@ type Dictionary = SharedDictionary<CriticalSectionRawMutex, ()>;
 
 static ESC: StaticCell<Esc> = StaticCell::new();
 static DICTIONARY: Dictionary = Mutex::new(RefCell::new(()));
-static EXECUTOR_HIGH: InterruptExecutor = InterruptExecutor::new();
-static EXECUTOR_LOW: StaticCell<Executor> = StaticCell::new();
-
-/// The process-data executor's interrupt: UART4 is unused on this board.
-#[embassy_stm32::interrupt]
-unsafe fn UART4() {
-    // SAFETY: the executor was started on this interrupt; only the interrupt handler calls it.
-    unsafe { EXECUTOR_HIGH.on_interrupt() }
-}
+ecat_stm32::executors!();
 
 #[cortex_m_rt::entry]
 fn main() -> ! {
     let board = Board::init();
     info!("ecat digital I/O starting");
-    interrupt::UART4.set_priority(Priority::P6);
-    let high = EXECUTOR_HIGH.start(interrupt::UART4);
-    EXECUTOR_LOW
-        .init(Executor::new())
-        .run(|spawner| spawner.spawn(unwrap!(start(spawner, high, board))))
+    run_executors(|high, spawner| spawner.spawn(unwrap!(start(spawner, high, board))))
 }
 
 /// Brings the ESC up (the LAN9252 needs a reset sequence), then starts the runners.

@@ -10,22 +10,14 @@ use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_stm32::board::{Board, EscSpi};
 use ecat_stm32::io::{self, DigitalIo};
-use embassy_executor::{Executor, InterruptExecutor};
+
 use embassy_stm32::exti::ExtiInput;
-use embassy_stm32::interrupt::{self, InterruptExt, Priority};
+
 use embassy_stm32::mode::Async;
 use embedded_hal_async::spi::SpiDevice;
 use panic_probe as _;
-use static_cell::StaticCell;
 
-static EXECUTOR_HIGH: InterruptExecutor = InterruptExecutor::new();
-static EXECUTOR_LOW: StaticCell<Executor> = StaticCell::new();
-
-#[embassy_stm32::interrupt]
-unsafe fn UART4() {
-    // SAFETY: the executor was started on this interrupt; only the interrupt handler calls it.
-    unsafe { EXECUTOR_HIGH.on_interrupt() }
-}
+ecat_stm32::executors!();
 
 #[cortex_m_rt::entry]
 fn main() -> ! {
@@ -36,13 +28,11 @@ fn main() -> ! {
         io,
     } = Board::init();
     info!("baseline starting");
-    interrupt::UART4.set_priority(Priority::P6);
-    let high = EXECUTOR_HIGH.start(interrupt::UART4);
-    high.spawn(unwrap!(exchange(spi, irq, io)));
-    high.spawn(unwrap!(sync(sync0)));
-    EXECUTOR_LOW
-        .init(Executor::new())
-        .run(|spawner| spawner.spawn(unwrap!(idle())))
+    run_executors(|high, spawner| {
+        high.spawn(unwrap!(exchange(spi, irq, io)));
+        high.spawn(unwrap!(sync(sync0)));
+        spawner.spawn(unwrap!(idle()));
+    })
 }
 
 #[embassy_executor::task]
