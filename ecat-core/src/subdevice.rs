@@ -205,7 +205,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// A SYNC0-triggered cycle ran since SAFEOP was entered (DC mode).
     sync_received: bool,
     /// The sync type the dictionary asks for, or why it cannot be.
-    sync: Result<SyncType, AlStatusCode>,
+    sync: Result<sync::Requested, AlStatusCode>,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -240,7 +240,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             pd_stale: true,
             outputs_received: false,
             sync_received: false,
-            sync: Ok(SyncType::SmSynchronous),
+            sync: Ok(sync::Requested {
+                sync: SyncType::SmSynchronous,
+                chosen: false,
+            }),
         }
     }
 
@@ -302,9 +305,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             trigger: self.process_data_trigger(),
-            free_run: (self.sync == Ok(SyncType::FreeRun)).then_some(self.config.free_run_cycle),
-            sync0: self.sync == Ok(SyncType::DcSync0),
-            cycle: match self.sync {
+            free_run: (self.sync() == Ok(SyncType::FreeRun)).then_some(self.config.free_run_cycle),
+            sync0: self.sync() == Ok(SyncType::DcSync0),
+            cycle: match self.sync() {
                 Ok(SyncType::FreeRun) => Some(self.config.free_run_cycle),
                 Ok(SyncType::DcSync0) => Some(self.dc.sync0_cycle()),
                 _ => None,
@@ -316,7 +319,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
         let sizes = self.pd_sizes.unwrap_or_default();
-        if matches!(self.sync, Ok(SyncType::FreeRun | SyncType::DcSync0)) {
+        if matches!(self.sync(), Ok(SyncType::FreeRun | SyncType::DcSync0)) {
             AlEvent::NONE
         } else if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
@@ -413,7 +416,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         {
             // SAFEOP→OP without outputs is an SM watchdog case (SSC), in DC mode without any
             // SYNC0 a missing sync; anything else the application left unanswered.
-            let no_sync = self.sync == Ok(SyncType::DcSync0) && !self.sync_received;
+            let no_sync = self.sync() == Ok(SyncType::DcSync0) && !self.sync_received;
             let code = match (p.needs_outputs, no_sync) {
                 (true, true) => AlStatusCode::NO_SYNC_ERROR,
                 (true, false) => AlStatusCode::SM_WATCHDOG,
@@ -465,6 +468,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.settled = false;
             self.finish_transition(t, Ok(()));
         }
+    }
+
+    /// The sync type in effect: what 0x1C32:01 asks for, or DC SYNC0 when the MainDevice did
+    /// not choose and activated SYNC0 ([`sync::Requested::effective`]).
+    fn sync(&self) -> Result<SyncType, AlStatusCode> {
+        self.sync.map(|r| r.effective(self.dc, self.config))
     }
 
     /// The process-data side ran a SYNC0-triggered cycle (DC mode): a SAFEOP→OP transition that
@@ -745,7 +754,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The sync type must be supported; free-run needs SM2 in 3-buffer mode (0x0029); a
     /// DC-capable device checks the DC SYNC unit ([`sync::check_dc`]).
     fn check_sync(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
-        let sync = self.sync?;
+        let sync = self.sync()?;
         if self.config.sync.dc() {
             sync::check_dc(sync, self.dc, self.config)?;
         }
@@ -917,7 +926,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             })
         });
         let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
-        sync::fill(od, self.config, self.sync.ok(), self.dc, has_outputs);
+        sync::fill(od, self.config, self.sync().ok(), self.dc, has_outputs);
     }
 
     /// Raises an emergency: queued, and sent when SM1 is free. Refused (returns `false`) below

@@ -230,24 +230,54 @@ pub fn fill<D: ObjectDictionary>(
     }
 }
 
+/// What the dictionary's 0x1C32:01 says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Requested {
+    /// The sync type.
+    pub sync: SyncType,
+    /// The MainDevice chose it (0x1C32:01 differs from its declared default). Otherwise the
+    /// SubDevice follows the ESC: DC SYNC0 when the MainDevice activated SYNC0 (as SSC does for
+    /// MainDevices that configure DC but never write 0x1C32, e.g. ethercrab).
+    pub chosen: bool,
+}
+
+impl Requested {
+    /// The sync type in effect with the DC unit as `dc` says.
+    pub fn effective(self, dc: DcSettings, device: &DeviceConfig) -> SyncType {
+        let follow_dc = !self.chosen && dc.activation.sync0() && device.sync.dc();
+        if follow_dc {
+            SyncType::DcSync0
+        } else {
+            self.sync
+        }
+    }
+}
+
 /// The sync type the dictionary's 0x1C32:01 asks for, checked against the device
 /// (conformance.md "Sync parameters"): unsupported free-run is 0x0027, any other unsupported type
 /// 0x0028. Without 0x1C32 the device runs SM-synchronous when it supports it, else free-run.
 pub fn requested<D: ObjectDictionary>(
     od: &D,
     device: &DeviceConfig,
-) -> Result<SyncType, AlStatusCode> {
+) -> Result<Requested, AlStatusCode> {
     let Some(object) = D::object(OUTPUT_PARAMETERS) else {
         let sm = device.sync.supports(SyncType::SmSynchronous);
-        return Ok(if sm {
+        let sync = if sm {
             SyncType::SmSynchronous
         } else {
             SyncType::FreeRun
+        };
+        return Ok(Requested {
+            sync,
+            chosen: false,
         });
     };
     let code = u16::try_from((object.load)(od, 1)).unwrap_or(u16::MAX);
+    let mut default = [0u8; 2];
+    let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
+    let chosen = !declared || u16::from_le_bytes(default) != code;
     match SyncType::from_code(code) {
-        sync if device.sync.supports(sync) => Ok(sync),
+        sync if device.sync.supports(sync) => Ok(Requested { sync, chosen }),
         SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
     }

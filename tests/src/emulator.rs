@@ -99,15 +99,16 @@ impl Emulator {
 
     /// The DC SYNC unit (ESC datasheet section I, "SyncSignal generation"): with cyclic
     /// operation and SYNC0 activated (0x0981 bits 0 and 1), SYNC0 pulses at the start time
-    /// (0x0990) and every SYNC0 cycle (0x09A0) after it, on the system time (here: virtual time in
-    /// ns). Pulses due since the last tick merge into one edge, as a level-sampling input would
+    /// (0x0990) and every SYNC0 cycle (0x09A0) after it, on the system time (virtual time in ns
+    /// plus the offset the MainDevice set, `Esc::system_time`). Pulses due since the last tick merge into one edge, as a level-sampling input would
     /// see them; a cycle of 0 gives a single pulse.
     fn tick_sync0(&self) {
-        let now = embassy_time::Instant::now()
+        let local = embassy_time::Instant::now()
             .as_micros()
             .saturating_mul(1_000);
-        let (activation, start, cycle) = {
+        let (now, activation, start, cycle) = {
             let mut esc = self.0.esc.borrow_mut();
+            esc.set_local_time(local);
             let mut activation = [0u8; 1];
             esc.ecat_read(register::DC_ACTIVATION, &mut activation);
             let mut start = [0u8; 8];
@@ -115,6 +116,7 @@ impl Emulator {
             let mut cycle = [0u8; 4];
             esc.ecat_read(register::DC_SYNC0_CYCLE_TIME, &mut cycle);
             (
+                esc.system_time(),
                 DcActivation(activation[0]),
                 u64::from_le_bytes(start),
                 u64::from(u32::from_le_bytes(cycle)),

@@ -4,12 +4,13 @@
 //! PREOP → SAFEOP → OP, cyclic LRW with the working counter asserted and the data checked end to
 //! end, and a refused transition surfacing its AL status code at the MainDevice.
 
+use ecat_core::sync::SupportedSync;
 use ecat_emu::devices;
 use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;
 use ecat_emu::real_master::{next_cycle, run_on_line};
-use ethercrab::subdevice_group::{Op, PreOp};
-use ethercrab::{DefaultLock, MainDevice, SubDeviceGroup, Timeouts};
+use ethercrab::subdevice_group::{DcConfiguration, Op, PreOp};
+use ethercrab::{DcSupport, DcSync, DefaultLock, MainDevice, SubDeviceGroup, Timeouts};
 
 const MAX: usize = 8;
 const PDI: usize = 128;
@@ -202,5 +203,78 @@ fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {
     assert_eq!(
         code, 0x001E,
         "invalid input configuration, as the application said"
+    );
+}
+
+/// A DC-capable drive and sensor (ESCs with 64-bit DC, devices supporting DC SYNC0).
+fn dc_line() -> Vec<Box<dyn Spawn>> {
+    let mut drive = devices::drive().device;
+    let mut sensor = devices::sensor().device;
+    for config in [&mut drive.config, &mut sensor.config] {
+        config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
+    }
+    drive.esc.dc_supported = true;
+    sensor.esc.dc_supported = true;
+    vec![Box::new(drive), Box::new(sensor)]
+}
+
+/// ethercrab configures DC SYNC0 the way it does for any DC SubDevice (the ESC's SYNC unit;
+/// it never writes 0x1C32:01): the SubDevices follow SYNC0, one cycle per pulse.
+#[test]
+fn ethercrab_dc_sync0_drives_the_cycle() {
+    let (support, sync_in, cycle_ns, counted) =
+        run_on_line(dc_line(), Timeouts::default(), async |main, masters| {
+            let mut group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
+                .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
+                .await
+                .expect("discovery");
+            let support: Vec<_> = group.iter(main).map(|s| s.dc_support()).collect();
+            for mut sub in group.iter_mut(main) {
+                sub.set_dc_sync(DcSync::Sync0);
+            }
+            let group = group.into_pre_op_pdi(main).await.expect("PREOP with PDI");
+            let group = group
+                .configure_dc_sync(
+                    main,
+                    DcConfiguration {
+                        start_delay: std::time::Duration::from_millis(5),
+                        sync0_period: std::time::Duration::from_millis(1),
+                        sync0_shift: std::time::Duration::ZERO,
+                    },
+                )
+                .await
+                .expect("DC SYNC0 configured");
+            let group = group.into_safe_op(main).await.expect("SAFEOP");
+            let group = group.request_into_op(main).await.expect("OP requested");
+            let mut op = false;
+            for _ in 0..100 {
+                op = group.tx_rx(main).await.expect("cycle").all_op();
+                next_cycle(&masters).await;
+                if op {
+                    break;
+                }
+            }
+            assert!(op, "OP within 100 cycles");
+            let drive = group.subdevice(main, 0).unwrap();
+            let sync_in: u16 = drive.sdo_read(0x1C33, 1).await.expect("0x1C33:01");
+            let cycle_ns: u32 = drive.sdo_read(0x1C32, 2).await.expect("0x1C32:02");
+            let sensor = group.subdevice(main, 1).unwrap();
+            let value = |s: &ethercrab::SubDeviceRef<'_, _>| {
+                i32::from_le_bytes(s.inputs_raw()[..4].try_into().unwrap())
+            };
+            group.tx_rx(main).await.expect("cycle");
+            let before = value(&sensor);
+            for _ in 0..50 {
+                next_cycle(&masters).await;
+            }
+            group.tx_rx(main).await.expect("cycle");
+            (support, sync_in, cycle_ns, value(&sensor) - before)
+        });
+    assert_eq!(support, vec![DcSupport::Bits64, DcSupport::Bits64]);
+    assert_eq!(sync_in, 2, "the SubDevice runs DC SYNC0");
+    assert_eq!(cycle_ns, 1_000_000, "0x1C32:02 is the SYNC0 cycle");
+    assert_eq!(
+        counted, 50,
+        "one sensor cycle per SYNC0 pulse, none without"
     );
 }

@@ -184,8 +184,8 @@ fn dc_sync0_cycles_on_every_sync0_pulse_and_reports_its_cycle() {
 #[test]
 fn dc_configuration_errors_are_0x0030() {
     // (sync type, activation): SYNC0 mode without SYNC0; the SYNC unit on without SYNC0;
-    // SYNC1 without SYNC0; SYNC0 running while the device is told to run SM-synchronous.
-    for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (1, 0x03), (0, 0x03)] {
+    // SYNC1 without SYNC0; SYNC0 running while the MainDevice chose free-run.
+    for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (0, 0x03)] {
         run(DC, async move |master| {
             preop_with_sync_type(&master, sync_type).await;
             program_dc(&master, activation, 1_000_000, Duration::from_millis(1));
@@ -362,6 +362,31 @@ fn lost_clocked_cycles_count_as_cycle_time_too_small() {
             u16_of(c.upload(0x1C32, 0x0C, false).await),
             4,
             "every cycle after the first"
+        );
+    });
+}
+
+#[test]
+fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode() {
+    // As ethercrab does: DC configured in the ESC, 0x1C32:01 left at its default (SM-synchronous).
+    run(DC, async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        let before = cycles(&master);
+        common::send_outputs(&master).await;
+        assert_eq!(cycles(&master), before, "no cycle on the SM2 event");
+        master.advance(Duration::from_millis(5)).await;
+        assert_eq!(
+            cycles(&master).wrapping_sub(before),
+            5,
+            "one cycle per SYNC0"
+        );
+        let mut c = client(&master);
+        assert_eq!(
+            c.upload(0x1C33, 1, false).await,
+            Ok(vec![2, 0]),
+            "inputs follow SYNC0"
         );
     });
 }

@@ -15,8 +15,9 @@ use super::{Esc, EscConfig};
 /// Offset of the FMMU count in the DL information (ETG.1000.4 Table 31); the SM count and the
 /// RAM size follow it.
 const FMMU_COUNT_OFFSET: u16 = 4;
-/// Features bit 2: distributed clocks supported (ETG.1000.4 Table 31).
-const FEATURE_DC: u16 = 1 << 2;
+/// Features of a DC-capable ESC: bit 2 distributed clocks, bit 3 64-bit system time, bit 8
+/// enhanced DC SYNC activation (ETG.1000.4 Table 31; the ET1100 reports them all).
+const FEATURE_DC: u16 = 1 << 2 | 1 << 3 | 1 << 8;
 /// DL status: PDI operational, link on port 0, port 0 communication established.
 const DL_STATUS_PORT0_UP: u16 =
     DlStatus::PDI_OPERATIONAL | DlStatus::link(0) | DlStatus::communication(0);
