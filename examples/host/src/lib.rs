@@ -5,5 +5,6 @@ pub mod axis;
 pub mod bridge;
 pub mod catalog;
 pub mod cia402;
+pub mod description;
 pub mod net;
 pub mod plot;
