@@ -272,7 +272,7 @@ fn general(w: &mut Writer<'_>, coe: CoeDetails) {
     w.bytes(&[GROUP, 0]); // group index (compatibility), reserved
     w.u16(0x0011); // physical ports 0 and 1: MII
     w.u16(0); // physical memory address of the identification
-    w.bytes(&[0; 14]);
+    w.bytes(&[0; 12]); // reserved: 0x14..0x1F
 }
 
 /// The CoE details byte of the General category (ETG.2010 Table 6, "CoE Details"); the ESI
