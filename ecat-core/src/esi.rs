@@ -3,7 +3,7 @@
 //! description as the SII image ([`crate::sii`]) and the dictionary's metadata, so the file, the
 //! EEPROM and the device cannot disagree.
 //!
-//! What [`write`] produces (ETG.2000 §5, `EtherCATInfo`):
+//! What [`write`] produces (ETG.2000, root element `EtherCATInfo`):
 //!
 //! | element | from |
 //! |---|---|
@@ -36,7 +36,7 @@ use crate::sii::{self, CoeDetails, Names, SmKind};
 /// What the ESI file describes besides the dictionary.
 #[derive(Debug, Clone, Copy)]
 pub struct Description<'a> {
-    /// The vendor's name (`Vendor/Name`, ETG.2000 §5.2).
+    /// The vendor's name (ETG.2000 `Vendor/Name`).
     pub vendor: &'a str,
     /// Device name, order code and group, as in the SII strings.
     pub names: &'a Names<'a>,
@@ -68,10 +68,10 @@ impl From<fmt::Error> for EsiError {
 
 /// The largest declared value [`write`] encodes.
 const MAX_VALUE: usize = 256;
-/// SII words 0..6: the configuration area the ESI `Eeprom/ConfigData` repeats (ETG.2000 §5.3.9).
+/// SII words 0..6: the configuration area the ESI `Eeprom/ConfigData` repeats (ETG.2000 `Device/Eeprom`).
 const CONFIG_DATA_BYTES: usize = 14;
 /// DC activation for SYNC0 (registers 0x0980/0x0981: cyclic operation and SYNC0), the
-/// `AssignActivate` of the DC operation mode (ETG.2000 §5.3.8).
+/// `AssignActivate` of the DC operation mode (ETG.2000 `Device/Dc/OpMode`).
 const ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
 
 /// Writes the ESI file of the device into `out`. `sii` is the device's SII image as
@@ -240,7 +240,7 @@ impl Display for HexBytes<'_> {
     }
 }
 
-/// The ESI name of a base data type (ETG.2000 §5.3.4.1, the ETG.1020 base types); strings carry
+/// The ESI name of a base data type (ETG.2000 `DataType/Name`, the ETG.1020 base types); strings carry
 /// their length in bytes.
 struct TypeName {
     data_type: DataType,
@@ -280,7 +280,7 @@ fn type_name(entry: &EntryInfo) -> TypeName {
 }
 
 /// The name of the `DataType` a RECORD or ARRAY object has: `DT1018`; with `ARR` for an
-/// array's element list (ETG.2000 §5.3.4.2 naming convention).
+/// array's element list (the ETG.2000 `DataType` naming convention).
 struct ObjectType {
     index: u16,
     array: bool,
@@ -528,7 +528,7 @@ fn values<D, W: Write>(x: &mut Xml<'_, W>, object: &Object<D>, sub: u8) -> Resul
 }
 
 /// `Flags`: access with its state restrictions, PDO mapping, backup, setting
-/// (ETG.2000 §5.3.4.3; ETG.1000.6 Table 49).
+/// (ETG.2000 `Object/Flags`, `SubItem/Flags`; ETG.1000.6 Table 49).
 fn flags<W: Write>(x: &mut Xml<'_, W>, access: Access) -> fmt::Result {
     x.open("Flags", &[])?;
     let read = Restriction(access.0 & 0x7);

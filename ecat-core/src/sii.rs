@@ -18,6 +18,9 @@
 //! Process-data SyncManagers: SM2 (outputs) starts after the last mailbox byte, SM3 (inputs)
 //! after SM2's three buffers, both 8-byte aligned; their default lengths are the images the
 //! default PDO assignment describes. Every reserved bit is 0: some MainDevices reject unknown bits.
+//!
+//! The parts of the description the ESI file ([`crate::esi`]) repeats are computed here once and
+//! shared: [`sync_managers`], [`fmmus`], [`coe_details`], [`for_each_pdo`].
 
 use crate::device::{DeviceConfig, Identity, MailboxConfig};
 use crate::dictionary::ObjectDictionary;
@@ -276,7 +279,7 @@ fn general(w: &mut Writer<'_>, coe: CoeDetails) {
 }
 
 /// The CoE details byte of the General category (ETG.2010 Table 6, "CoE Details"); the ESI
-/// `Mailbox/CoE` attributes carry the same flags (ETG.2000 §5.3.7).
+/// `Mailbox/CoE` attributes carry the same flags (ETG.2000 `Device/Mailbox/CoE`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CoeDetails(pub u8);
 
@@ -320,7 +323,7 @@ pub fn coe_details<D: ObjectDictionary>(od: &D) -> CoeDetails {
     CoeDetails(details)
 }
 
-/// An FMMU's usage (ETG.2010 Table 9; the ESI `Fmmu` element, ETG.2000 §5.3.5).
+/// An FMMU's usage (ETG.2010 Table 9; the ESI `Fmmu` element, ETG.2000 `Device/Fmmu`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 pub enum Fmmu {
@@ -358,7 +361,7 @@ pub enum SmKind {
 }
 
 /// One SyncManager's default configuration: an SII SyncManager category entry (ETG.2010
-/// Table 10) and an ESI `Sm` element (ETG.2000 §5.3.6).
+/// Table 10) and an ESI `Sm` element (ETG.2000 `Device/Sm`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct SyncManager {
     /// Physical start address.

@@ -62,7 +62,7 @@ fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
 
 /// Where each entry of a complete access from subindex 0 starts, in bits: `(subindex, bit
 /// offset)`. The ESI `DataType` of the object gives its `SubItem`s the same `BitOffs`
-/// (ETG.2000 §5.3.4), so the file and the transfer agree.
+/// (ETG.2000 `DataType/SubItem/BitOffs`), so the file and the transfer agree.
 pub fn bit_offsets(object: &ObjectInfo) -> impl Iterator<Item = (u8, usize)> + '_ {
     slots(object, 0).map(|s| (s.sub, s.bit_offset))
 }
