@@ -3,7 +3,7 @@
 //! description as the SII image ([`crate::sii`]) and the dictionary's metadata, so the file, the
 //! EEPROM and the device cannot disagree.
 //!
-//! What [`write`] produces (ETG.2000, root element `EtherCATInfo`):
+//! What [`write()`] produces (ETG.2000, root element `EtherCATInfo`):
 //!
 //! | element | from |
 //! |---|---|
@@ -66,7 +66,7 @@ impl From<fmt::Error> for EsiError {
     }
 }
 
-/// The largest declared value [`write`] encodes.
+/// The largest declared value [`write()`] encodes.
 const MAX_VALUE: usize = 256;
 /// SII words 0..6: the configuration area the ESI `Eeprom/ConfigData` repeats (ETG.2000 `Device/Eeprom`).
 const CONFIG_DATA_BYTES: usize = 14;
@@ -464,7 +464,7 @@ fn object<D, W: Write>(x: &mut Xml<'_, W>, od: &D, object: &Object<D>) -> Result
 /// An entry of an ARRAY or RECORD object's `Info`: its name (array elements `SubIndex nnn`) and
 /// declared values. SubIndex 0 has no declared default: its default is the count the dictionary
 /// holds (the highest subindex, or a PDO object's default number of entries), so the dictionary
-/// passed to [`write`] holds its defaults, as it does for the SII image.
+/// passed to [`write()`] holds its defaults, as it does for the SII image.
 fn sub_item<D, W: Write>(
     x: &mut Xml<'_, W>,
     od: &D,

@@ -3,7 +3,7 @@
 //! ([`Identity`], which the dictionary's 0x1018 also holds) and the dictionary's default PDO
 //! assignment and mapping. What the MainDevice reads and what the device does cannot disagree.
 //!
-//! Layout written by [`write`]:
+//! Layout written by [`write()`]:
 //!
 //! | words | contents |
 //! |---|---|
