@@ -352,26 +352,17 @@ fn object_bits(info: &ObjectInfo) -> usize {
 /// (SubIndex 0 and the element list); nothing for a VAR. `BitOffs` are the complete-access
 /// offsets.
 fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result {
-    let array = match info.code {
-        ObjectCode::Var => return Ok(()),
-        ObjectCode::Array => true,
-        ObjectCode::Record => false,
-    };
+    let (index, array) = (info.index, ObjectCode::Array == info.code);
     let element = info.entry(1).filter(|_| array);
+    let elements_bits = |e: &EntryInfo| usize::from(info.max_sub) * usize::from(e.bit_len);
+    if info.code == ObjectCode::Var {
+        return Ok(());
+    }
     if let Some(element) = element {
         x.open("DataType", &[])?;
-        x.leaf(
-            "Name",
-            ObjectType {
-                index: info.index,
-                array: true,
-            },
-        )?;
+        x.leaf("Name", ObjectType { index, array: true })?;
         x.leaf("BaseType", type_name(element))?;
-        x.leaf(
-            "BitSize",
-            usize::from(info.max_sub) * usize::from(element.bit_len),
-        )?;
+        x.leaf("BitSize", elements_bits(element))?;
         x.open("ArrayInfo", &[])?;
         x.leaf("LBound", 1)?;
         x.leaf("Elements", info.max_sub)?;
@@ -382,7 +373,7 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
     x.leaf(
         "Name",
         ObjectType {
-            index: info.index,
+            index,
             array: false,
         },
     )?;
@@ -395,17 +386,8 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
         match element.filter(|_| sub > 0) {
             Some(element) => {
                 x.leaf("Name", "Elements")?;
-                x.leaf(
-                    "Type",
-                    ObjectType {
-                        index: info.index,
-                        array: true,
-                    },
-                )?;
-                x.leaf(
-                    "BitSize",
-                    usize::from(info.max_sub) * usize::from(element.bit_len),
-                )?;
+                x.leaf("Type", ObjectType { index, array: true })?;
+                x.leaf("BitSize", elements_bits(element))?;
             }
             None => {
                 x.leaf("SubIdx", sub)?;
@@ -417,7 +399,8 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
         x.leaf("BitOffs", offset)?;
         flags(x, entry.access)?;
         x.close("SubItem")?;
-        if array && sub > 0 {
+        // One SubItem stands for all elements of an array.
+        if element.is_some() && sub > 0 {
             break;
         }
     }
