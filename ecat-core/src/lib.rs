@@ -22,6 +22,8 @@
 //! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control (ETG.1000.4 §5.6) |
 //! | [`pdo`] | PDO mapping and assignment objects, the process-image layout, pack/unpack (ETG.1000.6 §5.6.7) |
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
+//! | [`sii`] | the SII EEPROM image generated from the description (ETG.1000.6 §5.4, ETG.2010) |
+//! | [`esi`] | the ESI XML file generated from the same description (ETG.2000) |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
 //! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
@@ -47,6 +49,7 @@ pub mod cia402;
 pub mod coe;
 pub mod device;
 pub mod dictionary;
+pub mod esi;
 pub mod esm;
 pub mod mailbox;
 pub mod pdo;

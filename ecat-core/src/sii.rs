@@ -3,7 +3,7 @@
 //! ([`Identity`], which the dictionary's 0x1018 also holds) and the dictionary's default PDO
 //! assignment and mapping. What the MainDevice reads and what the device does cannot disagree.
 //!
-//! Layout written by [`write`]:
+//! Layout written by [`write()`]:
 //!
 //! | words | contents |
 //! |---|---|
@@ -18,6 +18,9 @@
 //! Process-data SyncManagers: SM2 (outputs) starts after the last mailbox byte, SM3 (inputs)
 //! after SM2's three buffers, both 8-byte aligned; their default lengths are the images the
 //! default PDO assignment describes. Every reserved bit is 0: some MainDevices reject unknown bits.
+//!
+//! The parts of the description the ESI file ([`crate::esi`]) repeats are computed here once and
+//! shared: [`sync_managers`], [`fmmus`], [`coe_details`], [`for_each_pdo`].
 
 use crate::device::{DeviceConfig, Identity, MailboxConfig};
 use crate::dictionary::ObjectDictionary;
@@ -44,26 +47,12 @@ pub enum SiiError {
     TooManyStrings,
 }
 
-/// CoE details bit 0: SDO supported (ETG.2010 Table 4).
-const COE_SDO: u8 = 0x01;
-/// CoE details bit 1: SDO Information.
-const COE_SDO_INFO: u8 = 0x02;
-/// CoE details bit 2: PDO assignment writable.
-const COE_PDO_ASSIGN: u8 = 0x04;
-/// CoE details bit 3: PDO mapping writable.
-const COE_PDO_CONFIG: u8 = 0x08;
-/// CoE details bit 5: SDO complete access.
-const COE_COMPLETE_ACCESS: u8 = 0x20;
 /// Mailbox protocol CoE (word 0x1C).
 const PROTOCOL_COE: u16 = 0x0004;
 /// PDI control word 0: SPI (0x05).
 const PDI_SPI: u16 = 0x0005;
 /// SyncManager control bytes: mailbox out/in, 3-buffer out with watchdog, 3-buffer in.
 const SM_CONTROL: [u8; 4] = [0x26, 0x22, 0x64, 0x20];
-/// FMMU usage (ETG.2010 Table 9): outputs, inputs, SyncManager status.
-const FMMU_OUTPUTS: u8 = 0x01;
-const FMMU_INPUTS: u8 = 0x02;
-const FMMU_SM_STATUS: u8 = 0x03;
 /// Category types (ETG.2010 Table 3).
 const CAT_STRINGS: u16 = 10;
 const CAT_GENERAL: u16 = 30;
@@ -107,12 +96,21 @@ pub fn write<D: ObjectDictionary>(
     w.u16(PROTOCOL_COE);
     w.fill_to(0x3E * 2);
     w.words(&[SIZE_KBIT_MINUS_ONE, 1]);
-    let image = ProcessImage::of(config, od);
     let strings = Strings::new(names, od)?;
     w.category(CAT_STRINGS, |w| strings.write(w, od));
     w.category(CAT_GENERAL, |w| general(w, coe_details(od)));
-    w.category(CAT_FMMU, |w| image.fmmus(w));
-    w.category(CAT_SYNC_MANAGER, |w| image.sync_managers(w, config));
+    w.category(CAT_FMMU, |w| {
+        for fmmu in fmmus(config, od) {
+            w.u8(fmmu as u8);
+        }
+    });
+    w.category(CAT_SYNC_MANAGER, |w| {
+        for sm in sync_managers(config, od) {
+            w.u16(sm.start);
+            w.u16(sm.length);
+            w.bytes(&[sm.control, 0, u8::from(sm.enable), sm.kind as u8]);
+        }
+    });
     for (category, direction) in [(CAT_TXPDO, Direction::Tx), (CAT_RXPDO, Direction::Rx)] {
         if count_pdos(od, direction) > 0 {
             w.category(category, |w| pdos(w, od, direction));
@@ -271,19 +269,42 @@ fn string(w: &mut Writer<'_>, s: &str) {
 }
 
 /// The General category (ETG.2010 Table 6), 32 bytes.
-fn general(w: &mut Writer<'_>, coe: u8) {
-    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe, 0, 0, 0, 0, 0, 0]);
+fn general(w: &mut Writer<'_>, coe: CoeDetails) {
+    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, 0, 0, 0, 0, 0, 0]);
     w.u16(0); // current on E-bus
     w.bytes(&[GROUP, 0]); // group index (compatibility), reserved
     w.u16(0x0011); // physical ports 0 and 1: MII
     w.u16(0); // physical memory address of the identification
-    w.bytes(&[0; 14]);
+    w.bytes(&[0; 12]); // reserved: 0x14..0x1F
+}
+
+/// The CoE details byte of the General category (ETG.2010 Table 6, "CoE Details"); the ESI
+/// `Mailbox/CoE` attributes carry the same flags (ETG.2000 `Device/Mailbox/CoE`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct CoeDetails(pub u8);
+
+impl CoeDetails {
+    /// Bit 0: SDO supported.
+    pub const SDO: u8 = 0x01;
+    /// Bit 1: SDO Information.
+    pub const SDO_INFO: u8 = 0x02;
+    /// Bit 2: PDO assignment writable.
+    pub const PDO_ASSIGN: u8 = 0x04;
+    /// Bit 3: PDO mapping writable.
+    pub const PDO_CONFIG: u8 = 0x08;
+    /// Bit 5: SDO complete access.
+    pub const COMPLETE_ACCESS: u8 = 0x20;
+
+    /// Whether every bit of `flag` is set.
+    pub const fn has(self, flag: u8) -> bool {
+        self.0 & flag == flag
+    }
 }
 
 /// The CoE details the dictionary supports: SDO, SDO Information and complete access always;
 /// PDO assignment / configuration when 0x1C12/0x1C13 / their mapping objects are writable.
-fn coe_details<D: ObjectDictionary>(od: &D) -> u8 {
-    let mut details = COE_SDO | COE_SDO_INFO | COE_COMPLETE_ACCESS;
+pub fn coe_details<D: ObjectDictionary>(od: &D) -> CoeDetails {
+    let mut details = CoeDetails::SDO | CoeDetails::SDO_INFO | CoeDetails::COMPLETE_ACCESS;
     let writable = |index: u16| {
         D::object(index)
             .and_then(|o| o.info.entry(0))
@@ -291,18 +312,121 @@ fn coe_details<D: ObjectDictionary>(od: &D) -> u8 {
     };
     for direction in [Direction::Rx, Direction::Tx] {
         if writable(direction.assignment()) {
-            details |= COE_PDO_ASSIGN;
+            details |= CoeDetails::PDO_ASSIGN;
         }
         for_each_pdo(od, direction, |pdo, _, _| {
             if writable(pdo) {
-                details |= COE_PDO_CONFIG;
+                details |= CoeDetails::PDO_CONFIG;
             }
         });
     }
-    details
+    CoeDetails(details)
 }
 
-/// The default images and where their SyncManagers sit.
+/// An FMMU's usage (ETG.2010 Table 9; the ESI `Fmmu` element, ETG.2000 `Device/Fmmu`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum Fmmu {
+    /// Maps the outputs (SM2).
+    Outputs = 0x01,
+    /// Maps the inputs (SM3).
+    Inputs = 0x02,
+    /// Maps the SyncManager status (the mailbox-full bit of SM1).
+    MailboxState = 0x03,
+}
+
+/// The FMMUs the device needs: outputs and inputs for the images that exist, then the mailbox
+/// status.
+pub fn fmmus<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> impl Iterator<Item = Fmmu> {
+    let image = ProcessImage::of(config, od);
+    let outputs = Some(Fmmu::Outputs).filter(|_| image.outputs > 0);
+    let inputs = Some(Fmmu::Inputs).filter(|_| image.inputs > 0);
+    [outputs, inputs, Some(Fmmu::MailboxState)]
+        .into_iter()
+        .flatten()
+}
+
+/// What a SyncManager is for (ETG.2010 Table 10 "SM type"; the text of the ESI `Sm` element).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum SmKind {
+    /// SM0: the receive mailbox ("MBoxOut").
+    MailboxOut = 1,
+    /// SM1: the send mailbox ("MBoxIn").
+    MailboxIn = 2,
+    /// SM2: process data outputs.
+    Outputs = 3,
+    /// SM3: process data inputs.
+    Inputs = 4,
+}
+
+/// One SyncManager's default configuration: an SII SyncManager category entry (ETG.2010
+/// Table 10) and an ESI `Sm` element (ETG.2000 `Device/Sm`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct SyncManager {
+    /// Physical start address.
+    pub start: u16,
+    /// Default length in bytes.
+    pub length: u16,
+    /// Control register byte (0x0804).
+    pub control: u8,
+    /// Enabled by default (0x0806 bit 0).
+    pub enable: bool,
+    /// What it is for.
+    pub kind: SmKind,
+}
+
+/// SM0..SM3 of the device. Mailboxes from the [`DeviceConfig`]; SM2 (outputs) after the last
+/// mailbox byte, SM3 (inputs) after SM2's three buffers, both 8-byte aligned, with the lengths of
+/// the default images; a process-data SM without data is disabled.
+pub fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> [SyncManager; 4] {
+    let image = ProcessImage::of(config, od);
+    let mailboxes = [Some(&config.mailbox), config.bootstrap_mailbox.as_ref()];
+    let mailbox_end = mailboxes
+        .into_iter()
+        .flatten()
+        .flat_map(|m| [m.receive.end(), m.send.end()])
+        .max()
+        .unwrap_or(0);
+    let align = |a: u32| u16::try_from(a.div_ceil(8) * 8).unwrap_or(u16::MAX);
+    let outputs_start = align(mailbox_end);
+    let inputs_start = align(u32::from(outputs_start) + 3 * u32::from(image.outputs));
+    let [mbx_out, mbx_in, outputs, inputs] = SM_CONTROL;
+    let sm = |start, length, control, enable, kind| SyncManager {
+        start,
+        length,
+        control,
+        enable,
+        kind,
+    };
+    let (receive, send) = (config.mailbox.receive, config.mailbox.send);
+    [
+        sm(
+            receive.start,
+            receive.length,
+            mbx_out,
+            true,
+            SmKind::MailboxOut,
+        ),
+        sm(send.start, send.length, mbx_in, true, SmKind::MailboxIn),
+        sm(
+            outputs_start,
+            image.outputs,
+            outputs,
+            image.outputs > 0,
+            SmKind::Outputs,
+        ),
+        sm(
+            inputs_start,
+            image.inputs,
+            inputs,
+            image.inputs > 0,
+            SmKind::Inputs,
+        ),
+    ]
+}
+
+/// The default images.
 struct ProcessImage {
     outputs: u16,
     inputs: u16,
@@ -332,48 +456,6 @@ impl ProcessImage {
             },
         }
     }
-
-    /// FMMU usages: outputs, inputs (for the images that exist), mailbox status.
-    fn fmmus(&self, w: &mut Writer<'_>) {
-        if self.outputs > 0 {
-            w.u8(FMMU_OUTPUTS);
-        }
-        if self.inputs > 0 {
-            w.u8(FMMU_INPUTS);
-        }
-        w.u8(FMMU_SM_STATUS);
-    }
-
-    /// SM0..SM3: start, length, control, status 0, enable, type.
-    fn sync_managers(&self, w: &mut Writer<'_>, config: &DeviceConfig) {
-        let mailboxes = [Some(&config.mailbox), config.bootstrap_mailbox.as_ref()];
-        let mailbox_end = mailboxes
-            .into_iter()
-            .flatten()
-            .flat_map(|m| [m.receive.end(), m.send.end()])
-            .max()
-            .unwrap_or(0);
-        let align = |a: u32| u16::try_from(a.div_ceil(8) * 8).unwrap_or(u16::MAX);
-        let outputs_start = align(mailbox_end);
-        let inputs_start = align(u32::from(outputs_start) + 3 * u32::from(self.outputs));
-        let channels = [
-            (
-                config.mailbox.receive.start,
-                config.mailbox.receive.length,
-                1u8,
-            ),
-            (config.mailbox.send.start, config.mailbox.send.length, 1),
-            (outputs_start, self.outputs, u8::from(self.outputs > 0)),
-            (inputs_start, self.inputs, u8::from(self.inputs > 0)),
-        ];
-        for (kind, ((start, length, enable), control)) in
-            (1..).zip(channels.into_iter().zip(SM_CONTROL))
-        {
-            w.u16(start);
-            w.u16(length);
-            w.bytes(&[control, 0, enable, kind]);
-        }
-    }
 }
 
 /// The number of PDOs the assignment of `direction` lists.
@@ -383,8 +465,9 @@ fn count_pdos<D: ObjectDictionary>(od: &D, direction: Direction) -> usize {
     n
 }
 
-/// Calls `f(pdo index, pdo name, entries)` for every PDO the assignment of `direction` lists.
-fn for_each_pdo<D: ObjectDictionary>(
+/// Calls `f(pdo index, pdo name, entries)` for every PDO the default assignment of `direction`
+/// lists (ETG.1000.6 §5.6.7.4; the SII PDO categories and the ESI `RxPdo`/`TxPdo` elements).
+pub fn for_each_pdo<D: ObjectDictionary>(
     od: &D,
     direction: Direction,
     mut f: impl FnMut(u16, &'static str, &[MappingEntry]),

@@ -1,7 +1,9 @@
 //! The devices the host programs emulate, by name: the sample devices of `ecat_emu::devices` and
 //! the CiA402 dummy axis of `ecat-axis`, each with its SII image.
 
-use ecat_emu::devices;
+use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
+use ecat_embassy::{Application, CycleHandler};
+use ecat_emu::devices::{self, Sample};
 use ecat_emu::harness::Spawn;
 
 /// The names [`device`] knows.
@@ -10,14 +12,49 @@ pub const NAMES: [&str; 4] = ["cia402", "drive", "dio", "sensor"];
 pub const DEFAULT: &str = "dio";
 /// The most devices on one line.
 pub const MAX_COUNT: usize = 64;
+/// The vendor of every device here (vendor ID [`devices::VENDOR_ID`], in the range the ETG
+/// leaves for tests): the ESI file's `Vendor/Name`.
+pub const VENDOR: &str = "ecat (test vendor ID)";
+
+/// Something done with a typed sample device (its dictionary type, application and cycle).
+pub trait Visit {
+    /// What it gives.
+    type Output;
+    /// Does it with `sample`.
+    fn visit<A, C, D>(self, sample: Sample<A, C, D>) -> Self::Output
+    where
+        A: Application + ObjectHooks<D> + 'static,
+        C: CycleHandler<D> + 'static,
+        D: ObjectDictionary;
+}
+
+/// Runs `visitor` on a new instance of the device called `name`.
+pub fn visit<V: Visit>(name: &str, visitor: V) -> Option<V::Output> {
+    Some(match name {
+        "cia402" => visitor.visit(crate::axis::sample()),
+        "drive" => visitor.visit(devices::drive()),
+        "dio" => visitor.visit(devices::dio()),
+        "sensor" => visitor.visit(devices::sensor()),
+        _ => return None,
+    })
+}
+
+/// Boxes the runnable device.
+struct Boxed;
+
+impl Visit for Boxed {
+    type Output = Box<dyn Spawn>;
+    fn visit<A, C, D>(self, sample: Sample<A, C, D>) -> Self::Output
+    where
+        A: Application + ObjectHooks<D> + 'static,
+        C: CycleHandler<D> + 'static,
+        D: ObjectDictionary,
+    {
+        Box::new(sample.device)
+    }
+}
 
 /// A new instance of the device called `name`.
 pub fn device(name: &str) -> Option<Box<dyn Spawn>> {
-    Some(match name {
-        "cia402" => Box::new(crate::axis::sample().device),
-        "drive" => Box::new(devices::drive().device),
-        "dio" => Box::new(devices::dio().device),
-        "sensor" => Box::new(devices::sensor().device),
-        _ => return None,
-    })
+    visit(name, Boxed)
 }

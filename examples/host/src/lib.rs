@@ -6,5 +6,6 @@ pub mod bridge;
 pub mod catalog;
 pub mod cia402;
 pub mod demo;
+pub mod description;
 pub mod net;
 pub mod plot;

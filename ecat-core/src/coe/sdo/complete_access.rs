@@ -60,6 +60,13 @@ fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
     })
 }
 
+/// Where each entry of a complete access from subindex 0 starts, in bits: `(subindex, bit
+/// offset)`. The ESI `DataType` of the object gives its `SubItem`s the same `BitOffs`
+/// (ETG.2000 `DataType/SubItem/BitOffs`), so the file and the transfer agree.
+pub fn bit_offsets(object: &ObjectInfo) -> impl Iterator<Item = (u8, usize)> + '_ {
+    slots(object, 0).map(|s| (s.sub, s.bit_offset))
+}
+
 /// The size in bytes of the complete-access image from `sub`.
 pub fn size(object: &ObjectInfo, sub: u8) -> usize {
     slots(object, sub)

@@ -1,0 +1,73 @@
+//! Writes the description files of a catalog device: the ESI XML file (ETG.2000) for
+//! configuration tools and the SII EEPROM image, generated from the same description.
+//!
+//! ```text
+//! ecat-esi --device cia402|drive|dio|sensor --out DIR
+//! ```
+//!
+//! Writes `DIR/<device>.xml` and `DIR/<device>.bin`; `DIR` must exist.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use ecat_examples::catalog;
+use ecat_examples::description;
+
+struct Args {
+    device: String,
+    out: PathBuf,
+}
+
+fn usage() -> String {
+    format!(
+        "usage: ecat-esi --device {} --out DIR",
+        catalog::NAMES.join("|")
+    )
+}
+
+fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
+    let (mut device, mut out) = (None, None);
+    while let Some(flag) = args.next() {
+        match flag.as_str() {
+            "--device" => device = args.next(),
+            "--out" => out = args.next().map(PathBuf::from),
+            _ => return Err(usage()),
+        }
+    }
+    match (device, out) {
+        (Some(device), Some(out)) => Ok(Args { device, out }),
+        _ => Err(usage()),
+    }
+}
+
+fn write(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
+}
+
+fn run(args: Args) -> Result<(), String> {
+    let files = description::by_name(&args.device)
+        .ok_or_else(|| {
+            format!(
+                "unknown device {:?}; known: {}",
+                args.device,
+                catalog::NAMES.join(", ")
+            )
+        })?
+        .map_err(|e| format!("cannot describe {}: {e:?}", args.device))?;
+    let xml = args.out.join(format!("{}.xml", args.device));
+    let bin = args.out.join(format!("{}.bin", args.device));
+    write(&xml, files.esi.as_bytes())?;
+    write(&bin, &files.sii)?;
+    println!("wrote {} and {}", xml.display(), bin.display());
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match parse(std::env::args().skip(1)).and_then(run) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("ecat-esi: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
