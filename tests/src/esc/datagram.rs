@@ -6,11 +6,13 @@
 //! | APRD/APWR/APRW | ADP = 0 on arrival (every ESC increments ADP) | read / write / both | +1 / +1 / +3 |
 //! | FPRD/FPWR/FPRW | ADP = station address (0x0010) or enabled alias (0x0012) | read / write / both | +1 / +1 / +3 |
 //! | BRD/BWR/BRW | always (ADP incremented) | read ORed into the data / write / both | +1 / +1 / +3 per ESC |
-//! | LRD/LWR/LRW | an active FMMU of the right type overlaps | through the FMMUs | +1 read, +2 write |
+//! | LRD/LWR/LRW | an active FMMU of the right type overlaps | through the FMMUs | +1 / +1 / +1 read, +2 write |
 //! | ARMW | ADP = 0 reads; every other ESC writes | | +1 |
 //! | FRMW | station address reads; every other ESC writes | | +1 |
 //!
-//! A read-write first reads, then writes the data as it arrived, and returns the read data.
+//! A read-write first reads, then writes the data as it arrived, and returns the read data; only
+//! its write counts 2 (ETG.1000.4 §5.4: read +1, write +1, read-write +1 for the read and +2 for
+//! the write).
 //! Register and memory semantics (SyncManager buffers, read-only bytes) are those of
 //! [`Esc::ecat_read`] / [`Esc::ecat_write`]; accesses they refuse do not count. An ESC without
 //! distributed clocks does not count (and does not perform) accesses to 0x0900..0x09FF.
@@ -161,7 +163,8 @@ impl Esc {
                 read |= self.map_read(&fmmu, overlap, offset, data);
             }
         }
-        u16::from(read) + 2 * u16::from(written)
+        let write_weight = if op == Operation::ReadWrite { 2 } else { 1 };
+        u16::from(read) + write_weight * u16::from(written)
     }
 
     /// The FMMU entities.
