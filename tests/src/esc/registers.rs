@@ -6,6 +6,7 @@ use ecat_core::register::{self, DlStatus, PdiType, Watchdog};
 use ecat_core::sync_manager::Channel;
 
 use super::access::Side;
+use super::dc::SYSTEM_TIME_OFFSET;
 use super::memory::Memory;
 use super::sync_manager::{
     ACTIVATE_OFFSET, CONFIGURATION_OFFSETS, ChannelState, PDI_CONTROL_OFFSET, STATUS_OFFSET,
@@ -38,7 +39,7 @@ enum Writer {
 
 /// The registers a single port writes (excluding FMMUs and SyncManagers): first address,
 /// length, writer.
-const WRITABLE: [(u16, u16, Side); 16] = [
+const WRITABLE: [(u16, u16, Side); 17] = [
     (register::STATION_ADDRESS, 2, Side::Ecat),
     (register::STATION_ALIAS, 2, Side::Pdi),
     (register::DL_CONTROL, 4, Side::Ecat),
@@ -51,6 +52,7 @@ const WRITABLE: [(u16, u16, Side); 16] = [
     (register::WATCHDOG_TIME_PDI, 2, Side::Ecat),
     (register::WATCHDOG_TIME_PROCESS_DATA, 2, Side::Ecat),
     (register::SII_INTERFACE, SII_INTERFACE_SIZE, Side::Ecat),
+    (SYSTEM_TIME_OFFSET, 8, Side::Ecat),
     (register::DC_CYCLIC_UNIT_CONTROL, 1, Side::Ecat),
     (register::DC_ACTIVATION, 1, Side::Ecat),
     (register::DC_START_TIME, 8, Side::Ecat),
