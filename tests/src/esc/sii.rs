@@ -51,9 +51,10 @@ impl Esc {
 
     /// Reloads the configuration area: with a correct checksum, the configured station alias
     /// (word 4) goes to 0x0012 and the PDI control/configuration (words 0..1) to 0x0140..0x0153;
-    /// with a wrong one the registers keep their values and 0x0502 bit 11 is set.
+    /// with a wrong one the registers keep their values and 0x0502 bit 11 is set. The reload
+    /// leaves 0x0502 with no command and only its own error bits.
     pub fn reload_eeprom(&mut self) {
-        let mut status = self.sii_status() & !(CHECKSUM_ERROR | DEVICE_INFO_ERROR);
+        let mut status = 0;
         match self.eeprom.get(..CONFIG_BYTES + 2) {
             None => status |= DEVICE_INFO_ERROR,
             Some(config) if crc8(&config[..CONFIG_BYTES]) != config[CONFIG_BYTES] => {
