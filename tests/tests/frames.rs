@@ -7,6 +7,7 @@
 use ecat_core::sii::crc8;
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
+use ecat_emu::esc::datagram::Command;
 use ecat_emu::frame::{self, Datagram};
 use ecat_emu::line::Line;
 use embassy_time::{Duration, Instant, MockDriver};
@@ -48,14 +49,10 @@ fn line() -> Line {
 
 /// APWR 0x0010 ← [`STATIONS`], one datagram per ESC (ADP 0, −1, −2), as MainDevices do.
 fn address(line: &Line) {
-    let set: Vec<Datagram> = (0..3u16)
-        .map(|n| {
-            let station = STATIONS[usize::from(n)].to_le_bytes();
-            Datagram::physical(APWR, 0u16.wrapping_sub(n), 0x0010, &station)
-        })
-        .collect();
-    let back = exchange(line, &set);
-    assert!(back.iter().all(|d| d.wkc == 1));
+    assert!(line.address());
+    for (n, station) in STATIONS.into_iter().enumerate() {
+        assert_eq!(pdi(line, n, 0x0010, 2), station.to_le_bytes());
+    }
 }
 
 /// Sends `datagrams` in one frame; returns them as they came back, after checking that the
@@ -449,11 +446,20 @@ fn an_inactive_fmmu_maps_nothing() {
 // ---------------------------------------------------------------------------------------------
 // Process data: SM2/SM3 3-buffer areas through byte-aligned FMMUs, as in OP.
 
+#[test]
+fn command_codes_round_trip() {
+    for code in 0..=14 {
+        assert_eq!(Command::from_code(code).map(Command::code), Some(code));
+    }
+    assert_eq!(Command::from_code(15), None);
+}
+
 const OUTPUTS: u16 = 0x1000;
 const INPUTS: u16 = 0x1100;
 const PD: u16 = 11;
 
-/// The 8 SyncManager registers of channel `n` (disabled first, as `TestMaster::configure_sm`).
+/// The 8 SyncManager registers of channel `n` (disabled first, as `TestMaster::configure_sm`),
+/// `PD` bytes.
 fn configure_sm(line: &Line, station: u16, n: u16, start: u16, control: u8) {
     let at = 0x0800 + 8 * n;
     let disable = Datagram::physical(FPWR, station, at + 6, &[0]);
@@ -471,17 +477,24 @@ fn configure_sm(line: &Line, station: u16, n: u16, start: u16, control: u8) {
 /// logical 22·n (outputs) and 22·n + 11 (inputs).
 fn process_data_line() -> Line {
     let line = line();
-    for (n, &station) in STATIONS.iter().enumerate() {
-        let logical = 22 * n as u32;
-        configure_sm(&line, station, 2, OUTPUTS, 0x64);
-        configure_sm(&line, station, 3, INPUTS, 0x20);
-        set_fmmu(&line, station, 0, &fmmu(logical, PD, (0, 7), OUTPUTS, 0, 2));
-        set_fmmu(
-            &line,
-            station,
-            1,
-            &fmmu(logical + 11, PD, (0, 7), INPUTS, 0, 1),
+    assert!(line.map_process_data(OUTPUTS, INPUTS, PD));
+    for n in 0..3 {
+        // Status 0x30: no buffer written yet (3-buffer mode).
+        assert_eq!(
+            pdi(&line, n, 0x0810, 8),
+            [0x00, 0x10, 11, 0, 0x64, 0x30, 1, 0]
         );
+        assert_eq!(
+            pdi(&line, n, 0x0818, 8),
+            [0x00, 0x11, 11, 0, 0x20, 0x30, 1, 0]
+        );
+        let logical = (22 * n as u32).to_le_bytes();
+        let mut write = logical.to_vec();
+        write.extend([11, 0, 0, 7, 0x00, 0x10, 0, 2, 1, 0, 0, 0]);
+        assert_eq!(pdi(&line, n, 0x0600, 16), write);
+        let mut read = (22 * n as u32 + 11).to_le_bytes().to_vec();
+        read.extend([11, 0, 0, 7, 0x00, 0x11, 0, 1, 1, 0, 0, 0]);
+        assert_eq!(pdi(&line, n, 0x0610, 16), read);
     }
     line
 }

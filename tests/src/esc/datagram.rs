@@ -45,14 +45,28 @@ pub enum Command {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Operation {
     /// The ESC puts memory contents into the datagram.
-    Read,
+    Read = 0,
     /// The ESC takes the datagram data into memory.
-    Write,
+    Write = 1,
     /// Both: reads, then writes the data as it arrived.
-    ReadWrite,
+    ReadWrite = 2,
 }
 
 impl Command {
+    /// The command's code (ETG.1000.4 Table 13).
+    pub fn code(self) -> u8 {
+        let op = |base: u8, op: Operation| base + op as u8;
+        match self {
+            Self::Nop => 0,
+            Self::Ap(o) => op(1, o),
+            Self::Fp(o) => op(4, o),
+            Self::B(o) => op(7, o),
+            Self::L(o) => op(10, o),
+            Self::Armw => 13,
+            Self::Frmw => 14,
+        }
+    }
+
     /// The command with code `code`, `None` for reserved codes (15..255).
     pub fn from_code(code: u8) -> Option<Self> {
         use Operation::*;
