@@ -357,7 +357,7 @@ fn more_datagrams_announced_than_fit_lose_the_frame_after_the_earlier_ones() {
 fn bytes_after_the_ethercat_length_are_padding_and_stay_untouched() {
     let line = line();
     let read = Datagram::physical(BRD, 0, 0x0010, &[0, 0]);
-    let mut sent = frame::build(SOURCE, &[read.clone()]);
+    let mut sent = frame::build(SOURCE, std::slice::from_ref(&read));
     sent.extend([0xEE; 20]);
     let len = sent.len();
     assert_eq!(line.process(&mut sent), Some(len));
