@@ -706,12 +706,25 @@ fn sii_ignores_commands_of_the_port_that_does_not_own_it() {
     let line = sii_line(sii_image(0, false));
     let to_pdi = Datagram::physical(FPWR, 0x1001, 0x0500, &[0x01]);
     assert_eq!(one(&line, to_pdi).wkc, 1);
+    // The MainDevice's command, address and data bytes are ignored.
     sii_command(&line, 0x0100, 0x0008);
     assert_eq!(sii_status(&line), 0x0040);
+    assert_eq!(
+        pdi(&line, 1, 0x0502, 14),
+        [0x40, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]
+    );
+    // The PDI, owner now, reads.
+    pdi_write(&line, 1, 0x0502, &[0x00, 0x01, 0x09, 0x00, 0x00, 0x00]);
     let d = one(&line, Datagram::physical(FPRD, 0x1001, 0x0508, &[0; 8]));
-    assert_eq!(d.data, [0; 8]);
+    assert_eq!(d.data, [0x22, 0x23, 0x24, 0x25, 0x26, 0x27, 0x28, 0x29]);
+    // Back to the MainDevice: the PDI's commands are ignored, the MainDevice's executed.
     let to_ecat = Datagram::physical(FPWR, 0x1001, 0x0500, &[0x00]);
     assert_eq!(one(&line, to_ecat).wkc, 1);
+    pdi_write(&line, 1, 0x0502, &[0x00, 0x01, 0x00, 0x00, 0x00, 0x00]);
+    assert_eq!(
+        pdi(&line, 1, 0x0502, 10),
+        [0x40, 0, 9, 0, 0, 0, 0x22, 0x23, 0x24, 0x25]
+    );
     assert_eq!(sii_read(&line, 0x0008)[0], 0x20);
 }
 

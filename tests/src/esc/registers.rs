@@ -23,8 +23,12 @@ const DL_STATUS_PORT0_UP: u16 =
     DlStatus::PDI_OPERATIONAL | DlStatus::link(0) | DlStatus::communication(0);
 /// AL event mask after reset (ESC datasheet section II, 0x0204).
 const AL_EVENT_MASK_RESET: u32 = 0x00FF_FF0F;
-/// Bytes of the SII EEPROM interface (ETG.1000.4 Tables 48–51).
-const SII_INTERFACE_SIZE: u16 = 16;
+/// Bytes of the SII EEPROM configuration and access state (ETG.1000.4 Table 48): the
+/// MainDevice assigns the EEPROM.
+const SII_ASSIGNMENT_SIZE: u16 = 2;
+/// Bytes of the SII control/status, address and data registers 0x0502..0x050F (ETG.1000.4
+/// Tables 49–51): written by the port that owns the EEPROM.
+const SII_COMMAND_SIZE: u16 = 14;
 
 /// The port that may write a register byte (the other port only reads it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,6 +39,8 @@ enum Writer {
     Only(Side),
     /// Written by the MainDevice only while SyncManager `n` is disabled (start, length, control).
     EcatWhileDisabled(u8),
+    /// Written by the port that owns the SII EEPROM (0x0500 bit 0).
+    SiiOwner,
 }
 
 /// The registers a single port writes (excluding FMMUs and SyncManagers): first address,
@@ -51,7 +57,7 @@ const WRITABLE: [(u16, u16, Side); 17] = [
     (register::WATCHDOG_DIVIDER, 2, Side::Ecat),
     (register::WATCHDOG_TIME_PDI, 2, Side::Ecat),
     (register::WATCHDOG_TIME_PROCESS_DATA, 2, Side::Ecat),
-    (register::SII_INTERFACE, SII_INTERFACE_SIZE, Side::Ecat),
+    (register::SII_INTERFACE, SII_ASSIGNMENT_SIZE, Side::Ecat),
     (SYSTEM_TIME_OFFSET, 8, Side::Ecat),
     (register::DC_CYCLIC_UNIT_CONTROL, 1, Side::Ecat),
     (register::DC_ACTIVATION, 1, Side::Ecat),
@@ -104,6 +110,9 @@ fn writer(address: usize, config: &EscConfig) -> Writer {
     .is_some()
     {
         return Writer::Only(Side::Ecat);
+    }
+    if offset_in(address, register::SII_CONTROL, SII_COMMAND_SIZE).is_some() {
+        return Writer::SiiOwner;
     }
     WRITABLE
         .iter()
@@ -229,6 +238,7 @@ impl Esc {
             Writer::Nobody => false,
             Writer::Only(writer) => writer == side,
             Writer::EcatWhileDisabled(n) => side == Side::Ecat && !self.memory.channel(n).enabled(),
+            Writer::SiiOwner => side == self.sii_owner(),
         }
     }
 }

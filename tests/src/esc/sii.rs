@@ -74,21 +74,28 @@ impl Esc {
         self.set_sii_status(status | READ_8_BYTES);
     }
 
+    /// The port that owns the EEPROM (0x0500 bit 0: 0 = EtherCAT, 1 = PDI): only it writes
+    /// 0x0502..0x050F.
+    pub(super) fn sii_owner(&self) -> Side {
+        if self.memory.byte(usize::from(register::SII_INTERFACE)) & 1 != 0 {
+            Side::Pdi
+        } else {
+            Side::Ecat
+        }
+    }
+
     /// After a write by `side` to the SII interface: executes the command it wrote into
-    /// 0x0502, if `side` owns the EEPROM (0x0500 bit 0: 0 = EtherCAT, 1 = PDI).
+    /// 0x0502, if `side` owns the EEPROM (the other port's writes there are ignored).
     pub(super) fn sii_written(&mut self, side: Side, range: core::ops::Range<usize>) {
         let control = usize::from(register::SII_CONTROL);
         if range.end <= control || range.start >= control + 2 {
             return;
         }
-        let pdi_owns = self.memory.byte(usize::from(register::SII_INTERFACE)) & 1 != 0;
-        let owner = if pdi_owns { Side::Pdi } else { Side::Ecat };
-        let written = self.sii_status();
-        let kept = self.previous_sii_status & (CHECKSUM_ERROR | DEVICE_INFO_ERROR);
-        if side != owner {
-            self.set_sii_status(self.previous_sii_status);
+        if side != self.sii_owner() {
             return;
         }
+        let written = self.sii_status();
+        let kept = self.previous_sii_status & (CHECKSUM_ERROR | DEVICE_INFO_ERROR);
         let errors = match written & COMMAND_MASK {
             0 => 0,
             READ => self.sii_read(),
