@@ -10,6 +10,8 @@
 //! bytes than the frame holds, or more datagrams announced than fit → the datagrams before it are
 //! processed and the frame is dropped (on the wire its checksum would be wrong, so the MainDevice
 //! never gets it back).
+//!
+//! [`build`] and [`datagrams`] are the MainDevice's side: frames for test scripts and benchmarks.
 
 use crate::esc::Esc;
 
