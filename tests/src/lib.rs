@@ -9,7 +9,7 @@
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
-//! | [`line`] | emulated ESCs on one cable, processing frames as a real line does |
+//! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
 //! | [`harness`] | runs the real runners on `embassy-executor` with the mock time driver |
