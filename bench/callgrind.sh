@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Instruction counts of the core, measured with callgrind (repeatable on a shared machine).
-# Usage: bench/callgrind.sh    (prints a markdown table)
+# Usage: bench/callgrind.sh    (prints a markdown table; for `line <slaves>` a case is one cycle)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 command -v valgrind >/dev/null || { echo "valgrind is needed (apt-get install valgrind)"; exit 1; }
@@ -14,7 +14,7 @@ count() { # binary case n -> total instructions
 echo "| benchmark | case | instructions per case |"
 echo "|---|---|---|"
 for run in "sdo expedited-upload" "sdo upload-1k-128" "sdo upload-1k-1024" "sdo download-1k-128" \
-           "sdo download-1k-1024" "pd cia402" "pd io64" "pd axis"; do
+           "sdo download-1k-1024" "pd cia402" "pd io64" "pd axis" "line 1" "line 3" "line 100"; do
     set -- $run
     one=$(count "$1" "$2" 1)
     many=$(count "$1" "$2" 1001)

@@ -10,6 +10,8 @@
 //! bytes than the frame holds, or more datagrams announced than fit → the datagrams before it are
 //! processed and the frame is dropped (on the wire its checksum would be wrong, so the MainDevice
 //! never gets it back).
+//!
+//! [`build`] and [`datagrams`] are the MainDevice's side: frames for test scripts and benchmarks.
 
 use crate::esc::Esc;
 
@@ -70,18 +72,9 @@ pub struct Malformed {
 pub fn pass(esc: &mut Esc, frame: &mut [u8], start: usize, end: usize) -> Result<(), Malformed> {
     let mut at = start;
     loop {
-        let header: [u8; DATAGRAM_HEADER] = frame
-            .get(at..at + DATAGRAM_HEADER)
-            .and_then(|h| h.try_into().ok())
-            .filter(|_| at + DATAGRAM_HEADER <= end)
-            .ok_or(Malformed { at })?;
-        let length_field = u16::from_le_bytes([header[6], header[7]]);
-        let len = usize::from(length_field & LENGTH_MASK);
+        let (header, len) = datagram_header(frame, at, end)?;
         let data_at = at + DATAGRAM_HEADER;
         let wkc_at = data_at + len;
-        if wkc_at + WKC > end {
-            return Err(Malformed { at });
-        }
         let mut address = [header[2], header[3], header[4], header[5]];
         let (head, rest) = frame.split_at_mut(data_at);
         let (data, tail) = rest.split_at_mut(len);
@@ -90,8 +83,135 @@ pub fn pass(esc: &mut Esc, frame: &mut [u8], start: usize, end: usize) -> Result
         let wkc = u16::from_le_bytes([tail[0], tail[1]]).wrapping_add(counted);
         tail[..WKC].copy_from_slice(&wkc.to_le_bytes());
         at = wkc_at + WKC;
-        if length_field & MORE_FOLLOWS == 0 {
+        if !more_follows(&header) {
             return Ok(());
+        }
+    }
+}
+
+/// The header of the datagram at `at` and its data length, if the datagram (header, data and
+/// working counter) ends by `end`.
+fn datagram_header(
+    frame: &[u8],
+    at: usize,
+    end: usize,
+) -> Result<([u8; DATAGRAM_HEADER], usize), Malformed> {
+    let header: [u8; DATAGRAM_HEADER] = frame
+        .get(at..at + DATAGRAM_HEADER)
+        .and_then(|h| h.try_into().ok())
+        .ok_or(Malformed { at })?;
+    let len = usize::from(u16::from_le_bytes([header[6], header[7]]) & LENGTH_MASK);
+    if at + DATAGRAM_HEADER + len + WKC > end {
+        return Err(Malformed { at });
+    }
+    Ok((header, len))
+}
+
+/// Whether the length field of `header` announces another datagram.
+fn more_follows(header: &[u8; DATAGRAM_HEADER]) -> bool {
+    u16::from_le_bytes([header[6], header[7]]) & MORE_FOLLOWS != 0
+}
+
+/// One datagram as a MainDevice builds it (ETG.1000.4 §5.4, Table 14), for test scripts and
+/// benchmarks that speak frames to a [`crate::line::Line`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Datagram {
+    /// Command code (ETG.1000.4 Table 13).
+    pub command: u8,
+    /// Index: the MainDevice's tag, passed back untouched.
+    pub index: u8,
+    /// Address: ADP and ADO (little-endian u16 each), or a logical address (u32).
+    pub address: [u8; 4],
+    /// The data.
+    pub data: Vec<u8>,
+    /// The IRQ field.
+    pub irq: u16,
+    /// The working counter.
+    pub wkc: u16,
+}
+
+impl Datagram {
+    /// A physical-address datagram (AP*, FP*, B*, ARMW, FRMW, NOP): `adp`, `ado`, `data`.
+    pub fn physical(command: u8, adp: u16, ado: u16, data: &[u8]) -> Self {
+        let [a, b] = adp.to_le_bytes();
+        let [c, d] = ado.to_le_bytes();
+        Self::new(command, [a, b, c, d], data)
+    }
+
+    /// A logical-address datagram (LRD, LWR, LRW) at `address`.
+    pub fn logical(command: u8, address: u32, data: &[u8]) -> Self {
+        Self::new(command, address.to_le_bytes(), data)
+    }
+
+    fn new(command: u8, address: [u8; 4], data: &[u8]) -> Self {
+        Self {
+            command,
+            index: 0,
+            address,
+            data: data.to_vec(),
+            irq: 0,
+            wkc: 0,
+        }
+    }
+
+    /// The bytes the datagram takes in a frame: header, data, working counter.
+    pub fn size(&self) -> usize {
+        DATAGRAM_HEADER + self.data.len() + WKC
+    }
+
+    /// Appends the datagram to `frame`; `more` sets the "more datagrams follow" bit. The data
+    /// length is cut to the 11 bits of the field.
+    fn encode(&self, more: bool, frame: &mut Vec<u8>) {
+        let len = u16::try_from(self.data.len()).unwrap_or(u16::MAX) & LENGTH_MASK;
+        let length_field = len | if more { MORE_FOLLOWS } else { 0 };
+        frame.extend([self.command, self.index]);
+        frame.extend(self.address);
+        frame.extend(length_field.to_le_bytes());
+        frame.extend(self.irq.to_le_bytes());
+        frame.extend(&self.data);
+        frame.extend(self.wkc.to_le_bytes());
+    }
+}
+
+/// The broadcast destination MainDevices send to.
+pub const BROADCAST: [u8; 6] = [0xFF; 6];
+
+/// An EtherCAT frame from `source` (to [`BROADCAST`]) carrying `datagrams`, without padding.
+pub fn build(source: [u8; 6], datagrams: &[Datagram]) -> Vec<u8> {
+    let mut frame = Vec::new();
+    frame.extend(BROADCAST);
+    frame.extend(source);
+    frame.extend(ETHERTYPE.to_be_bytes());
+    let length: usize = datagrams.iter().map(Datagram::size).sum();
+    let length = u16::try_from(length).unwrap_or(u16::MAX) & LENGTH_MASK;
+    frame.extend((length | TYPE_DATAGRAMS << 12).to_le_bytes());
+    for (n, datagram) in datagrams.iter().enumerate() {
+        datagram.encode(n + 1 < datagrams.len(), &mut frame);
+    }
+    frame
+}
+
+/// The datagrams of an EtherCAT frame, `None` if it is not a well-formed one.
+pub fn datagrams(frame: &[u8]) -> Option<Vec<Datagram>> {
+    let Frame::Datagrams(mut at, end) = Frame::parse(frame) else {
+        return None;
+    };
+    let mut datagrams = Vec::new();
+    loop {
+        let (header, len) = datagram_header(frame, at, end).ok()?;
+        let data_at = at + DATAGRAM_HEADER;
+        let wkc = frame.get(data_at + len..data_at + len + WKC)?;
+        datagrams.push(Datagram {
+            command: header[0],
+            index: header[1],
+            address: [header[2], header[3], header[4], header[5]],
+            data: frame.get(data_at..data_at + len)?.to_vec(),
+            irq: u16::from_le_bytes([header[8], header[9]]),
+            wkc: u16::from_le_bytes([wkc[0], wkc[1]]),
+        });
+        at = data_at + len + WKC;
+        if !more_follows(&header) {
+            return Some(datagrams);
         }
     }
 }

@@ -8,6 +8,8 @@
 //! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
+//! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
+//! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
 //! | [`harness`] | runs the real runners on `embassy-executor` with the mock time driver |

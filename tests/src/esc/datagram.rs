@@ -6,11 +6,13 @@
 //! | APRD/APWR/APRW | ADP = 0 on arrival (every ESC increments ADP) | read / write / both | +1 / +1 / +3 |
 //! | FPRD/FPWR/FPRW | ADP = station address (0x0010) or enabled alias (0x0012) | read / write / both | +1 / +1 / +3 |
 //! | BRD/BWR/BRW | always (ADP incremented) | read ORed into the data / write / both | +1 / +1 / +3 per ESC |
-//! | LRD/LWR/LRW | an active FMMU of the right type overlaps | through the FMMUs | +1 read, +2 write |
+//! | LRD/LWR/LRW | an active FMMU of the right type overlaps | through the FMMUs | +1 / +1 / +1 read, +2 write |
 //! | ARMW | ADP = 0 reads; every other ESC writes | | +1 |
 //! | FRMW | station address reads; every other ESC writes | | +1 |
 //!
-//! A read-write first reads, then writes the data as it arrived, and returns the read data.
+//! A read-write first reads, then writes the data as it arrived, and returns the read data; only
+//! its write counts 2 (ETG.1000.4 §5.4: read +1, write +1, read-write +1 for the read and +2 for
+//! the write).
 //! Register and memory semantics (SyncManager buffers, read-only bytes) are those of
 //! [`Esc::ecat_read`] / [`Esc::ecat_write`]; accesses they refuse do not count. An ESC without
 //! distributed clocks does not count (and does not perform) accesses to 0x0900..0x09FF.
@@ -43,14 +45,28 @@ pub enum Command {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Operation {
     /// The ESC puts memory contents into the datagram.
-    Read,
+    Read = 0,
     /// The ESC takes the datagram data into memory.
-    Write,
+    Write = 1,
     /// Both: reads, then writes the data as it arrived.
-    ReadWrite,
+    ReadWrite = 2,
 }
 
 impl Command {
+    /// The command's code (ETG.1000.4 Table 13).
+    pub fn code(self) -> u8 {
+        let op = |base: u8, op: Operation| base + op as u8;
+        match self {
+            Self::Nop => 0,
+            Self::Ap(o) => op(1, o),
+            Self::Fp(o) => op(4, o),
+            Self::B(o) => op(7, o),
+            Self::L(o) => op(10, o),
+            Self::Armw => 13,
+            Self::Frmw => 14,
+        }
+    }
+
     /// The command with code `code`, `None` for reserved codes (15..255).
     pub fn from_code(code: u8) -> Option<Self> {
         use Operation::*;
@@ -161,7 +177,8 @@ impl Esc {
                 read |= self.map_read(&fmmu, overlap, offset, data);
             }
         }
-        u16::from(read) + 2 * u16::from(written)
+        let write_weight = if op == Operation::ReadWrite { 2 } else { 1 };
+        u16::from(read) + write_weight * u16::from(written)
     }
 
     /// The FMMU entities.

@@ -13,7 +13,7 @@ const RECEIVE_TIME_PORT0: usize = 0x0900;
 /// Receive time of the processing unit (u64).
 const RECEIVE_TIME_UNIT: usize = 0x0918;
 /// System time offset (u64), written by the MainDevice.
-const SYSTEM_TIME_OFFSET: usize = 0x0920;
+pub(super) const SYSTEM_TIME_OFFSET: u16 = 0x0920;
 
 impl Esc {
     /// Lets the DC unit see the time: the local clock is at `ns` (nanoseconds since the emulator's
@@ -30,7 +30,8 @@ impl Esc {
     /// The system time: local time plus the offset the MainDevice set.
     pub fn system_time(&self) -> u64 {
         let mut offset = [0; 8];
-        self.memory.read(SYSTEM_TIME_OFFSET, &mut offset);
+        self.memory
+            .read(usize::from(SYSTEM_TIME_OFFSET), &mut offset);
         self.local_time_ns.wrapping_add(u64::from_le_bytes(offset))
     }
 

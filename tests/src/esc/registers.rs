@@ -6,6 +6,7 @@ use ecat_core::register::{self, DlStatus, PdiType, Watchdog};
 use ecat_core::sync_manager::Channel;
 
 use super::access::Side;
+use super::dc::SYSTEM_TIME_OFFSET;
 use super::memory::Memory;
 use super::sync_manager::{
     ACTIVATE_OFFSET, CONFIGURATION_OFFSETS, ChannelState, PDI_CONTROL_OFFSET, STATUS_OFFSET,
@@ -23,8 +24,12 @@ const DL_STATUS_PORT0_UP: u16 =
     DlStatus::PDI_OPERATIONAL | DlStatus::link(0) | DlStatus::communication(0);
 /// AL event mask after reset (ESC datasheet section II, 0x0204).
 const AL_EVENT_MASK_RESET: u32 = 0x00FF_FF0F;
-/// Bytes of the SII EEPROM interface (ETG.1000.4 Tables 48–51).
-const SII_INTERFACE_SIZE: u16 = 16;
+/// Bytes of the SII EEPROM configuration and access state (ETG.1000.4 Table 48): the
+/// MainDevice assigns the EEPROM.
+const SII_ASSIGNMENT_SIZE: u16 = 2;
+/// Bytes of the SII control/status, address and data registers 0x0502..0x050F (ETG.1000.4
+/// Tables 49–51): written by the port that owns the EEPROM.
+const SII_COMMAND_SIZE: u16 = 14;
 
 /// The port that may write a register byte (the other port only reads it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,11 +40,13 @@ enum Writer {
     Only(Side),
     /// Written by the MainDevice only while SyncManager `n` is disabled (start, length, control).
     EcatWhileDisabled(u8),
+    /// Written by the port that owns the SII EEPROM (0x0500 bit 0).
+    SiiOwner,
 }
 
 /// The registers a single port writes (excluding FMMUs and SyncManagers): first address,
 /// length, writer.
-const WRITABLE: [(u16, u16, Side); 16] = [
+const WRITABLE: [(u16, u16, Side); 17] = [
     (register::STATION_ADDRESS, 2, Side::Ecat),
     (register::STATION_ALIAS, 2, Side::Pdi),
     (register::DL_CONTROL, 4, Side::Ecat),
@@ -51,7 +58,8 @@ const WRITABLE: [(u16, u16, Side); 16] = [
     (register::WATCHDOG_DIVIDER, 2, Side::Ecat),
     (register::WATCHDOG_TIME_PDI, 2, Side::Ecat),
     (register::WATCHDOG_TIME_PROCESS_DATA, 2, Side::Ecat),
-    (register::SII_INTERFACE, SII_INTERFACE_SIZE, Side::Ecat),
+    (register::SII_INTERFACE, SII_ASSIGNMENT_SIZE, Side::Ecat),
+    (SYSTEM_TIME_OFFSET, 8, Side::Ecat),
     (register::DC_CYCLIC_UNIT_CONTROL, 1, Side::Ecat),
     (register::DC_ACTIVATION, 1, Side::Ecat),
     (register::DC_START_TIME, 8, Side::Ecat),
@@ -103,6 +111,9 @@ fn writer(address: usize, config: &EscConfig) -> Writer {
     .is_some()
     {
         return Writer::Only(Side::Ecat);
+    }
+    if offset_in(address, register::SII_CONTROL, SII_COMMAND_SIZE).is_some() {
+        return Writer::SiiOwner;
     }
     WRITABLE
         .iter()
@@ -228,6 +239,7 @@ impl Esc {
             Writer::Nobody => false,
             Writer::Only(writer) => writer == side,
             Writer::EcatWhileDisabled(n) => side == Side::Ecat && !self.memory.channel(n).enabled(),
+            Writer::SiiOwner => side == self.sii_owner(),
         }
     }
 }

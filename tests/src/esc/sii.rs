@@ -51,9 +51,10 @@ impl Esc {
 
     /// Reloads the configuration area: with a correct checksum, the configured station alias
     /// (word 4) goes to 0x0012 and the PDI control/configuration (words 0..1) to 0x0140..0x0153;
-    /// with a wrong one the registers keep their values and 0x0502 bit 11 is set.
+    /// with a wrong one the registers keep their values and 0x0502 bit 11 is set. The reload
+    /// leaves 0x0502 with no command and only its own error bits.
     pub fn reload_eeprom(&mut self) {
-        let mut status = self.sii_status() & !(CHECKSUM_ERROR | DEVICE_INFO_ERROR);
+        let mut status = 0;
         match self.eeprom.get(..CONFIG_BYTES + 2) {
             None => status |= DEVICE_INFO_ERROR,
             Some(config) if crc8(&config[..CONFIG_BYTES]) != config[CONFIG_BYTES] => {
@@ -73,21 +74,28 @@ impl Esc {
         self.set_sii_status(status | READ_8_BYTES);
     }
 
+    /// The port that owns the EEPROM (0x0500 bit 0: 0 = EtherCAT, 1 = PDI): only it writes
+    /// 0x0502..0x050F.
+    pub(super) fn sii_owner(&self) -> Side {
+        if self.memory.byte(usize::from(register::SII_INTERFACE)) & 1 != 0 {
+            Side::Pdi
+        } else {
+            Side::Ecat
+        }
+    }
+
     /// After a write by `side` to the SII interface: executes the command it wrote into
-    /// 0x0502, if `side` owns the EEPROM (0x0500 bit 0: 0 = EtherCAT, 1 = PDI).
+    /// 0x0502, if `side` owns the EEPROM (the other port's writes there are ignored).
     pub(super) fn sii_written(&mut self, side: Side, range: core::ops::Range<usize>) {
         let control = usize::from(register::SII_CONTROL);
         if range.end <= control || range.start >= control + 2 {
             return;
         }
-        let pdi_owns = self.memory.byte(usize::from(register::SII_INTERFACE)) & 1 != 0;
-        let owner = if pdi_owns { Side::Pdi } else { Side::Ecat };
-        let written = self.sii_status();
-        let kept = self.previous_sii_status & (CHECKSUM_ERROR | DEVICE_INFO_ERROR);
-        if side != owner {
-            self.set_sii_status(self.previous_sii_status);
+        if side != self.sii_owner() {
             return;
         }
+        let written = self.sii_status();
+        let kept = self.previous_sii_status & (CHECKSUM_ERROR | DEVICE_INFO_ERROR);
         let errors = match written & COMMAND_MASK {
             0 => 0,
             READ => self.sii_read(),
