@@ -17,7 +17,7 @@
 //! | [`al`] | AL control, AL status, AL status code, AL event (ETG.1000.6 Tables 9–12) |
 //! | [`sync_manager`] | SyncManager channel registers and the checks a SubDevice applies to them |
 //! | [`esm`] | the EtherCAT state machine transition rules (ETG.1000.6 §6.4) |
-//! | [`dictionary`] | the CoE object dictionary: metadata, typed values, the `dictionary!` declaration (ETG.1000.6 §5.6.3) |
+//! | [`dictionary`](mod@dictionary) | the CoE object dictionary: metadata, typed values, the `dictionary!` declaration (ETG.1000.6 §5.6.3) |
 //! | [`coe`] | CANopen over EtherCAT: SDO abort codes, … (ETG.1000.6 §5.6) |
 //! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control (ETG.1000.4 §5.6) |
 //! | [`pdo`] | PDO mapping and assignment objects, the process-image layout, pack/unpack (ETG.1000.6 §5.6.7) |

@@ -1,7 +1,7 @@
 //! [`dictionary!`](crate::dictionary!): the declaration of a device's object dictionary.
 
 /// Maps object indices onto the fields of a dictionary struct; see the [module
-/// documentation](crate::dictionary) for an example.
+/// documentation](mod@crate::dictionary) for an example.
 ///
 /// ```text
 /// dictionary! {

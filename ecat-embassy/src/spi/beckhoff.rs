@@ -33,11 +33,11 @@ enum Command {
     ReadWithWaitState = 0b011,
     /// Write.
     Write = 0b100,
-    /// Address extension: a third address/command byte follows, carrying A[15:13] and the command.
+    /// Address extension: a third address/command byte follows, carrying `A[15:13]` and the command.
     AddressExtension = 0b110,
 }
 
-/// First address that needs 3-byte addressing: 2-byte addressing carries A[12:0] only.
+/// First address that needs 3-byte addressing: 2-byte addressing carries `A[12:0]` only.
 pub const THREE_BYTE_ADDRESSING_FROM: u16 = 0x2000;
 /// The wait state byte, sent between the address phase and the data of a read.
 pub const WAIT_STATE: u8 = 0xFF;

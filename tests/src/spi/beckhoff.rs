@@ -1,8 +1,8 @@
 //! An ESC with the Beckhoff SPI slave interface (ET1100, ET1200, AX58100), decoding each
 //! transaction as ESC datasheet section II, "SPI Slave Interface", describes it.
 //!
-//! - Address phase: byte 0 = A[12:5], byte 1 = A[4:0] and CMD0; CMD0 = 110b (address extension)
-//!   adds byte 2 = A[15:13], CMD1 and two reserved bits (00b). Meanwhile the chip shifts out the AL
+//! - Address phase: byte 0 = `A[12:5]`, byte 1 = `A[4:0]` and CMD0; CMD0 = 110b (address extension)
+//!   adds byte 2 = `A[15:13]`, CMD1 and two reserved bits (00b). Meanwhile the chip shifts out the AL
 //!   event register, 0x0220 first, sampled when the transaction starts.
 //! - Commands: 000b NOP, 010b read, 011b read with wait state byte, 100b write; 001b, 101b, 111b
 //!   and a second address extension are reserved.
