@@ -157,6 +157,8 @@ struct Pending {
     accepted: bool,
     /// SAFEOP→OP of a device with outputs: waits until valid outputs were received.
     needs_outputs: bool,
+    /// SAFEOP→OP in DC SYNC0 mode: waits until a SYNC0-triggered cycle ran.
+    needs_sync: bool,
 }
 
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
@@ -407,20 +409,23 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// Expires what is due at `now`: a transition the application left pending is refused with
-    /// [`AlStatusCode::UNSPECIFIED_ERROR`]; an SDO transfer missing its next segment is dropped.
+    /// [`AlStatusCode::UNSPECIFIED_ERROR`], a SAFEOP→OP still waiting for SYNC0 with
+    /// [`AlStatusCode::NO_SYNC_ERROR`], one still waiting for outputs with
+    /// [`AlStatusCode::SM_WATCHDOG`]; an SDO transfer missing its next segment is dropped.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.settled = false;
         self.mailbox.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
         {
-            // SAFEOP→OP without outputs is an SM watchdog case (SSC), in DC mode without any
-            // SYNC0 a missing sync; anything else the application left unanswered.
-            let no_sync = self.sync() == Ok(SyncType::DcSync0) && !self.sync_received;
-            let code = match (p.needs_outputs, no_sync) {
-                (true, true) => AlStatusCode::NO_SYNC_ERROR,
-                (true, false) => AlStatusCode::SM_WATCHDOG,
-                (false, _) => AlStatusCode::UNSPECIFIED_ERROR,
+            // SAFEOP→OP in DC mode without any SYNC0 is a missing sync; without outputs an SM
+            // watchdog case (SSC); anything else the application left unanswered.
+            let code = if p.needs_sync {
+                AlStatusCode::NO_SYNC_ERROR
+            } else if p.needs_outputs {
+                AlStatusCode::SM_WATCHDOG
+            } else {
+                AlStatusCode::UNSPECIFIED_ERROR
             };
             self.fail(code, p.transition.from);
         }
@@ -443,15 +448,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         transition: Transition,
         result: Result<(), AlStatusCode>,
     ) {
-        let needs_outputs = match &mut self.pending {
+        let waits = match &mut self.pending {
             Some(p) if p.transition == transition && !p.accepted => {
                 p.accepted = result.is_ok();
-                p.needs_outputs
+                p.needs_outputs || p.needs_sync
             }
             _ => return,
         };
         self.settled = false;
-        if result.is_ok() && needs_outputs {
+        if result.is_ok() && waits {
             return;
         }
         self.finish_transition(transition, result);
@@ -461,12 +466,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// entered: a SAFEOP→OP transition the application accepted may complete.
     pub fn outputs_received(&mut self) {
         self.outputs_received = true;
-        let Some(p) = &mut self.pending else { return };
-        p.needs_outputs = false;
-        if p.accepted {
-            let t = p.transition;
+        if let Some(p) = &mut self.pending {
+            p.needs_outputs = false;
+        }
+        self.complete_when_fed();
+    }
+
+    /// Completes a SAFEOP→OP the application accepted once the process data it waits for came.
+    fn complete_when_fed(&mut self) {
+        let Some(p) = self.pending else { return };
+        if p.accepted && !p.needs_outputs && !p.needs_sync {
             self.settled = false;
-            self.finish_transition(t, Ok(()));
+            self.finish_transition(p.transition, Ok(()));
         }
     }
 
@@ -476,11 +487,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.sync.map(|r| r.effective(self.dc, self.config))
     }
 
-    /// The process-data side ran a SYNC0-triggered cycle (DC mode): a SAFEOP→OP transition that
-    /// times out waiting for outputs is then an SM watchdog case (0x001B), not a missing SYNC0
-    /// (0x002D).
+    /// The process-data side ran a SYNC0-triggered cycle (DC mode) since SAFEOP was entered: a
+    /// SAFEOP→OP in DC mode may complete (with its outputs, if the device has any).
     pub fn sync_received(&mut self) {
         self.sync_received = true;
+        if let Some(p) = &mut self.pending {
+            p.needs_sync = false;
+        }
+        self.complete_when_fed();
     }
 
     fn finish_transition(&mut self, transition: Transition, result: Result<(), AlStatusCode>) {
@@ -722,6 +736,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             deadline,
             accepted: false,
             needs_outputs: t.to == AlState::Op && outputs && !self.outputs_received,
+            needs_sync: t.to == AlState::Op
+                && self.sync() == Ok(SyncType::DcSync0)
+                && !self.sync_received,
         });
         self.events.push(Event::TransitionRequested(t));
     }

@@ -390,3 +390,26 @@ fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode()
         );
     });
 }
+
+/// An input-only DC device: SAFEOP→OP waits for SYNC0 (there are no outputs to wait for).
+fn input_only_dc(start_in: Duration, expected: (u16, u16)) {
+    let mut device = ecat_emu::devices::sensor().device;
+    device.config.sync = SupportedSync(device.config.sync.0 | SupportedSync::SYNC0);
+    harness::run(device, move |master| async move {
+        master.configure_mailbox(&ecat_core::device::MailboxConfig::contiguous(0x1000, 128));
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        program_dc(&master, 0x03, 1_000_000, start_in);
+        master.configure_sm(2, 0x1100, 0, SM2_CONTROL, false);
+        master.configure_sm(3, 0x1180, 6, SM3_CONTROL, true);
+        assert_eq!(master.request(0x04).await, (0x04, 0));
+        master.write_al_control(0x08);
+        master.advance(Duration::from_millis(1_100)).await;
+        assert_eq!((master.al_status(), master.al_status_code()), expected);
+    });
+}
+
+#[test]
+fn an_input_only_dc_device_enters_op_with_sync0_and_refuses_it_without() {
+    input_only_dc(Duration::from_millis(2), (0x08, 0));
+    input_only_dc(Duration::from_secs(60), (0x14, 0x002D));
+}
