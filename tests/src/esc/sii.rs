@@ -33,6 +33,9 @@ const COMMAND_ERROR: u16 = 1 << 13;
 /// 0x0502 bit 14: a write without write enable.
 const WRITE_ENABLE_ERROR: u16 = 1 << 14;
 
+/// The emulated EEPROM's size: 16 Kbit, what the generated images declare in word 0x3E.
+pub const EEPROM_BYTES: usize = 2048;
+
 /// Word 7 of the configuration area holds the CRC of words 0..6 in its low byte.
 const CONFIG_BYTES: usize = 14;
 
@@ -124,8 +127,12 @@ impl Esc {
     }
 
     /// Write: the 2 bytes of 0x0508 to the word address; the image grows (erased) to reach it.
+    /// An address beyond the EEPROM ([`EEPROM_BYTES`]) is a command error.
     fn sii_write(&mut self) -> u16 {
         let at = self.sii_address().saturating_mul(2);
+        if at.saturating_add(2) > EEPROM_BYTES {
+            return COMMAND_ERROR;
+        }
         let mut data = [0; 2];
         self.memory.read(usize::from(register::SII_DATA), &mut data);
         if self.eeprom.len() < at + 2 {

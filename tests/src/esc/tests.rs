@@ -618,3 +618,23 @@ fn random_accesses_never_panic_and_keep_the_event_register_consistent() {
         assert_eq!(esc.irq(), esc.al_event().intersects(mask));
     }
 }
+
+#[test]
+fn an_sii_write_beyond_the_eeprom_is_a_command_error_and_allocates_nothing() {
+    let mut esc = esc();
+    esc.load_eeprom(vec![0; 16]);
+    assert!(esc.ecat_write(register::SII_DATA, &[0xAB, 0xCD]));
+    // Write enable + write command, word address 0xFFFF_FFFF.
+    assert!(esc.ecat_write(register::SII_CONTROL, &[0x01, 0x02, 0xFF, 0xFF, 0xFF, 0xFF]));
+    let status = ecat_bytes(&mut esc, register::SII_CONTROL, 2);
+    assert_eq!(
+        u16::from_le_bytes([status[0], status[1]]) & 0x2000,
+        0x2000,
+        "command error"
+    );
+    assert_eq!(esc.eeprom().len(), 16);
+    // The last word of the 2 KiB EEPROM is writable.
+    assert!(esc.ecat_write(register::SII_CONTROL, &[0x01, 0x02, 0xFF, 0x03, 0x00, 0x00]));
+    assert_eq!(esc.eeprom().len(), 2048);
+    assert_eq!(&esc.eeprom()[2046..], &[0xAB, 0xCD]);
+}
