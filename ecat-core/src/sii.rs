@@ -51,6 +51,10 @@ pub enum SiiError {
 const PROTOCOL_COE: u16 = 0x0004;
 /// PDI control word 0: SPI (0x05).
 const PDI_SPI: u16 = 0x0005;
+/// Word 1 high byte (register 0x0151, SYNC/LATCH configuration of the ET1100 family): SYNC0 as
+/// an output (bit 2), push-pull active high (bits 1:0 = 10). Set for a device with DC SYNC0, so
+/// the ESC drives the pin the firmware waits on; 0 (LATCH0 input) otherwise.
+const SYNC0_OUTPUT_ACTIVE_HIGH: u16 = 0x06 << 8;
 /// SyncManager control bytes: mailbox out/in, 3-buffer out with watchdog, 3-buffer in.
 const SM_CONTROL: [u8; 4] = [0x26, 0x22, 0x64, 0x20];
 /// Category types (ETG.2010 Table 3).
@@ -79,7 +83,12 @@ pub fn write<D: ObjectDictionary>(
         at: 0,
         overflow: false,
     };
-    w.words(&[PDI_SPI, 0, 0, 0, 0, 0, 0]);
+    let sync_config = if config.sync.dc() {
+        SYNC0_OUTPUT_ACTIVE_HIGH
+    } else {
+        0
+    };
+    w.words(&[PDI_SPI, sync_config, 0, 0, 0, 0, 0]);
     let crc = crc8(w.out.get(..14).unwrap_or_default());
     w.u16(u16::from(crc));
     for value in [

@@ -36,17 +36,22 @@ pub use od::{AxisOd, IDENTITY, RX_MAPPING, SUPPORTED_MODES, TX_MAPPING};
 use ecat_core::DeviceConfig;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::Names;
+use ecat_core::sync::SupportedSync;
 
 /// The axis's device description: 128-byte mailboxes at 0x1000, the default PDOs' image sizes
-/// (RxPDO 13 bytes, TxPDO 19 bytes; with 0x1C12/0x1C13 the mapping decides), SM-synchronous or
-/// free-run.
-pub const DEVICE: DeviceConfig = DeviceConfig::new(
-    MailboxConfig::contiguous(0x1000, 128),
-    ProcessDataSizes {
-        outputs: 13,
-        inputs: 19,
-    },
-);
+/// (RxPDO 13 bytes, TxPDO 19 bytes; with 0x1C12/0x1C13 the mapping decides), free-run,
+/// SM-synchronous or DC SYNC0.
+pub const DEVICE: DeviceConfig = {
+    let mut config = DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, 128),
+        ProcessDataSizes {
+            outputs: 13,
+            inputs: 19,
+        },
+    );
+    config.sync = SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM | SupportedSync::SYNC0);
+    config
+};
 
 /// The names the SII image and the ESI file carry.
 pub const NAMES: Names<'static> = Names {

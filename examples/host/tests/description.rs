@@ -722,3 +722,19 @@ fn sii_write_refuses_a_too_small_buffer() {
     assert_eq!(write(&mut [0; 16]), Err(SiiError::BufferTooSmall));
     assert_eq!(write(&mut []), Err(SiiError::BufferTooSmall));
 }
+
+/// SII word 1 (registers 0x0150/0x0151): a DC SYNC0 device drives SYNC0 as a push-pull,
+/// active-high output (0x0151 = 0x06), which is what its firmware waits on; others leave the pin
+/// a LATCH0 input. The ESI's ConfigData carries the same bytes.
+#[test]
+fn sync0_output_configuration_follows_dc_support() {
+    for (name, expected) in [("cia402", [0x00, 0x06]), ("sensor", [0x00, 0x00])] {
+        let files = ecat_examples::description::by_name(name).unwrap().unwrap();
+        assert_eq!(files.sii[2..4], expected, "{name}");
+        let config_data: String = files.sii[..14].iter().map(|b| format!("{b:02X}")).collect();
+        assert!(
+            files.esi.contains(&config_data),
+            "{name}: ConfigData {config_data}"
+        );
+    }
+}

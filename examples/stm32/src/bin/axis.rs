@@ -13,7 +13,6 @@ use core::cell::RefCell;
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_axis::{Axis, AxisApp, AxisOd};
-use ecat_core::sync::SupportedSync;
 use ecat_core::{DeviceConfig, SubDevice};
 use ecat_embassy::pd_runner::Buffers;
 use ecat_embassy::{SharedDictionary, SharedEsc, run_esm, run_process_data};
@@ -28,12 +27,8 @@ use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use panic_probe as _;
 use static_cell::StaticCell;
 
-/// The axis's description on this ESC, with DC SYNC0 added: the board wires SYNC0.
-const DEVICE: DeviceConfig = {
-    let mut config = esc::fit(ecat_axis::DEVICE);
-    config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
-    config
-};
+/// The axis's description (DC SYNC0 capable: the board wires SYNC0) on this ESC.
+const DEVICE: DeviceConfig = esc::fit(ecat_axis::DEVICE);
 const _: () = assert!(DEVICE.validate().is_ok());
 
 type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;
