@@ -18,7 +18,7 @@ use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::channel::Channel;
 
 use crate::catalog;
-use crate::net::{self, Port};
+use crate::net::{self, Port, Sent};
 
 /// What to serve, and where.
 pub struct Options {
@@ -36,6 +36,16 @@ static FRAMES: Channel<CriticalSectionRawMutex, Vec<u8>, 64> = Channel::new();
 static STOP: AtomicBool = AtomicBool::new(false);
 /// Frames dropped because the line was busy.
 static OVERRUNS: AtomicU64 = AtomicU64::new(0);
+/// The frames sent back, which the raw socket sees again.
+static SENT: std::sync::Mutex<Option<Sent>> = std::sync::Mutex::new(None);
+
+/// Runs `f` on the record of sent frames.
+fn sent<R>(f: impl FnOnce(&mut Sent) -> R) -> R {
+    let mut guard = SENT
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    f(guard.get_or_insert_with(Sent::default))
+}
 
 type Capture = PcapWriter<std::io::BufWriter<std::fs::File>>;
 
@@ -83,6 +93,7 @@ pub fn serve(options: &Options) -> Result<(), String> {
             };
             let reply = frame.get(..len).unwrap_or_default();
             capture(&mut pcap, reply);
+            sent(|s| s.push(reply));
             if let Some(Err(e)) = tx.send_to(reply, None) {
                 eprintln!("send failed: {e}");
             }
@@ -107,11 +118,12 @@ fn stop() {
     let _ = FRAMES.try_send(Vec::new());
 }
 
-/// Hands every EtherCAT request frame from the interface to the line until [`STOP`].
+/// Hands every EtherCAT frame from the interface, except the ones this program sent, to the line
+/// until [`STOP`].
 fn receive(mut rx: Box<dyn pnet_datalink::DataLinkReceiver>) {
     while !STOP.load(Ordering::SeqCst) {
         match rx.next() {
-            Ok(frame) if net::is_request(frame) => {
+            Ok(frame) if net::is_ethercat(frame) && !sent(|s| s.take(frame)) => {
                 if FRAMES.try_send(frame.to_vec()).is_err() {
                     OVERRUNS.fetch_add(1, Ordering::SeqCst);
                 }

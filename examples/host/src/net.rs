@@ -82,17 +82,52 @@ pub fn open(name: &str) -> Result<Port, OpenError> {
     }
 }
 
-/// Whether `frame` is an EtherCAT frame from a MainDevice, i.e. one the SubDevices must process:
-/// EtherType 0x88A4 and a source MAC without the locally-administered bit. The first ESC of a line
-/// sets that bit in every frame it processes (ETG.1000.4 §5.2.1), so the frames the virtual slave
-/// sends back (which an `AF_PACKET` socket also sees) are not processed twice.
-pub fn is_request(frame: &[u8]) -> bool {
+/// Whether `frame` is an EtherCAT frame (EtherType 0x88A4).
+pub fn is_ethercat(frame: &[u8]) -> bool {
     let ethertype = frame
         .get(12..14)
         .and_then(|t| t.try_into().ok())
         .map(u16::from_be_bytes);
-    let source = frame.get(6).copied().unwrap_or(0);
-    ethertype == Some(ETHERTYPE_ETHERCAT) && source & 0x02 == 0
+    ethertype == Some(ETHERTYPE_ETHERCAT)
+}
+
+/// The frames this program sent last: an `AF_PACKET` socket also receives its own outgoing
+/// frames, which must not be processed again. Recognised by content (a hash), not by the
+/// source MAC: MainDevices that send from their interface's MAC may have the locally-administered
+/// bit set too (veth, QEMU).
+#[derive(Debug, Default)]
+pub struct Sent(std::collections::VecDeque<u64>);
+
+impl Sent {
+    /// How many sent frames are remembered.
+    const CAPACITY: usize = 256;
+
+    /// Remembers `frame` as sent.
+    pub fn push(&mut self, frame: &[u8]) {
+        if self.0.len() == Self::CAPACITY {
+            self.0.pop_front();
+        }
+        self.0.push_back(hash(frame));
+    }
+
+    /// Whether `frame` is one this program sent (forgotten once recognised).
+    pub fn take(&mut self, frame: &[u8]) -> bool {
+        let h = hash(frame);
+        match self.0.iter().position(|&s| s == h) {
+            Some(i) => {
+                self.0.remove(i);
+                true
+            }
+            None => false,
+        }
+    }
+}
+
+fn hash(frame: &[u8]) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    frame.hash(&mut hasher);
+    hasher.finish()
 }
 
 /// Whether a receive error only means that no frame arrived in time.
@@ -116,11 +151,33 @@ mod tests {
     }
 
     #[test]
-    fn only_master_frames_are_requests() {
-        assert!(is_request(&frame(0x10, [0x88, 0xA4])));
-        assert!(!is_request(&frame(0x12, [0x88, 0xA4])), "our own reply");
-        assert!(!is_request(&frame(0x10, [0x08, 0x00])), "IPv4");
-        assert!(!is_request(&[0x10; 13]), "truncated");
+    fn ethercat_frames_are_told_by_their_ethertype() {
+        assert!(is_ethercat(&frame(0x10, [0x88, 0xA4])));
+        assert!(
+            is_ethercat(&frame(0x12, [0x88, 0xA4])),
+            "a locally administered MAC too"
+        );
+        assert!(!is_ethercat(&frame(0x10, [0x08, 0x00])), "IPv4");
+        assert!(!is_ethercat(&[0x10; 13]), "truncated");
+    }
+
+    #[test]
+    fn own_frames_are_recognised_once_whatever_their_source_mac() {
+        let mut sent = Sent::default();
+        let reply = frame(0x12, [0x88, 0xA4]);
+        let request = frame(0x02, [0x88, 0xA4]);
+        sent.push(&reply);
+        assert!(
+            !sent.take(&request),
+            "a MainDevice's frame with the LA bit set"
+        );
+        assert!(sent.take(&reply), "our own reply, seen by the raw socket");
+        assert!(!sent.take(&reply), "forgotten once recognised");
+        for n in 0..=Sent::CAPACITY {
+            sent.push(&[n as u8, (n >> 8) as u8]);
+        }
+        assert!(!sent.take(&[0, 0]), "the oldest is forgotten");
+        assert!(sent.take(&[1, 0]));
     }
 
     #[test]
