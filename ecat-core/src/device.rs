@@ -94,6 +94,10 @@ pub enum ConfigError {
     MailboxOutsideRam,
     /// The receive and send mailboxes overlap.
     MailboxesOverlap,
+    /// DC SYNC1 is declared in [`DeviceConfig::sync`]: the stack has no SYNC1-triggered cycle.
+    Sync1Unsupported,
+    /// DC SYNC0 is declared with a minimum cycle time of 0: any SYNC0 cycle would be accepted.
+    NoMinimumCycle,
 }
 
 /// The static description of a device that the state machine checks the MainDevice against.
@@ -150,6 +154,12 @@ impl DeviceConfig {
     /// Checks the description itself. Call it in a `const` to turn a bad description into a
     /// compile error: `const _: () = assert!(CONFIG.validate().is_ok());`.
     pub const fn validate(&self) -> Result<(), ConfigError> {
+        if self.sync.0 & SupportedSync::SYNC1 != 0 {
+            return Err(ConfigError::Sync1Unsupported);
+        }
+        if self.sync.dc() && self.min_cycle_time.as_micros() == 0 {
+            return Err(ConfigError::NoMinimumCycle);
+        }
         if let Err(e) = self.validate_mailbox(&self.mailbox) {
             return Err(e);
         }
@@ -188,5 +198,37 @@ impl DeviceConfig {
             Some(m) => Some((m, AlStatusCode::INVALID_MAILBOX_CONFIG_BOOT)),
             None => None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn config() -> DeviceConfig {
+        DeviceConfig::new(
+            MailboxConfig::contiguous(0x1000, 128),
+            ProcessDataSizes::default(),
+        )
+    }
+
+    #[test]
+    fn validate_checks_the_mailboxes_and_the_sync_support() {
+        assert_eq!(config().validate(), Ok(()));
+        let mut c = config();
+        c.mailbox = MailboxConfig::contiguous(0x1000, 8);
+        assert_eq!(c.validate(), Err(ConfigError::MailboxTooSmall));
+        c.mailbox = MailboxConfig::contiguous(0x0F00, 128);
+        assert_eq!(c.validate(), Err(ConfigError::MailboxOutsideRam));
+        c.mailbox.send.start = 0x1040;
+        c.mailbox.receive.start = 0x1000;
+        assert_eq!(c.validate(), Err(ConfigError::MailboxesOverlap));
+        let mut c = config();
+        c.sync = SupportedSync(SupportedSync::SM | SupportedSync::SYNC0 | SupportedSync::SYNC1);
+        assert_eq!(c.validate(), Err(ConfigError::Sync1Unsupported));
+        c.sync = SupportedSync(SupportedSync::SM | SupportedSync::SYNC0);
+        assert_eq!(c.validate(), Ok(()));
+        c.min_cycle_time = Duration::from_micros(0);
+        assert_eq!(c.validate(), Err(ConfigError::NoMinimumCycle));
     }
 }

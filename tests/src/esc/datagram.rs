@@ -157,24 +157,36 @@ impl Esc {
         wkc
     }
 
-    /// A logical access to `[address, address + data.len())` through the active FMMUs: writes
-    /// take the data as it arrived, then reads replace the mapped bits.
+    /// A logical access to `[address, address + data.len())` through the active FMMUs: reads
+    /// first (they see the memory before this datagram's writes), then writes take the data as
+    /// it arrived.
     fn logical(&mut self, op: Operation, address: u32, data: &mut [u8]) -> u16 {
         let datagram = u64::from(address) * 8..(u64::from(address) + data.len() as u64) * 8;
         let arrived = data.to_vec();
-        let (mut read, mut written) = (false, false);
-        for fmmu in self.fmmus() {
-            let bits = fmmu.logical_bits();
-            let overlap = bits.start.max(datagram.start)..bits.end.min(datagram.end);
-            if overlap.is_empty() || !fmmu.active {
-                continue;
+        let mapped: Vec<(Fmmu, core::ops::Range<u64>)> = self
+            .fmmus()
+            .into_iter()
+            .filter(|fmmu| fmmu.active)
+            .map(|fmmu| {
+                let bits = fmmu.logical_bits();
+                let overlap = bits.start.max(datagram.start)..bits.end.min(datagram.end);
+                (fmmu, overlap)
+            })
+            .filter(|(_, overlap)| !overlap.is_empty())
+            .collect();
+        let offset = datagram.start;
+        // All reads see the memory before any write of this datagram, as on a physical
+        // read-write.
+        let mut read = false;
+        if op != Operation::Write {
+            for (fmmu, overlap) in mapped.iter().filter(|(f, _)| f.read) {
+                read |= self.map_read(fmmu, overlap.clone(), offset, data);
             }
-            let offset = datagram.start;
-            if fmmu.write && op != Operation::Read {
-                written |= self.map_write(&fmmu, overlap.clone(), offset, &arrived);
-            }
-            if fmmu.read && op != Operation::Write {
-                read |= self.map_read(&fmmu, overlap, offset, data);
+        }
+        let mut written = false;
+        if op != Operation::Read {
+            for (fmmu, overlap) in mapped.iter().filter(|(f, _)| f.write) {
+                written |= self.map_write(fmmu, overlap.clone(), offset, &arrived);
             }
         }
         let write_weight = if op == Operation::ReadWrite { 2 } else { 1 };

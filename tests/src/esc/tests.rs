@@ -638,3 +638,24 @@ fn an_sii_write_beyond_the_eeprom_is_a_command_error_and_allocates_nothing() {
     assert_eq!(esc.eeprom().len(), 2048);
     assert_eq!(&esc.eeprom()[2046..], &[0xAB, 0xCD]);
 }
+
+#[test]
+fn lrw_through_a_read_write_fmmu_returns_the_memory_before_its_write() {
+    let mut esc = esc();
+    // FMMU 0: logical 0..2 ↔ physical 0x1200..0x1202, read and write, active.
+    let fmmu = [0, 0, 0, 0, 2, 0, 0, 7, 0x00, 0x12, 0, 3, 1, 0, 0, 0];
+    assert!(esc.ecat_write(register::FMMU_BASE, &fmmu));
+    assert!(esc.ecat_write(0x1200, &[0x11, 0x22]));
+    let mut data = [0xAA, 0xBB];
+    assert_eq!(
+        esc.datagram(12, &mut [0; 4], &mut data),
+        3,
+        "LRW: read + write"
+    );
+    assert_eq!(data, [0x11, 0x22], "the memory as it was");
+    assert_eq!(
+        ecat_bytes(&mut esc, 0x1200, 2),
+        [0xAA, 0xBB],
+        "then written"
+    );
+}
