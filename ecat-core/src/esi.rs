@@ -17,7 +17,7 @@
 //! | `RxPdo`, `TxPdo` | the default assignment and mapping ([`sii::for_each_pdo`]) |
 //! | `Mailbox/CoE` | [`sii::coe_details`] (the SII General category's CoE details) |
 //! | `Dc/OpMode` | when [`DeviceConfig::sync`] supports DC SYNC0 |
-//! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: its length, words 0..6 |
+//! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!
 //! Every text and attribute value is XML-escaped. The writer needs no heap and never panics: it
 //! streams into any [`core::fmt::Write`].
@@ -701,10 +701,16 @@ fn dc<W: Write>(x: &mut Xml<'_, W>, config: &DeviceConfig) -> fmt::Result {
     x.close("Dc")
 }
 
-/// `Eeprom`: the image's length and its configuration area (words 0..6).
+/// `Eeprom`: the EEPROM's size in bytes (SII word 0x3E holds it in Kbit − 1; an image too short
+/// to have the word gives its own length) and the configuration area (words 0..6).
 fn eeprom<W: Write>(x: &mut Xml<'_, W>, sii: &[u8]) -> fmt::Result {
     x.open("Eeprom", &[])?;
-    x.leaf("ByteSize", sii.len())?;
+    let size_word = sii
+        .get(0x7C..)
+        .and_then(|w| w.first_chunk())
+        .map(|w| u16::from_le_bytes(*w));
+    let bytes = size_word.map_or(sii.len(), |kbit| (usize::from(kbit) + 1) * 1024 / 8);
+    x.leaf("ByteSize", bytes)?;
     let config = sii.get(..CONFIG_DATA_BYTES).unwrap_or(sii);
     x.leaf("ConfigData", HexBytes(config))?;
     x.close("Eeprom")

@@ -923,8 +923,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// (outputs) or 0x0024 (inputs).
     ///
     /// It also takes the sync type the MainDevice chose (0x1C32:01, see [`crate::sync`]) and
-    /// fills what the stack knows into 0x1C32: the supported types (SI4) and, in free-run, the
-    /// cycle time (SI2).
+    /// fills what the stack knows into 0x1C32 and 0x1C33 ([`sync::fill`]): the supported types
+    /// (SI4), the minimum cycle (SI5), the cycle time (SI2, free-run and DC) and 0x1C33's sync
+    /// type (SI1).
     pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
         if !core::mem::take(&mut self.pd_stale) {
             return;

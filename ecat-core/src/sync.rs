@@ -9,7 +9,7 @@
 //! | 2 DC SYNC0 | the SYNC0 signal of the ESC's distributed-clocks unit |
 //! | 3 DC SYNC1 | not supported: refused with 0x0028 |
 //!
-//! In DC SYNC0 mode the SubDevice reads the DC activation (0x0981) and the SYNC0 cycle time
+//! A device that supports DC SYNC0 reads the DC activation (0x0981) and the SYNC0 cycle time
 //! (0x09A0) with every AL control event and checks them at PREOP→SAFEOP ([`check_dc`]).
 //!
 //! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard

@@ -252,8 +252,6 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         .await
     }
 
-    /// Unpacks the outputs (when `apply_outputs`), runs the application cycle, packs and writes
-    /// the inputs.
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
     /// application's cycle, the inputs out. `new_outputs`, for a cycle of the sync mode (not the
     /// one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,

@@ -21,7 +21,8 @@ use crate::master::TestMaster;
 
 /// Frames ethercrab may have in flight (a power of two).
 const MAX_FRAMES: usize = 16;
-/// Largest PDU payload: a full Ethernet frame's worth.
+/// Largest PDU payload ethercrab may put in one frame (1100 bytes: enough for these tests'
+/// process images and mailboxes).
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
 /// Largest Ethernet frame the transport carries.
 const MAX_FRAME: usize = 1518;

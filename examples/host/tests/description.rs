@@ -605,7 +605,12 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
 
 fn eeprom(image: &[u8], device: Node) {
     let node = child(device, "Eeprom");
-    assert_eq!(number(text(node, "ByteSize")), image.len() as u64);
+    let kbit = u64::from(u16::from_le_bytes([image[0x7C], image[0x7D]]));
+    assert_eq!(
+        number(text(node, "ByteSize")),
+        (kbit + 1) * 1024 / 8,
+        "word 0x3E"
+    );
     assert_eq!(text(node, "ConfigData"), hex(&image[..14]));
 }
 

@@ -53,7 +53,8 @@ impl Esc {
     }
 
     /// Reloads the configuration area: with a correct checksum, the configured station alias
-    /// (word 4) goes to 0x0012 and the PDI control/configuration (words 0..1) to 0x0140..0x0153;
+    /// (word 4) goes to 0x0012, the PDI control (word 0) to 0x0140/0x0141 and the PDI
+    /// configuration (word 1) to 0x0150/0x0151;
     /// with a wrong one the registers keep their values and 0x0502 bit 11 is set. The reload
     /// leaves 0x0502 with no command and only its own error bits.
     pub fn reload_eeprom(&mut self) {
