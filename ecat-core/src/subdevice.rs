@@ -487,6 +487,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.sync.map(|r| r.effective(self.dc, self.config))
     }
 
+    /// The process-data side saw SYNC0 stop (DC mode): in OP the SubDevice falls back to SAFEOP
+    /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
+    pub fn sync_lost(&mut self) {
+        if self.state == AlState::Op && self.sync() == Ok(SyncType::DcSync0) {
+            self.settled = false;
+            self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
+        }
+    }
+
     /// The process-data side ran a SYNC0-triggered cycle (DC mode) since SAFEOP was entered: a
     /// SAFEOP→OP in DC mode may complete (with its outputs, if the device has any).
     pub fn sync_received(&mut self) {

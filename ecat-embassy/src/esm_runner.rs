@@ -96,6 +96,9 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     if esc.take_sync_received() {
         sub.sync_received();
     }
+    if esc.take_sync_lost() {
+        sub.sync_lost();
+    }
     if esc.take_outputs_received() {
         sub.outputs_received();
     }

@@ -73,6 +73,7 @@ where
     };
     let mut current: Option<Layout> = None;
     // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
+    // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
     let mut tick: Option<Instant> = None;
     loop {
         let seen = esc.pd_generation();
@@ -83,9 +84,7 @@ where
             if was_active && !layout.is_some_and(|l| l.outputs_active) {
                 exchange.safe_state();
             }
-            tick = layout
-                .and_then(|l| l.free_run)
-                .map(|cycle| Instant::now() + to_embassy(cycle));
+            tick = layout.and_then(first_deadline);
             exchange.on_new_layout(layout).await
         } else if !esc.take_pd_events().is_empty() {
             exchange.on_trigger(layout, true).await
@@ -104,7 +103,10 @@ where
                 Either4::First(Err(e)) | Either4::Fourth(Err(e)) => Err(Error::Irq(e)),
                 Either4::Second(()) => Ok(()),
                 Either4::Third(()) => exchange.on_tick(layout, &mut tick).await,
-                Either4::Fourth(Ok(())) => exchange.on_sync0(layout).await,
+                Either4::Fourth(Ok(())) => {
+                    tick = layout.and_then(first_deadline);
+                    exchange.on_sync0(layout).await
+                }
             }
         };
         if let Err(e) = step {
@@ -159,12 +161,18 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 
     /// Free-run: a cycle is due. Reads the outputs (their SM2 event, coming along, tells whether
     /// the MainDevice sent any) and runs the cycle; the next one is due one cycle later.
+    /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
     async fn on_tick<I>(
         &mut self,
         layout: Option<Layout>,
         tick: &mut Option<Instant>,
     ) -> Result<(), Error<P::Error, I>> {
         let Some(layout) = layout else { return Ok(()) };
+        if layout.sync0 {
+            *tick = None;
+            self.esc.note_sync_lost();
+            return Ok(());
+        }
         if let (Some(next), Some(cycle)) = (tick.as_mut(), layout.free_run) {
             *next += to_embassy(cycle);
         }
@@ -307,6 +315,23 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 .map_err(Error::Pdi)?;
         }
         Ok(())
+    }
+}
+
+/// SYNC0 counts as lost in OP after this many SYNC0 cycles without a pulse (conformance:
+/// "In OP: SYNC0 lost → 0x002C").
+pub const SYNC0_LOSS_CYCLES: u32 = 10;
+
+/// The first deadline of a new layout or after a SYNC0 pulse: the next free-run cycle, or in DC
+/// SYNC0 mode in OP the instant SYNC0 counts as lost.
+fn first_deadline(layout: Layout) -> Option<Instant> {
+    let now = Instant::now();
+    match (layout.free_run, layout.sync0, layout.cycle) {
+        (Some(cycle), _, _) => Some(now + to_embassy(cycle)),
+        (None, true, Some(cycle)) if layout.outputs_active => {
+            Some(now + to_embassy(cycle) * SYNC0_LOSS_CYCLES)
+        }
+        _ => None,
     }
 }
 

@@ -53,6 +53,8 @@ struct Routing {
     outputs_received: bool,
     /// The process-data runner ran a SYNC0 cycle the state-machine runner has not heard of.
     sync_received: bool,
+    /// The process-data runner saw SYNC0 stop in OP.
+    sync_lost: bool,
     esm_waker: WakerRegistration,
     pd_waker: WakerRegistration,
 }
@@ -112,6 +114,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 emergencies: Ring::new(),
                 outputs_received: false,
                 sync_received: false,
+                sync_lost: false,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
             })),
@@ -193,6 +196,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                     && r.emergencies.is_empty()
                     && !r.outputs_received
                     && !r.sync_received
+                    && !r.sync_lost
                 {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
@@ -233,6 +237,19 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 r.esm_waker.wake();
             }
         });
+    }
+
+    /// The process-data runner saw no SYNC0 for too long in OP.
+    pub(crate) fn note_sync_lost(&self) {
+        self.with(|r| {
+            r.sync_lost = true;
+            r.esm_waker.wake();
+        });
+    }
+
+    /// Takes the news that SYNC0 was lost.
+    pub(crate) fn take_sync_lost(&self) -> bool {
+        self.with(|r| core::mem::take(&mut r.sync_lost))
     }
 
     /// Takes the news that a SYNC0-triggered cycle ran.

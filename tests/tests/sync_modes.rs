@@ -413,3 +413,33 @@ fn an_input_only_dc_device_enters_op_with_sync0_and_refuses_it_without() {
     input_only_dc(Duration::from_millis(2), (0x08, 0));
     input_only_dc(Duration::from_secs(60), (0x14, 0x002D));
 }
+
+#[test]
+fn sync0_lost_in_op_is_0x002c_and_back_to_safeop() {
+    run(DC, async |master| {
+        let _c = preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        common::send_outputs(&master).await;
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        for _ in 0..20 {
+            common::send_outputs(&master).await;
+            master.advance(Duration::from_millis(1)).await;
+        }
+        assert_eq!(master.al_status(), 0x08, "still in OP while SYNC0 runs");
+        assert!(master.write(register::DC_ACTIVATION, &[0]), "SYNC0 stops");
+        master.advance(Duration::from_millis(9)).await;
+        assert_eq!(
+            master.al_status(),
+            0x08,
+            "nine cycles without SYNC0 are tolerated"
+        );
+        master.advance(Duration::from_millis(3)).await;
+        assert_eq!(
+            (master.al_status(), master.al_status_code()),
+            (0x14, 0x002C),
+            "fatal sync error after ten cycles without SYNC0"
+        );
+    });
+}
