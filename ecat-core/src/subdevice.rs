@@ -181,8 +181,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     watchdog_time: u16,
     /// AL event bit 6 came: read the watchdog status (0x0440), which also acknowledges it.
     read_watchdog_status: bool,
-    /// A DC-capable device reads the DC activation and SYNC0 cycle with every AL control event,
-    /// for the DC checks at PREOP→SAFEOP.
+    /// The DC activation (and, on a DC-capable device, the SYNC0 cycle) is read with every AL
+    /// control event, for the DC checks at PREOP→SAFEOP.
     read_dc: bool,
     /// The DC registers as last read.
     dc: DcSettings,
@@ -345,7 +345,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.read_sync_managers = true;
             self.read_al_control = true;
             self.read_watchdog = true;
-            self.read_dc = self.config.sync.dc();
+            self.read_dc = true;
         }
         if event.contains(AlEvent::SM_CHANGE) {
             self.read_sync_managers = true;
@@ -487,6 +487,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.sync.map(|r| r.effective(self.dc, self.config))
     }
 
+    /// The DC registers read with an AL control event: the activation byte, and up to the SYNC0
+    /// cycle time for a device that supports DC SYNC0.
+    fn dc_read_len(&self) -> usize {
+        if self.config.sync.dc() {
+            DcSettings::READ_LEN
+        } else {
+            1
+        }
+    }
+
     /// The process-data side saw SYNC0 stop (DC mode): in OP the SubDevice falls back to SAFEOP
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync_lost(&mut self) {
@@ -607,7 +617,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::ReadSyncManagers => (register::SM_BASE, sm_bytes, false),
             Op::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, false),
             Op::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, false),
-            Op::ReadDc => (register::DC_ACTIVATION, DcSettings::READ_LEN, false),
+            Op::ReadDc => (register::DC_ACTIVATION, self.dc_read_len(), false),
             Op::ReadAlControl => (register::AL_CONTROL, 2, false),
             Op::WritePdiControl(n) => (
                 register::sync_manager(n) + Channel::PDI_CONTROL_OFFSET,
@@ -668,7 +678,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             Op::ReadDc => {
                 self.read_dc = false;
-                let bytes = self.buf.get(..DcSettings::READ_LEN).unwrap_or_default();
+                let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
                 let dc = DcSettings::from_bytes(bytes);
                 self.pd_stale |= dc != self.dc;
                 self.dc = dc;
@@ -783,6 +793,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let sync = self.sync()?;
         if self.config.sync.dc() {
             sync::check_dc(sync, self.dc, self.config)?;
+        } else if self.dc.activation.0 != 0 {
+            // DC activated on a device without DC (conformance.md "Distributed clocks").
+            return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
         }
         let one_buffer =
             self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;

@@ -9,8 +9,9 @@
 //! | 2 DC SYNC0 | the SYNC0 signal of the ESC's distributed-clocks unit |
 //! | 3 DC SYNC1 | not supported: refused with 0x0028 |
 //!
-//! A device that supports DC SYNC0 reads the DC activation (0x0981) and the SYNC0 cycle time
-//! (0x09A0) with every AL control event and checks them at PREOP→SAFEOP ([`check_dc`]).
+//! The SubDevice reads the DC activation (0x0981) with every AL control event, and a device that
+//! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them ([`check_dc`];
+//! a device without DC refuses any activation with 0x0030).
 //!
 //! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard
 //! subindices; the stack reads the sync type the MainDevice chose and fills the rest:

@@ -74,6 +74,7 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
         [
             Op::Read(0x0800, 64),
             Op::Read(0x0420, 2),
+            Op::Read(0x0981, 1),
             Op::Read(0x0120, 2)
         ]
     );
@@ -117,6 +118,7 @@ fn refusal_writes_the_code_before_the_error_indication() {
         [
             Op::Read(0x0800, 64),
             Op::Read(0x0420, 2),
+            Op::Read(0x0981, 1),
             Op::Read(0x0120, 2),
             Op::Write(0x0134, vec![0x16, 0]),
             Op::Write(0x0130, vec![0x11, 0]),

@@ -443,3 +443,18 @@ fn sync0_lost_in_op_is_0x002c_and_back_to_safeop() {
         );
     });
 }
+
+#[test]
+fn dc_activated_on_a_device_without_dc_is_0x0030() {
+    run(BOTH, async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0030));
+        assert!(master.write(register::DC_ACTIVATION, &[0]));
+        assert_eq!(
+            safeop(&master, SM2_CONTROL).await,
+            (0x04, 0),
+            "without it: SAFEOP"
+        );
+    });
+}
