@@ -6,6 +6,18 @@ use crate::AlEvent;
 use crate::device::Area;
 use crate::time::Duration;
 
+/// What starts a process-data cycle.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Clock {
+    /// SM-synchronous: an AL event — SM2 written by the MainDevice, or for an input-only device
+    /// SM3 read by it (`AlEvent::NONE` without process data).
+    Event(AlEvent),
+    /// Free-run: a local timer with this period.
+    FreeRun(Duration),
+    /// DC SYNC0: the SYNC0 signal, with this period.
+    Sync0(Duration),
+}
+
 /// The process-data areas as the MainDevice configured SM2 and SM3, valid in SAFEOP and OP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Layout {
@@ -13,23 +25,32 @@ pub struct Layout {
     pub outputs: Option<Area>,
     /// The input buffer (SM3), `None` for an output-only device.
     pub inputs: Option<Area>,
-    /// The AL event that starts a cycle: SM2 written by the MainDevice, or for an input-only device
-    /// SM3 read by it.
-    pub trigger: AlEvent,
-    /// Free-run: a cycle every this long on a local timer, and no trigger event.
-    pub free_run: Option<Duration>,
-    /// DC SYNC0 mode: a cycle on every SYNC0 pulse, and no trigger event.
-    pub sync0: bool,
-    /// The nominal cycle of a clocked mode: the free-run cycle or the SYNC0 cycle.
-    pub cycle: Option<Duration>,
+    /// What starts a cycle.
+    pub clock: Clock,
     /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
     /// moving, but never handed to the application.
     pub outputs_active: bool,
 }
 
 impl Layout {
-    /// Whether cycles come from a clock (the local timer or SYNC0) rather than an AL event.
-    pub fn clocked(&self) -> bool {
-        self.free_run.is_some() || self.sync0
+    /// The AL event that starts a cycle; none in the clocked modes.
+    pub fn trigger(&self) -> AlEvent {
+        match self.clock {
+            Clock::Event(event) => event,
+            Clock::FreeRun(_) | Clock::Sync0(_) => AlEvent::NONE,
+        }
+    }
+
+    /// The period of a clocked mode (free-run or SYNC0), `None` when cycles follow an AL event.
+    pub fn period(&self) -> Option<Duration> {
+        match self.clock {
+            Clock::Event(_) => None,
+            Clock::FreeRun(period) | Clock::Sync0(period) => Some(period),
+        }
+    }
+
+    /// Whether SYNC0 starts the cycles.
+    pub fn sync0(&self) -> bool {
+        matches!(self.clock, Clock::Sync0(_))
     }
 }

@@ -29,7 +29,7 @@ use crate::esm::{self, Decision, Transition};
 use crate::mailbox::Mailbox;
 use crate::pdo::Direction;
 use crate::pdo::layout::Layout as PdoLayout;
-use crate::process_data::Layout;
+use crate::process_data::{Clock, Layout};
 use crate::register;
 use crate::ring::Ring;
 use crate::sync::{self, DcSettings, SyncType};
@@ -306,13 +306,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         Some(Layout {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
-            trigger: self.process_data_trigger(),
-            free_run: (self.sync() == Ok(SyncType::FreeRun)).then_some(self.config.free_run_cycle),
-            sync0: self.sync() == Ok(SyncType::DcSync0),
-            cycle: match self.sync() {
-                Ok(SyncType::FreeRun) => Some(self.config.free_run_cycle),
-                Ok(SyncType::DcSync0) => Some(self.dc.sync0_cycle()),
-                _ => None,
+            clock: match self.sync() {
+                Ok(SyncType::FreeRun) => Clock::FreeRun(self.config.free_run_cycle),
+                Ok(SyncType::DcSync0) => Clock::Sync0(self.dc.sync0_cycle()),
+                _ => Clock::Event(self.process_data_trigger()),
             },
             outputs_active: self.state == AlState::Op,
         })

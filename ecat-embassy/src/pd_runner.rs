@@ -6,7 +6,7 @@ use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
-use ecat_core::process_data::Layout;
+use ecat_core::process_data::{Clock, Layout};
 use ecat_core::sync::{CycleMonitor, CycleReport};
 use embassy_futures::select::{Either4, select4};
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -90,7 +90,7 @@ where
             exchange.on_trigger(layout, true).await
         } else {
             let irq_free = esc.esm_started() && !esc.esm_holds_irq();
-            let sync0_on = layout.is_some_and(|l| l.sync0);
+            let sync0_on = layout.is_some_and(|l| l.sync0());
             match select4(
                 when(irq_free, irq.wait_for_low()),
                 esc.pd_news_since(seen),
@@ -168,19 +168,19 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         tick: &mut Option<Instant>,
     ) -> Result<(), Error<P::Error, I>> {
         let Some(layout) = layout else { return Ok(()) };
-        if layout.sync0 {
+        if layout.sync0() {
             *tick = None;
             self.esc.note_sync_lost();
             return Ok(());
         }
-        if let (Some(next), Some(cycle)) = (tick.as_mut(), layout.free_run) {
-            *next += to_embassy(cycle);
+        if let (Some(next), Some(period)) = (tick.as_mut(), layout.period()) {
+            *next += to_embassy(period);
         }
         self.clocked_cycle(layout).await
     }
 
     async fn on_sync0<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(|l| l.sync0) else {
+        let Some(layout) = layout.filter(Layout::sync0) else {
             return Ok(());
         };
         self.esc.note_sync_received();
@@ -216,7 +216,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         layout: Option<Layout>,
         known: bool,
     ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(|l| !l.clocked()) else {
+        let Some(layout) = layout.filter(|l| l.period().is_none()) else {
             // Not exchanging process data on events (none, or free-run): the IRQ is for the state
             // machine; reading the AL event routes it there.
             self.esc
@@ -244,7 +244,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 .map_err(Error::Pdi)?,
         };
         let triggered =
-            known || event.intersects(layout.trigger) || !self.esc.take_pd_events().is_empty();
+            known || event.intersects(layout.trigger()) || !self.esc.take_pd_events().is_empty();
         if !triggered {
             return Ok(());
         }
@@ -285,8 +285,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         let (app, images, monitor) = (&mut *self.app, &self.images, &mut self.monitor);
         let report = new_outputs.map(|new_outputs| CycleReport {
             now: now(),
-            nominal: layout.cycle,
-            expects_outputs: layout.sync0 && layout.outputs_active && layout.outputs.is_some(),
+            nominal: layout.period(),
+            expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
         self.od.lock(|od| {
@@ -326,12 +326,12 @@ pub const SYNC0_LOSS_CYCLES: u32 = 10;
 /// SYNC0 mode in OP the instant SYNC0 counts as lost.
 fn first_deadline(layout: Layout) -> Option<Instant> {
     let now = Instant::now();
-    match (layout.free_run, layout.sync0, layout.cycle) {
-        (Some(cycle), _, _) => Some(now + to_embassy(cycle)),
-        (None, true, Some(cycle)) if layout.outputs_active => {
-            Some(now + to_embassy(cycle) * SYNC0_LOSS_CYCLES)
+    match layout.clock {
+        Clock::FreeRun(period) => Some(now + to_embassy(period)),
+        Clock::Sync0(period) if layout.outputs_active => {
+            Some(now + to_embassy(period) * SYNC0_LOSS_CYCLES)
         }
-        _ => None,
+        Clock::Sync0(_) | Clock::Event(_) => None,
     }
 }
 

@@ -62,7 +62,7 @@ struct Routing {
 impl Routing {
     /// The process-data runner's trigger.
     fn trigger(&self) -> AlEvent {
-        self.layout.map_or(AlEvent::NONE, |l| l.trigger)
+        self.layout.map_or(AlEvent::NONE, |l| l.trigger())
     }
 
     /// The masked events of `event` that belong to the state-machine runner.
