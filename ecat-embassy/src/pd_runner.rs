@@ -2,6 +2,7 @@
 //! `InterruptExecutor` at a priority above the thread executor.
 
 use ecat_core::AlEvent;
+use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
@@ -191,16 +192,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     async fn clocked_cycle<I>(&mut self, layout: Layout) -> Result<(), Error<P::Error, I>> {
         let mut new_outputs = false;
         if let Some(area) = layout.outputs {
-            let buf = self
-                .buffers
-                .outputs
-                .get_mut(..usize::from(area.length))
-                .ok_or(Error::BufferTooSmall)?;
-            let event = self
-                .esc
-                .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
-                .await
-                .map_err(Error::Pdi)?;
+            let event = self.read_outputs(area).await?;
             new_outputs = event.intersects(AlEvent::sync_manager(2));
             if new_outputs {
                 self.esc.note_outputs_received();
@@ -208,6 +200,19 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
         let apply = layout.outputs_active && layout.outputs.is_some();
         self.cycle(layout, apply, Some(new_outputs)).await
+    }
+
+    /// Reads the output area (SM2) into the output buffer; returns the AL event seen.
+    async fn read_outputs<I>(&mut self, area: Area) -> Result<AlEvent, Error<P::Error, I>> {
+        let buf = self
+            .buffers
+            .outputs
+            .get_mut(..usize::from(area.length))
+            .ok_or(Error::BufferTooSmall)?;
+        self.esc
+            .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
+            .await
+            .map_err(Error::Pdi)
     }
 
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
@@ -226,17 +231,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             return Ok(());
         };
         let event = match layout.outputs {
-            Some(area) => {
-                let buf = self
-                    .buffers
-                    .outputs
-                    .get_mut(..usize::from(area.length))
-                    .ok_or(Error::BufferTooSmall)?;
-                self.esc
-                    .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
-                    .await
-                    .map_err(Error::Pdi)?
-            }
+            Some(area) => self.read_outputs(area).await?,
             None => self
                 .esc
                 .read_al_event(Runner::ProcessData)
