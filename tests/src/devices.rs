@@ -110,13 +110,18 @@ ecat_core::dictionary! {
 /// The vendor ID of the sample devices (in the range the ETG leaves for tests).
 pub const VENDOR_ID: u32 = 0xE000_0001;
 
+/// The identity of a sample device: [`VENDOR_ID`], `product_code`, revision 1, serial 1.
+pub const fn sample_identity(product_code: u32) -> Identity {
+    Identity {
+        vendor_id: VENDOR_ID,
+        product_code,
+        revision: 1,
+        serial: 1,
+    }
+}
+
 /// 0x1018 of [`Drive`].
-pub const DRIVE_IDENTITY: Identity = Identity {
-    vendor_id: VENDOR_ID,
-    product_code: 0x0000_0402,
-    revision: 1,
-    serial: 0x0000_0001,
-};
+pub const DRIVE_IDENTITY: Identity = sample_identity(0x0000_0402);
 
 /// 128-byte mailboxes at 0x1000 and 0x1080, as every sample device has.
 const MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1000, 128);
@@ -226,12 +231,7 @@ pub struct Dio {
 }
 
 /// 0x1018 of [`Dio`].
-pub const DIO_IDENTITY: Identity = Identity {
-    vendor_id: VENDOR_ID,
-    product_code: 0x0000_1001,
-    revision: 1,
-    serial: 0x0000_0001,
-};
+pub const DIO_IDENTITY: Identity = sample_identity(0x0000_1001);
 
 const DIO_RX: [MappingEntry; 2] = [
     MappingEntry::new(0x7000, 1, 8),
@@ -295,12 +295,7 @@ pub struct Sensor {
 }
 
 /// 0x1018 of [`Sensor`].
-pub const SENSOR_IDENTITY: Identity = Identity {
-    vendor_id: VENDOR_ID,
-    product_code: 0x0000_2001,
-    revision: 1,
-    serial: 0x0000_0001,
-};
+pub const SENSOR_IDENTITY: Identity = sample_identity(0x0000_2001);
 
 const SENSOR_TX: [MappingEntry; 2] = [
     MappingEntry::new(0x6000, 0, 32),

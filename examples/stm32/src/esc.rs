@@ -44,6 +44,17 @@ mod chip {
 
 pub use chip::{PROCESS_RAM_END, Pdi, SYNC_MANAGERS, start};
 
+/// Starts the ESC on `spi`; logs why and returns `None` when it does not come up.
+pub async fn start_logged(spi: crate::board::EscSpi) -> Option<Pdi> {
+    match start(spi).await {
+        Ok(pdi) => Some(pdi),
+        Err(e) => {
+            defmt::error!("ESC start-up failed: {}", e);
+            None
+        }
+    }
+}
+
 /// `config` adjusted to this ESC's SyncManagers and process RAM.
 pub const fn fit(mut config: DeviceConfig) -> DeviceConfig {
     config.sync_manager_count = SYNC_MANAGERS;

@@ -64,12 +64,8 @@ async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
         sync0,
         io,
     } = board;
-    let pdi = match esc::start(spi).await {
-        Ok(pdi) => pdi,
-        Err(e) => {
-            error!("ESC start-up failed: {}", e);
-            return;
-        }
+    let Some(pdi) = esc::start_logged(spi).await else {
+        return;
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     high.spawn(unwrap!(process_data(esc, irq, io)));

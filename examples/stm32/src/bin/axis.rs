@@ -51,12 +51,8 @@ async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
     let Board {
         spi, irq, sync0, ..
     } = board;
-    let pdi = match esc::start(spi).await {
-        Ok(pdi) => pdi,
-        Err(e) => {
-            error!("ESC start-up failed: {}", e);
-            return;
-        }
+    let Some(pdi) = esc::start_logged(spi).await else {
+        return;
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::new())));
