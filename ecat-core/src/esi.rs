@@ -31,7 +31,7 @@ use crate::dictionary::{
     Access, DataType, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
 };
 use crate::pdo::Direction;
-use crate::sii::{self, CoeDetails, Names, SmKind};
+use crate::sii::{self, ASSIGN_ACTIVATE_SYNC0, CoeDetails, Names, SmKind};
 
 /// What the ESI file describes besides the dictionary.
 #[derive(Debug, Clone, Copy)]
@@ -70,9 +70,6 @@ impl From<fmt::Error> for EsiError {
 const MAX_VALUE: usize = 256;
 /// SII words 0..6: the configuration area the ESI `Eeprom/ConfigData` repeats (ETG.2000 `Device/Eeprom`).
 const CONFIG_DATA_BYTES: usize = 14;
-/// DC activation for SYNC0 (registers 0x0980/0x0981: cyclic operation and SYNC0), the
-/// `AssignActivate` of the DC operation mode (ETG.2000 `Device/Dc/OpMode`).
-const ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
 
 /// Writes the ESI file of the device into `out`. `sii` is the device's SII image as
 /// [`sii::write`] wrote it from the same description.

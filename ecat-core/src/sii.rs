@@ -13,7 +13,7 @@
 //! | 0x18..0x1B | standard mailbox |
 //! | 0x1C | mailbox protocols: CoE |
 //! | 0x3E, 0x3F | EEPROM size (16 Kbit → 15), version 1 |
-//! | 0x40.. | categories: Strings (10), General (30), FMMU (40), SyncManager (41), TxPDO (50), RxPDO (51), end 0xFFFF |
+//! | 0x40.. | categories: Strings (10), General (30), FMMU (40), SyncManager (41), TxPDO (50), RxPDO (51), DC (60, DC SYNC0 devices), end 0xFFFF |
 //!
 //! Process-data SyncManagers: SM2 (outputs) starts after the last mailbox byte, SM3 (inputs)
 //! after SM2's three buffers, both 8-byte aligned; their default lengths are the images the
@@ -64,7 +64,11 @@ const CAT_FMMU: u16 = 40;
 const CAT_SYNC_MANAGER: u16 = 41;
 const CAT_TXPDO: u16 = 50;
 const CAT_RXPDO: u16 = 51;
+const CAT_DC: u16 = 60;
 const CAT_END: u16 = 0xFFFF;
+/// DC AssignActivate (register 0x0980/0x0981 as the MainDevice should write them): cyclic
+/// operation with SYNC0.
+pub const ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
 /// Word 0x3E: EEPROM size in Kbit − 1 (16 Kbit).
 const SIZE_KBIT_MINUS_ONE: u16 = 15;
 /// Largest image: 16 Kbit.
@@ -125,11 +129,28 @@ pub fn write<D: ObjectDictionary>(
             w.category(category, |w| pdos(w, od, direction));
         }
     }
+    if config.sync.dc() {
+        w.category(CAT_DC, dc_sync0);
+    }
     w.u16(CAT_END);
     if w.overflow {
         return Err(SiiError::BufferTooSmall);
     }
     Ok(w.at)
+}
+
+/// The DC category (ETG.2010, category 60) with one operation mode, "SYNC0": SYNC0 cycle time
+/// and shifts 0 (the MainDevice chooses them), SYNC1 cycle factor 0, AssignActivate
+/// [`ASSIGN_ACTIVATE_SYNC0`], SYNC0 cycle factor 1, no name or description string, 4 reserved
+/// bytes.
+fn dc_sync0(w: &mut Writer<'_>) {
+    w.u32(0);
+    w.u32(0);
+    w.u32(0);
+    w.u16(0);
+    w.u16(ASSIGN_ACTIVATE_SYNC0);
+    w.u16(1);
+    w.bytes(&[0; 6]);
 }
 
 /// The CRC-8 of the configuration area (ETG.1000.6 §5.4: polynomial 0x07, initial 0xFF).

@@ -743,3 +743,49 @@ fn sync0_output_configuration_follows_dc_support() {
         );
     }
 }
+
+/// The SII categories of an image: (type, body).
+fn categories(image: &[u8]) -> Vec<(u16, &[u8])> {
+    let mut at = 0x80;
+    let mut found = Vec::new();
+    while let Some(header) = image.get(at..at + 4) {
+        let kind = u16::from_le_bytes([header[0], header[1]]);
+        if kind == 0xFFFF {
+            break;
+        }
+        let words = usize::from(u16::from_le_bytes([header[2], header[3]]));
+        found.push((kind, &image[at + 4..at + 4 + 2 * words]));
+        at += 4 + 2 * words;
+    }
+    found
+}
+
+/// A DC SYNC0 device's SII has the DC category (60) with one SYNC0 operation mode
+/// (AssignActivate 0x0300, SYNC0 cycle factor 1), as its ESI's `Dc/OpMode`; others have none.
+#[test]
+fn the_dc_category_follows_dc_support() {
+    let axis = ecat_examples::description::by_name("cia402")
+        .unwrap()
+        .unwrap();
+    let dc: Vec<_> = categories(&axis.sii)
+        .into_iter()
+        .filter(|(k, _)| *k == 60)
+        .collect();
+    assert_eq!(dc.len(), 1);
+    let body = dc[0].1;
+    assert_eq!(body.len(), 24);
+    assert_eq!(
+        &body[12..18],
+        &[0, 0, 0x00, 0x03, 1, 0],
+        "SYNC1 factor, AssignActivate, SYNC0 factor"
+    );
+    assert!(
+        axis.esi.contains("<AssignActivate>#x300</AssignActivate>"),
+        "{}",
+        axis.esi
+    );
+    let sensor = ecat_examples::description::by_name("sensor")
+        .unwrap()
+        .unwrap();
+    assert!(categories(&sensor.sii).iter().all(|(k, _)| *k != 60));
+}
