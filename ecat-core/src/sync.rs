@@ -300,6 +300,18 @@ pub struct CycleMonitor {
     last: Option<Instant>,
     missed: u16,
     overruns: u16,
+    /// What was last stored into the dictionary: a cycle that changes nothing stores nothing
+    /// (the monitor runs in the process-data path).
+    stored: Option<Diagnostics>,
+}
+
+/// The diagnostic entries the monitor keeps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Diagnostics {
+    measured_ns: Option<u64>,
+    missed: u16,
+    overruns: u16,
+    error: bool,
 }
 
 /// What one process-data cycle saw.
@@ -336,20 +348,33 @@ impl CycleMonitor {
         };
         self.missed = self.missed.saturating_add(u16::from(missed));
         self.overruns = self.overruns.saturating_add(u16::from(overrun));
-        let measured_ns = elapsed
-            .filter(|_| report.nominal.is_none())
-            .map(|us| us.saturating_mul(1_000).min(u64::from(u32::MAX)));
-        for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
-            let Some(object) = D::object(index) else {
-                continue;
-            };
-            if let Some(ns) = measured_ns {
-                (object.store)(od, 2, ns);
-            }
-            (object.store)(od, 0x0B, u64::from(self.missed));
-            (object.store)(od, 0x0C, u64::from(self.overruns));
-            (object.store)(od, 0x20, u64::from(missed || overrun));
+        let now = Diagnostics {
+            measured_ns: elapsed
+                .filter(|_| report.nominal.is_none())
+                .map(|us| us.saturating_mul(1_000).min(u64::from(u32::MAX))),
+            missed: self.missed,
+            overruns: self.overruns,
+            error: missed || overrun,
+        };
+        if self.stored != Some(now) {
+            self.stored = Some(now);
+            store(od, now);
         }
+    }
+}
+
+/// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).
+fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
+    for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
+        let Some(object) = D::object(index) else {
+            continue;
+        };
+        if let Some(ns) = d.measured_ns {
+            (object.store)(od, 2, ns);
+        }
+        (object.store)(od, 0x0B, u64::from(d.missed));
+        (object.store)(od, 0x0C, u64::from(d.overruns));
+        (object.store)(od, 0x20, u64::from(d.error));
     }
 }
 

@@ -71,6 +71,7 @@ where
         buffers,
         images: None,
         monitor: CycleMonitor::default(),
+        reported: Reported::default(),
     };
     let mut current: Option<Layout> = None;
     // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
@@ -131,9 +132,26 @@ struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
     monitor: CycleMonitor,
+    /// What the state-machine runner was told since the layout changed: it needs the first
+    /// outputs and the first SYNC0 cycle after entering SAFEOP (for SAFEOP→OP), not every one.
+    reported: Reported,
+}
+
+/// News the process-data runner already passed on for the current layout.
+#[derive(Debug, Clone, Copy, Default)]
+struct Reported {
+    outputs: bool,
+    sync: bool,
 }
 
 impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, M, P, C, D> {
+    /// Tells the state-machine runner that outputs arrived, once per layout.
+    fn report_outputs(&mut self) {
+        if !core::mem::replace(&mut self.reported.outputs, true) {
+            self.esc.note_outputs_received();
+        }
+    }
+
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
         let app = &mut *self.app;
@@ -143,6 +161,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
     /// accepted, and valid inputs at once.
     async fn on_new_layout<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
+        self.reported = Reported::default();
         let Some(layout) = layout else {
             self.images = None;
             return Ok(());
@@ -184,7 +203,9 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         let Some(layout) = layout.filter(Layout::sync0) else {
             return Ok(());
         };
-        self.esc.note_sync_received();
+        if !core::mem::replace(&mut self.reported.sync, true) {
+            self.esc.note_sync_received();
+        }
         self.clocked_cycle(layout).await
     }
 
@@ -195,7 +216,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             let event = self.read_outputs(area).await?;
             new_outputs = event.intersects(AlEvent::sync_manager(2));
             if new_outputs {
-                self.esc.note_outputs_received();
+                self.report_outputs();
             }
         }
         let apply = layout.outputs_active && layout.outputs.is_some();
@@ -245,7 +266,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
         let new_outputs = layout.outputs.is_some();
         if new_outputs {
-            self.esc.note_outputs_received();
+            self.report_outputs();
         }
         self.cycle(
             layout,
