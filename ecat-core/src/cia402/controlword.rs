@@ -30,18 +30,31 @@ pub enum Command {
 }
 
 impl Command {
+    /// Every command with the mask that identifies it (Table 28).
+    const MASKS: [(u16, Command); 5] = [
+        (0x82, Command::DisableVoltage),
+        (0x86, Command::QuickStop),
+        (0x87, Command::Shutdown),
+        (0x8F, Command::SwitchOn),
+        (0x8F, Command::EnableOperation),
+    ];
+
+    /// The controlword a MainDevice sends for this command (Table 28, every other bit 0).
+    pub const fn controlword(self) -> u16 {
+        match self {
+            Command::DisableVoltage => 0x00,
+            Command::QuickStop => 0x02,
+            Command::Shutdown => 0x06,
+            Command::SwitchOn => 0x07,
+            Command::EnableOperation => 0x0F,
+        }
+    }
+
     /// The command in `controlword`; `None` while bit 7 (fault reset) is set.
     pub fn decode(controlword: u16) -> Option<Self> {
-        const MASKS: [(u16, u16, Command); 5] = [
-            (0x82, 0x00, Command::DisableVoltage),
-            (0x86, 0x02, Command::QuickStop),
-            (0x87, 0x06, Command::Shutdown),
-            (0x8F, 0x07, Command::SwitchOn),
-            (0x8F, 0x0F, Command::EnableOperation),
-        ];
-        MASKS
+        Self::MASKS
             .into_iter()
-            .find(|&(mask, value, _)| controlword & mask == value)
-            .map(|(_, _, command)| command)
+            .find(|&(mask, command)| controlword & mask == command.controlword())
+            .map(|(_, command)| command)
     }
 }

@@ -8,24 +8,11 @@
 use std::collections::HashMap;
 use std::ops::Deref;
 
-use ecat_core::cia402::Mode;
 pub use ecat_core::cia402::State;
+use ecat_core::cia402::controlword::FAULT_RESET;
+use ecat_core::cia402::{Command as ControlCommand, Mode};
 use ethercrab::SubDeviceRef;
 use ethercrab::error::Error;
-
-/// Controlword 0x6040 commands (IEC 61800-7-201 Table 28).
-pub mod controlword {
-    /// Shutdown: → ready to switch on.
-    pub const SHUTDOWN: u16 = 0x0006;
-    /// Switch on: → switched on.
-    pub const SWITCH_ON: u16 = 0x0007;
-    /// Enable operation: → operation enabled.
-    pub const ENABLE_OPERATION: u16 = 0x000F;
-    /// Quick stop (bit 2 low, voltage enabled).
-    pub const QUICK_STOP: u16 = 0x0002;
-    /// Fault reset (rising edge of bit 7).
-    pub const FAULT_RESET: u16 = 0x0080;
-}
 
 /// The names of the modes set in a 0x6502 value.
 pub fn mode_names(supported: u32) -> String {
@@ -291,7 +278,7 @@ impl Profile {
             Phase::Csp => self.csp(),
             Phase::Csv => self.csv(dt),
             Phase::QuickStop => {
-                self.command.controlword = controlword::QUICK_STOP;
+                self.command.controlword = ControlCommand::QuickStop.controlword();
                 self.setpoint = Setpoint {
                     position: f64::from(feedback.position),
                     velocity: 0.0,
@@ -323,14 +310,14 @@ impl Profile {
             velocity: 0.0,
         };
         self.command.controlword = match state {
-            Some(State::Fault) => controlword::FAULT_RESET,
-            Some(State::ReadyToSwitchOn) => controlword::SWITCH_ON,
-            Some(State::SwitchedOn) => controlword::ENABLE_OPERATION,
+            Some(State::Fault) => FAULT_RESET,
+            Some(State::ReadyToSwitchOn) => ControlCommand::SwitchOn.controlword(),
+            Some(State::SwitchedOn) => ControlCommand::EnableOperation.controlword(),
             Some(State::OperationEnabled) => {
                 self.next(Phase::Csp);
-                controlword::ENABLE_OPERATION
+                ControlCommand::EnableOperation.controlword()
             }
-            _ => controlword::SHUTDOWN,
+            _ => ControlCommand::Shutdown.controlword(),
         };
     }
 
