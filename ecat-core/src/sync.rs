@@ -14,18 +14,12 @@
 //! a device without DC refuses any activation with 0x0030).
 //!
 //! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard
-//! subindices; the stack reads the sync type the MainDevice chose and fills the rest:
+//! subindices (`dictionary!`'s `sync_parameters` kind writes them); the stack reads the sync type
+//! the MainDevice chose and fills the rest:
 //!
 //! ```text
-//! 0x1C32 => record(sync_out: SyncParameters, "SM output parameter") {
-//!     1 => sync_type, RW_PREOP, "Synchronization type";
-//!     2 => cycle_time, RO, "Cycle time";
-//!     4 => supported, RO, "Synchronization types supported";
-//!     5 => min_cycle_time, RO, "Minimum cycle time";
-//!     0x0B => sm_event_missed, RO, "SM event missed counter";
-//!     0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
-//!     0x20 => sync_error, RO, "Sync error";
-//! };
+//! 0x1C32 => sync_parameters(sync_out, outputs);
+//! 0x1C33 => sync_parameters(sync_in, inputs);
 //! ```
 
 use crate::AlStatusCode;
@@ -125,6 +119,19 @@ pub struct SyncParameters {
     pub cycle_time_too_small: u16,
     /// SI0x20: a synchronisation error occurred.
     pub sync_error: bool,
+}
+
+impl SyncParameters {
+    /// Everything 0, for `const` initialisers.
+    pub const DEFAULT: Self = Self {
+        sync_type: 0,
+        cycle_time: 0,
+        supported: 0,
+        min_cycle_time: 0,
+        sm_event_missed: 0,
+        cycle_time_too_small: 0,
+        sync_error: false,
+    };
 }
 
 /// What the MainDevice configured in the ESC's DC SYNC unit (ESC datasheet section II,

@@ -259,3 +259,45 @@ mod identity_kind {
         );
     }
 }
+
+mod sync_parameters_kind {
+    use ecat_core::dictionary::{Access, Limit, ObjectCode, ObjectDictionary};
+    use ecat_core::sync::SyncParameters;
+
+    struct Od {
+        sync_out: SyncParameters,
+        sync_in: SyncParameters,
+    }
+
+    ecat_core::dictionary! {
+        Od {
+            0x1C32 => sync_parameters(sync_out, outputs);
+            0x1C33 => sync_parameters(sync_in, inputs);
+        }
+    }
+
+    #[test]
+    fn the_standard_records_with_the_access_and_defaults_of_each_direction() {
+        let od = Od::default();
+        assert_eq!((od.sync_out.sync_type, od.sync_in.sync_type), (1, 0x22));
+        for (index, name, si1) in [
+            (0x1C32, "SM output parameter", Access::RW_PREOP),
+            (0x1C33, "SM input parameter", Access::RO),
+        ] {
+            let object = Od::object(index).expect("declared");
+            assert_eq!(object.info.code, ObjectCode::Record);
+            assert_eq!(object.info.name, name);
+            let subs: Vec<u8> = object.info.subindices().collect();
+            assert_eq!(subs, [0, 1, 2, 4, 5, 0x0B, 0x0C, 0x20]);
+            assert_eq!(object.info.entry(1).unwrap().access, si1);
+            assert_eq!(object.info.entry(2).unwrap().access, Access::RW_PREOP);
+            assert_eq!(object.info.entry(0x20).unwrap().access, Access::RO);
+            let mut out = [0u8; 2];
+            assert_eq!(
+                (object.limit)(1, Limit::Default, &mut out),
+                2,
+                "SI1 declares its default"
+            );
+        }
+    }
+}

@@ -78,24 +78,8 @@ ecat_core::dictionary! {
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x1C32 => record(sync_out: SyncParameters, "SM output parameter") {
-            1 => sync_type, RW_PREOP, "Synchronization type", default = 1;
-            2 => cycle_time, RO, "Cycle time";
-            4 => supported, RO, "Synchronization types supported";
-            5 => min_cycle_time, RO, "Minimum cycle time";
-            0x0B => sm_event_missed, RO, "SM event missed counter";
-            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
-            0x20 => sync_error, RO, "Sync error";
-        };
-        0x1C33 => record(sync_in: SyncParameters, "SM input parameter") {
-            1 => sync_type, RO, "Synchronization type", default = 0x22;
-            2 => cycle_time, RO, "Cycle time";
-            4 => supported, RO, "Synchronization types supported";
-            5 => min_cycle_time, RO, "Minimum cycle time";
-            0x0B => sm_event_missed, RO, "SM event missed counter";
-            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
-            0x20 => sync_error, RO, "Sync error";
-        };
+        0x1C32 => sync_parameters(sync_out, outputs);
+        0x1C33 => sync_parameters(sync_in, inputs);
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
         0x6060 => var(mode, RW | RXPDO, "Modes of operation");

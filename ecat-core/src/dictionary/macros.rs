@@ -13,9 +13,15 @@
 ///         };
 ///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
 ///         0x1018 => identity(field, IDENTITY);
+///         0x1C32 => sync_parameters(field, outputs);   // and 0x1C33 … inputs
 ///     }
 /// }
 /// ```
+///
+/// `sync_parameters` declares 0x1C32 (`outputs`) or 0x1C33 (`inputs`) as the standard record of a
+/// [`sync::SyncParameters`](crate::sync::SyncParameters) field with the entries the stack fills
+/// (SI1 sync type: writable in PREOP with default 1 for the outputs, read-only with default 0x22
+/// for the inputs; SI2 cycle time writable in PREOP; SI4, SI5, SI 0x0B, 0x0C, 0x20 read-only).
 ///
 /// `identity` declares the identity object as the standard read-only record of a
 /// [`device::Identity`](crate::device::Identity) field, initialised from the device's constant
@@ -238,6 +244,12 @@ macro_rules! __ecat_object {
             store: |_: &mut $dict, _: u8, _: u64| {},
         }
     };
+    ($dict:ident, $index:literal, sync_parameters ( $field:ident, outputs )) => {
+        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM output parameter", RW_PREOP, 1)
+    };
+    ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {
+        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RO, 0x22)
+    };
     ($dict:ident, $index:literal, identity ( $field:ident, $value:expr )) => {
         $crate::__ecat_object!($dict, $index, record ( $field : Identity, "Identity object" ) {
             1 => vendor_id, RO, "Vendor ID", default = $value.vendor_id;
@@ -317,11 +329,35 @@ macro_rules! __ecat_default {
     (identity ( $field:ident, $value:expr )) => {
         $value
     };
+    (sync_parameters ( $field:ident, outputs )) => {
+        $crate::sync::SyncParameters { sync_type: 1, ..$crate::sync::SyncParameters::DEFAULT }
+    };
+    (sync_parameters ( $field:ident, inputs )) => {
+        $crate::sync::SyncParameters { sync_type: 0x22, ..$crate::sync::SyncParameters::DEFAULT }
+    };
     (record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
            $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
     }) => {
         $record { $( $sfield: $crate::__ecat_or!(::core::default::Default::default() $(, $default)?), )+ }
+    };
+}
+
+/// The record of a sync manager parameter object (0x1C32 outputs, 0x1C33 inputs; ETG.1000.6
+/// Table 74) with the entries the stack fills: SI1's access and default differ.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_sync_parameters {
+    ($dict:ident, $index:literal, $field:ident, $name:literal, $sync_access:ident, $sync_default:literal) => {
+        $crate::__ecat_object!($dict, $index, record ( $field : SyncParameters, $name ) {
+            1 => sync_type, $sync_access, "Synchronization type", default = $sync_default;
+            2 => cycle_time, RW_PREOP, "Cycle time";
+            4 => supported, RO, "Synchronization types supported";
+            5 => min_cycle_time, RO, "Minimum cycle time";
+            0x0B => sm_event_missed, RO, "SM event missed counter";
+            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
+            0x20 => sync_error, RO, "Sync error";
+        })
     };
 }
 
