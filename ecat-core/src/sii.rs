@@ -24,7 +24,7 @@
 
 use crate::device::{DeviceConfig, Identity, MailboxConfig};
 use crate::dictionary::ObjectDictionary;
-use crate::pdo::layout::{count, read_u16, read_u32};
+use crate::pdo::layout::{Layout as PdoLayout, count, read_u16, read_u32};
 use crate::pdo::{Direction, MappingEntry};
 
 /// The names the SII strings carry.
@@ -463,27 +463,19 @@ struct ProcessImage {
 }
 
 impl ProcessImage {
-    /// Sizes from the default PDO assignment, or the fixed sizes of a device without one.
+    /// Sizes from the default PDO assignment, computed as the SubDevice computes them at
+    /// PREOP→SAFEOP ([`PdoLayout::of`]), or the fixed sizes of a device without one (or with an
+    /// unusable default mapping).
     fn of<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> Self {
-        let bits = |direction| {
-            let mut bits = 0u32;
-            for_each_pdo(od, direction, |_, _, entries| {
-                bits += entries.iter().map(|e| u32::from(e.bit_len())).sum::<u32>();
-            });
-            u16::try_from(bits.div_ceil(8)).unwrap_or(u16::MAX)
+        let bytes = |direction, fixed| {
+            PdoLayout::of(od, direction)
+                .ok()
+                .flatten()
+                .map_or(fixed, |layout| layout.bytes())
         };
-        let has = |direction: Direction| D::object(direction.assignment()).is_some();
         Self {
-            outputs: if has(Direction::Rx) {
-                bits(Direction::Rx)
-            } else {
-                config.process_data.outputs
-            },
-            inputs: if has(Direction::Tx) {
-                bits(Direction::Tx)
-            } else {
-                config.process_data.inputs
-            },
+            outputs: bytes(Direction::Rx, config.process_data.outputs),
+            inputs: bytes(Direction::Tx, config.process_data.inputs),
         }
     }
 }

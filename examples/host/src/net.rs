@@ -7,9 +7,6 @@ use std::time::Duration;
 
 use pnet_datalink::{Channel, Config, DataLinkReceiver, DataLinkSender, NetworkInterface};
 
-/// The EtherType of EtherCAT frames (ETG.1000.4 §5.2.1).
-pub const ETHERTYPE_ETHERCAT: u16 = 0x88A4;
-
 /// How long a receive waits before the receiving thread looks at its stop flag again.
 pub const RECEIVE_POLL: Duration = Duration::from_millis(100);
 
@@ -88,7 +85,7 @@ pub fn is_ethercat(frame: &[u8]) -> bool {
         .get(12..14)
         .and_then(|t| t.try_into().ok())
         .map(u16::from_be_bytes);
-    ethertype == Some(ETHERTYPE_ETHERCAT)
+    ethertype == Some(ecat_emu::frame::ETHERTYPE)
 }
 
 /// The frames this program sent last: an `AF_PACKET` socket also receives its own outgoing
