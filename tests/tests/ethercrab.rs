@@ -9,7 +9,7 @@ use ecat_emu::devices;
 use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;
 use ecat_emu::real_master::{next_cycle, run_on_line};
-use ethercrab::subdevice_group::{DcConfiguration, Op, PreOp};
+use ethercrab::subdevice_group::{DcConfiguration, Op, PreOp, SafeOp};
 use ethercrab::{DcSupport, DcSync, DefaultLock, MainDevice, SubDeviceGroup, Timeouts};
 
 const MAX: usize = 8;
@@ -32,6 +32,15 @@ async fn to_op(
     masters: &[TestMaster],
 ) -> SubDeviceGroup<MAX, PDI, DefaultLock, Op> {
     let group = group.into_safe_op(main).await.expect("PREOP → SAFEOP");
+    cycle_into_op(main, group, masters).await
+}
+
+/// SAFEOP → OP: requests OP, then runs the cycle until every SubDevice is in OP.
+async fn cycle_into_op<DC>(
+    main: &'static MainDevice<'static>,
+    group: SubDeviceGroup<MAX, PDI, DefaultLock, SafeOp, DC>,
+    masters: &[TestMaster],
+) -> SubDeviceGroup<MAX, PDI, DefaultLock, Op, DC> {
     let group = group.request_into_op(main).await.expect("OP requested");
     for _ in 0..100 {
         let response = group.tx_rx(main).await.expect("cycle");
@@ -245,16 +254,7 @@ fn ethercrab_dc_sync0_drives_the_cycle() {
                 .await
                 .expect("DC SYNC0 configured");
             let group = group.into_safe_op(main).await.expect("SAFEOP");
-            let group = group.request_into_op(main).await.expect("OP requested");
-            let mut op = false;
-            for _ in 0..100 {
-                op = group.tx_rx(main).await.expect("cycle").all_op();
-                next_cycle(&masters).await;
-                if op {
-                    break;
-                }
-            }
-            assert!(op, "OP within 100 cycles");
+            let group = cycle_into_op(main, group, &masters).await;
             let drive = group.subdevice(main, 0).unwrap();
             let sync_in: u16 = drive.sdo_read(0x1C33, 1).await.expect("0x1C33:01");
             let cycle_ns: u32 = drive.sdo_read(0x1C32, 2).await.expect("0x1C32:02");
