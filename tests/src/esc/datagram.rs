@@ -139,9 +139,10 @@ impl Esc {
         if absent {
             return 0;
         }
-        let arrived = data.to_vec();
+        // Only a read-write needs the data as it arrived once the read replaced it.
+        let arrived = (op == Operation::ReadWrite).then(|| data.to_vec());
         let mut wkc = 0;
-        if matches!(op, Operation::Read | Operation::ReadWrite) {
+        if op != Operation::Write {
             let mut read = vec![0; data.len()];
             if self.ecat_read(ado, &mut read) {
                 wkc += 1;
@@ -150,9 +151,12 @@ impl Esc {
                 }
             }
         }
-        if matches!(op, Operation::Write | Operation::ReadWrite) && self.ecat_write(ado, &arrived) {
-            wkc += if op == Operation::ReadWrite { 2 } else { 1 };
-            self.dc_written(start..start + arrived.len());
+        if op != Operation::Read {
+            let written = arrived.as_deref().unwrap_or(data);
+            if self.ecat_write(ado, written) {
+                wkc += if op == Operation::ReadWrite { 2 } else { 1 };
+                self.dc_written(start..start + written.len());
+            }
         }
         wkc
     }
