@@ -79,6 +79,24 @@ macro_rules! dictionary {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = &[
                 $( $crate::__ecat_object!($dict, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?), )*
             ];
+
+            type Offsets = [u16; $crate::pdo::layout::mappable_entries(
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
+            )];
+
+            const UNMAPPED: Self::Offsets = [$crate::pdo::layout::UNMAPPED; $crate::pdo::layout::mappable_entries(
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
+            )];
+
+            fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]) {
+                let od = self;
+                $( $crate::__ecat_mapped!(unpack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
+            }
+
+            fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]) {
+                let od = self;
+                $( $crate::__ecat_mapped!(pack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
+            }
         }
 
         const _: () = {
@@ -307,6 +325,62 @@ macro_rules! __ecat_object {
                 } )+
                 _ => {}
             },
+        }
+    };
+}
+
+/// The process-data copy of one object's mappable fields, `unpack` (RxPDO-mappable entries) or
+/// `pack` (TxPDO-mappable): see [`pdo::image`](crate::pdo::image).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_mapped {
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal,
+     var ( $field:ident, $($acc:ident)|+, $name:literal $($rest:tt)* )) => {
+        $crate::__ecat_mapped_field!($mode, $dict, $od.$field, $offsets, $image, $index, 0, $($acc)|+);
+    };
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal,
+     array ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $($rest:tt)* )) => {
+        $crate::__ecat_mapped_field!($mode, $dict, $od.$field, $offsets, $image, $index, 1, $($acc)|+);
+    };
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal,
+     record ( $field:ident : $record:ident, $name:literal ) {
+        $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal $(, $key:ident = $value:expr)* ; )+
+    }) => {
+        $( $crate::__ecat_mapped_field!($mode, $dict, $od.$field.$sfield, $offsets, $image, $index, $sub, $($acc)|+); )+
+    };
+    // PDO mapping/assignment, identity and sync parameter objects are never mappable.
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal, $($other:tt)*) => {};
+}
+
+/// One mappable field's copy: `unpack` when its access allows RxPDO mapping, `pack` when it
+/// allows TxPDO mapping; `$sub` is the subindex of its (first) entry.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_mapped_field {
+    (unpack, $dict:ident, $($place:ident).+, $offsets:ident, $image:ident, $index:literal, $sub:literal, $($acc:ident)|+) => {
+        if let (true, Some(first)) = $crate::__ecat_entry_number!($dict, $index, $sub, rxpdo, $($acc)|+) {
+            $crate::pdo::image::Mapped::unpack(&mut $($place).+, $image, $offsets, first);
+        }
+    };
+    (pack, $dict:ident, $($place:ident).+, $offsets:ident, $image:ident, $index:literal, $sub:literal, $($acc:ident)|+) => {
+        if let (true, Some(first)) = $crate::__ecat_entry_number!($dict, $index, $sub, txpdo, $($acc)|+) {
+            $crate::pdo::image::Mapped::pack(&$($place).+, $image, $offsets, first);
+        }
+    };
+}
+
+/// `(whether the access allows the direction, the entry number)`, both constants.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_entry_number {
+    ($dict:ident, $index:literal, $sub:literal, $direction:ident, $($acc:ident)|+) => {
+        const {
+            (
+                $crate::__ecat_access!($($acc)|+).$direction(),
+                $crate::pdo::layout::entry_number(
+                    <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS, $index, $sub,
+                ),
+            )
         }
     };
 }
