@@ -422,3 +422,31 @@ proptest! {
         }
     }
 }
+
+/// A dictionary whose mappings can describe more than 65 535 bits.
+struct Big {
+    rx1: PdoMapping<255>,
+    rx2: PdoMapping<255>,
+    rx_assign: PdoAssignment<2>,
+}
+
+ecat_core::dictionary! {
+    Big {
+        0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1", "Entry", default = PdoMapping::mapping(&[MappingEntry::new(0, 0, 255); 255]));
+        0x1601 => pdo(rx2, RW_PREOP, "RxPDO 2", "Entry", default = PdoMapping::mapping(&[MappingEntry::new(0, 0, 255); 255]));
+        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));
+    }
+}
+
+/// Offsets are 16-bit: an image over 65 535 bits is an unusable mapping (0x0025).
+#[test]
+fn an_image_over_65535_bits_is_0x0025() {
+    let mut od = Big::default();
+    let one = Layout::of(&od, Direction::Rx).unwrap().unwrap();
+    assert_eq!((one.bits(), one.bytes(), one.has_gaps()), (65_025, 8129, true));
+    od.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1601]);
+    assert!(matches!(
+        Layout::of(&od, Direction::Rx),
+        Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
+    ));
+}
