@@ -443,7 +443,10 @@ ecat_core::dictionary! {
 fn an_image_over_65535_bits_is_0x0025() {
     let mut od = Big::default();
     let one = Layout::of(&od, Direction::Rx).unwrap().unwrap();
-    assert_eq!((one.bits(), one.bytes(), one.has_gaps()), (65_025, 8129, true));
+    assert_eq!(
+        (one.bits(), one.bytes(), one.has_gaps()),
+        (65_025, 8129, true)
+    );
     od.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1601]);
     assert!(matches!(
         Layout::of(&od, Direction::Rx),

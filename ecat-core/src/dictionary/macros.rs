@@ -21,7 +21,8 @@
 /// `sync_parameters` declares 0x1C32 (`outputs`) or 0x1C33 (`inputs`) as the standard record of a
 /// [`sync::SyncParameters`](crate::sync::SyncParameters) field with the entries the stack fills
 /// (SI1 sync type: writable in PREOP with default 1 for the outputs, read-only with default 0x22
-/// for the inputs; SI2 cycle time writable in PREOP; SI4, SI5, SI 0x0B, 0x0C, 0x20 read-only).
+/// for the inputs; SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C,
+/// 0x20 read-only).
 ///
 /// `identity` declares the identity object as the standard read-only record of a
 /// [`device::Identity`](crate::device::Identity) field, initialised from the device's constant
@@ -426,8 +427,11 @@ macro_rules! __ecat_sync_parameters {
         $crate::__ecat_object!($dict, $index, record ( $field : SyncParameters, $name ) {
             1 => sync_type, $sync_access, "Synchronization type", default = $sync_default;
             2 => cycle_time, RW_PREOP, "Cycle time";
+            3 => shift_time, RO, "Shift time";
             4 => supported, RO, "Synchronization types supported";
             5 => min_cycle_time, RO, "Minimum cycle time";
+            6 => calc_copy_time, RO, "Calc and copy time";
+            9 => delay_time, RO, "Delay time";
             0x0B => sm_event_missed, RO, "SM event missed counter";
             0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
             0x20 => sync_error, RO, "Sync error";
