@@ -105,7 +105,7 @@ fn main() {
             d.inputs = d.outputs
         }),
         "axis" => {
-            let (mut axis, mut od) = (Axis::new(), AxisOd::new());
+            let (mut axis, mut od) = (Axis::new(), AxisOd::default());
             for controlword in [0x00, 0x06] {
                 od.controlword = controlword;
                 axis.step(&mut od);

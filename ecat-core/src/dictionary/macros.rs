@@ -13,6 +13,7 @@
 ///         };
 ///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
 ///         0x1018 => identity(field, IDENTITY);
+///         0x1C00 => sync_manager_types(field);
 ///         0x1C32 => sync_parameters(field, outputs);   // and 0x1C33 … inputs
 ///     }
 /// }
@@ -23,6 +24,10 @@
 /// (SI1 sync type: writable in PREOP with default 1 for the outputs, read-only with default 0x22
 /// for the inputs; SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C,
 /// 0x20 read-only).
+///
+/// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
+/// declaring as defaults) the communication types of SM0..SM3, [`sii::SM_TYPES`](crate::sii::SM_TYPES):
+/// mailbox out, mailbox in, outputs, inputs — what the SII and ESI say of the same SyncManagers.
 ///
 /// `identity` declares the identity object as the standard read-only record of a
 /// [`device::Identity`](crate::device::Identity) field, initialised from the device's constant
@@ -269,6 +274,22 @@ macro_rules! __ecat_object {
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {
         $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RO, 0x22)
     };
+    ($dict:ident, $index:literal, sync_manager_types ( $field:ident )) => {
+        $crate::dictionary::Object::<$dict> {
+            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
+                let value = usize::from(sub).checked_sub(1).and_then(|i| $crate::sii::SM_TYPES.get(i));
+                match (which, value, out.first_mut()) {
+                    ($crate::dictionary::Limit::Default, Some(&value), Some(out)) => {
+                        *out = value;
+                        1
+                    }
+                    _ => 0,
+                }
+            },
+            // `default` marks the element's default as declared; `limit` above gives each its own.
+            ..$crate::__ecat_object!($dict, $index, array ( $field, RO, "Sync manager type", "SM type", default = 0 ))
+        }
+    };
     ($dict:ident, $index:literal, identity ( $field:ident, $value:expr )) => {
         $crate::__ecat_object!($dict, $index, record ( $field : Identity, "Identity object" ) {
             1 => vendor_id, RO, "Vendor ID", default = $value.vendor_id;
@@ -403,6 +424,9 @@ macro_rules! __ecat_default {
     };
     (identity ( $field:ident, $value:expr )) => {
         $value
+    };
+    (sync_manager_types ( $field:ident )) => {
+        $crate::sii::SM_TYPES
     };
     (sync_parameters ( $field:ident, outputs )) => {
         $crate::sync::SyncParameters { sync_type: 1, ..$crate::sync::SyncParameters::DEFAULT }
