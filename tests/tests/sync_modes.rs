@@ -383,6 +383,22 @@ fn dc_cycles_without_new_outputs_count_as_sm_events_missed() {
             0,
             "no cycle lost"
         );
+        // Conformance: the SM-event-missed counter is reset at PREOP→SAFEOP.
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        common::send_outputs(&master).await;
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        for _ in 0..2 {
+            common::send_outputs(&master).await;
+            master.advance(Duration::from_millis(1)).await;
+        }
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 0x0B, false).await),
+            0,
+            "reset at PREOP→SAFEOP"
+        );
+        assert_eq!(c.upload(0x1C32, 0x20, false).await, Ok(vec![0]));
     });
 }
 
