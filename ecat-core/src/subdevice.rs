@@ -37,6 +37,10 @@ use crate::sync_manager::Channel;
 use crate::sync_manager::check::{self, Channels};
 use crate::time::Instant;
 
+mod targets;
+
+use targets::{Targets, Written};
+
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 
@@ -124,30 +128,6 @@ impl Op {
     }
 }
 
-/// What the core last wrote to the ESC, so that it writes only what changed.
-#[derive(Debug, Clone, Copy)]
-struct Written {
-    event_mask: Option<u32>,
-    /// PDI control of SM0..SM3; [`Written::UNKNOWN`] until written.
-    pdi_control: [u8; 4],
-    status_code: Option<u16>,
-    status: Option<u16>,
-}
-
-impl Written {
-    /// A PDI control value never wanted (and with the deactivate bit set): not written yet.
-    const UNKNOWN: u8 = 0xFF;
-
-    const fn new() -> Self {
-        Self {
-            event_mask: None,
-            pdi_control: [Self::UNKNOWN; 4],
-            status_code: None,
-            status: None,
-        }
-    }
-}
-
 /// A transition waiting for the application.
 #[derive(Debug, Clone, Copy)]
 struct Pending {
@@ -187,6 +167,9 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// The DC registers as last read.
     dc: DcSettings,
     sm_changed: bool,
+    /// What the ESM state asks for in the registers; `None` after one of its inputs changed (state,
+    /// error, code, device ID, process-data configuration), derived again on the next poll.
+    targets: Option<Targets>,
     written: Written,
     in_flight: Option<(Op, u32)>,
     pending: Option<Pending>,
@@ -230,6 +213,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             read_dc: false,
             dc: DcSettings::default(),
             sm_changed: false,
+            targets: None,
             written: Written::new(),
             in_flight: None,
             pending: None,
@@ -282,6 +266,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// MainDevice sets AL control bit 5.
     pub fn set_device_id(&mut self, id: u16) {
         self.settled = false;
+        self.targets = None;
         self.device_id = id;
     }
 
@@ -524,8 +509,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn next_op(&self) -> Option<(Op, u32)> {
-        let mask = self.desired_event_mask().bits();
+    fn next_op(&mut self) -> Option<(Op, u32)> {
+        let targets = match self.targets {
+            Some(targets) => targets,
+            None => *self.targets.insert(self.derive_targets()),
+        };
+        let mask = targets.event_mask(&self.mailbox);
         if self.written.event_mask != Some(mask) {
             return Some((Op::WriteEventMask, mask));
         }
@@ -544,7 +533,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if self.read_al_control {
             return Some((Op::ReadAlControl, 0));
         }
-        let desired = self.desired_pdi_control();
+        let desired = targets.pdi_control(&self.mailbox);
         if desired != self.written.pdi_control {
             for (n, (d, w)) in (0u8..).zip(desired.into_iter().zip(self.written.pdi_control)) {
                 if d != w {
@@ -552,7 +541,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 }
             }
         }
-        if self.mailbox_ready() {
+        if self.state.has_mailbox() && self.written.mailbox_active() {
             if self.complete_mailbox {
                 return Some((Op::CompleteMailbox, 0));
             }
@@ -563,28 +552,39 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 return Some((Op::ReadMailbox, 0));
             }
         }
-        let code = self.al_status_code().0;
-        if self.written.status_code != Some(code) {
-            return Some((Op::WriteStatusCode, u32::from(code)));
+        if self.written.status_code != Some(targets.status_code) {
+            return Some((Op::WriteStatusCode, u32::from(targets.status_code)));
         }
-        let status = self.al_status().bits();
-        if self.written.status != Some(status) {
-            return Some((Op::WriteStatus, u32::from(status)));
+        if self.written.status != Some(targets.status) {
+            return Some((Op::WriteStatus, u32::from(targets.status)));
         }
         None
+    }
+
+    /// What the ESM state asks for in the registers ([`Targets::derive`]).
+    fn derive_targets(&self) -> Targets {
+        let mut process_data = AlEvent::NONE;
+        if self.state.has_process_data() {
+            process_data |= self.process_data_trigger();
+        }
+        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
+            process_data |= AlEvent::WATCHDOG_PROCESS_DATA;
+        }
+        Targets::derive(self.al_status(), self.al_status_code(), process_data)
     }
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
         match op {
             Op::ReadMailbox => {
+                let (address, buf) = self.mailbox.rx_buffer();
                 return Access::Read {
-                    address: self.active_mailbox().receive.start,
-                    buf: self.mailbox.rx_buffer(),
+                    address,
+                    buf,
                     clears: op.clears(),
                 };
             }
             Op::WriteMailbox => {
-                let address = self.active_mailbox().send.start;
+                let address = self.mailbox.send_address();
                 let data = self.mailbox.write_due().unwrap_or_default();
                 return Access::Write {
                     address,
@@ -596,9 +596,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 let last = self.mailbox.send_size().saturating_sub(1);
                 let data = self.mailbox.sent_byte(last);
                 let address = self
-                    .active_mailbox()
-                    .send
-                    .start
+                    .mailbox
+                    .send_address()
                     .saturating_add(u16::try_from(last).unwrap_or(0));
                 return Access::Write {
                     address,
@@ -677,8 +676,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.read_dc = false;
                 let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
                 let dc = DcSettings::from_bytes(bytes);
-                self.pd_stale |= dc != self.dc;
-                self.dc = dc;
+                if dc != self.dc {
+                    self.pd_stale = true;
+                    self.targets = None;
+                    self.dc = dc;
+                }
             }
             Op::ReadWatchdogStatus => {
                 self.read_watchdog_status = false;
@@ -729,6 +731,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if decision == Decision::Ignore {
             return;
         }
+        self.targets = None;
         self.error = false;
         self.code = AlStatusCode::NO_ERROR;
         self.id_requested = control.device_id_request();
@@ -825,12 +828,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.change_state(t);
             }
         }
+        self.targets = None;
         self.error = true;
         self.code = code;
     }
 
     fn change_state(&mut self, t: Transition) {
         self.abort_pending();
+        self.targets = None;
         self.state = t.to;
         if t.from.has_mailbox() && !t.to.has_mailbox() {
             self.mailbox.stop();
@@ -842,10 +847,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;
-            let mailbox = self.active_mailbox();
             let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
-            self.mailbox
-                .start(mailbox.receive.length, mailbox.send.length, repeat);
+            self.mailbox.start(self.active_mailbox(), repeat);
         }
         self.events.push(Event::StateChanged(t));
     }
@@ -856,60 +859,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn desired_event_mask(&self) -> AlEvent {
-        let mut mask = ESM_EVENTS;
-        if self.state.has_process_data() {
-            mask |= self.process_data_trigger();
-        }
-        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
-            mask |= AlEvent::WATCHDOG_PROCESS_DATA;
-        }
-        if self.state.has_mailbox() {
-            if self.mailbox.wants_receive_event() {
-                mask |= AlEvent::sync_manager(0);
-            }
-            if self.mailbox.wants_send_event() {
-                mask |= AlEvent::sync_manager(1);
-            }
-        }
-        mask
-    }
-
-    /// PDI control of SM0..SM3: mailbox channels active from PREOP (and in BOOT), SM1 carrying
-    /// the repeat acknowledge; process-data channels active in SAFEOP and OP; deactivated
-    /// otherwise.
-    fn desired_pdi_control(&self) -> [u8; 4] {
-        let off = Channel::PDI_DEACTIVATE;
-        let (mailbox, send) = if self.state.has_mailbox() {
-            let ack = if self.mailbox.repeat_ack() {
-                Channel::PDI_REPEAT_ACK
-            } else {
-                0
-            };
-            (0, ack)
-        } else {
-            (off, off)
-        };
-        let process_data = if self.state.has_process_data() {
-            0
-        } else {
-            off
-        };
-        [mailbox, send, process_data, process_data]
-    }
-
     /// The mailbox layout of the current state: the bootstrap mailbox in BOOT.
     fn active_mailbox(&self) -> MailboxConfig {
         match (self.state, self.config.bootstrap_mailbox) {
             (AlState::Boot, Some(boot)) => boot,
             _ => self.config.mailbox,
         }
-    }
-
-    /// Whether mailbox traffic may flow: a mailbox state with SM0/SM1 activated.
-    fn mailbox_ready(&self) -> bool {
-        let [receive, send, ..] = self.written.pdi_control;
-        self.state.has_mailbox() && (receive | send) & Channel::PDI_DEACTIVATE == 0
     }
 
     /// Serves the mailbox: the request read from SM0, or the next SDO Information fragment or
@@ -921,7 +876,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
-        if !self.state.has_mailbox() {
+        if !self.state.has_mailbox() || !self.mailbox.has_work() {
             return false;
         }
         self.settled = false;
@@ -949,6 +904,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !core::mem::take(&mut self.pd_stale) {
             return;
         }
+        self.settled = false;
+        self.targets = None;
         self.sync = sync::requested(od, self.config);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
