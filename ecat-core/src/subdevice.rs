@@ -44,6 +44,9 @@ use targets::{Targets, Written};
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 
+/// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
+const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
+
 /// The largest SyncManager register block the SubDevice reads (16 channels).
 const MAX_SM_BYTES: usize = 16 * Channel::SIZE;
 
@@ -115,6 +118,14 @@ enum Op {
 }
 
 impl Op {
+    /// Whether the access is one of the mailbox's, which changes only the mailbox's flags.
+    const fn is_mailbox(self) -> bool {
+        matches!(
+            self,
+            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox
+        )
+    }
+
     /// The AL event bits the access clears in the ESC.
     const fn clears(self) -> AlEvent {
         match self {
@@ -126,6 +137,19 @@ impl Op {
             _ => AlEvent::NONE,
         }
     }
+}
+
+/// How much may have changed since [`SubDevice::poll_access`] last found nothing to do, so how
+/// much of the register plan the next poll looks at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Work {
+    /// Nothing: the poll answers `None` at once.
+    None,
+    /// Only the mailbox's flags: the poll looks at the event mask, PDI control (SM1's repeat
+    /// acknowledge) and the SM0/SM1 accesses, not at the reads or the AL status registers.
+    Mailbox,
+    /// Anything.
+    All,
 }
 
 /// A transition waiting for the application.
@@ -178,9 +202,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     mailbox: Mailbox<MBX>,
     /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
     complete_mailbox: bool,
-    /// Nothing changed since [`SubDevice::poll_access`] last found nothing to do: the next call
-    /// can say so at once instead of deriving every register again.
-    settled: bool,
+    work: Work,
     /// The process-image sizes of the current PDO configuration, or why it is unusable.
     pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
@@ -221,7 +243,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             buf: [0; MAX_SM_BYTES],
             mailbox: Mailbox::new(),
             complete_mailbox: false,
-            settled: false,
+            work: Work::All,
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
             outputs_received: false,
@@ -265,8 +287,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Sets the explicit device ID (for example read from rotary switches) presented when the
     /// MainDevice sets AL control bit 5.
     pub fn set_device_id(&mut self, id: u16) {
-        self.settled = false;
-        self.targets = None;
+        self.targets_changed();
         self.device_id = id;
     }
 
@@ -320,7 +341,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.is_empty() {
             return;
         }
-        self.settled = false;
+        if event.intersects(ESM_EVENTS | AlEvent::WATCHDOG_PROCESS_DATA) {
+            self.work = Work::All;
+        }
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
         if event.contains(AlEvent::AL_CONTROL) && !self.read_al_control {
@@ -336,7 +359,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
             self.read_watchdog_status = true;
         }
-        if self.state.has_mailbox() {
+        if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
+            self.mailbox_changed();
             if event.contains(AlEvent::sync_manager(0)) {
                 self.mailbox.receive_event();
             }
@@ -351,14 +375,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
         let (op, value) = match self.in_flight {
             Some(in_flight) => in_flight,
-            None if self.settled => return None,
-            None => match self.next_op() {
-                Some(next) => next,
-                None => {
-                    self.settled = true;
+            None => {
+                let next = match self.work {
+                    Work::None => None,
+                    Work::Mailbox => self.next_op(false),
+                    Work::All => self.next_op(true),
+                };
+                let Some(next) = next else {
+                    self.work = Work::None;
                     return None;
-                }
-            },
+                };
+                next
+            }
         };
         self.in_flight = Some((op, value));
         Some(self.prepare(op, value))
@@ -370,7 +398,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some((op, value)) = self.in_flight.take() else {
             return;
         };
-        self.settled = false;
+        if op.is_mailbox() {
+            self.mailbox_changed();
+        } else {
+            self.work = Work::All;
+        }
         self.complete(now, op, value);
         self.handle_al_event(event.difference(op.clears()));
     }
@@ -395,7 +427,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`AlStatusCode::NO_SYNC_ERROR`], one still waiting for outputs with
     /// [`AlStatusCode::SM_WATCHDOG`]; an SDO transfer missing its next segment is dropped.
     pub fn handle_timeout(&mut self, now: Instant) {
-        self.settled = false;
+        self.work = Work::All;
         self.mailbox.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
@@ -437,7 +469,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             _ => return,
         };
-        self.settled = false;
+        self.work = Work::All;
         if result.is_ok() && waits {
             return;
         }
@@ -458,7 +490,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn complete_when_fed(&mut self) {
         let Some(p) = self.pending else { return };
         if p.accepted && !p.needs_outputs && !p.needs_sync {
-            self.settled = false;
+            self.work = Work::All;
             self.finish_transition(p.transition, Ok(()));
         }
     }
@@ -483,7 +515,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync_lost(&mut self) {
         if self.state == AlState::Op && self.sync() == Ok(SyncType::DcSync0) {
-            self.settled = false;
+            self.work = Work::All;
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
     }
@@ -509,7 +541,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn next_op(&mut self) -> Option<(Op, u32)> {
+    /// The next access of the register plan, in order: event mask, reads, PDI control, mailbox,
+    /// AL status code, AL status. Without `all`, only what the mailbox's flags can change.
+    fn next_op(&mut self, all: bool) -> Option<(Op, u32)> {
         let targets = match self.targets {
             Some(targets) => targets,
             None => *self.targets.insert(self.derive_targets()),
@@ -518,20 +552,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if self.written.event_mask != Some(mask) {
             return Some((Op::WriteEventMask, mask));
         }
-        if self.read_sync_managers {
-            return Some((Op::ReadSyncManagers, 0));
-        }
-        if self.read_watchdog {
-            return Some((Op::ReadWatchdog, 0));
-        }
-        if self.read_watchdog_status {
-            return Some((Op::ReadWatchdogStatus, 0));
-        }
-        if self.read_dc {
-            return Some((Op::ReadDc, 0));
-        }
-        if self.read_al_control {
-            return Some((Op::ReadAlControl, 0));
+        if all && let Some(read) = self.next_read() {
+            return Some((read, 0));
         }
         let desired = targets.pdi_control(&self.mailbox);
         if desired != self.written.pdi_control {
@@ -552,6 +574,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 return Some((Op::ReadMailbox, 0));
             }
         }
+        if !all {
+            return None;
+        }
         if self.written.status_code != Some(targets.status_code) {
             return Some((Op::WriteStatusCode, u32::from(targets.status_code)));
         }
@@ -559,6 +584,32 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return Some((Op::WriteStatus, u32::from(targets.status)));
         }
         None
+    }
+
+    /// The next register read: the SyncManagers, the watchdog registers and the DC registers
+    /// before AL control, so that a transition is checked against what the MainDevice wrote
+    /// before requesting it.
+    fn next_read(&self) -> Option<Op> {
+        let reads = [
+            (self.read_sync_managers, Op::ReadSyncManagers),
+            (self.read_watchdog, Op::ReadWatchdog),
+            (self.read_watchdog_status, Op::ReadWatchdogStatus),
+            (self.read_dc, Op::ReadDc),
+            (self.read_al_control, Op::ReadAlControl),
+        ];
+        reads.into_iter().find_map(|(due, op)| due.then_some(op))
+    }
+
+    /// An input of the register targets changed (state, error, code, device ID, process-data
+    /// configuration): they are derived again on the next poll.
+    fn targets_changed(&mut self) {
+        self.targets = None;
+        self.work = Work::All;
+    }
+
+    /// The mailbox's flags changed: the next poll looks at them.
+    fn mailbox_changed(&mut self) {
+        self.work = self.work.max(Work::Mailbox);
     }
 
     /// What the ESM state asks for in the registers ([`Targets::derive`]).
@@ -678,7 +729,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 let dc = DcSettings::from_bytes(bytes);
                 if dc != self.dc {
                     self.pd_stale = true;
-                    self.targets = None;
+                    self.targets_changed();
                     self.dc = dc;
                 }
             }
@@ -731,7 +782,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if decision == Decision::Ignore {
             return;
         }
-        self.targets = None;
+        self.targets_changed();
         self.error = false;
         self.code = AlStatusCode::NO_ERROR;
         self.id_requested = control.device_id_request();
@@ -828,14 +879,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.change_state(t);
             }
         }
-        self.targets = None;
+        self.targets_changed();
         self.error = true;
         self.code = code;
     }
 
     fn change_state(&mut self, t: Transition) {
         self.abort_pending();
-        self.targets = None;
+        self.targets_changed();
         self.state = t.to;
         if t.from.has_mailbox() && !t.to.has_mailbox() {
             self.mailbox.stop();
@@ -879,7 +930,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || !self.mailbox.has_work() {
             return false;
         }
-        self.settled = false;
+        self.mailbox_changed();
         self.pd_stale = true;
         let mut cx = Context {
             od,
@@ -904,8 +955,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !core::mem::take(&mut self.pd_stale) {
             return;
         }
-        self.settled = false;
-        self.targets = None;
+        self.targets_changed();
         self.sync = sync::requested(od, self.config);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
@@ -930,7 +980,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || self.state == AlState::Boot {
             return false;
         }
-        self.settled = false;
+        self.mailbox_changed();
         self.mailbox.emergency(emergency);
         true
     }

@@ -186,36 +186,38 @@ impl<const N: usize> SdoServer<N> {
         self.timed_out = false;
         let (object, target) = resolve::<D>(target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
-        let size = value_size(cx, object, target)?;
-        let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
-        let len = if (1..=4).contains(&size) && !target.domain {
-            let mut data = [0u8; 4];
-            fetch(cx, object, target, 0, &mut data)?;
-            write_sdo(
-                body,
-                response::upload_expedited(size, target.complete),
-                target,
-                data,
+        let body = body_of(out);
+        // The value is read once, straight into the answer's data area; its size then says
+        // expedited or normal.
+        let data = body.get_mut(SDO_HEADER..).unwrap_or_default();
+        let (size, sent) = if target.domain || target.complete {
+            (
+                value_size(cx, object, target)?,
+                fetch(cx, object, target, 0, data)?,
             )
         } else {
-            let sent = fetch(
-                cx,
-                object,
-                target,
-                0,
-                body.get_mut(SDO_HEADER..).unwrap_or_default(),
-            )?;
+            let read = (object.read)(cx.od, target.sub, 0, data)?;
+            (read.size, read.copied)
+        };
+        let len = if (1..=4).contains(&size) && !target.domain {
+            // Expedited: the data moves into the header (ETG.1000.6 Table 37).
+            let mut value = [0u8; 4];
+            match body.get(SDO_HEADER..SDO_HEADER + size) {
+                Some(first) if sent == size => {
+                    value.iter_mut().zip(first).for_each(|(v, b)| *v = *b)
+                }
+                // A minimum-size mailbox has no room behind the header.
+                _ => _ = fetch(cx, object, target, 0, &mut value)?,
+            }
+            let command = response::upload_expedited(size, target.complete);
+            write_sdo(body, command, target, value)
+        } else {
             let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-            let header = write_sdo(
-                body,
-                response::upload_normal(target.complete),
-                target,
-                size_bytes,
-            );
+            let command = response::upload_normal(target.complete);
             if sent < size {
                 self.begin(cx.now, Kind::Upload, target, size, sent);
             }
-            header + sent
+            write_sdo(body, command, target, size_bytes) + sent
         };
         Ok(finish(out, Service::SdoResponse, len))
     }
@@ -671,4 +673,54 @@ fn body_of(out: &mut [u8]) -> &mut [u8] {
 
 fn byte(bytes: &[u8], i: usize) -> u8 {
     bytes.get(i).copied().unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Od {
+        device_type: u32,
+        error_register: u8,
+    }
+
+    crate::dictionary! {
+        Od {
+            0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+            0x1001 => var(error_register, RO, "Error register", default = 0x81);
+        }
+    }
+
+    fn upload(out: &mut [u8], index: u16) -> usize {
+        let mut od = Od::default();
+        let mut cx = Context {
+            od: &mut od,
+            hooks: &mut (),
+            state: AlState::PreOp,
+            now: Instant::from_micros(0),
+        };
+        let [i0, i1] = index.to_le_bytes();
+        SdoServer::<16>::new().request(&mut cx, &[0x40, i0, i1, 0, 0, 0, 0, 0], out)
+    }
+
+    #[test]
+    fn expedited_upload_fits_a_minimum_size_mailbox() {
+        // 16-byte mailbox: 6 bytes mailbox header, 2 bytes CoE header, 8 bytes SDO.
+        let mut out = [0xAA; 10];
+        let n = upload(&mut out, 0x1000);
+        assert_eq!(
+            &out[..n],
+            &[0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]
+        );
+    }
+
+    #[test]
+    fn expedited_upload_pads_short_values_with_zeros() {
+        let mut out = [0xAA; 40];
+        let n = upload(&mut out, 0x1001);
+        assert_eq!(
+            &out[..n],
+            &[0x00, 0x30, 0x4F, 0x01, 0x10, 0x00, 0x81, 0x00, 0x00, 0x00]
+        );
+    }
 }
