@@ -39,7 +39,7 @@ use crate::time::Instant;
 
 mod targets;
 
-use targets::{Targets, Written};
+use targets::{Stale, Targets, Written};
 
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
@@ -118,12 +118,18 @@ enum Op {
 }
 
 impl Op {
-    /// Whether the access is one of the mailbox's, which changes only the mailbox's flags.
-    const fn is_mailbox(self) -> bool {
-        matches!(
-            self,
-            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox
-        )
+    /// The parts of the register plan the access's completion may change. Reading SM0 only moves
+    /// the request from SM0 into the mailbox, which changes the SM0/SM1 events it waits for, not
+    /// which SM0/SM1 access is due (a read needs nothing in flight; a write depends on the
+    /// answer). Writing SM1 leaves its last byte due, or the message sent
+    /// ([`SubDevice::sent`](SubDevice) marks what that changes).
+    const fn stales(self) -> Stale {
+        match self {
+            Op::ReadMailbox => Stale::EVENT_MASK,
+            Op::WriteMailbox => Stale::MAILBOX,
+            Op::CompleteMailbox => Stale::NONE,
+            _ => Stale::ALL,
+        }
     }
 
     /// The AL event bits the access clears in the ESC.
@@ -137,19 +143,6 @@ impl Op {
             _ => AlEvent::NONE,
         }
     }
-}
-
-/// How much may have changed since [`SubDevice::poll_access`] last found nothing to do, so how
-/// much of the register plan the next poll looks at.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-enum Work {
-    /// Nothing: the poll answers `None` at once.
-    None,
-    /// Only the mailbox's flags: the poll looks at the event mask, PDI control (SM1's repeat
-    /// acknowledge) and the SM0/SM1 accesses, not at the reads or the AL status registers.
-    Mailbox,
-    /// Anything.
-    All,
 }
 
 /// A transition waiting for the application.
@@ -202,7 +195,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     mailbox: Mailbox<MBX>,
     /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
     complete_mailbox: bool,
-    work: Work,
+    /// The parts of the register plan that may not be satisfied: what the next poll looks at.
+    stale: Stale,
     /// The process-image sizes of the current PDO configuration, or why it is unusable.
     pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
@@ -243,7 +237,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             buf: [0; MAX_SM_BYTES],
             mailbox: Mailbox::new(),
             complete_mailbox: false,
-            work: Work::All,
+            stale: Stale::ALL,
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
             outputs_received: false,
@@ -342,7 +336,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         if event.intersects(ESM_EVENTS | AlEvent::WATCHDOG_PROCESS_DATA) {
-            self.work = Work::All;
+            self.stale.insert(Stale::READS);
         }
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
@@ -360,7 +354,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.read_watchdog_status = true;
         }
         if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
-            self.mailbox_changed();
+            self.stale.insert(Stale::MAILBOX_QUEUE);
             if event.contains(AlEvent::sync_manager(0)) {
                 self.mailbox.receive_event();
             }
@@ -375,18 +369,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
         let (op, value) = match self.in_flight {
             Some(in_flight) => in_flight,
-            None => {
-                let next = match self.work {
-                    Work::None => None,
-                    Work::Mailbox => self.next_op(false),
-                    Work::All => self.next_op(true),
-                };
-                let Some(next) = next else {
-                    self.work = Work::None;
-                    return None;
-                };
-                next
-            }
+            None if self.stale == Stale::NONE => return None,
+            None => self.next_op()?,
         };
         self.in_flight = Some((op, value));
         Some(self.prepare(op, value))
@@ -398,11 +382,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some((op, value)) = self.in_flight.take() else {
             return;
         };
-        if op.is_mailbox() {
-            self.mailbox_changed();
-        } else {
-            self.work = Work::All;
-        }
+        self.stale.insert(op.stales());
         self.complete(now, op, value);
         self.handle_al_event(event.difference(op.clears()));
     }
@@ -427,7 +407,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`AlStatusCode::NO_SYNC_ERROR`], one still waiting for outputs with
     /// [`AlStatusCode::SM_WATCHDOG`]; an SDO transfer missing its next segment is dropped.
     pub fn handle_timeout(&mut self, now: Instant) {
-        self.work = Work::All;
+        self.stale = Stale::ALL;
         self.mailbox.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
@@ -469,7 +449,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             _ => return,
         };
-        self.work = Work::All;
+        self.stale = Stale::ALL;
         if result.is_ok() && waits {
             return;
         }
@@ -490,7 +470,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn complete_when_fed(&mut self) {
         let Some(p) = self.pending else { return };
         if p.accepted && !p.needs_outputs && !p.needs_sync {
-            self.work = Work::All;
+            self.stale = Stale::ALL;
             self.finish_transition(p.transition, Ok(()));
         }
     }
@@ -515,7 +495,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync_lost(&mut self) {
         if self.state == AlState::Op && self.sync() == Ok(SyncType::DcSync0) {
-            self.work = Work::All;
+            self.stale = Stale::ALL;
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
     }
@@ -542,48 +522,72 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The next access of the register plan, in order: event mask, reads, PDI control, mailbox,
-    /// AL status code, AL status. Without `all`, only what the mailbox's flags can change.
-    fn next_op(&mut self, all: bool) -> Option<(Op, u32)> {
-        let targets = match self.targets {
-            Some(targets) => targets,
-            None => *self.targets.insert(self.derive_targets()),
-        };
-        let mask = targets.event_mask(&self.mailbox);
-        if self.written.event_mask != Some(mask) {
-            return Some((Op::WriteEventMask, mask));
+    /// AL status code, AL status. Only the stale parts are looked at; a part found satisfied is
+    /// no longer stale.
+    fn next_op(&mut self) -> Option<(Op, u32)> {
+        if self.stale.contains(Stale::EVENT_MASK) {
+            let mask = self.targets().event_mask(&self.mailbox);
+            if self.written.event_mask != Some(mask) {
+                return Some((Op::WriteEventMask, mask));
+            }
+            self.stale.remove(Stale::EVENT_MASK);
         }
-        if all && let Some(read) = self.next_read() {
-            return Some((read, 0));
+        if self.stale.contains(Stale::READS) {
+            if let Some(read) = self.next_read() {
+                return Some((read, 0));
+            }
+            self.stale.remove(Stale::READS);
         }
-        let desired = targets.pdi_control(&self.mailbox);
-        if desired != self.written.pdi_control {
+        if self.stale.contains(Stale::PDI_CONTROL) {
+            let desired = self.targets().pdi_control(&self.mailbox);
             for (n, (d, w)) in (0u8..).zip(desired.into_iter().zip(self.written.pdi_control)) {
                 if d != w {
                     return Some((Op::WritePdiControl(n), u32::from(d)));
                 }
             }
+            self.stale.remove(Stale::PDI_CONTROL);
         }
-        if self.state.has_mailbox() && self.written.mailbox_active() {
-            if self.complete_mailbox {
-                return Some((Op::CompleteMailbox, 0));
+        if self.stale.contains(Stale::MAILBOX) {
+            if let Some(op) = self.next_mailbox_op() {
+                return Some((op, 0));
             }
-            if self.mailbox.write_due().is_some() {
-                return Some((Op::WriteMailbox, 0));
+            self.stale.remove(Stale::MAILBOX);
+        }
+        if self.stale.contains(Stale::STATUS) {
+            let targets = self.targets();
+            if self.written.status_code != Some(targets.status_code) {
+                return Some((Op::WriteStatusCode, u32::from(targets.status_code)));
             }
-            if self.mailbox.read_due() {
-                return Some((Op::ReadMailbox, 0));
+            if self.written.status != Some(targets.status) {
+                return Some((Op::WriteStatus, u32::from(targets.status)));
             }
-        }
-        if !all {
-            return None;
-        }
-        if self.written.status_code != Some(targets.status_code) {
-            return Some((Op::WriteStatusCode, u32::from(targets.status_code)));
-        }
-        if self.written.status != Some(targets.status) {
-            return Some((Op::WriteStatus, u32::from(targets.status)));
+            self.stale.remove(Stale::STATUS);
         }
         None
+    }
+
+    /// The register targets, derived if an input changed since.
+    fn targets(&mut self) -> Targets {
+        match self.targets {
+            Some(targets) => targets,
+            None => *self.targets.insert(self.derive_targets()),
+        }
+    }
+
+    /// The SM0/SM1 access due, once SM0 and SM1 are active in a mailbox state: the last byte of
+    /// a short message, the next message (or the last again), the next request.
+    fn next_mailbox_op(&self) -> Option<Op> {
+        if !self.state.has_mailbox() || !self.written.mailbox_active() {
+            None
+        } else if self.complete_mailbox {
+            Some(Op::CompleteMailbox)
+        } else if self.mailbox.write_due().is_some() {
+            Some(Op::WriteMailbox)
+        } else if self.mailbox.read_due() {
+            Some(Op::ReadMailbox)
+        } else {
+            None
+        }
     }
 
     /// The next register read: the SyncManagers, the watchdog registers and the DC registers
@@ -604,12 +608,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// configuration): they are derived again on the next poll.
     fn targets_changed(&mut self) {
         self.targets = None;
-        self.work = Work::All;
-    }
-
-    /// The mailbox's flags changed: the next poll looks at them.
-    fn mailbox_changed(&mut self) {
-        self.work = self.work.max(Work::Mailbox);
+        self.stale = Stale::ALL;
     }
 
     /// What the ESM state asks for in the registers ([`Targets::derive`]).
@@ -710,12 +709,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 if short {
                     self.complete_mailbox = true;
                 } else {
-                    self.mailbox.written();
+                    self.sent();
                 }
             }
             Op::CompleteMailbox => {
                 self.complete_mailbox = false;
-                self.mailbox.written();
+                self.sent();
             }
             Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
             Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
@@ -763,6 +762,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.check_sm_change();
             }
         }
+    }
+
+    /// The message is complete in SM1: the mailbox waits for the MainDevice to read it, and SM1's
+    /// repeat acknowledge follows the request.
+    fn sent(&mut self) {
+        self.mailbox.written();
+        self.stale.insert(Stale::SENT);
     }
 
     /// Handles one AL control value (ETG.1000.6 §6.4.1).
@@ -930,7 +936,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || !self.mailbox.has_work() {
             return false;
         }
-        self.mailbox_changed();
+        self.stale.insert(Stale::MAILBOX_QUEUE);
         self.pd_stale = true;
         let mut cx = Context {
             od,
@@ -980,7 +986,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || self.state == AlState::Boot {
             return false;
         }
-        self.mailbox_changed();
+        self.stale.insert(Stale::MAILBOX_QUEUE);
         self.mailbox.emergency(emergency);
         true
     }

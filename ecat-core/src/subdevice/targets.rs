@@ -12,6 +12,49 @@ use crate::al::{AlEvent, AlStatus, AlStatusCode};
 use crate::mailbox::Mailbox;
 use crate::sync_manager::Channel;
 
+/// The parts of the register plan that may not be satisfied since a poll last found them so: a
+/// bit per part, set by the changes that can affect it, cleared when a poll finds the part
+/// satisfied. A poll looks only at the stale parts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) struct Stale(u8);
+
+impl Stale {
+    /// Nothing: a poll answers `None` at once.
+    pub(super) const NONE: Self = Self(0);
+    /// The AL event mask.
+    pub(super) const EVENT_MASK: Self = Self(1 << 0);
+    /// The register reads an AL event asked for.
+    pub(super) const READS: Self = Self(1 << 1);
+    /// PDI control of SM0..SM3.
+    pub(super) const PDI_CONTROL: Self = Self(1 << 2);
+    /// The SM0/SM1 accesses.
+    pub(super) const MAILBOX: Self = Self(1 << 3);
+    /// AL status code and AL status.
+    pub(super) const STATUS: Self = Self(1 << 4);
+    /// Everything.
+    pub(super) const ALL: Self = Self(0x1F);
+    /// A message came, went or was queued: the SM0/SM1 events waited for and the SM0/SM1
+    /// accesses due.
+    pub(super) const MAILBOX_QUEUE: Self = Self(Self::EVENT_MASK.0 | Self::MAILBOX.0);
+    /// SM1 was written: the same, and SM1's repeat acknowledge.
+    pub(super) const SENT: Self = Self(Self::MAILBOX_QUEUE.0 | Self::PDI_CONTROL.0);
+
+    /// Whether every part of `other` is stale.
+    pub(super) const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// Marks `other` stale.
+    pub(super) fn insert(&mut self, other: Self) {
+        self.0 |= other.0;
+    }
+
+    /// Marks `other` satisfied.
+    pub(super) fn remove(&mut self, other: Self) {
+        self.0 &= !other.0;
+    }
+}
+
 /// The register values the ESM state asks for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) struct Targets {
