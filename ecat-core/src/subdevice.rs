@@ -118,18 +118,13 @@ enum Op {
 }
 
 impl Op {
-    /// The parts of the register plan the access's completion may change. Reading SM0 only moves
-    /// the request from SM0 into the mailbox, which changes the SM0/SM1 events it waits for, not
-    /// which SM0/SM1 access is due (a read needs nothing in flight; a write depends on the
-    /// answer). Writing SM1 leaves its last byte due, or the message sent
-    /// ([`SubDevice::sent`](SubDevice) marks what that changes).
-    const fn stales(self) -> Stale {
-        match self {
-            Op::ReadMailbox => Stale::EVENT_MASK,
-            Op::WriteMailbox => Stale::MAILBOX,
-            Op::CompleteMailbox => Stale::NONE,
-            _ => Stale::ALL,
-        }
+    /// Whether the access is one of the mailbox's: its completion marks what it changes in the
+    /// register plan itself ([`SubDevice::access_done`]); any other access may change anything.
+    const fn is_mailbox(self) -> bool {
+        matches!(
+            self,
+            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox
+        )
     }
 
     /// The AL event bits the access clears in the ESC.
@@ -382,7 +377,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some((op, value)) = self.in_flight.take() else {
             return;
         };
-        self.stale.insert(op.stales());
+        if !op.is_mailbox() {
+            self.stale = Stale::ALL;
+        }
         self.complete(now, op, value);
         self.handle_al_event(event.difference(op.clears()));
     }
@@ -702,8 +699,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
                 }
             }
+            // No poll looks at the plan while an access is in flight, so what changed meanwhile
+            // is still marked. Reading SM0 changes nothing in the plan: the read was due, so
+            // nothing was queued or in SM1; the SM0 event stays wanted and the SM1 event
+            // unwanted, and no SM0/SM1 access is due until the request is served.
             Op::ReadMailbox => self.mailbox.received(),
             Op::WriteMailbox => {
+                self.stale.insert(Stale::MAILBOX);
                 let short =
                     self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
                 if short {
