@@ -545,10 +545,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.stale.remove(Stale::PDI_CONTROL);
         }
         if self.stale.contains(Stale::MAILBOX) {
-            if let Some(op) = self.next_mailbox_op() {
+            let op = self.next_mailbox_op();
+            if matches!(op, None | Some(Op::ReadMailbox)) {
+                // Reading SM0 is the last access the mailbox can need before the request is
+                // served (see `complete`): the part is satisfied once the read is under way.
+                self.stale.remove(Stale::MAILBOX);
+            }
+            if let Some(op) = op {
                 return Some((op, 0));
             }
-            self.stale.remove(Stale::MAILBOX);
         }
         if self.stale.contains(Stale::STATUS) {
             let targets = self.targets();
@@ -701,8 +706,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             // No poll looks at the plan while an access is in flight, so what changed meanwhile
             // is still marked. Reading SM0 changes nothing in the plan: the read was due, so
-            // nothing was queued or in SM1; the SM0 event stays wanted and the SM1 event
-            // unwanted, and no SM0/SM1 access is due until the request is served.
+            // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
+            // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
+            // served.
             Op::ReadMailbox => self.mailbox.received(),
             Op::WriteMailbox => {
                 self.stale.insert(Stale::MAILBOX);
@@ -767,7 +773,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The message is complete in SM1: the mailbox waits for the MainDevice to read it, and SM1's
-    /// repeat acknowledge follows the request.
+    /// repeat acknowledge follows the request. Until the SM1 event (or a repeat request, read
+    /// with an SM-change event) no SM0/SM1 access is due; the event mask and PDI control may
+    /// change.
     fn sent(&mut self) {
         self.mailbox.written();
         self.stale.insert(Stale::SENT);
