@@ -201,14 +201,19 @@ impl<const N: usize> SdoServer<N> {
         };
         let len = if (1..=4).contains(&size) && !target.domain {
             // Expedited: the data moves into the header (ETG.1000.6 Table 37).
-            let mut value = [0u8; 4];
-            match body.get(SDO_HEADER..SDO_HEADER + size) {
-                Some(first) if sent == size => {
-                    value.iter_mut().zip(first).for_each(|(v, b)| *v = *b)
+            let value = match body.get(SDO_HEADER..SDO_HEADER + 4) {
+                // The four bytes after the header, of which the value's `size` count.
+                Some(&[a, b, c, d]) if sent == size => {
+                    let bits = u32::from_le_bytes([a, b, c, d]) & (u32::MAX >> (32 - 8 * size));
+                    bits.to_le_bytes()
                 }
-                // A minimum-size mailbox has no room behind the header.
-                _ => _ = fetch(cx, object, target, 0, &mut value)?,
-            }
+                // A mailbox too small for four bytes behind the header.
+                _ => {
+                    let mut value = [0u8; 4];
+                    fetch(cx, object, target, 0, &mut value)?;
+                    value
+                }
+            };
             let command = response::upload_expedited(size, target.complete);
             write_sdo(body, command, target, value)
         } else {
