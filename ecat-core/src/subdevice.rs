@@ -545,13 +545,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.stale.remove(Stale::PDI_CONTROL);
         }
         if self.stale.contains(Stale::MAILBOX) {
-            let op = self.next_mailbox_op();
-            if matches!(op, None | Some(Op::ReadMailbox)) {
-                // Reading SM0 is the last access the mailbox can need before the request is
-                // served (see `complete`): the part is satisfied once the read is under way.
-                self.stale.remove(Stale::MAILBOX);
-            }
-            if let Some(op) = op {
+            // Satisfied once its access is under way: the access's completion marks what it
+            // makes due (see `complete`).
+            self.stale.remove(Stale::MAILBOX);
+            if let Some(op) = self.next_mailbox_op() {
                 return Some((op, 0));
             }
         }
@@ -711,11 +708,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // served.
             Op::ReadMailbox => self.mailbox.received(),
             Op::WriteMailbox => {
-                self.stale.insert(Stale::MAILBOX);
                 let short =
                     self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
                 if short {
+                    // Its last byte is due next.
                     self.complete_mailbox = true;
+                    self.stale.insert(Stale::MAILBOX);
                 } else {
                     self.sent();
                 }
