@@ -772,11 +772,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The message is complete in SM1: the mailbox waits for the MainDevice to read it, and SM1's
     /// repeat acknowledge follows the request. Until the SM1 event (or a repeat request, read
-    /// with an SM-change event) no SM0/SM1 access is due; the event mask and PDI control may
-    /// change.
+    /// with an SM-change event) no SM0/SM1 access is due; the SM1 event may join the mask, and
+    /// PDI control changes when the acknowledge does.
     fn sent(&mut self) {
+        let ack = self.mailbox.repeat_ack();
         self.mailbox.written();
-        self.stale.insert(Stale::SENT);
+        self.stale.insert(Stale::EVENT_MASK);
+        if self.mailbox.repeat_ack() != ack {
+            self.stale.insert(Stale::PDI_CONTROL);
+        }
     }
 
     /// Handles one AL control value (ETG.1000.6 §6.4.1).

@@ -36,8 +36,6 @@ impl Stale {
     /// A message came, went or was queued: the SM0/SM1 events waited for and the SM0/SM1
     /// accesses due.
     pub(super) const MAILBOX_QUEUE: Self = Self(Self::EVENT_MASK.0 | Self::MAILBOX.0);
-    /// A message is complete in SM1: the SM0/SM1 events waited for and SM1's repeat acknowledge.
-    pub(super) const SENT: Self = Self(Self::EVENT_MASK.0 | Self::PDI_CONTROL.0);
 
     /// Whether every part of `other` is stale.
     pub(super) const fn contains(self, other: Self) -> bool {
