@@ -118,15 +118,6 @@ enum Op {
 }
 
 impl Op {
-    /// Whether the access is one of the mailbox's: its completion marks what it changes in the
-    /// register plan itself ([`SubDevice::access_done`]); any other access may change anything.
-    const fn is_mailbox(self) -> bool {
-        matches!(
-            self,
-            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox
-        )
-    }
-
     /// The AL event bits the access clears in the ESC.
     const fn clears(self) -> AlEvent {
         match self {
@@ -377,10 +368,33 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some((op, value)) = self.in_flight.take() else {
             return;
         };
-        if !op.is_mailbox() {
-            self.stale = Stale::ALL;
+        match op {
+            // No poll looks at the plan while an access is in flight, so what changed meanwhile
+            // is still marked. Reading SM0 changes nothing in the plan: the read was due, so
+            // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
+            // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
+            // served.
+            Op::ReadMailbox => self.mailbox.received(),
+            Op::WriteMailbox => {
+                let short =
+                    self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
+                if short {
+                    // Its last byte is due next.
+                    self.complete_mailbox = true;
+                    self.stale.insert(Stale::MAILBOX);
+                } else {
+                    self.sent();
+                }
+            }
+            Op::CompleteMailbox => {
+                self.complete_mailbox = false;
+                self.sent();
+            }
+            _ => {
+                self.stale = Stale::ALL;
+                self.complete_register(now, op, value);
+            }
         }
-        self.complete(now, op, value);
         self.handle_al_event(event.difference(op.clears()));
     }
 
@@ -693,34 +707,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn complete(&mut self, now: Instant, op: Op, value: u32) {
+    /// Completes a register access (the mailbox's are completed in [`SubDevice::access_done`]);
+    /// kept out of line, away from the mailbox's path.
+    #[inline(never)]
+    fn complete_register(&mut self, now: Instant, op: Op, value: u32) {
         match op {
+            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox => {}
             Op::WriteEventMask => self.written.event_mask = Some(value),
             Op::WritePdiControl(n) => {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
                     *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
                 }
-            }
-            // No poll looks at the plan while an access is in flight, so what changed meanwhile
-            // is still marked. Reading SM0 changes nothing in the plan: the read was due, so
-            // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
-            // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
-            // served.
-            Op::ReadMailbox => self.mailbox.received(),
-            Op::WriteMailbox => {
-                let short =
-                    self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
-                if short {
-                    // Its last byte is due next.
-                    self.complete_mailbox = true;
-                    self.stale.insert(Stale::MAILBOX);
-                } else {
-                    self.sent();
-                }
-            }
-            Op::CompleteMailbox => {
-                self.complete_mailbox = false;
-                self.sent();
             }
             Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
             Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
