@@ -550,33 +550,49 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.stale.remove(Stale::READS);
         }
         if self.stale.contains(Stale::PDI_CONTROL) {
-            let desired = self.targets().pdi_control(&self.mailbox);
-            for (n, (d, w)) in (0u8..).zip(desired.into_iter().zip(self.written.pdi_control)) {
-                if d != w {
-                    return Some((Op::WritePdiControl(n), u32::from(d)));
-                }
+            if let Some(write) = self.next_pdi_control() {
+                return Some(write);
             }
             self.stale.remove(Stale::PDI_CONTROL);
         }
         if self.stale.contains(Stale::MAILBOX) {
             // Satisfied once its access is under way: the access's completion marks what it
-            // makes due (see `complete`).
+            // makes due (see `access_done`).
             self.stale.remove(Stale::MAILBOX);
             if let Some(op) = self.next_mailbox_op() {
                 return Some((op, 0));
             }
         }
         if self.stale.contains(Stale::STATUS) {
-            let targets = self.targets();
-            if self.written.status_code != Some(targets.status_code) {
-                return Some((Op::WriteStatusCode, u32::from(targets.status_code)));
-            }
-            if self.written.status != Some(targets.status) {
-                return Some((Op::WriteStatus, u32::from(targets.status)));
+            if let Some(write) = self.next_status() {
+                return Some(write);
             }
             self.stale.remove(Stale::STATUS);
         }
         None
+    }
+
+    /// The PDI control write due, SM0 first. Out of line, as the other rarely stale parts.
+    #[inline(never)]
+    fn next_pdi_control(&mut self) -> Option<(Op, u32)> {
+        let desired = self.targets().pdi_control(&self.mailbox);
+        let written = self.written.pdi_control;
+        (0u8..)
+            .zip(desired.into_iter().zip(written))
+            .find_map(|(n, (d, w))| (d != w).then_some((Op::WritePdiControl(n), u32::from(d))))
+    }
+
+    /// The AL status code write due, or else the AL status write.
+    #[inline(never)]
+    fn next_status(&mut self) -> Option<(Op, u32)> {
+        let targets = self.targets();
+        if self.written.status_code != Some(targets.status_code) {
+            Some((Op::WriteStatusCode, u32::from(targets.status_code)))
+        } else if self.written.status != Some(targets.status) {
+            Some((Op::WriteStatus, u32::from(targets.status)))
+        } else {
+            None
+        }
     }
 
     /// The register targets, derived if an input changed since.
@@ -606,6 +622,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The next register read: the SyncManagers, the watchdog registers and the DC registers
     /// before AL control, so that a transition is checked against what the MainDevice wrote
     /// before requesting it.
+    #[inline(never)]
     fn next_read(&self) -> Option<Op> {
         let reads = [
             (self.read_sync_managers, Op::ReadSyncManagers),
@@ -625,6 +642,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// What the ESM state asks for in the registers ([`Targets::derive`]).
+    #[inline(never)]
     fn derive_targets(&self) -> Targets {
         let mut process_data = AlEvent::NONE;
         if self.state.has_process_data() {
