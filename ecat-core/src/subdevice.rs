@@ -352,10 +352,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The next register access the core needs, or `None` when it has nothing to do. Until
     /// [`SubDevice::access_done`] is called the same access is returned again.
+    #[inline]
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
+        // Settled: the answer costs the driver's loop a test, not a call.
+        if self.in_flight.is_none() && self.stale == Stale::NONE {
+            return None;
+        }
+        self.next_access()
+    }
+
+    fn next_access(&mut self) -> Option<Access<'_>> {
         let (op, value) = match self.in_flight {
             Some(in_flight) => in_flight,
-            None if self.stale == Stale::NONE => return None,
             None => self.next_op()?,
         };
         self.in_flight = Some((op, value));
