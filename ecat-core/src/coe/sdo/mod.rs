@@ -646,6 +646,7 @@ fn download_response(out: &mut [u8], target: Target) -> usize {
 }
 
 /// Writes command, index, subindex and four data bytes; returns 8.
+#[inline]
 fn write_sdo(body: &mut [u8], command: u8, target: Target, data: [u8; 4]) -> usize {
     let [i0, i1] = target.index.to_le_bytes();
     let bytes = [
@@ -665,6 +666,7 @@ pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
 }
 
 /// Writes the CoE header of `service` in front of a body of `len` bytes; returns the total.
+#[inline]
 fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
     if let Some(header) = out.get_mut(..CoeHeader::SIZE) {
         header.copy_from_slice(&CoeHeader::new(service).to_bytes());
