@@ -698,36 +698,35 @@ mod tests {
         }
     }
 
-    fn upload(out: &mut [u8], index: u16) -> usize {
-        let mut od = Od::default();
-        let mut cx = Context {
-            od: &mut od,
-            hooks: &mut (),
-            state: AlState::PreOp,
-            now: Instant::from_micros(0),
-        };
-        let [i0, i1] = index.to_le_bytes();
-        SdoServer::<16>::new().request(&mut cx, &[0x40, i0, i1, 0, 0, 0, 0, 0], out)
-    }
-
     #[test]
-    fn expedited_upload_fits_a_minimum_size_mailbox() {
-        // 16-byte mailbox: 6 bytes mailbox header, 2 bytes CoE header, 8 bytes SDO.
-        let mut out = [0xAA; 10];
-        let n = upload(&mut out, 0x1000);
-        assert_eq!(
-            &out[..n],
-            &[0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]
-        );
-    }
-
-    #[test]
-    fn expedited_upload_pads_short_values_with_zeros() {
-        let mut out = [0xAA; 40];
-        let n = upload(&mut out, 0x1001);
-        assert_eq!(
-            &out[..n],
-            &[0x00, 0x30, 0x4F, 0x01, 0x10, 0x00, 0x81, 0x00, 0x00, 0x00]
-        );
+    fn expedited_upload_carries_the_value_in_the_header_zero_padded() {
+        // (data room of the send mailbox, index, answer): 10 bytes is a 16-byte mailbox, with no
+        // room behind the 8-byte SDO header.
+        let cases = [
+            (
+                10,
+                0x1000,
+                [0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00],
+            ),
+            (
+                40,
+                0x1001,
+                [0x00, 0x30, 0x4F, 0x01, 0x10, 0x00, 0x81, 0x00, 0x00, 0x00],
+            ),
+        ];
+        for (room, index, answer) in cases {
+            let mut od = Od::default();
+            let mut cx = Context {
+                od: &mut od,
+                hooks: &mut (),
+                state: AlState::PreOp,
+                now: Instant::from_micros(0),
+            };
+            let [i0, i1] = u16::to_le_bytes(index);
+            let mut out = [0xAA; 40];
+            let request = [0x40, i0, i1, 0, 0, 0, 0, 0];
+            let n = SdoServer::<16>::new().request(&mut cx, &request, &mut out[..room]);
+            assert_eq!(out[..n], answer, "{index:#06x} in {room} bytes");
+        }
     }
 }
