@@ -118,13 +118,13 @@ where
 }
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
-struct Images<D: 'static> {
+struct Images<D: ObjectDictionary> {
     outputs: Option<PdoLayout<D>>,
     inputs: Option<PdoLayout<D>>,
 }
 
 /// What one exchange needs.
-struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
+struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
     esc: &'a SharedEsc<M, P>,
     app: &'a mut C,
     od: &'a SharedDictionary<M, D>,

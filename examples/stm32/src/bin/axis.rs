@@ -55,7 +55,7 @@ async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
         return;
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
-    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::new())));
+    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::default())));
     high.spawn(unwrap!(process_data(esc, od, irq, sync0)));
     spawner.spawn(unwrap!(state_machine(esc, od)));
 }
