@@ -971,15 +971,24 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || !self.mailbox.has_work() {
             return false;
         }
-        self.stale.insert(Stale::MAILBOX_QUEUE);
         self.pd_stale = true;
+        let request = self.mailbox.request_pending();
         let mut cx = Context {
             od,
             hooks,
             state: self.state,
             now,
         };
-        self.mailbox.service(&mut cx)
+        let built = self.mailbox.service(&mut cx);
+        // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
+        // the events the mask wants stay; only the answer's write is new. A message of the
+        // SubDevice's own or a request dropped without answer may change both.
+        self.stale.insert(if request && built {
+            Stale::MAILBOX
+        } else {
+            Stale::MAILBOX_QUEUE
+        });
+        built
     }
 
     /// Recomputes the process-image sizes from the PDO assignment and mapping objects of `od`

@@ -196,6 +196,11 @@ impl<const N: usize> Mailbox<N> {
         usize::from(self.receive.length)
     }
 
+    /// Whether a request read from SM0 waits to be served.
+    pub fn request_pending(&self) -> bool {
+        self.rx_pending
+    }
+
     /// SM0 was read into the receive buffer.
     pub fn received(&mut self) {
         self.rx_waiting = false;
