@@ -795,12 +795,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The message is complete in SM1: the mailbox waits for the MainDevice to read it, and SM1's
     /// repeat acknowledge follows the request. Until the SM1 event (or a repeat request, read
-    /// with an SM-change event) no SM0/SM1 access is due; the SM1 event may join the mask, and
-    /// PDI control changes when the acknowledge does.
+    /// with an SM-change event) no SM0/SM1 access is due. SM0 stays blocked, by the message
+    /// before and by SM1 now; the SM1 event, unwanted while the message was written (unless it
+    /// was a repeat), joins the mask when something waits behind the message. PDI control
+    /// changes when the acknowledge does.
     fn sent(&mut self) {
         let ack = self.mailbox.repeat_ack();
+        let repeat = self.mailbox.repeat_pending();
         self.mailbox.written();
-        self.stale.insert(Stale::EVENT_MASK);
+        if repeat || self.mailbox.wants_send_event() {
+            self.stale.insert(Stale::EVENT_MASK);
+        }
         if self.mailbox.repeat_ack() != ack {
             self.stale.insert(Stale::PDI_CONTROL);
         }
