@@ -37,8 +37,15 @@ use crate::sync_manager::Channel;
 use crate::sync_manager::check::{self, Channels};
 use crate::time::Instant;
 
+mod targets;
+
+use targets::{Stale, Targets, Written};
+
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+
+/// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
+const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
 
 /// The largest SyncManager register block the SubDevice reads (16 channels).
 const MAX_SM_BYTES: usize = 16 * Channel::SIZE;
@@ -124,30 +131,6 @@ impl Op {
     }
 }
 
-/// What the core last wrote to the ESC, so that it writes only what changed.
-#[derive(Debug, Clone, Copy)]
-struct Written {
-    event_mask: Option<u32>,
-    /// PDI control of SM0..SM3; [`Written::UNKNOWN`] until written.
-    pdi_control: [u8; 4],
-    status_code: Option<u16>,
-    status: Option<u16>,
-}
-
-impl Written {
-    /// A PDI control value never wanted (and with the deactivate bit set): not written yet.
-    const UNKNOWN: u8 = 0xFF;
-
-    const fn new() -> Self {
-        Self {
-            event_mask: None,
-            pdi_control: [Self::UNKNOWN; 4],
-            status_code: None,
-            status: None,
-        }
-    }
-}
-
 /// A transition waiting for the application.
 #[derive(Debug, Clone, Copy)]
 struct Pending {
@@ -187,6 +170,9 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// The DC registers as last read.
     dc: DcSettings,
     sm_changed: bool,
+    /// What the ESM state asks for in the registers; `None` after one of its inputs changed (state,
+    /// error, code, device ID, process-data configuration), derived again on the next poll.
+    targets: Option<Targets>,
     written: Written,
     in_flight: Option<(Op, u32)>,
     pending: Option<Pending>,
@@ -195,9 +181,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     mailbox: Mailbox<MBX>,
     /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
     complete_mailbox: bool,
-    /// Nothing changed since [`SubDevice::poll_access`] last found nothing to do: the next call
-    /// can say so at once instead of deriving every register again.
-    settled: bool,
+    /// The parts of the register plan that may not be satisfied: what the next poll looks at.
+    stale: Stale,
     /// The process-image sizes of the current PDO configuration, or why it is unusable.
     pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
@@ -230,6 +215,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             read_dc: false,
             dc: DcSettings::default(),
             sm_changed: false,
+            targets: None,
             written: Written::new(),
             in_flight: None,
             pending: None,
@@ -237,7 +223,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             buf: [0; MAX_SM_BYTES],
             mailbox: Mailbox::new(),
             complete_mailbox: false,
-            settled: false,
+            stale: Stale::ALL,
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
             outputs_received: false,
@@ -281,7 +267,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Sets the explicit device ID (for example read from rotary switches) presented when the
     /// MainDevice sets AL control bit 5.
     pub fn set_device_id(&mut self, id: u16) {
-        self.settled = false;
+        self.targets_changed();
         self.device_id = id;
     }
 
@@ -335,7 +321,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.is_empty() {
             return;
         }
-        self.settled = false;
+        if event.intersects(ESM_EVENTS | AlEvent::WATCHDOG_PROCESS_DATA) {
+            self.stale.insert(Stale::READS);
+        }
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
         if event.contains(AlEvent::AL_CONTROL) && !self.read_al_control {
@@ -351,7 +339,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
             self.read_watchdog_status = true;
         }
-        if self.state.has_mailbox() {
+        if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
+            self.stale.insert(Stale::MAILBOX_QUEUE);
             if event.contains(AlEvent::sync_manager(0)) {
                 self.mailbox.receive_event();
             }
@@ -363,17 +352,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The next register access the core needs, or `None` when it has nothing to do. Until
     /// [`SubDevice::access_done`] is called the same access is returned again.
+    #[inline]
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
+        // Settled: the answer costs the driver's loop a test, not a call.
+        if self.in_flight.is_none() && self.stale == Stale::NONE {
+            return None;
+        }
+        self.next_access()
+    }
+
+    fn next_access(&mut self) -> Option<Access<'_>> {
         let (op, value) = match self.in_flight {
             Some(in_flight) => in_flight,
-            None if self.settled => return None,
-            None => match self.next_op() {
-                Some(next) => next,
-                None => {
-                    self.settled = true;
-                    return None;
-                }
-            },
+            None => self.next_op()?,
         };
         self.in_flight = Some((op, value));
         Some(self.prepare(op, value))
@@ -385,8 +376,33 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some((op, value)) = self.in_flight.take() else {
             return;
         };
-        self.settled = false;
-        self.complete(now, op, value);
+        match op {
+            // No poll looks at the plan while an access is in flight, so what changed meanwhile
+            // is still marked. Reading SM0 changes nothing in the plan: the read was due, so
+            // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
+            // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
+            // served.
+            Op::ReadMailbox => self.mailbox.received(),
+            Op::WriteMailbox => {
+                let short =
+                    self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
+                if short {
+                    // Its last byte is due next.
+                    self.complete_mailbox = true;
+                    self.stale.insert(Stale::MAILBOX);
+                } else {
+                    self.sent();
+                }
+            }
+            Op::CompleteMailbox => {
+                self.complete_mailbox = false;
+                self.sent();
+            }
+            _ => {
+                self.stale = Stale::ALL;
+                self.complete_register(now, op, value);
+            }
+        }
         self.handle_al_event(event.difference(op.clears()));
     }
 
@@ -410,7 +426,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`AlStatusCode::NO_SYNC_ERROR`], one still waiting for outputs with
     /// [`AlStatusCode::SM_WATCHDOG`]; an SDO transfer missing its next segment is dropped.
     pub fn handle_timeout(&mut self, now: Instant) {
-        self.settled = false;
+        self.stale = Stale::ALL;
         self.mailbox.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
@@ -452,7 +468,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             _ => return,
         };
-        self.settled = false;
+        self.stale = Stale::ALL;
         if result.is_ok() && waits {
             return;
         }
@@ -473,7 +489,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn complete_when_fed(&mut self) {
         let Some(p) = self.pending else { return };
         if p.accepted && !p.needs_outputs && !p.needs_sync {
-            self.settled = false;
+            self.stale = Stale::ALL;
             self.finish_transition(p.transition, Ok(()));
         }
     }
@@ -498,7 +514,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync_lost(&mut self) {
         if self.state == AlState::Op && self.sync() == Ok(SyncType::DcSync0) {
-            self.settled = false;
+            self.stale = Stale::ALL;
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
     }
@@ -524,67 +540,140 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn next_op(&self) -> Option<(Op, u32)> {
-        let mask = self.desired_event_mask().bits();
-        if self.written.event_mask != Some(mask) {
-            return Some((Op::WriteEventMask, mask));
+    /// The next access of the register plan, in order: event mask, reads, PDI control, mailbox,
+    /// AL status code, AL status. Only the stale parts are looked at; a part found satisfied is
+    /// no longer stale.
+    fn next_op(&mut self) -> Option<(Op, u32)> {
+        if self.stale.contains(Stale::EVENT_MASK) {
+            let mask = self.targets().event_mask(&self.mailbox);
+            if self.written.event_mask != Some(mask) {
+                return Some((Op::WriteEventMask, mask));
+            }
+            self.stale.remove(Stale::EVENT_MASK);
         }
-        if self.read_sync_managers {
-            return Some((Op::ReadSyncManagers, 0));
+        if self.stale.contains(Stale::READS) {
+            if let Some(read) = self.next_read() {
+                return Some((read, 0));
+            }
+            self.stale.remove(Stale::READS);
         }
-        if self.read_watchdog {
-            return Some((Op::ReadWatchdog, 0));
+        if self.stale.contains(Stale::PDI_CONTROL) {
+            if let Some(write) = self.next_pdi_control() {
+                return Some(write);
+            }
+            self.stale.remove(Stale::PDI_CONTROL);
         }
-        if self.read_watchdog_status {
-            return Some((Op::ReadWatchdogStatus, 0));
-        }
-        if self.read_dc {
-            return Some((Op::ReadDc, 0));
-        }
-        if self.read_al_control {
-            return Some((Op::ReadAlControl, 0));
-        }
-        let desired = self.desired_pdi_control();
-        if desired != self.written.pdi_control {
-            for (n, (d, w)) in (0u8..).zip(desired.into_iter().zip(self.written.pdi_control)) {
-                if d != w {
-                    return Some((Op::WritePdiControl(n), u32::from(d)));
-                }
+        if self.stale.contains(Stale::MAILBOX) {
+            // Satisfied once its access is under way: the access's completion marks what it
+            // makes due (see `access_done`).
+            self.stale.remove(Stale::MAILBOX);
+            if let Some(op) = self.next_mailbox_op() {
+                return Some((op, 0));
             }
         }
-        if self.mailbox_ready() {
-            if self.complete_mailbox {
-                return Some((Op::CompleteMailbox, 0));
+        if self.stale.contains(Stale::STATUS) {
+            if let Some(write) = self.next_status() {
+                return Some(write);
             }
-            if self.mailbox.write_due().is_some() {
-                return Some((Op::WriteMailbox, 0));
-            }
-            if self.mailbox.read_due() {
-                return Some((Op::ReadMailbox, 0));
-            }
-        }
-        let code = self.al_status_code().0;
-        if self.written.status_code != Some(code) {
-            return Some((Op::WriteStatusCode, u32::from(code)));
-        }
-        let status = self.al_status().bits();
-        if self.written.status != Some(status) {
-            return Some((Op::WriteStatus, u32::from(status)));
+            self.stale.remove(Stale::STATUS);
         }
         None
+    }
+
+    /// The PDI control write due, SM0 first. Out of line, as the other rarely stale parts.
+    #[inline(never)]
+    fn next_pdi_control(&mut self) -> Option<(Op, u32)> {
+        let desired = self.targets().pdi_control(&self.mailbox);
+        let written = self.written.pdi_control;
+        (0u8..)
+            .zip(desired.into_iter().zip(written))
+            .find_map(|(n, (d, w))| (d != w).then_some((Op::WritePdiControl(n), u32::from(d))))
+    }
+
+    /// The AL status code write due, or else the AL status write.
+    #[inline(never)]
+    fn next_status(&mut self) -> Option<(Op, u32)> {
+        let targets = self.targets();
+        if self.written.status_code != Some(targets.status_code) {
+            Some((Op::WriteStatusCode, u32::from(targets.status_code)))
+        } else if self.written.status != Some(targets.status) {
+            Some((Op::WriteStatus, u32::from(targets.status)))
+        } else {
+            None
+        }
+    }
+
+    /// The register targets, derived if an input changed since.
+    fn targets(&mut self) -> Targets {
+        match self.targets {
+            Some(targets) => targets,
+            None => *self.targets.insert(self.derive_targets()),
+        }
+    }
+
+    /// The SM0/SM1 access due, once SM0 and SM1 are active in a mailbox state: the last byte of
+    /// a short message, the next message (or the last again), the next request.
+    fn next_mailbox_op(&self) -> Option<Op> {
+        if !self.state.has_mailbox() || !self.written.mailbox_active() {
+            None
+        } else if self.complete_mailbox {
+            Some(Op::CompleteMailbox)
+        } else if self.mailbox.write_due().is_some() {
+            Some(Op::WriteMailbox)
+        } else if self.mailbox.read_due() {
+            Some(Op::ReadMailbox)
+        } else {
+            None
+        }
+    }
+
+    /// The next register read: the SyncManagers, the watchdog registers and the DC registers
+    /// before AL control, so that a transition is checked against what the MainDevice wrote
+    /// before requesting it.
+    #[inline(never)]
+    fn next_read(&self) -> Option<Op> {
+        let reads = [
+            (self.read_sync_managers, Op::ReadSyncManagers),
+            (self.read_watchdog, Op::ReadWatchdog),
+            (self.read_watchdog_status, Op::ReadWatchdogStatus),
+            (self.read_dc, Op::ReadDc),
+            (self.read_al_control, Op::ReadAlControl),
+        ];
+        reads.into_iter().find_map(|(due, op)| due.then_some(op))
+    }
+
+    /// An input of the register targets changed (state, error, code, device ID, process-data
+    /// configuration): they are derived again on the next poll.
+    fn targets_changed(&mut self) {
+        self.targets = None;
+        self.stale = Stale::ALL;
+    }
+
+    /// What the ESM state asks for in the registers ([`Targets::derive`]).
+    #[inline(never)]
+    fn derive_targets(&self) -> Targets {
+        let mut process_data = AlEvent::NONE;
+        if self.state.has_process_data() {
+            process_data |= self.process_data_trigger();
+        }
+        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
+            process_data |= AlEvent::WATCHDOG_PROCESS_DATA;
+        }
+        Targets::derive(self.al_status(), self.al_status_code(), process_data)
     }
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
         match op {
             Op::ReadMailbox => {
+                let (address, buf) = self.mailbox.rx_buffer();
                 return Access::Read {
-                    address: self.active_mailbox().receive.start,
-                    buf: self.mailbox.rx_buffer(),
+                    address,
+                    buf,
                     clears: op.clears(),
                 };
             }
             Op::WriteMailbox => {
-                let address = self.active_mailbox().send.start;
+                let address = self.mailbox.send_address();
                 let data = self.mailbox.write_due().unwrap_or_default();
                 return Access::Write {
                     address,
@@ -596,9 +685,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 let last = self.mailbox.send_size().saturating_sub(1);
                 let data = self.mailbox.sent_byte(last);
                 let address = self
-                    .active_mailbox()
-                    .send
-                    .start
+                    .mailbox
+                    .send_address()
                     .saturating_add(u16::try_from(last).unwrap_or(0));
                 return Access::Write {
                     address,
@@ -645,27 +733,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn complete(&mut self, now: Instant, op: Op, value: u32) {
+    /// Completes a register access (the mailbox's are completed in [`SubDevice::access_done`]);
+    /// kept out of line, away from the mailbox's path.
+    #[inline(never)]
+    fn complete_register(&mut self, now: Instant, op: Op, value: u32) {
         match op {
+            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox => {}
             Op::WriteEventMask => self.written.event_mask = Some(value),
             Op::WritePdiControl(n) => {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
                     *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
                 }
-            }
-            Op::ReadMailbox => self.mailbox.received(),
-            Op::WriteMailbox => {
-                let short =
-                    self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
-                if short {
-                    self.complete_mailbox = true;
-                } else {
-                    self.mailbox.written();
-                }
-            }
-            Op::CompleteMailbox => {
-                self.complete_mailbox = false;
-                self.mailbox.written();
             }
             Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
             Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
@@ -677,8 +755,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.read_dc = false;
                 let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
                 let dc = DcSettings::from_bytes(bytes);
-                self.pd_stale |= dc != self.dc;
-                self.dc = dc;
+                if dc != self.dc {
+                    self.pd_stale = true;
+                    self.targets_changed();
+                    self.dc = dc;
+                }
             }
             Op::ReadWatchdogStatus => {
                 self.read_watchdog_status = false;
@@ -712,6 +793,24 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
+    /// The message is complete in SM1: the mailbox waits for the MainDevice to read it, and SM1's
+    /// repeat acknowledge follows the request. Until the SM1 event (or a repeat request, read
+    /// with an SM-change event) no SM0/SM1 access is due. SM0 stays blocked, by the message
+    /// before and by SM1 now; the SM1 event, unwanted while the message was written (unless it
+    /// was a repeat), joins the mask when something waits behind the message. PDI control
+    /// changes when the acknowledge does.
+    fn sent(&mut self) {
+        let ack = self.mailbox.repeat_ack();
+        let repeat = self.mailbox.repeat_pending();
+        self.mailbox.written();
+        if repeat || self.mailbox.wants_send_event() {
+            self.stale.insert(Stale::EVENT_MASK);
+        }
+        if self.mailbox.repeat_ack() != ack {
+            self.stale.insert(Stale::PDI_CONTROL);
+        }
+    }
+
     /// Handles one AL control value (ETG.1000.6 §6.4.1).
     fn on_control(&mut self, now: Instant, control: AlControl) {
         if let Some(p) = self.pending {
@@ -729,6 +828,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if decision == Decision::Ignore {
             return;
         }
+        self.targets_changed();
         self.error = false;
         self.code = AlStatusCode::NO_ERROR;
         self.id_requested = control.device_id_request();
@@ -825,12 +925,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.change_state(t);
             }
         }
+        self.targets_changed();
         self.error = true;
         self.code = code;
     }
 
     fn change_state(&mut self, t: Transition) {
         self.abort_pending();
+        self.targets_changed();
         self.state = t.to;
         if t.from.has_mailbox() && !t.to.has_mailbox() {
             self.mailbox.stop();
@@ -842,10 +944,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;
-            let mailbox = self.active_mailbox();
             let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
-            self.mailbox
-                .start(mailbox.receive.length, mailbox.send.length, repeat);
+            self.mailbox.start(self.active_mailbox(), repeat);
         }
         self.events.push(Event::StateChanged(t));
     }
@@ -856,60 +956,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn desired_event_mask(&self) -> AlEvent {
-        let mut mask = ESM_EVENTS;
-        if self.state.has_process_data() {
-            mask |= self.process_data_trigger();
-        }
-        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
-            mask |= AlEvent::WATCHDOG_PROCESS_DATA;
-        }
-        if self.state.has_mailbox() {
-            if self.mailbox.wants_receive_event() {
-                mask |= AlEvent::sync_manager(0);
-            }
-            if self.mailbox.wants_send_event() {
-                mask |= AlEvent::sync_manager(1);
-            }
-        }
-        mask
-    }
-
-    /// PDI control of SM0..SM3: mailbox channels active from PREOP (and in BOOT), SM1 carrying
-    /// the repeat acknowledge; process-data channels active in SAFEOP and OP; deactivated
-    /// otherwise.
-    fn desired_pdi_control(&self) -> [u8; 4] {
-        let off = Channel::PDI_DEACTIVATE;
-        let (mailbox, send) = if self.state.has_mailbox() {
-            let ack = if self.mailbox.repeat_ack() {
-                Channel::PDI_REPEAT_ACK
-            } else {
-                0
-            };
-            (0, ack)
-        } else {
-            (off, off)
-        };
-        let process_data = if self.state.has_process_data() {
-            0
-        } else {
-            off
-        };
-        [mailbox, send, process_data, process_data]
-    }
-
     /// The mailbox layout of the current state: the bootstrap mailbox in BOOT.
     fn active_mailbox(&self) -> MailboxConfig {
         match (self.state, self.config.bootstrap_mailbox) {
             (AlState::Boot, Some(boot)) => boot,
             _ => self.config.mailbox,
         }
-    }
-
-    /// Whether mailbox traffic may flow: a mailbox state with SM0/SM1 activated.
-    fn mailbox_ready(&self) -> bool {
-        let [receive, send, ..] = self.written.pdi_control;
-        self.state.has_mailbox() && (receive | send) & Channel::PDI_DEACTIVATE == 0
     }
 
     /// Serves the mailbox: the request read from SM0, or the next SDO Information fragment or
@@ -921,18 +973,27 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
-        if !self.state.has_mailbox() {
+        if !self.state.has_mailbox() || !self.mailbox.has_work() {
             return false;
         }
-        self.settled = false;
         self.pd_stale = true;
+        let request = self.mailbox.request_pending();
         let mut cx = Context {
             od,
             hooks,
             state: self.state,
             now,
         };
-        self.mailbox.service(&mut cx)
+        let built = self.mailbox.service(&mut cx);
+        // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
+        // the events the mask wants stay; only the answer's write is new. A message of the
+        // SubDevice's own or a request dropped without answer may change both.
+        self.stale.insert(if request && built {
+            Stale::MAILBOX
+        } else {
+            Stale::MAILBOX_QUEUE
+        });
+        built
     }
 
     /// Recomputes the process-image sizes from the PDO assignment and mapping objects of `od`
@@ -949,6 +1010,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !core::mem::take(&mut self.pd_stale) {
             return;
         }
+        self.targets_changed();
         self.sync = sync::requested(od, self.config);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
@@ -973,7 +1035,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || self.state == AlState::Boot {
             return false;
         }
-        self.settled = false;
+        self.stale.insert(Stale::MAILBOX_QUEUE);
         self.mailbox.emergency(emergency);
         true
     }

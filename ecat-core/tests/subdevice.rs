@@ -4,7 +4,10 @@
 mod common;
 
 use common::{DEVICE, Op, Regs, configure_all};
-use ecat_core::{AlState, AlStatusCode, Duration, Event, Instant, SubDevice, Transition};
+use ecat_core::coe::Emergency;
+use ecat_core::{
+    AlEvent, AlState, AlStatusCode, Duration, Event, Instant, SubDevice, Transition, register,
+};
 
 const T0: Instant = Instant::from_micros(0);
 
@@ -288,4 +291,90 @@ fn expired_watchdog_in_op_reads_0x0440_and_falls_back_to_safeop() {
         regs.event & ecat_core::AlEvent::WATCHDOG_PROCESS_DATA.bits(),
         0
     );
+}
+
+/// The registers the core keeps at a value, as the ESC holds them: AL status, AL status code, AL
+/// event mask and PDI control of SM0..SM3.
+fn presented(regs: &Regs) -> (u16, u16, u32, [u8; 4]) {
+    let pdi = |n: u8| regs.mem[usize::from(register::sync_manager(n)) + 7];
+    let a = usize::from(register::AL_EVENT_MASK);
+    let mask = u32::from_le_bytes(regs.mem[a..a + 4].try_into().unwrap());
+    (
+        regs.u16_at(register::AL_STATUS),
+        regs.u16_at(register::AL_STATUS_CODE),
+        mask,
+        [pdi(0), pdi(1), pdi(2), pdi(3)],
+    )
+}
+
+/// The MainDevice sends an upload the empty dictionary refuses (`counter` 1..=7) and the
+/// SubDevice answers; the answer stays unread in SM1.
+fn mailbox_request(regs: &mut Regs, sub: &mut SubDevice<'_>, counter: u8) {
+    let coe = (counter << 4) | 3;
+    let request = [
+        10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
+    ];
+    regs.put(common::MAILBOX.receive.start, &request);
+    sub.handle_al_event(AlEvent::sync_manager(0));
+    let mut log = regs.drive(sub, T0);
+    while sub.service_mailbox(T0, &mut (), &mut ()) {
+        log.extend(regs.drive(sub, T0));
+    }
+    let send = common::MAILBOX.send.start;
+    assert!(
+        log.iter()
+            .any(|op| matches!(op, Op::Write(a, _) if *a == send))
+    );
+    assert_eq!(regs.mem[usize::from(send) + 8], 0x80, "an abort answers");
+}
+
+/// The MainDevice reads SM1; whatever waited for it is sent.
+fn answer_read(regs: &mut Regs, sub: &mut SubDevice<'_>) {
+    sub.handle_al_event(AlEvent::sync_manager(1));
+    regs.drive(sub, T0);
+    while sub.service_mailbox(T0, &mut (), &mut ()) {
+        regs.drive(sub, T0);
+    }
+}
+
+#[test]
+fn every_register_follows_errors_acknowledges_state_changes_and_deactivation() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    assert_eq!(presented(&regs), (0x01, 0, 0x011, [1, 1, 1, 1]));
+    configure_all(&mut regs);
+    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    assert_eq!(presented(&regs), (0x02, 0, 0x111, [0, 0, 1, 1]));
+    mailbox_request(&mut regs, &mut sub, 1);
+    answer_read(&mut regs, &mut sub);
+    assert_eq!(presented(&regs), (0x02, 0, 0x111, [0, 0, 1, 1]));
+
+    // An emergency waits behind the answer: with the answer in SM1 the SM1 event joins the mask,
+    // and once the emergency is sent it leaves it.
+    assert!(sub.emergency(Emergency::default()));
+    mailbox_request(&mut regs, &mut sub, 2);
+    assert_eq!(presented(&regs), (0x02, 0, 0x311, [0, 0, 1, 1]));
+    answer_read(&mut regs, &mut sub);
+    assert_eq!(presented(&regs), (0x02, 0, 0x111, [0, 0, 1, 1]));
+    answer_read(&mut regs, &mut sub);
+
+    // SM2 too short for the outputs: SAFEOP is refused with 0x001D, PREOP stays, error set.
+    regs.sm(2, common::OUTPUTS.start, 1, 0x64, true);
+    request(&mut regs, &mut sub, 4);
+    assert_eq!(presented(&regs), (0x12, 0x1D, 0x111, [0, 0, 1, 1]));
+    mailbox_request(&mut regs, &mut sub, 3);
+    answer_read(&mut regs, &mut sub);
+    assert_eq!(presented(&regs), (0x12, 0x1D, 0x111, [0, 0, 1, 1]));
+
+    // The acknowledge clears the error and its code.
+    request(&mut regs, &mut sub, 0x12);
+    assert_eq!(presented(&regs), (0x02, 0, 0x111, [0, 0, 1, 1]));
+
+    // SM0 deactivated by the MainDevice: back to INIT with 0x0016, mailbox channels off and
+    // the SM0 event out of the mask.
+    regs.sm(0, common::MAILBOX.receive.start, 128, 0x26, false);
+    sub.handle_al_event(AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    assert_eq!(presented(&regs), (0x11, 0x16, 0x011, [1, 1, 1, 1]));
+    assert_eq!(sub.state(), AlState::Init);
 }

@@ -106,10 +106,14 @@ impl ObjectInfo {
             ObjectCode::Array if sub == 0 => self.entries.first(),
             ObjectCode::Array if sub <= self.max_sub => self.entries.get(1),
             ObjectCode::Array => None,
-            ObjectCode::Record => {
-                let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
-                self.entries.get(i)
-            }
+            // Most records are dense (subindex n at position n): a look there saves the search.
+            ObjectCode::Record => match self.entries.get(usize::from(sub)) {
+                Some(entry) if entry.sub == sub => Some(entry),
+                _ => {
+                    let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
+                    self.entries.get(i)
+                }
+            },
         }
     }
 

@@ -39,6 +39,14 @@ pub trait Value: Sized {
 
 /// Copies `bytes[offset..]` into `out` as far as both go.
 fn copy_from(bytes: &[u8], offset: usize, out: &mut [u8]) -> usize {
+    // The whole value (an SDO upload): a copy of the value's own length, which a fixed-size
+    // value turns into a plain store.
+    if offset == 0
+        && let Some(dst) = out.get_mut(..bytes.len())
+    {
+        dst.copy_from_slice(bytes);
+        return bytes.len();
+    }
     let src = bytes.get(offset..).unwrap_or_default();
     let n = src.len().min(out.len());
     if let (Some(dst), Some(src)) = (out.get_mut(..n), src.get(..n)) {

@@ -116,5 +116,9 @@ impl MailboxHeader {
 
 /// The mailbox counter sequence 1..=7 (0 is "no counter"; ETG.1000.4 §5.6.3).
 pub const fn next_counter(counter: u8) -> u8 {
-    (counter % 7) + 1
+    match counter {
+        1..=6 => counter + 1,
+        // After 7 comes 1; without a counter yet (0) the sequence starts at 1.
+        _ => 1,
+    }
 }

@@ -19,10 +19,12 @@ mod header;
 pub use error::MailboxError;
 pub use header::{MailboxHeader, MailboxType, next_counter};
 
+use crate::AlEvent;
 use crate::AlState;
 use crate::coe::sdo::{self, Context, SdoServer};
 use crate::coe::sdo_info::SdoInfo;
 use crate::coe::{AbortCode, CoeHeader, Emergency, Service};
+use crate::device::{Area, MailboxConfig};
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
 use crate::ring::Ring;
 use crate::time::Instant;
@@ -37,10 +39,10 @@ pub struct Mailbox<const N: usize> {
     tx: [u8; N],
     /// Length of the last message built in `tx` (header included).
     tx_len: usize,
-    /// SM1 size, for the error-reply length check and the message capacity.
-    send_size: usize,
-    /// SM0 size.
-    receive_size: usize,
+    /// SM0, its length clamped to `N`.
+    receive: Area,
+    /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
+    send: Area,
     /// SM0 holds a message the SubDevice has not read yet.
     rx_waiting: bool,
     /// `rx` holds a message not yet served.
@@ -75,8 +77,8 @@ impl<const N: usize> Mailbox<N> {
             rx: [0; N],
             tx: [0; N],
             tx_len: 0,
-            send_size: 0,
-            receive_size: 0,
+            receive: Area::new(0, 0),
+            send: Area::new(0, 0),
             rx_waiting: false,
             rx_pending: false,
             tx_pending: false,
@@ -91,12 +93,16 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// Starts the mailbox with SM0/SM1 of the given sizes; the repeat acknowledge starts equal to
-    /// the request bit ("copy the request bit into the ack bit at mailbox start").
-    pub fn start(&mut self, receive_size: u16, send_size: u16, repeat_request: bool) {
+    /// Starts the mailbox on SM0/SM1 of `config`; the repeat acknowledge starts equal to the
+    /// request bit ("copy the request bit into the ack bit at mailbox start").
+    pub fn start(&mut self, config: MailboxConfig, repeat_request: bool) {
         *self = Self::new();
-        self.receive_size = usize::from(receive_size).min(N);
-        self.send_size = usize::from(send_size).min(N);
+        let clamp = |area: Area| {
+            let length = usize::from(area.length).min(N);
+            Area::new(area.start, u16::try_from(length).unwrap_or(area.length))
+        };
+        self.receive = clamp(config.receive);
+        self.send = clamp(config.send);
         self.repeat_request = repeat_request;
         self.repeat_ack = repeat_request;
     }
@@ -124,6 +130,19 @@ impl<const N: usize> Mailbox<N> {
             // Nothing was ever sent: nothing to repeat, acknowledge at once.
             self.repeat_ack = request;
         }
+    }
+
+    /// The SM0/SM1 bits the AL event mask needs now ([`Mailbox::wants_receive_event`],
+    /// [`Mailbox::wants_send_event`]).
+    pub fn event_mask(&self) -> AlEvent {
+        let mut mask = AlEvent::NONE;
+        if self.wants_receive_event() {
+            mask |= AlEvent::sync_manager(0);
+        }
+        if self.wants_send_event() {
+            mask |= AlEvent::sync_manager(1);
+        }
+        mask
     }
 
     /// Whether SM0 may be read now: its answer could be sent at once.
@@ -159,9 +178,27 @@ impl<const N: usize> Mailbox<N> {
         self.rx_waiting && self.can_receive()
     }
 
-    /// The receive buffer for reading SM0 (`receive_size` bytes).
-    pub fn rx_buffer(&mut self) -> &mut [u8] {
-        self.rx.get_mut(..self.receive_size).unwrap_or_default()
+    /// SM0's address and the receive buffer for reading it (SM0's length).
+    pub fn rx_buffer(&mut self) -> (u16, &mut [u8]) {
+        let size = self.receive_size();
+        (
+            self.receive.start,
+            self.rx.get_mut(..size).unwrap_or_default(),
+        )
+    }
+
+    /// SM1's address.
+    pub fn send_address(&self) -> u16 {
+        self.send.start
+    }
+
+    fn receive_size(&self) -> usize {
+        usize::from(self.receive.length)
+    }
+
+    /// Whether a request read from SM0 waits to be served.
+    pub fn request_pending(&self) -> bool {
+        self.rx_pending
     }
 
     /// SM0 was read into the receive buffer.
@@ -183,7 +220,7 @@ impl<const N: usize> Mailbox<N> {
     /// The byte that completes the send mailbox when the message is shorter than SM1: its last
     /// byte, at `send_size - 1`.
     pub fn send_size(&self) -> usize {
-        self.send_size
+        usize::from(self.send.length)
     }
 
     /// Byte `i` of the message buffer (zero-padded to SM1's size), as a one-byte slice.
@@ -224,19 +261,26 @@ impl<const N: usize> Mailbox<N> {
         self.sdo.handle_timeout(now);
     }
 
+    /// Whether [`Mailbox::service`] has anything to do: SM1 is free and a request, an SDO
+    /// Information fragment or an emergency waits for it.
+    pub fn has_work(&self) -> bool {
+        let free = !self.tx_pending && !self.send_busy && !self.repeat_pending();
+        free && (self.rx_pending || self.sdo_info.is_pending() || !self.emergencies.is_empty())
+    }
+
     /// Serves what is due: the received message, or else the next fragment or emergency when SM1
     /// is free. Returns whether a message was built. Bounded: one message per call.
     pub fn service<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
     ) -> bool {
-        if self.tx_pending || self.send_busy || self.repeat_pending() {
+        if !self.has_work() {
             return false;
         }
         if core::mem::take(&mut self.rx_pending) {
             return self.serve_request(cx);
         }
-        let capacity = self.send_size.saturating_sub(MailboxHeader::SIZE);
+        let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self
             .tx
             .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
@@ -261,7 +305,7 @@ impl<const N: usize> Mailbox<N> {
         if length == 0 {
             return self.build_error(MailboxError::INVALID_HEADER);
         }
-        if length > self.receive_size.saturating_sub(MailboxHeader::SIZE) {
+        if length > self.receive_size().saturating_sub(MailboxHeader::SIZE) {
             return self.build_error(MailboxError::INVALID_SIZE);
         }
         if header.counter != 0 && header.counter == self.rx_counter {
@@ -285,7 +329,7 @@ impl<const N: usize> Mailbox<N> {
             return self.build_error(MailboxError::INVALID_SIZE);
         };
         let payload = message.get(CoeHeader::SIZE..).unwrap_or_default();
-        let capacity = self.send_size.saturating_sub(MailboxHeader::SIZE);
+        let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self.tx.get_mut(start..start + capacity).unwrap_or_default();
         let len = match coe.service {
             Service::SdoRequest if payload.len() < 8 => {
@@ -333,8 +377,9 @@ impl<const N: usize> Mailbox<N> {
         let end = (MailboxHeader::SIZE + len).min(N);
         // Bytes past the message are padding the MainDevice ignores; only the last byte of SM1,
         // written to complete a short message, needs a defined value.
-        if end < self.send_size
-            && let Some(last) = self.tx.get_mut(self.send_size - 1)
+        let send_size = self.send_size();
+        if end < send_size
+            && let Some(last) = self.tx.get_mut(send_size - 1)
         {
             *last = 0;
         }

@@ -186,36 +186,43 @@ impl<const N: usize> SdoServer<N> {
         self.timed_out = false;
         let (object, target) = resolve::<D>(target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
-        let size = value_size(cx, object, target)?;
-        let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
-        let len = if (1..=4).contains(&size) && !target.domain {
-            let mut data = [0u8; 4];
-            fetch(cx, object, target, 0, &mut data)?;
-            write_sdo(
-                body,
-                response::upload_expedited(size, target.complete),
-                target,
-                data,
+        let body = body_of(out);
+        // The value is read once, straight into the answer's data area; its size then says
+        // expedited or normal.
+        let data = body.get_mut(SDO_HEADER..).unwrap_or_default();
+        let (size, sent) = if target.domain || target.complete {
+            (
+                value_size(cx, object, target)?,
+                fetch(cx, object, target, 0, data)?,
             )
         } else {
-            let sent = fetch(
-                cx,
-                object,
-                target,
-                0,
-                body.get_mut(SDO_HEADER..).unwrap_or_default(),
-            )?;
+            let read = (object.read)(cx.od, target.sub, 0, data)?;
+            (read.size, read.copied)
+        };
+        let len = if (1..=4).contains(&size) && !target.domain {
+            // Expedited: the data moves into the header (ETG.1000.6 Table 37).
+            let value = match body.get(SDO_HEADER..SDO_HEADER + 4) {
+                // The four bytes after the header, of which the value's `size` count.
+                Some(&[a, b, c, d]) if sent == size => {
+                    let bits = u32::from_le_bytes([a, b, c, d]) & (u32::MAX >> (32 - 8 * size));
+                    bits.to_le_bytes()
+                }
+                // A mailbox too small for four bytes behind the header.
+                _ => {
+                    let mut value = [0u8; 4];
+                    fetch(cx, object, target, 0, &mut value)?;
+                    value
+                }
+            };
+            let command = response::upload_expedited(size, target.complete);
+            write_sdo(body, command, target, value)
+        } else {
             let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-            let header = write_sdo(
-                body,
-                response::upload_normal(target.complete),
-                target,
-                size_bytes,
-            );
+            let command = response::upload_normal(target.complete);
             if sent < size {
                 self.begin(cx.now, Kind::Upload, target, size, sent);
             }
-            header + sent
+            write_sdo(body, command, target, size_bytes) + sent
         };
         Ok(finish(out, Service::SdoResponse, len))
     }
@@ -639,6 +646,7 @@ fn download_response(out: &mut [u8], target: Target) -> usize {
 }
 
 /// Writes command, index, subindex and four data bytes; returns 8.
+#[inline]
 fn write_sdo(body: &mut [u8], command: u8, target: Target, data: [u8; 4]) -> usize {
     let [i0, i1] = target.index.to_le_bytes();
     let bytes = [
@@ -658,6 +666,7 @@ pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
 }
 
 /// Writes the CoE header of `service` in front of a body of `len` bytes; returns the total.
+#[inline]
 fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
     if let Some(header) = out.get_mut(..CoeHeader::SIZE) {
         header.copy_from_slice(&CoeHeader::new(service).to_bytes());
@@ -671,4 +680,53 @@ fn body_of(out: &mut [u8]) -> &mut [u8] {
 
 fn byte(bytes: &[u8], i: usize) -> u8 {
     bytes.get(i).copied().unwrap_or(0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Od {
+        device_type: u32,
+        error_register: u8,
+    }
+
+    crate::dictionary! {
+        Od {
+            0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+            0x1001 => var(error_register, RO, "Error register", default = 0x81);
+        }
+    }
+
+    #[test]
+    fn expedited_upload_carries_the_value_in_the_header_zero_padded() {
+        // (data room of the send mailbox, index, answer): 10 bytes is a 16-byte mailbox, with no
+        // room behind the 8-byte SDO header.
+        let cases = [
+            (
+                10,
+                0x1000,
+                [0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00],
+            ),
+            (
+                40,
+                0x1001,
+                [0x00, 0x30, 0x4F, 0x01, 0x10, 0x00, 0x81, 0x00, 0x00, 0x00],
+            ),
+        ];
+        for (room, index, answer) in cases {
+            let mut od = Od::default();
+            let mut cx = Context {
+                od: &mut od,
+                hooks: &mut (),
+                state: AlState::PreOp,
+                now: Instant::from_micros(0),
+            };
+            let [i0, i1] = u16::to_le_bytes(index);
+            let mut out = [0xAA; 40];
+            let request = [0x40, i0, i1, 0, 0, 0, 0, 0];
+            let n = SdoServer::<16>::new().request(&mut cx, &request, &mut out[..room]);
+            assert_eq!(out[..n], answer, "{index:#06x} in {room} bytes");
+        }
+    }
 }
