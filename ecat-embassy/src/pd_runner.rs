@@ -8,6 +8,7 @@ use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::process_data::{Clock, Layout};
+use ecat_core::register::AL_EVENT_REQUEST;
 use ecat_core::sync::{CycleMonitor, CycleReport};
 use embassy_futures::select::{Either4, select4};
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -78,43 +79,74 @@ where
     // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
     let mut tick: Option<Instant> = None;
     loop {
-        let seen = esc.pd_generation();
-        let layout = esc.layout();
-        let step = if layout != current {
+        let news = esc.pd_news(current);
+        let layout = news.layout;
+        let plan = if layout != current {
             let was_active = current.is_some_and(|l| l.outputs_active);
             current = layout;
             if was_active && !layout.is_some_and(|l| l.outputs_active) {
                 exchange.safe_state();
             }
             tick = layout.and_then(first_deadline);
-            exchange.on_new_layout(layout).await
-        } else if !esc.take_pd_events().is_empty() {
-            exchange.on_trigger(layout, true).await
+            exchange.on_new_layout(layout)
+        } else if !news.pd_events.is_empty() {
+            Some(exchange.on_trigger(layout, true))
         } else {
-            let irq_free = esc.esm_started() && !esc.esm_holds_irq();
             let sync0_on = layout.is_some_and(|l| l.sync0());
             match select4(
-                when(irq_free, irq.wait_for_low()),
-                esc.pd_news_since(seen),
+                when(news.irq_free, irq.wait_for_low()),
+                esc.pd_news_since(news.generation),
                 until(tick),
                 when(sync0_on, sync0.wait_for_rising_edge()),
             )
             .await
             {
-                Either4::First(Ok(())) => exchange.on_trigger(layout, false).await,
-                Either4::First(Err(e)) | Either4::Fourth(Err(e)) => Err(Error::Irq(e)),
-                Either4::Second(()) => Ok(()),
-                Either4::Third(()) => exchange.on_tick(layout, &mut tick).await,
+                Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
+                Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
+                Either4::Second(()) => None,
+                Either4::Third(()) => exchange.on_tick(layout, &mut tick),
                 Either4::Fourth(Ok(())) => {
                     tick = layout.and_then(first_deadline);
-                    exchange.on_sync0(layout).await
+                    exchange.on_sync0(layout)
                 }
             }
         };
-        if let Err(e) = step {
+        if let Some(plan) = plan
+            && let Err(e) = exchange.perform(plan).await
+        {
             return e;
         }
     }
+}
+
+/// What a wake-up of the runner leads to: at most one read, then maybe a cycle (whose input
+/// write is the only other access). The decisions are synchronous, so the runner's future holds
+/// one read and one write, whatever woke it.
+struct Plan {
+    /// Read first: the output area (SM2), or the AL event register, which routes the IRQ's cause.
+    read: Option<Read>,
+    /// What follows the read.
+    then: Then,
+}
+
+/// The read a [`Plan`] starts with.
+enum Read {
+    Outputs(Area),
+    AlEvent,
+}
+
+/// What a [`Plan`] does after its read.
+enum Then {
+    /// Nothing: the read only routed the AL event to the state-machine runner.
+    Nothing,
+    /// The cycle that starts a new layout: valid inputs at once, no outputs applied.
+    FirstCycle(Layout),
+    /// A cycle started by a clock (free-run timer or SYNC0); the SM2 event the read brings along
+    /// tells whether the MainDevice sent outputs.
+    Clocked(Layout),
+    /// A cycle on the trigger event, unless the read shows it was not the trigger. `true`: the
+    /// other runner saw the trigger.
+    Triggered(Layout, bool),
 }
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
@@ -160,11 +192,11 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
     /// accepted, and valid inputs at once.
-    async fn on_new_layout<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
+    fn on_new_layout(&mut self, layout: Option<Layout>) -> Option<Plan> {
         self.reported = Reported::default();
         let Some(layout) = layout else {
             self.images = None;
-            return Ok(());
+            return None;
         };
         if self.images.is_none() {
             self.monitor.reset();
@@ -176,104 +208,116 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });
-        self.cycle(layout, false, None).await
+        Some(Plan {
+            read: None,
+            then: Then::FirstCycle(layout),
+        })
     }
 
-    /// Free-run: a cycle is due. Reads the outputs (their SM2 event, coming along, tells whether
-    /// the MainDevice sent any) and runs the cycle; the next one is due one cycle later.
+    /// Free-run: a cycle is due. It reads the outputs (their SM2 event, coming along, tells
+    /// whether the MainDevice sent any) and runs; the next one is due one cycle later.
     /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
-    async fn on_tick<I>(
-        &mut self,
-        layout: Option<Layout>,
-        tick: &mut Option<Instant>,
-    ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout else { return Ok(()) };
+    fn on_tick(&mut self, layout: Option<Layout>, tick: &mut Option<Instant>) -> Option<Plan> {
+        let layout = layout?;
         if layout.sync0() {
             *tick = None;
             self.esc.note_sync_lost();
-            return Ok(());
+            return None;
         }
         if let (Some(next), Some(period)) = (tick.as_mut(), layout.period()) {
             *next += to_embassy(period);
         }
-        self.clocked_cycle(layout).await
+        Some(Self::clocked(layout))
     }
 
-    async fn on_sync0<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(Layout::sync0) else {
-            return Ok(());
-        };
+    fn on_sync0(&mut self, layout: Option<Layout>) -> Option<Plan> {
+        let layout = layout.filter(Layout::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
             self.esc.note_sync_received();
         }
-        self.clocked_cycle(layout).await
+        Some(Self::clocked(layout))
     }
 
-    /// A cycle started by a clock (free-run timer or SYNC0): read the outputs, run the cycle.
-    async fn clocked_cycle<I>(&mut self, layout: Layout) -> Result<(), Error<P::Error, I>> {
-        let mut new_outputs = false;
-        if let Some(area) = layout.outputs {
-            let event = self.read_outputs(area).await?;
-            new_outputs = event.intersects(AlEvent::sync_manager(2));
-            if new_outputs {
-                self.report_outputs();
-            }
+    /// A cycle started by a clock: read the outputs, run the cycle.
+    fn clocked(layout: Layout) -> Plan {
+        Plan {
+            read: layout.outputs.map(Read::Outputs),
+            then: Then::Clocked(layout),
         }
-        let apply = layout.outputs_active && layout.outputs.is_some();
-        self.cycle(layout, apply, Some(new_outputs)).await
-    }
-
-    /// Reads the output area (SM2) into the output buffer; returns the AL event seen.
-    async fn read_outputs<I>(&mut self, area: Area) -> Result<AlEvent, Error<P::Error, I>> {
-        let buf = self
-            .buffers
-            .outputs
-            .get_mut(..usize::from(area.length))
-            .ok_or(Error::BufferTooSmall)?;
-        self.esc
-            .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
-            .await
-            .map_err(Error::Pdi)
     }
 
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
-    async fn on_trigger<I>(
-        &mut self,
-        layout: Option<Layout>,
-        known: bool,
-    ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(|l| l.period().is_none()) else {
+    fn on_trigger(&mut self, layout: Option<Layout>, known: bool) -> Plan {
+        match layout.filter(|l| l.period().is_none()) {
+            Some(layout) => Plan {
+                read: Some(layout.outputs.map_or(Read::AlEvent, Read::Outputs)),
+                then: Then::Triggered(layout, known),
+            },
             // Not exchanging process data on events (none, or free-run): the IRQ is for the state
             // machine; reading the AL event routes it there.
-            self.esc
-                .read_al_event(Runner::ProcessData)
-                .await
-                .map_err(Error::Pdi)?;
-            return Ok(());
-        };
-        let event = match layout.outputs {
-            Some(area) => self.read_outputs(area).await?,
-            None => self
-                .esc
-                .read_al_event(Runner::ProcessData)
-                .await
-                .map_err(Error::Pdi)?,
-        };
-        let triggered =
-            known || event.intersects(layout.trigger()) || !self.esc.take_pd_events().is_empty();
-        if !triggered {
-            return Ok(());
+            None => Plan {
+                read: Some(Read::AlEvent),
+                then: Then::Nothing,
+            },
         }
-        let new_outputs = layout.outputs.is_some();
-        if new_outputs {
-            self.report_outputs();
-        }
-        self.cycle(
-            layout,
-            layout.outputs_active && new_outputs,
-            Some(new_outputs),
-        )
-        .await
+    }
+
+    /// Performs `plan`: its read, then the cycle when the read confirms it.
+    async fn perform<I>(&mut self, plan: Plan) -> Result<(), Error<P::Error, I>> {
+        let event = match plan.read {
+            Some(read) => self.read(read).await?,
+            None => AlEvent::NONE,
+        };
+        let (layout, apply_outputs, new_outputs) = match plan.then {
+            Then::Nothing => return Ok(()),
+            Then::FirstCycle(layout) => (layout, false, None),
+            Then::Clocked(layout) => {
+                let new_outputs = event.intersects(AlEvent::sync_manager(2));
+                if new_outputs {
+                    self.report_outputs();
+                }
+                let apply = layout.outputs_active && layout.outputs.is_some();
+                (layout, apply, Some(new_outputs))
+            }
+            Then::Triggered(layout, known) => {
+                let triggered = known
+                    || event.intersects(layout.trigger())
+                    || !self.esc.take_pd_events().is_empty();
+                if !triggered {
+                    return Ok(());
+                }
+                let new_outputs = layout.outputs.is_some();
+                if new_outputs {
+                    self.report_outputs();
+                }
+                (
+                    layout,
+                    layout.outputs_active && new_outputs,
+                    Some(new_outputs),
+                )
+            }
+        };
+        self.cycle(layout, apply_outputs, new_outputs).await
+    }
+
+    /// Reads the output area (SM2) into the output buffer, or the AL event register; returns the
+    /// AL event seen.
+    async fn read<I>(&mut self, read: Read) -> Result<AlEvent, Error<P::Error, I>> {
+        let mut register = [0; 4];
+        let (address, buf) = match read {
+            Read::Outputs(area) => (
+                area.start,
+                self.buffers
+                    .outputs
+                    .get_mut(..usize::from(area.length))
+                    .ok_or(Error::BufferTooSmall)?,
+            ),
+            Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
+        };
+        self.esc
+            .read(Runner::ProcessData, address, buf, AlEvent::NONE)
+            .await
+            .map_err(Error::Pdi)
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the

@@ -87,6 +87,19 @@ impl Routing {
     }
 }
 
+/// What the process-data runner learns from [`SharedEsc::pd_news`].
+pub(crate) struct PdNews {
+    /// The token for [`SharedEsc::pd_news_since`], taken with the rest.
+    pub(crate) generation: u32,
+    /// The process-data layout of the current state.
+    pub(crate) layout: Option<Layout>,
+    /// Process-data trigger events the state-machine runner saw.
+    pub(crate) pd_events: AlEvent,
+    /// No state-machine event may hold the IRQ line asserted: the process-data runner may wait
+    /// on it.
+    pub(crate) irq_free: bool,
+}
+
 /// Emergencies the application may raise between two turns of the state-machine runner.
 const EMERGENCIES: usize = 4;
 
@@ -131,18 +144,6 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     ) -> Result<AlEvent, P::Error> {
         let seen = self.pdi.lock().await.read(address, buf).await?;
         Ok(self.observe_access(runner, seen, clears))
-    }
-
-    /// Reads the AL event register (0x0220) for `runner`, which routes what it holds.
-    pub(crate) async fn read_al_event(&self, runner: Runner) -> Result<AlEvent, P::Error> {
-        let mut register = [0; 4];
-        self.read(
-            runner,
-            ecat_core::register::AL_EVENT_REQUEST,
-            &mut register,
-            AlEvent::NONE,
-        )
-        .await
     }
 
     /// Writes at `address` for `runner`; returns the AL event seen, less the bits the write
@@ -282,29 +283,27 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// Whether the state-machine runner has set up the ESC (see [`SharedEsc::publish`]).
-    pub(crate) fn esm_started(&self) -> bool {
-        self.with(|r| r.esm_started)
-    }
-
-    /// The process-data layout of the current state.
-    pub(crate) fn layout(&self) -> Option<Layout> {
-        self.with(|r| r.layout)
+    /// What the process-data runner looks at before it waits, in one critical section: the
+    /// layout of the current state, the trigger events seen by the state-machine runner (taken
+    /// only while `current` is still the layout), whether the IRQ line is free for it, and the
+    /// token for [`SharedEsc::pd_news_since`].
+    pub(crate) fn pd_news(&self, current: Option<Layout>) -> PdNews {
+        self.with(|r| PdNews {
+            generation: r.pd_news,
+            layout: r.layout,
+            pd_events: if r.layout == current {
+                core::mem::take(&mut r.pd_events)
+            } else {
+                AlEvent::NONE
+            },
+            // Before the state-machine runner set up the ESC, its reset mask may hold the line.
+            irq_free: r.esm_started && !r.esm_holds_irq,
+        })
     }
 
     /// Takes the process-data trigger events seen by the state-machine runner.
     pub(crate) fn take_pd_events(&self) -> AlEvent {
         self.with(|r| core::mem::take(&mut r.pd_events))
-    }
-
-    /// Whether state-machine events may hold the IRQ line asserted.
-    pub(crate) fn esm_holds_irq(&self) -> bool {
-        self.with(|r| r.esm_holds_irq)
-    }
-
-    /// A token for [`SharedEsc::pd_news_since`]: take it before looking at the shared state.
-    pub(crate) fn pd_generation(&self) -> u32 {
-        self.with(|r| r.pd_news)
     }
 
     /// Waits until something changed for the process-data runner since `seen` was taken: its
