@@ -10,6 +10,7 @@ use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 
+use crate::pdi::Data;
 use crate::shared::Runner;
 use crate::time::{now, until};
 use crate::{Application, Pdi, SharedEsc};
@@ -114,14 +115,11 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
 ) -> Result<(), P::Error> {
     while let Some(access) = sub.poll_access() {
         let clears = access.clears();
-        let event = match access {
-            ecat_core::Access::Read { address, buf, .. } => {
-                esc.read(Runner::Esm, address, buf, clears).await?
-            }
-            ecat_core::Access::Write { address, data, .. } => {
-                esc.write(Runner::Esm, address, data, clears).await?
-            }
+        let (address, data) = match access {
+            ecat_core::Access::Read { address, buf, .. } => (address, Data::Read(buf)),
+            ecat_core::Access::Write { address, data, .. } => (address, Data::Write(data)),
         };
+        let event = esc.access(Runner::Esm, address, data, clears).await?;
         sub.access_done(now(), event);
         esc.publish(sub.process_data(), sub.event_mask());
     }

@@ -15,6 +15,7 @@ use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
+use crate::pdi::Data;
 use crate::shared::Runner;
 use crate::time::{now, to_embassy, until_instant as until};
 use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
@@ -315,7 +316,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
         };
         self.esc
-            .read(Runner::ProcessData, address, buf, AlEvent::NONE)
+            .access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
             .await
             .map_err(Error::Pdi)
     }
@@ -365,10 +366,10 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         });
         if let Some(area) = layout.inputs {
             self.esc
-                .write(
+                .access(
                     Runner::ProcessData,
                     area.start,
-                    inputs,
+                    Data::Write(inputs),
                     AlEvent::sync_manager(3),
                 )
                 .await

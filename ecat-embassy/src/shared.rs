@@ -15,6 +15,7 @@ use embassy_sync::mutex::Mutex;
 use embassy_sync::waitqueue::WakerRegistration;
 
 use crate::Pdi;
+use crate::pdi::Data;
 
 /// Which runner performs an access.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -134,28 +135,16 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         }
     }
 
-    /// Reads at `address` for `runner`; returns the AL event seen, less the bits the read clears.
-    pub(crate) async fn read(
+    /// Performs one access for `runner`; returns the AL event seen, less the bits the access
+    /// clears (reading a register clears its event, writing SM1's buffer clears its read event).
+    pub(crate) async fn access(
         &self,
         runner: Runner,
         address: u16,
-        buf: &mut [u8],
+        data: Data<'_>,
         clears: AlEvent,
     ) -> Result<AlEvent, P::Error> {
-        let seen = self.pdi.lock().await.read(address, buf).await?;
-        Ok(self.observe_access(runner, seen, clears))
-    }
-
-    /// Writes at `address` for `runner`; returns the AL event seen, less the bits the write
-    /// clears (writing SM1's buffer clears its read event).
-    pub(crate) async fn write(
-        &self,
-        runner: Runner,
-        address: u16,
-        data: &[u8],
-        clears: AlEvent,
-    ) -> Result<AlEvent, P::Error> {
-        let seen = self.pdi.lock().await.write(address, data).await?;
+        let seen = self.pdi.lock().await.access(address, data).await?;
         Ok(self.observe_access(runner, seen, clears))
     }
 

@@ -49,6 +49,7 @@ use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
+use crate::pdi::Data;
 
 /// SPI instruction READ: address, then data (LAN9252 datasheet, "SPI/SQI Slave", "SPI Read").
 const READ: u8 = 0x03;
@@ -446,10 +447,20 @@ impl<S: SpiDevice> Lan9252<S> {
 impl<S: SpiDevice> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
-    /// Registers through the CSR interface, process RAM through the PRAM read FIFO. A read that
+    /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
     /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
-    /// any other read reports the state-machine events known to be pending (see the module docs).
-    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
+    /// any other access reports the state-machine events known to be pending (see the module docs).
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error> {
+        match data {
+            Data::Read(buf) => self.esc_read(address, buf).await,
+            Data::Write(data) => self.esc_write(address, data).await,
+        }
+    }
+}
+
+impl<S: SpiDevice> Lan9252<S> {
+    /// A read: see [`Lan9252::access`].
+    async fn esc_read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Error<S::Error>> {
         let clears = AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED);
         let (registers, ram) = split_at_process_ram(address, buf);
         let mut fresh = None;
@@ -466,9 +477,8 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
         Ok(event)
     }
 
-    /// Registers through the CSR interface, process RAM through the PRAM write FIFO. Reports the
-    /// state-machine events known to be pending.
-    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Self::Error> {
+    /// A write: see [`Lan9252::access`].
+    async fn esc_write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Error<S::Error>> {
         let (registers, ram) = data
             .split_at_checked(register_bytes(address, data.len()))
             .unwrap_or_default();
