@@ -274,169 +274,146 @@ impl<S: SpiDevice> Lan9252<S> {
         .await
     }
 
-    /// An EtherCAT CSR read of `size` (1, 2 or 4) bytes at `address`; the value in the low bytes.
-    async fn read_csr(&mut self, address: u16, size: usize) -> Result<u32, Error<S::Error>> {
-        self.write_dwords(
-            CSR_DATA,
-            &[CSR_MARKER, csr_command(CSR_READ, address, size)],
-        )
-        .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        loop {
-            let data = self.read_register(CSR_DATA).await?;
-            if data != CSR_MARKER {
-                return Ok(data);
-            }
-            // The marker: still busy, or the register holds the marker's value.
-            if self.read_register(CSR_CMD).await? & CSR_BUSY == 0 {
-                return self.read_register(CSR_DATA).await;
-            }
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::Timeout(Wait::Csr))?;
-        }
-    }
-
-    /// An EtherCAT CSR write of the low `size` (1, 2 or 4) bytes of `value` at `address`.
-    async fn write_csr(
+    /// One EtherCAT CSR command of `size` (1, 2 or 4) bytes at `address`: a read (`write` is
+    /// `None`; returns the value in the low bytes) or a write of the low bytes of `write`.
+    ///
+    /// A read writes [`CSR_MARKER`] into the data register together with the command (one
+    /// transaction), then reads the data register: a value other than the marker is the result.
+    /// The marker means still busy, or a register that holds the marker's value: the command
+    /// register tells which. A write waits for the command to finish (the next CSR command must
+    /// not overlap it).
+    async fn csr(
         &mut self,
         address: u16,
         size: usize,
-        value: u32,
-    ) -> Result<(), Error<S::Error>> {
-        self.write_dwords(CSR_DATA, &[value, csr_command(0, address, size)])
+        write: Option<u32>,
+    ) -> Result<u32, Error<S::Error>> {
+        let (data, read) = match write {
+            Some(value) => (value, 0),
+            None => (CSR_MARKER, CSR_READ),
+        };
+        self.write_dwords(CSR_DATA, &[data, csr_command(read, address, size)])
             .await?;
         let deadline = Deadline::after(self.config.busy_timeout);
-        while self.read_register(CSR_CMD).await? & CSR_BUSY != 0 {
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::Timeout(Wait::Csr))?;
-        }
-        Ok(())
-    }
-
-    /// The AL event register, through the CSR interface.
-    async fn read_al_event(&mut self) -> Result<AlEvent, Error<S::Error>> {
-        Ok(AlEvent(self.read_csr(AL_EVENT_REQUEST, 4).await?))
-    }
-
-    /// Reads ESC registers (all of `buf` below 0x1000) through the CSR interface.
-    async fn read_registers(
-        &mut self,
-        address: u16,
-        buf: &mut [u8],
-    ) -> Result<(), Error<S::Error>> {
-        let mut position = address;
-        let mut rest = buf;
-        while !rest.is_empty() {
-            let size = csr_size(position, rest.len());
-            let value = self.read_csr(position, size).await?.to_le_bytes();
-            let (piece, tail) = rest.split_at_mut_checked(size).unwrap_or_default();
-            piece.copy_from_slice(value.get(..size).unwrap_or_default());
-            rest = tail;
-            position = position.wrapping_add(size as u16);
-        }
-        Ok(())
-    }
-
-    /// Writes ESC registers (all of `data` below 0x1000) through the CSR interface.
-    async fn write_registers(&mut self, address: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
-        let mut position = address;
-        let mut rest = data;
-        while !rest.is_empty() {
-            let size = csr_size(position, rest.len());
-            let (piece, tail) = rest.split_at_checked(size).unwrap_or_default();
-            let mut value = [0; 4];
-            for (byte, &data) in value.iter_mut().zip(piece) {
-                *byte = data;
-            }
-            self.write_csr(position, size, u32::from_le_bytes(value))
-                .await?;
-            rest = tail;
-            position = position.wrapping_add(size as u16);
-        }
-        Ok(())
-    }
-
-    /// Reads process RAM through the PRAM read FIFO.
-    async fn read_pram(&mut self, address: u16, buf: &mut [u8]) -> Result<(), Error<S::Error>> {
-        if buf.is_empty() {
-            return Ok(());
-        }
-        let stream = FifoStream::new(address, buf.len());
-        self.write_dwords(
-            PRAM_READ_ADDR_LEN,
-            &[stream.address_length(address), PRAM_BUSY],
-        )
-        .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        let mut position = 0;
-        while position < stream.len() {
-            let available = fifo_bytes(self.read_register(PRAM_READ_CMD).await?);
-            if available == 0 {
+        let first = if write.is_none() { CSR_DATA } else { CSR_CMD };
+        let mut register = first;
+        let mut done = false;
+        loop {
+            let value = self.read_register(register).await?;
+            if register == CSR_DATA {
+                if done || value != CSR_MARKER {
+                    return Ok(value);
+                }
+                register = CSR_CMD;
+            } else if value & CSR_BUSY == 0 {
+                if write.is_some() {
+                    return Ok(0);
+                }
+                done = true;
+                register = CSR_DATA;
+            } else {
                 deadline
                     .pause()
                     .await
-                    .map_err(|Expired| Error::Timeout(Wait::PramRead))?;
-                continue;
+                    .map_err(|Expired| Error::Timeout(Wait::Csr))?;
+                register = first;
             }
-            let end = stream.len().min(position + available);
-            let layout = stream.layout(position..end);
-            let (mut head, mut tail) = ([0; 3], [0; 3]);
-            let header = Header::read(self.config.read, PRAM_READ_FIFO);
-            self.transfer(&mut [
-                Operation::Write(header.as_slice()),
-                Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
-                Operation::Read(buf.get_mut(layout.data.clone()).unwrap_or_default()),
-                Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
-            ])
-            .await?;
-            position = end;
+        }
+    }
+
+    /// Reads or writes ESC registers (all of `data` below 0x1000) through the CSR interface, in
+    /// the largest pieces the CSR interface takes.
+    async fn registers(
+        &mut self,
+        address: u16,
+        data: &mut Data<'_>,
+    ) -> Result<(), Error<S::Error>> {
+        let mut offset = 0;
+        while offset < data.len() {
+            let position = address.wrapping_add(offset as u16);
+            let size = csr_size(position, data.len() - offset);
+            let write = match data {
+                Data::Read(_) => None,
+                Data::Write(bytes) => {
+                    let mut value = [0; 4];
+                    for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size))
+                    {
+                        *byte = data;
+                    }
+                    Some(u32::from_le_bytes(value))
+                }
+            };
+            let value = self.csr(position, size, write).await?.to_le_bytes();
+            if let Data::Read(buf) = data {
+                for (byte, value) in buf.iter_mut().skip(offset).take(size).zip(value) {
+                    *byte = value;
+                }
+            }
+            offset += size;
         }
         Ok(())
     }
 
-    /// Writes process RAM through the PRAM write FIFO.
-    async fn write_pram(&mut self, address: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
+    /// Reads or writes process RAM through the PRAM read or write FIFO.
+    async fn pram(&mut self, address: u16, mut data: Data<'_>) -> Result<(), Error<S::Error>> {
         if data.is_empty() {
             return Ok(());
         }
-        let stream = FifoStream::new(address, data.len());
-        self.write_dwords(
-            PRAM_WRITE_ADDR_LEN,
-            &[stream.address_length(address), PRAM_BUSY],
-        )
-        .await?;
-        let mut space = match self.config.write_space {
-            WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
-            WriteSpace::Polled => 0,
+        let (address_length, command, wait, mut space) = match data {
+            Data::Read(_) => (PRAM_READ_ADDR_LEN, PRAM_READ_CMD, Wait::PramRead, 0),
+            Data::Write(_) => (
+                PRAM_WRITE_ADDR_LEN,
+                PRAM_WRITE_CMD,
+                Wait::PramWrite,
+                match self.config.write_space {
+                    WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
+                    WriteSpace::Polled => 0,
+                },
+            ),
         };
+        let stream = FifoStream::new(address, data.len());
+        self.write_dwords(address_length, &[stream.address_length(address), PRAM_BUSY])
+            .await?;
         let deadline = Deadline::after(self.config.busy_timeout);
         let mut position = 0;
         while position < stream.len() {
+            // A read polls the data available before every FIFO load, a write when the space it
+            // knows of is used up.
             if space == 0 {
-                space = fifo_bytes(self.read_register(PRAM_WRITE_CMD).await?);
+                space = fifo_bytes(self.read_register(command).await?);
                 if space == 0 {
                     deadline
                         .pause()
                         .await
-                        .map_err(|Expired| Error::Timeout(Wait::PramWrite))?;
+                        .map_err(|Expired| Error::Timeout(wait))?;
                     continue;
                 }
             }
             let end = stream.len().min(position + space);
             let layout = stream.layout(position..end);
-            let padding = [0; 3];
-            let header = Header::write(PRAM_WRITE_FIFO, false);
-            self.transfer(&mut [
-                Operation::Write(header.as_slice()),
-                Operation::Write(padding.get(..layout.head).unwrap_or_default()),
-                Operation::Write(data.get(layout.data).unwrap_or_default()),
-                Operation::Write(padding.get(..layout.tail).unwrap_or_default()),
-            ])
-            .await?;
+            let (mut head, mut tail) = ([0; 3], [0; 3]);
+            let header;
+            let mut operations = match &mut data {
+                Data::Read(buf) => {
+                    header = Header::read(self.config.read, PRAM_READ_FIFO);
+                    [
+                        Operation::Write(header.as_slice()),
+                        Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
+                        Operation::Read(buf.get_mut(layout.data).unwrap_or_default()),
+                        Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
+                    ]
+                }
+                Data::Write(bytes) => {
+                    header = Header::write(PRAM_WRITE_FIFO, false);
+                    [
+                        Operation::Write(header.as_slice()),
+                        Operation::Write(head.get(..layout.head).unwrap_or_default()),
+                        Operation::Write(bytes.get(layout.data).unwrap_or_default()),
+                        Operation::Write(tail.get(..layout.tail).unwrap_or_default()),
+                    ]
+                }
+            };
+            self.transfer(&mut operations).await?;
             space -= end - position;
             position = end;
         }
@@ -451,24 +428,27 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
     /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
     /// any other access reports the state-machine events known to be pending (see the module docs).
     async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error> {
-        match data {
-            Data::Read(buf) => self.esc_read(address, buf).await,
-            Data::Write(data) => self.esc_write(address, data).await,
-        }
-    }
-}
-
-impl<S: SpiDevice> Lan9252<S> {
-    /// A read: see [`Lan9252::access`].
-    async fn esc_read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Error<S::Error>> {
-        let clears = AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED);
-        let (registers, ram) = split_at_process_ram(address, buf);
+        let clears = match &data {
+            Data::Read(buf) => {
+                AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED)
+            }
+            Data::Write(_) => AlEvent::NONE,
+        };
+        let reading = matches!(data, Data::Read(_));
+        let len = data.len();
+        let (mut registers, ram) = data.split_at(register_bytes(address, len));
         let mut fresh = None;
-        if !ram.is_empty() {
-            fresh = Some(self.read_al_event().await?);
+        if reading && !ram.is_empty() {
+            let mut value = [0; 4];
+            self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
+                .await?;
+            fresh = Some(AlEvent(u32::from_le_bytes(value)));
         }
-        self.read_registers(address, registers).await?;
-        self.read_pram(address.max(PROCESS_RAM), ram).await?;
+        self.registers(address, &mut registers).await?;
+        self.pram(address.max(PROCESS_RAM), ram).await?;
+        let Data::Read(registers) = registers else {
+            return Ok(self.known);
+        };
         let fresh = fresh.or_else(|| al_event_in(address, registers));
         let event = fresh.unwrap_or(self.known);
         self.known = fresh
@@ -476,27 +456,11 @@ impl<S: SpiDevice> Lan9252<S> {
             .difference(clears);
         Ok(event)
     }
-
-    /// A write: see [`Lan9252::access`].
-    async fn esc_write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Error<S::Error>> {
-        let (registers, ram) = data
-            .split_at_checked(register_bytes(address, data.len()))
-            .unwrap_or_default();
-        self.write_registers(address, registers).await?;
-        self.write_pram(address.max(PROCESS_RAM), ram).await?;
-        Ok(self.known)
-    }
 }
 
 /// How many of `len` bytes at `address` are ESC registers (below 0x1000).
 fn register_bytes(address: u16, len: usize) -> usize {
     usize::from(PROCESS_RAM.saturating_sub(address)).min(len)
-}
-
-/// `buf` at `address` cut into its register part and its process RAM part.
-fn split_at_process_ram(address: u16, buf: &mut [u8]) -> (&mut [u8], &mut [u8]) {
-    let at = register_bytes(address, buf.len());
-    buf.split_at_mut_checked(at).unwrap_or_default()
 }
 
 /// The AL event register, if `registers` (read at `address`) holds all of it.
