@@ -11,7 +11,7 @@ use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 
 use crate::pdi::Data;
-use crate::shared::Runner;
+use crate::shared::{Notes, Runner};
 use crate::time::{now, until};
 use crate::{Application, Pdi, SharedEsc};
 
@@ -94,16 +94,17 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
 ) {
-    if esc.take_sync_received() {
+    let (notes, mut emergencies) = esc.take_news();
+    if notes.contains(Notes::SYNC_RECEIVED) {
         sub.sync_received();
     }
-    if esc.take_sync_lost() {
+    if notes.contains(Notes::SYNC_LOST) {
         sub.sync_lost();
     }
-    if esc.take_outputs_received() {
+    if notes.contains(Notes::OUTPUTS_RECEIVED) {
         sub.outputs_received();
     }
-    while let Some(emergency) = esc.take_emergency() {
+    while let Some(emergency) = emergencies.pop() {
         sub.emergency(emergency);
     }
 }

@@ -16,7 +16,7 @@ use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
 use crate::pdi::Data;
-use crate::shared::Runner;
+use crate::shared::{Notes, Runner};
 use crate::time::{now, to_embassy, until_instant as until};
 use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
 
@@ -181,7 +181,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// Tells the state-machine runner that outputs arrived, once per layout.
     fn report_outputs(&mut self) {
         if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.esc.note_outputs_received();
+            self.esc.note(Notes::OUTPUTS_RECEIVED);
         }
     }
 
@@ -222,7 +222,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         let layout = layout?;
         if layout.sync0() {
             *tick = None;
-            self.esc.note_sync_lost();
+            self.esc.note(Notes::SYNC_LOST);
             return None;
         }
         if let (Some(next), Some(period)) = (tick.as_mut(), layout.period()) {
@@ -234,7 +234,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     fn on_sync0(&mut self, layout: Option<Layout>) -> Option<Plan> {
         let layout = layout.filter(Layout::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
-            self.esc.note_sync_received();
+            self.esc.note(Notes::SYNC_RECEIVED);
         }
         Some(Self::clocked(layout))
     }

@@ -50,12 +50,8 @@ struct Routing {
     pd_news: u32,
     /// Emergencies raised by the application, waiting for the state-machine runner.
     emergencies: Ring<Emergency, EMERGENCIES>,
-    /// The process-data runner received outputs the state-machine runner has not heard of.
-    outputs_received: bool,
-    /// The process-data runner ran a SYNC0 cycle the state-machine runner has not heard of.
-    sync_received: bool,
-    /// The process-data runner saw SYNC0 stop in OP.
-    sync_lost: bool,
+    /// What the process-data runner noted and the state-machine runner has not heard of.
+    notes: Notes,
     esm_waker: WakerRegistration,
     pd_waker: WakerRegistration,
 }
@@ -101,6 +97,29 @@ pub(crate) struct PdNews {
     pub(crate) irq_free: bool,
 }
 
+/// What the process-data runner tells the state-machine runner besides AL events: a set of flags.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Notes(u8);
+
+impl Notes {
+    pub(crate) const NONE: Self = Self(0);
+    /// Outputs arrived from the MainDevice.
+    pub(crate) const OUTPUTS_RECEIVED: Self = Self(1);
+    /// A SYNC0-triggered cycle ran.
+    pub(crate) const SYNC_RECEIVED: Self = Self(2);
+    /// No SYNC0 for too long in OP.
+    pub(crate) const SYNC_LOST: Self = Self(4);
+
+    const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+
+    /// Whether all of `other` is in `self`.
+    pub(crate) const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+}
+
 /// Emergencies the application may raise between two turns of the state-machine runner.
 const EMERGENCIES: usize = 4;
 
@@ -126,9 +145,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 esm_started: false,
                 pd_news: 0,
                 emergencies: Ring::new(),
-                outputs_received: false,
-                sync_received: false,
-                sync_lost: false,
+                notes: Notes::NONE,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
             })),
@@ -182,12 +199,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     pub(crate) async fn esm_events(&self) -> AlEvent {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.esm_events.is_empty()
-                    && r.emergencies.is_empty()
-                    && !r.outputs_received
-                    && !r.sync_received
-                    && !r.sync_lost
-                {
+                if r.esm_events.is_empty() && r.emergencies.is_empty() && r.notes == Notes::NONE {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
                 } else {
@@ -209,52 +221,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// The process-data runner received outputs from the MainDevice.
-    pub(crate) fn note_outputs_received(&self) {
+    /// The process-data runner tells the state-machine runner `notes`.
+    pub(crate) fn note(&self, notes: Notes) {
         self.with(|r| {
-            if !r.outputs_received {
-                r.outputs_received = true;
-                r.esm_waker.wake();
-            }
-        });
-    }
-
-    /// The process-data runner ran a SYNC0-triggered cycle.
-    pub(crate) fn note_sync_received(&self) {
-        self.with(|r| {
-            if !r.sync_received {
-                r.sync_received = true;
-                r.esm_waker.wake();
-            }
-        });
-    }
-
-    /// The process-data runner saw no SYNC0 for too long in OP.
-    pub(crate) fn note_sync_lost(&self) {
-        self.with(|r| {
-            r.sync_lost = true;
+            r.notes = r.notes.union(notes);
             r.esm_waker.wake();
         });
     }
 
-    /// Takes the news that SYNC0 was lost.
-    pub(crate) fn take_sync_lost(&self) -> bool {
-        self.with(|r| core::mem::take(&mut r.sync_lost))
-    }
-
-    /// Takes the news that a SYNC0-triggered cycle ran.
-    pub(crate) fn take_sync_received(&self) -> bool {
-        self.with(|r| core::mem::take(&mut r.sync_received))
-    }
-
-    /// Takes the news that outputs were received.
-    pub(crate) fn take_outputs_received(&self) -> bool {
-        self.with(|r| core::mem::take(&mut r.outputs_received))
-    }
-
-    /// Takes the next emergency raised by the application.
-    pub(crate) fn take_emergency(&self) -> Option<Emergency> {
-        self.with(|r| r.emergencies.pop())
+    /// Takes what the process-data runner noted and the emergencies the application raised.
+    pub(crate) fn take_news(&self) -> (Notes, Ring<Emergency, EMERGENCIES>) {
+        self.with(|r| {
+            (
+                core::mem::replace(&mut r.notes, Notes::NONE),
+                core::mem::take(&mut r.emergencies),
+            )
+        })
     }
 
     /// Publishes the process-data layout of the current state and the AL event mask in the ESC.
