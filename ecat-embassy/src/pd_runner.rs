@@ -156,6 +156,10 @@ struct Images<D: 'static> {
     inputs: Option<PdoLayout<D>>,
 }
 
+/// The write an exchange ends with: the input area's address and the input image, if the
+/// device has inputs.
+type InputWrite<'b> = Option<(u16, &'b [u8])>;
+
 /// What one exchange needs.
 struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
     esc: &'a SharedEsc<M, P>,
@@ -263,10 +267,27 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
     }
 
-    /// Performs `plan`: its read, then the cycle when the read confirms it.
+    /// Performs `plan`: its read, then the cycle when the read confirms it, then the write of
+    /// the inputs. The only two awaits of an exchange, both on [`SharedEsc::access`].
     async fn perform<I>(&mut self, plan: Plan) -> Result<(), Error<P::Error, I>> {
+        let esc = self.esc;
         let event = match plan.read {
-            Some(read) => self.read(read).await?,
+            Some(read) => {
+                let mut register = [0; 4];
+                let (address, buf) = match read {
+                    Read::Outputs(area) => (
+                        area.start,
+                        self.buffers
+                            .outputs
+                            .get_mut(..usize::from(area.length))
+                            .ok_or(Error::BufferTooSmall)?,
+                    ),
+                    Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
+                };
+                esc.access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
+                    .await
+                    .map_err(Error::Pdi)?
+            }
             None => AlEvent::NONE,
         };
         let (layout, apply_outputs, new_outputs) = match plan.then {
@@ -298,39 +319,29 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 )
             }
         };
-        self.cycle(layout, apply_outputs, new_outputs).await
-    }
-
-    /// Reads the output area (SM2) into the output buffer, or the AL event register; returns the
-    /// AL event seen.
-    async fn read<I>(&mut self, read: Read) -> Result<AlEvent, Error<P::Error, I>> {
-        let mut register = [0; 4];
-        let (address, buf) = match read {
-            Read::Outputs(area) => (
-                area.start,
-                self.buffers
-                    .outputs
-                    .get_mut(..usize::from(area.length))
-                    .ok_or(Error::BufferTooSmall)?,
-            ),
-            Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
-        };
-        self.esc
-            .access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
+        if let Some((address, inputs)) = self.cycle(layout, apply_outputs, new_outputs)? {
+            esc.access(
+                Runner::ProcessData,
+                address,
+                Data::Write(inputs),
+                AlEvent::sync_manager(3),
+            )
             .await
-            .map_err(Error::Pdi)
+            .map_err(Error::Pdi)?;
+        }
+        Ok(())
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
-    /// application's cycle, the inputs out. `new_outputs`, for a cycle of the sync mode (not the
-    /// one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
-    /// for the cycle diagnostics.
-    async fn cycle<I>(
+    /// application's cycle, the inputs packed. `new_outputs`, for a cycle of the sync mode (not
+    /// the one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
+    /// for the cycle diagnostics. Returns the input area's address and image, to be written.
+    fn cycle<I>(
         &mut self,
         layout: Layout,
         apply_outputs: bool,
         new_outputs: Option<bool>,
-    ) -> Result<(), Error<P::Error, I>> {
+    ) -> Result<InputWrite<'_>, Error<P::Error, I>> {
         let out_len = layout.outputs.map_or(0, |a| usize::from(a.length));
         let in_len = layout.inputs.map_or(0, |a| usize::from(a.length));
         let outputs = self
@@ -364,18 +375,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 pack(tx, od, inputs);
             }
         });
-        if let Some(area) = layout.inputs {
-            self.esc
-                .access(
-                    Runner::ProcessData,
-                    area.start,
-                    Data::Write(inputs),
-                    AlEvent::sync_manager(3),
-                )
-                .await
-                .map_err(Error::Pdi)?;
-        }
-        Ok(())
+        Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }
 }
 
