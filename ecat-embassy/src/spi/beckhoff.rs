@@ -166,30 +166,6 @@ impl<S: SpiDevice> BeckhoffSpi<S> {
             ReadLatency::SlowClock => Command::Read,
         }
     }
-
-    /// One transaction: the address phase, then the data (a read's with the read termination on
-    /// its last byte). Returns the AL event of the address phase.
-    async fn transaction(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
-        let mut phase;
-        let data = match data {
-            Data::Read(buf) => {
-                phase = AddressPhase::new(address, self.read_command());
-                buf.fill(READ_CONTINUE);
-                if let Some(last) = buf.last_mut() {
-                    *last = READ_TERMINATION;
-                }
-                Operation::TransferInPlace(buf)
-            }
-            Data::Write(data) => {
-                phase = AddressPhase::new(address, Command::Write);
-                Operation::Write(data)
-            }
-        };
-        self.spi
-            .transaction(&mut [Operation::TransferInPlace(phase.as_mut_slice()), data])
-            .await?;
-        Ok(phase.al_event())
-    }
 }
 
 impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
@@ -206,8 +182,27 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                 Transactions::PerByte => 1,
             };
             let (piece, tail) = rest.split_at(piece_len);
-            let event = self.transaction(address, piece).await?;
-            first.get_or_insert(event);
+            // One transaction: the address phase, then the data (a read's with the read
+            // termination on its last byte).
+            let mut phase;
+            let data = match piece {
+                Data::Read(buf) => {
+                    phase = AddressPhase::new(address, self.read_command());
+                    buf.fill(READ_CONTINUE);
+                    if let Some(last) = buf.last_mut() {
+                        *last = READ_TERMINATION;
+                    }
+                    Operation::TransferInPlace(buf)
+                }
+                Data::Write(data) => {
+                    phase = AddressPhase::new(address, Command::Write);
+                    Operation::Write(data)
+                }
+            };
+            self.spi
+                .transaction(&mut [Operation::TransferInPlace(phase.as_mut_slice()), data])
+                .await?;
+            first.get_or_insert(phase.al_event());
             address = address.wrapping_add(piece_len as u16);
             rest = tail;
         }
