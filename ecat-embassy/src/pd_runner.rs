@@ -1,6 +1,8 @@
 //! The process-data runner: owns the IRQ line, exchanges the process image. Runs in an
 //! `InterruptExecutor` at a priority above the thread executor.
 
+use core::pin::pin;
+
 use ecat_core::AlEvent;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectDictionary;
@@ -15,6 +17,7 @@ use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
+use crate::maybe::Maybe;
 use crate::pdi::Data;
 use crate::shared::{Notes, Runner};
 use crate::time::{now, to_embassy, until_instant as until};
@@ -94,11 +97,13 @@ where
             Some(exchange.on_trigger(layout, true))
         } else {
             let sync0_on = layout.is_some_and(|l| l.sync0());
+            let mut irq_low = pin!(irq.wait_for_low());
+            let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
             match select4(
-                when(news.irq_free, irq.wait_for_low()),
+                Maybe(news.irq_free.then_some(irq_low.as_mut())),
                 esc.pd_news_since(news.generation),
                 until(tick),
-                when(sync0_on, sync0.wait_for_rising_edge()),
+                Maybe(sync0_on.then_some(sync0_edge.as_mut())),
             )
             .await
             {
@@ -393,15 +398,6 @@ fn first_deadline(layout: Layout) -> Option<Instant> {
             Some(now + to_embassy(period) * SYNC0_LOSS_CYCLES)
         }
         Clock::Sync0(_) | Clock::Event(_) => None,
-    }
-}
-
-/// `future` when `enabled`, else a future that never completes.
-async fn when<F: core::future::Future>(enabled: bool, future: F) -> F::Output {
-    if enabled {
-        future.await
-    } else {
-        core::future::pending().await
     }
 }
 
