@@ -2,7 +2,7 @@
 //! events every access reports.
 
 use core::cell::RefCell;
-use core::future::poll_fn;
+use core::future::{Future, poll_fn};
 use core::task::Poll;
 
 use ecat_core::AlEvent;
@@ -196,7 +196,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     /// Waits for state-machine events seen by the other runner, or an emergency raised by the
     /// application.
-    pub(crate) async fn esm_events(&self) -> AlEvent {
+    pub(crate) fn esm_events(&self) -> impl Future<Output = AlEvent> + '_ {
         poll_fn(|cx| {
             self.with(|r| {
                 if r.esm_events.is_empty() && r.emergencies.is_empty() && r.notes == Notes::NONE {
@@ -207,7 +207,6 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 }
             })
         })
-        .await
     }
 
     /// Raises an emergency from anywhere in the application (either executor): the
@@ -279,8 +278,8 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     /// Waits until something changed for the process-data runner since `seen` was taken: its
     /// trigger was seen, the state-machine events released the IRQ line, or the layout changed.
-    pub(crate) async fn pd_news_since(&self, seen: u32) {
-        poll_fn(|cx| {
+    pub(crate) fn pd_news_since(&self, seen: u32) -> impl Future<Output = ()> + '_ {
+        poll_fn(move |cx| {
             self.with(|r| {
                 if r.pd_news != seen {
                     Poll::Ready(())
@@ -290,7 +289,6 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 }
             })
         })
-        .await
     }
 
     fn with<R>(&self, f: impl FnOnce(&mut Routing) -> R) -> R {
