@@ -118,7 +118,7 @@ where
             }
         };
         if let Some(plan) = plan
-            && let Err(e) = exchange.perform(plan).await
+            && let Err(e) = exchange.perform(plan, &current).await
         {
             return e;
         }
@@ -141,18 +141,18 @@ enum Read {
     AlEvent,
 }
 
-/// What a [`Plan`] does after its read.
+/// What a [`Plan`] does after its read; a cycle runs on the current layout.
 enum Then {
     /// Nothing: the read only routed the AL event to the state-machine runner.
     Nothing,
     /// The cycle that starts a new layout: valid inputs at once, no outputs applied.
-    FirstCycle(Layout),
+    FirstCycle,
     /// A cycle started by a clock (free-run timer or SYNC0); the SM2 event the read brings along
     /// tells whether the MainDevice sent outputs.
-    Clocked(Layout),
+    Clocked,
     /// A cycle on the trigger event, unless the read shows it was not the trigger. `true`: the
     /// other runner saw the trigger.
-    Triggered(Layout, bool),
+    Triggered(bool),
 }
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
@@ -204,10 +204,10 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// accepted, and valid inputs at once.
     fn on_new_layout(&mut self, layout: Option<Layout>) -> Option<Plan> {
         self.reported = Reported::default();
-        let Some(layout) = layout else {
+        if layout.is_none() {
             self.images = None;
             return None;
-        };
+        }
         if self.images.is_none() {
             self.monitor.reset();
         }
@@ -220,7 +220,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         });
         Some(Plan {
             read: None,
-            then: Then::FirstCycle(layout),
+            then: Then::FirstCycle,
         })
     }
 
@@ -252,7 +252,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     fn clocked(layout: Layout) -> Plan {
         Plan {
             read: layout.outputs.map(Read::Outputs),
-            then: Then::Clocked(layout),
+            then: Then::Clocked,
         }
     }
 
@@ -261,7 +261,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         match layout.filter(|l| l.period().is_none()) {
             Some(layout) => Plan {
                 read: Some(layout.outputs.map_or(Read::AlEvent, Read::Outputs)),
-                then: Then::Triggered(layout, known),
+                then: Then::Triggered(known),
             },
             // Not exchanging process data on events (none, or free-run): the IRQ is for the state
             // machine; reading the AL event routes it there.
@@ -274,7 +274,11 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 
     /// Performs `plan`: its read, then the cycle when the read confirms it, then the write of
     /// the inputs. The only two awaits of an exchange, both on [`SharedEsc::access`].
-    async fn perform<I>(&mut self, plan: Plan) -> Result<(), Error<P::Error, I>> {
+    async fn perform<I>(
+        &mut self,
+        plan: Plan,
+        layout: &Option<Layout>,
+    ) -> Result<(), Error<P::Error, I>> {
         let esc = self.esc;
         let event = match plan.read {
             Some(read) => {
@@ -295,10 +299,10 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             }
             None => AlEvent::NONE,
         };
-        let (layout, apply_outputs, new_outputs) = match plan.then {
-            Then::Nothing => return Ok(()),
-            Then::FirstCycle(layout) => (layout, false, None),
-            Then::Clocked(layout) => {
+        let (layout, apply_outputs, new_outputs) = match (plan.then, *layout) {
+            (Then::Nothing, _) | (_, None) => return Ok(()),
+            (Then::FirstCycle, Some(layout)) => (layout, false, None),
+            (Then::Clocked, Some(layout)) => {
                 let new_outputs = event.intersects(AlEvent::sync_manager(2));
                 if new_outputs {
                     self.report_outputs();
@@ -306,7 +310,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 let apply = layout.outputs_active && layout.outputs.is_some();
                 (layout, apply, Some(new_outputs))
             }
-            Then::Triggered(layout, known) => {
+            (Then::Triggered(known), Some(layout)) => {
                 let triggered = known
                     || event.intersects(layout.trigger())
                     || !self.esc.take_pd_events().is_empty();
