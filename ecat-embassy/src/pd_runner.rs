@@ -299,7 +299,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             }
             None => AlEvent::NONE,
         };
-        let (layout, apply_outputs, new_outputs) = match (plan.then, *layout) {
+        let (layout, apply_outputs, new_outputs) = match (plan.then, layout) {
             (Then::Nothing, _) | (_, None) => return Ok(()),
             (Then::FirstCycle, Some(layout)) => (layout, false, None),
             (Then::Clocked, Some(layout)) => {
@@ -347,7 +347,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// for the cycle diagnostics. Returns the input area's address and image, to be written.
     fn cycle<I>(
         &mut self,
-        layout: Layout,
+        layout: &Layout,
         apply_outputs: bool,
         new_outputs: Option<bool>,
     ) -> Result<InputWrite<'_>, Error<P::Error, I>> {
