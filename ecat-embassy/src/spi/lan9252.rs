@@ -41,6 +41,7 @@
 //!   ([`WriteSpace::EmptyAtStart`], 16 DWORDs) and polls only for more, or polls before every
 //!   FIFO load ([`WriteSpace::Polled`]).
 
+use core::future::Future;
 use core::ops::Range;
 
 use ecat_core::AlEvent;
@@ -248,30 +249,49 @@ impl<S: SpiDevice> Lan9252<S> {
     }
 
     /// Reads one LAN9252 register (a DWORD).
-    async fn read_register(&mut self, address: u16) -> Result<u32, Error<S::Error>> {
-        let mut value = [0; 4];
-        let header = Header::read(self.config.read, address);
-        self.transfer(&mut [
-            Operation::Write(header.as_slice()),
-            Operation::Read(&mut value),
-        ])
-        .await?;
-        Ok(u32::from_le_bytes(value))
+    fn read_register(
+        &mut self,
+        address: u16,
+    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
+        self.dwords(address, None)
     }
 
     /// Writes consecutive LAN9252 registers (at most two) in one transaction.
-    async fn write_dwords(&mut self, address: u16, values: &[u32]) -> Result<(), Error<S::Error>> {
+    fn write_dwords(
+        &mut self,
+        address: u16,
+        values: &[u32],
+    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
+        self.dwords(address, Some(values))
+    }
+
+    /// One transaction on the LAN9252's own registers: reads the DWORD at `address` (`write` is
+    /// `None`) and returns it, or writes the DWORDs of `write` (at most two) from `address` on.
+    /// Both kinds share one future, so the firmware carries one copy of it.
+    async fn dwords(
+        &mut self,
+        address: u16,
+        write: Option<&[u32]>,
+    ) -> Result<u32, Error<S::Error>> {
         let mut bytes = [0; 8];
-        for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-            chunk.copy_from_slice(&value.to_le_bytes());
-        }
-        let len = 4 * values.len().min(2);
-        let header = Header::write(address, values.len() > 1);
-        self.transfer(&mut [
-            Operation::Write(header.as_slice()),
-            Operation::Write(bytes.get(..len).unwrap_or_default()),
-        ])
-        .await
+        let header;
+        let data = match write {
+            None => {
+                header = Header::read(self.config.read, address);
+                Operation::Read(bytes.get_mut(..4).unwrap_or_default())
+            }
+            Some(values) => {
+                for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
+                    chunk.copy_from_slice(&value.to_le_bytes());
+                }
+                header = Header::write(address, values.len() > 1);
+                Operation::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
+            }
+        };
+        self.transfer(&mut [Operation::Write(header.as_slice()), data])
+            .await?;
+        let [b0, b1, b2, b3, ..] = bytes;
+        Ok(u32::from_le_bytes([b0, b1, b2, b3]))
     }
 
     /// One EtherCAT CSR command of `size` (1, 2 or 4) bytes at `address`: a read (`write` is
