@@ -551,8 +551,10 @@ impl FifoStream {
     fn layout(&self, part: Range<usize>) -> Layout {
         let data_end = self.lane + self.data;
         let head = self.lane.min(part.end).saturating_sub(part.start);
-        let start = part.start.clamp(self.lane, data_end) - self.lane;
-        let end = part.end.clamp(self.lane, data_end) - self.lane;
+        // Clamped to lane..=data_end with max/min: `clamp` would carry a formatted panic for
+        // bounds that cannot be reversed here.
+        let start = part.start.max(self.lane).min(data_end) - self.lane;
+        let end = part.end.max(self.lane).min(data_end) - self.lane;
         let tail = part.end.saturating_sub(data_end.max(part.start));
         Layout {
             head,
