@@ -234,8 +234,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             self.esc.note(Notes::SYNC_LOST);
             return None;
         }
-        if let (Some(next), Some(period)) = (tick.as_mut(), layout.period()) {
-            *next += to_embassy(period);
+        if let Some(period) = layout.period() {
+            *tick = tick.and_then(|next| next.checked_add(to_embassy(period)));
         }
         Some(Self::clocked(layout))
     }
@@ -393,14 +393,15 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 pub const SYNC0_LOSS_CYCLES: u32 = 10;
 
 /// The first deadline of a new layout or after a SYNC0 pulse: the next free-run cycle, or in DC
-/// SYNC0 mode in OP the instant SYNC0 counts as lost.
+/// SYNC0 mode in OP the instant SYNC0 counts as lost. A deadline beyond Embassy's clock is none
+/// (the checked arithmetic has no panic path).
 fn first_deadline(layout: Layout) -> Option<Instant> {
     let now = Instant::now();
     match layout.clock {
-        Clock::FreeRun(period) => Some(now + to_embassy(period)),
-        Clock::Sync0(period) if layout.outputs_active => {
-            Some(now + to_embassy(period) * SYNC0_LOSS_CYCLES)
-        }
+        Clock::FreeRun(period) => now.checked_add(to_embassy(period)),
+        Clock::Sync0(period) if layout.outputs_active => to_embassy(period)
+            .checked_mul(SYNC0_LOSS_CYCLES)
+            .and_then(|lost| now.checked_add(lost)),
         Clock::Sync0(_) | Clock::Event(_) => None,
     }
 }
