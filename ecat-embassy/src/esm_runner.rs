@@ -10,6 +10,7 @@ use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 
+use crate::maybe::Maybe;
 use crate::pdi::Data;
 use crate::shared::{Notes, Runner};
 use crate::time::{now, until};
@@ -138,26 +139,18 @@ async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
 ) -> Result<(), P::Error> {
     let mut decision = pin!(app.on_transition(t));
     while sub.pending_transition() == Some(t) {
-        let event = if sub.awaits_application() {
-            match select3(&mut decision, until(sub.poll_timeout()), esc.esm_events()).await {
-                Either3::First(result) => {
-                    sub.complete_transition(t, result);
-                    None
-                }
-                Either3::Second(()) => {
-                    sub.handle_timeout(now());
-                    None
-                }
-                Either3::Third(event) => Some(event),
+        // The application's decision only while the core waits for it.
+        let pending = Maybe(sub.awaits_application().then_some(decision.as_mut()));
+        let event = match select3(pending, until(sub.poll_timeout()), esc.esm_events()).await {
+            Either3::First(result) => {
+                sub.complete_transition(t, result);
+                None
             }
-        } else {
-            match select(until(sub.poll_timeout()), esc.esm_events()).await {
-                Either::First(()) => {
-                    sub.handle_timeout(now());
-                    None
-                }
-                Either::Second(event) => Some(event),
+            Either3::Second(()) => {
+                sub.handle_timeout(now());
+                None
             }
+            Either3::Third(event) => Some(event),
         };
         absorb(esc, sub);
         if let Some(event) = event {
