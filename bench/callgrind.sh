@@ -14,7 +14,7 @@ count() { # binary case n -> total instructions
 echo "| benchmark | case | instructions per case |"
 echo "|---|---|---|"
 for run in "sdo expedited-upload" "sdo upload-1k-128" "sdo upload-1k-1024" "sdo download-1k-128" \
-           "sdo download-1k-1024" "pd cia402" "pd io64" "pd axis" "line 1" "line 3" "line 100"; do
+           "sdo download-1k-1024" "pd cia402" "pd cia402-remapped" "pd io64" "pd axis" "line 1" "line 3" "line 100"; do
     set -- $run
     one=$(count "$1" "$2" 1)
     many=$(count "$1" "$2" 1001)

@@ -390,6 +390,15 @@ pub enum SmKind {
     Inputs = 4,
 }
 
+/// The value of 0x1C00 "Sync manager communication type" (ETG.1000.6 §5.6.7.1) for SM0..SM3: the
+/// same types the SII SyncManager category and the ESI `Sm` elements give them.
+pub const SM_TYPES: [u8; 4] = [
+    SmKind::MailboxOut as u8,
+    SmKind::MailboxIn as u8,
+    SmKind::Outputs as u8,
+    SmKind::Inputs as u8,
+];
+
 /// One SyncManager's default configuration: an SII SyncManager category entry (ETG.2010
 /// Table 10) and an ESI `Sm` element (ETG.2000 `Device/Sm`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

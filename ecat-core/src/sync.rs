@@ -85,13 +85,14 @@ impl SupportedSync {
     /// Bit 3: DC SYNC1.
     pub const SYNC1: u16 = 0x0008;
 
-    /// Whether `sync` is supported. DC SYNC1 never is: the stack has no SYNC1-triggered cycle.
+    /// Whether the outputs (0x1C32:01) may run with `sync`. DC SYNC1 never may: the stack has no
+    /// SYNC1-triggered cycle; 0x22 is a value of 0x1C33 only (inputs latched with the SM2 event).
     pub const fn supports(self, sync: SyncType) -> bool {
         let bit = match sync {
             SyncType::FreeRun => Self::FREE_RUN,
-            SyncType::SmSynchronous | SyncType::Sm2Synchronous => Self::SM,
+            SyncType::SmSynchronous => Self::SM,
             SyncType::DcSync0 => Self::SYNC0,
-            SyncType::DcSync1 | SyncType::Unknown(_) => return false,
+            SyncType::DcSync1 | SyncType::Sm2Synchronous | SyncType::Unknown(_) => return false,
         };
         self.0 & bit != 0
     }
@@ -109,10 +110,21 @@ pub struct SyncParameters {
     pub sync_type: u16,
     /// SI2: the cycle time in ns (free-run: the local cycle).
     pub cycle_time: u32,
+    /// SI3: the shift time in ns: outputs — from SYNC0 to the outputs being valid at the
+    /// terminals; inputs — from SYNC0 to the inputs being latched. Set by the application
+    /// (its hardware timing); 0 when unknown.
+    pub shift_time: u32,
     /// SI4: the supported sync types ([`SupportedSync`]).
     pub supported: u16,
     /// SI5: the minimum cycle time in ns.
     pub min_cycle_time: u32,
+    /// SI6: the calc and copy time in ns: how long the application needs between the SM2
+    /// event (outputs) or before SM3 is read (inputs) and the data being ready, which a
+    /// MainDevice uses to place SYNC0 in the cycle. Set by the application; 0 when unknown.
+    pub calc_copy_time: u32,
+    /// SI9: the delay time in ns (hardware delay from SYNC0 to the outputs or inputs). Set by
+    /// the application; 0 when unknown.
+    pub delay_time: u32,
     /// SI0x0B: SM events missed.
     pub sm_event_missed: u16,
     /// SI0x0C: cycles that took longer than the cycle time.
@@ -126,8 +138,11 @@ impl SyncParameters {
     pub const DEFAULT: Self = Self {
         sync_type: 0,
         cycle_time: 0,
+        shift_time: 0,
         supported: 0,
         min_cycle_time: 0,
+        calc_copy_time: 0,
+        delay_time: 0,
         sm_event_missed: 0,
         cycle_time_too_small: 0,
         sync_error: false,
@@ -197,10 +212,7 @@ pub const INPUT_PARAMETERS: u16 = 0x1C33;
 /// (0x22), with the SM3 event otherwise (1); free-run and DC modes are the same for both.
 pub const fn input_sync_type(output: SyncType, has_outputs: bool) -> SyncType {
     match output {
-        SyncType::SmSynchronous | SyncType::Sm2Synchronous if has_outputs => {
-            SyncType::Sm2Synchronous
-        }
-        SyncType::Sm2Synchronous => SyncType::SmSynchronous,
+        SyncType::SmSynchronous if has_outputs => SyncType::Sm2Synchronous,
         other => other,
     }
 }

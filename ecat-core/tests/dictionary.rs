@@ -288,7 +288,7 @@ mod sync_parameters_kind {
             assert_eq!(object.info.code, ObjectCode::Record);
             assert_eq!(object.info.name, name);
             let subs: Vec<u8> = object.info.subindices().collect();
-            assert_eq!(subs, [0, 1, 2, 4, 5, 0x0B, 0x0C, 0x20]);
+            assert_eq!(subs, [0, 1, 2, 3, 4, 5, 6, 9, 0x0B, 0x0C, 0x20]);
             assert_eq!(object.info.entry(1).unwrap().access, si1);
             assert_eq!(object.info.entry(2).unwrap().access, Access::RW_PREOP);
             assert_eq!(object.info.entry(0x20).unwrap().access, Access::RO);

@@ -9,6 +9,13 @@ use ecat_core::pdo::layout::Layout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
 use proptest::prelude::*;
 
+#[derive(Default)]
+struct Pair {
+    low: u8,
+    hidden: u32,
+    high: i16,
+}
+
 struct Od {
     controlword: u16,
     target_position: i32,
@@ -24,6 +31,8 @@ struct Od {
     name: u32,
     word: u16,
     long: i32,
+    words: [u16; 3],
+    pair: Pair,
     rx1: PdoMapping<8>,
     tx1: PdoMapping<8>,
     rx_assign: PdoAssignment<2>,
@@ -55,6 +64,12 @@ ecat_core::dictionary! {
         0x2003 => var(name, RW, "Not mappable");
         0x2004 => var(word, RW | TXPDO | RXPDO, "Word");
         0x2005 => var(long, RW | TXPDO | RXPDO, "Long");
+        0x2006 => array(words, RW | TXPDO | RXPDO, "Words", "Word");
+        0x2007 => record(pair: Pair, "Pair") {
+            1 => low, RW | TXPDO | RXPDO, "Low";
+            2 => hidden, RW, "Not mappable";
+            3 => high, RW | TXPDO | RXPDO, "High";
+        };
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
         0x6060 => var(mode, RW | RXPDO, "Modes of operation");
@@ -156,95 +171,166 @@ fn cia402_like_layout_is_11_bytes_each_way() {
     let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
     let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
     assert_eq!((rx.bytes(), tx.bytes()), (11, 11));
-    let offsets: Vec<(u16, u8)> = rx
-        .slots()
+    let offsets: Vec<Option<u16>> = [0x6040, 0x607A, 0x60FF, 0x6060, 0x6041]
         .iter()
-        .map(|s| (s.bit_offset, s.bit_len))
+        .map(|&index| rx.offset(index, 0))
         .collect();
-    assert_eq!(offsets, [(0, 16), (16, 32), (48, 32), (80, 8)]);
+    assert_eq!(offsets, [Some(0), Some(16), Some(48), Some(80), None]);
+    assert_eq!(tx.offset(0x6061, 0), Some(80));
+    assert!(!rx.has_gaps() && rx.repeats().is_empty());
 }
 
+/// The layout's offsets are indexed by entry number: every RxPDO- or TxPDO-mappable entry in
+/// index order, a RECORD's by subindex, an ARRAY's element by element; others have none.
 #[test]
-fn an_unusable_mapping_is_0x0025_or_0x0024() {
-    let mut od = Od {
-        rx_assign: PdoAssignment::assignment(&[0x1601]),
-        ..Od::default()
-    };
-    assert!(matches!(
-        Layout::of(&od, Direction::Rx),
-        Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
-    ));
-    od.tx1 = PdoMapping::mapping(&[MappingEntry::new(0x6040, 0, 16)]);
-    assert!(
-        matches!(
-            Layout::of(&od, Direction::Tx),
-            Err(AlStatusCode::INVALID_INPUT_MAPPING)
-        ),
-        "an RxPDO entry in a TxPDO"
+fn mappable_entries_are_numbered_in_dictionary_order() {
+    use ecat_core::pdo::layout::{entry_number, mappable_entries};
+    let number = |index, sub| entry_number(Od::OBJECTS, index, sub);
+    assert_eq!(number(0x2000, 0), Some(0));
+    assert_eq!(number(0x2002, 0), Some(2));
+    assert_eq!(number(0x2003, 0), None, "not mappable");
+    assert_eq!(number(0x2004, 0), Some(3));
+    assert_eq!(number(0x2005, 0), Some(4));
+    assert_eq!(
+        [1, 2, 3].map(|sub| number(0x2006, sub)),
+        [Some(5), Some(6), Some(7)]
     );
+    assert_eq!(number(0x2006, 0), None, "SI0 is the count");
+    assert_eq!(number(0x2006, 4), None, "beyond the array");
+    assert_eq!(
+        [1, 2, 3].map(|sub| number(0x2007, sub)),
+        [Some(8), None, Some(9)]
+    );
+    assert_eq!(number(0x6040, 0), Some(10));
+    assert_eq!(number(0x60FF, 0), Some(17));
+    assert_eq!(number(0x1600, 1), None, "a mapping object");
+    assert_eq!(number(0x6040, 1), None);
+    assert_eq!(mappable_entries(Od::OBJECTS), 18);
+    assert_eq!(Od::UNMAPPED.len(), 18);
 }
 
+/// An ARRAY's elements and a RECORD's entries travel at their own offsets.
 #[test]
-fn pack_and_unpack_the_cia402_image() {
+fn array_elements_and_record_entries_are_mapped_one_by_one() {
+    let entries = [
+        MappingEntry::new(0x2006, 3, 16),
+        MappingEntry::new(0x2007, 3, 16),
+        MappingEntry::new(0x2006, 1, 16),
+        MappingEntry::new(0x2007, 1, 8),
+    ];
     let mut od = Od {
-        statusword: 0x0237,
-        position: -5,
-        velocity: 0x0102_0304,
-        mode_display: 8,
+        words: [0x1111, 0x2222, 0x3333],
+        pair: Pair {
+            low: 0x44,
+            hidden: 0xDEAD_BEEF,
+            high: -2,
+        },
+        tx1: PdoMapping::mapping(&entries),
+        rx1: PdoMapping::mapping(&entries),
         ..Od::default()
     };
     let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
-    let mut image = [0xAA; 11];
+    let mut image = [0xAA; 7];
     pack(&tx, &od, &mut image);
-    assert_eq!(
-        image,
-        [
-            0x37, 0x02, 0xFB, 0xFF, 0xFF, 0xFF, 0x04, 0x03, 0x02, 0x01, 0x08
-        ]
-    );
+    assert_eq!(image, [0x33, 0x33, 0xFE, 0xFF, 0x11, 0x11, 0x44]);
+
     let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
-    unpack(
-        &rx,
-        &[0x0F, 0x00, 0x10, 0x27, 0, 0, 0xF0, 0xD8, 0xFF, 0xFF, 0x09],
-        &mut od,
-    );
+    unpack(&rx, &[0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07], &mut od);
+    assert_eq!(od.words, [0x0605, 0x2222, 0x0201]);
     assert_eq!(
-        (
-            od.controlword,
-            od.target_position,
-            od.target_velocity,
-            od.mode
-        ),
-        (0x000F, 10_000, -10_000, 9)
+        (od.pair.low, od.pair.hidden, od.pair.high),
+        (0x07, 0xDEAD_BEEF, 0x0403)
     );
 }
 
-/// The entries a property case may map, both ways: (index, bit length).
-const ENTRIES: [(u16, u8); 5] = [
-    (0x2000, 1),
-    (0x2001, 3),
-    (0x2002, 8),
-    (0x2004, 16),
-    (0x2005, 32),
+/// A TxPDO entry mapped twice is in the image twice; an RxPDO entry mapped twice takes its value
+/// from the last place.
+#[test]
+fn an_entry_mapped_twice() {
+    let entries = [
+        MappingEntry::new(0x2004, 0, 16),
+        MappingEntry::new(0x2001, 0, 3),
+        MappingEntry::new(0x2004, 0, 16),
+        MappingEntry::new(0x2001, 0, 3),
+    ];
+    let mut od = Od {
+        word: 0xBEEF,
+        level: Bits::new(0b101),
+        tx1: PdoMapping::mapping(&entries),
+        rx1: PdoMapping::mapping(&entries),
+        ..Od::default()
+    };
+    let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
+    assert_eq!((tx.bits(), tx.repeats().len()), (38, 2));
+    let mut image = [0xFF; 5];
+    pack(&tx, &od, &mut image);
+    // bits 0..16 word, 16..19 level, 19..35 word, 35..38 level, 38..40 padding.
+    let expected = 0xBEEFu64 | 0b101 << 16 | 0xBEEF << 19 | 0b101 << 35;
+    assert_eq!(image, expected.to_le_bytes()[..5]);
+
+    let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
+    let image = (0x1234u64 | 0b001 << 16 | 0x5678 << 19 | 0b110 << 35).to_le_bytes();
+    unpack(&rx, &image[..5], &mut od);
+    assert_eq!((od.word, od.level.get()), (0x5678, 0b110));
+}
+
+/// More TxPDO entries mapped again than a layout keeps ([`MAX_REPEATS`]) is 0x0024.
+#[test]
+fn too_many_repeated_tx_entries_are_0x0024() {
+    use ecat_core::pdo::layout::MAX_REPEATS;
+    assert_eq!(MAX_REPEATS, 8);
+    let byte = MappingEntry::new(0x2002, 0, 8);
+    let word = MappingEntry::new(0x2004, 0, 16);
+    // The same TxPDO assigned twice: every entry of the second is a repeat.
+    let mut od = Od {
+        tx1: PdoMapping::mapping(&[byte, byte, byte, byte, word]),
+        tx_assign: PdoAssignment::assignment(&[0x1A00, 0x1A00]),
+        ..Od::default()
+    };
+    let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
+    assert_eq!(tx.repeats().len(), 8);
+    od.tx1 = PdoMapping::mapping(&[byte; 5]);
+    assert!(matches!(
+        Layout::of(&od, Direction::Tx),
+        Err(AlStatusCode::INVALID_INPUT_MAPPING)
+    ));
+}
+
+/// The entries a property case may map, both ways: (index, subindex, bit length).
+const ENTRIES: [(u16, u8, u8); 8] = [
+    (0x2000, 0, 1),
+    (0x2001, 0, 3),
+    (0x2002, 0, 8),
+    (0x2004, 0, 16),
+    (0x2005, 0, 32),
+    (0x2006, 2, 16),
+    (0x2007, 1, 8),
+    (0x2007, 3, 16),
 ];
 
-fn set(od: &mut Od, index: u16, v: u64) {
-    match index {
-        0x2000 => od.flag = v & 1 == 1,
-        0x2001 => od.level = Bits::new(v as u8),
-        0x2002 => od.small = v as u8,
-        0x2004 => od.word = v as u16,
-        _ => od.long = v as i32,
+fn set(od: &mut Od, (index, sub): (u16, u8), v: u64) {
+    match (index, sub) {
+        (0x2000, _) => od.flag = v & 1 == 1,
+        (0x2001, _) => od.level = Bits::new(v as u8),
+        (0x2002, _) => od.small = v as u8,
+        (0x2004, _) => od.word = v as u16,
+        (0x2005, _) => od.long = v as i32,
+        (0x2006, _) => od.words[1] = v as u16,
+        (_, 1) => od.pair.low = v as u8,
+        _ => od.pair.high = v as i16,
     }
 }
 
-fn get(od: &Od, index: u16) -> u64 {
-    match index {
-        0x2000 => u64::from(od.flag),
-        0x2001 => u64::from(od.level.get()),
-        0x2002 => u64::from(od.small),
-        0x2004 => u64::from(od.word),
-        _ => u64::from(od.long as u32),
+fn get(od: &Od, (index, sub): (u16, u8)) -> u64 {
+    match (index, sub) {
+        (0x2000, _) => u64::from(od.flag),
+        (0x2001, _) => u64::from(od.level.get()),
+        (0x2002, _) => u64::from(od.small),
+        (0x2004, _) => u64::from(od.word),
+        (0x2005, _) => u64::from(od.long as u32),
+        (0x2006, _) => u64::from(od.words[1]),
+        (_, 1) => u64::from(od.pair.low),
+        _ => u64::from(od.pair.high as u16),
     }
 }
 
@@ -253,22 +339,22 @@ proptest! {
     /// holds every value at its bit offset, LSB first, gaps zero; unpacking it restores the values.
     #[test]
     fn pack_unpack_match_the_reference_model(
-        picks in proptest::collection::vec((0usize..6, 1u8..17, any::<u64>()), 1..8),
+        picks in proptest::collection::vec((0..=ENTRIES.len(), 1u8..17, any::<u64>()), 1..8),
     ) {
         let mut od = Od::default();
         let mut entries = Vec::new();
-        let mut model: Vec<(u16, u8, u64)> = Vec::new();
+        let mut model: Vec<((u16, u8), u8, u64)> = Vec::new();
         for (pick, gap, value) in picks {
-            if pick == 5 {
+            if pick == ENTRIES.len() {
                 entries.push(MappingEntry::new(0, 0, gap));
-                model.push((0, gap, 0));
+                model.push(((0, 0), gap, 0));
             } else {
-                let (index, bits) = ENTRIES[pick];
-                if model.iter().any(|(i, _, _)| *i == index) { continue; }
+                let (index, sub, bits) = ENTRIES[pick];
+                if model.iter().any(|(at, _, _)| *at == (index, sub)) { continue; }
                 let v = value & ((1u64 << bits) - 1);
-                set(&mut od, index, v);
-                entries.push(MappingEntry::new(index, 0, bits));
-                model.push((index, bits, v));
+                set(&mut od, (index, sub), v);
+                entries.push(MappingEntry::new(index, sub, bits));
+                model.push(((index, sub), bits, v));
             }
         }
         // Map everything as both a TxPDO and an RxPDO (the entries used are mappable both ways).
@@ -293,8 +379,8 @@ proptest! {
         let mut fresh = Od { rx1: od.rx1, ..Od::default() };
         let rx = Layout::of(&fresh, Direction::Rx).unwrap().unwrap();
         unpack(&rx, &image, &mut fresh);
-        for (index, _, v) in model.iter().filter(|(i, _, _)| *i != 0) {
-            prop_assert_eq!(get(&fresh, *index), *v, "{:#06x}", index);
+        for (entry, _, v) in model.iter().filter(|(at, _, _)| at.0 != 0) {
+            prop_assert_eq!(get(&fresh, *entry), *v, "{:x?}", entry);
         }
     }
 }
@@ -324,11 +410,46 @@ proptest! {
         }
         for direction in [Direction::Rx, Direction::Tx] {
             let Ok(Some(layout)) = Layout::of(&od, direction) else { continue };
-            let end = layout.slots().iter().map(|s| u32::from(s.bit_offset) + u32::from(s.bit_len)).max();
-            prop_assert!(end.unwrap_or(0) <= u32::from(layout.bytes()) * 8);
+            for (index, sub, bits) in ENTRIES {
+                if let Some(at) = layout.offset(index, sub) {
+                    prop_assert!(u32::from(at) + u32::from(bits) <= layout.bits());
+                }
+            }
+            prop_assert!(layout.bits() <= u32::from(layout.bytes()) * 8);
             let mut image = vec![0xA5; image_len];
             pack(&layout, &od, &mut image);
             unpack(&layout, &image, &mut od);
         }
     }
+}
+
+/// A dictionary whose mappings can describe more than 65 535 bits.
+struct Big {
+    rx1: PdoMapping<255>,
+    rx2: PdoMapping<255>,
+    rx_assign: PdoAssignment<2>,
+}
+
+ecat_core::dictionary! {
+    Big {
+        0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1", "Entry", default = PdoMapping::mapping(&[MappingEntry::new(0, 0, 255); 255]));
+        0x1601 => pdo(rx2, RW_PREOP, "RxPDO 2", "Entry", default = PdoMapping::mapping(&[MappingEntry::new(0, 0, 255); 255]));
+        0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));
+    }
+}
+
+/// Offsets are 16-bit: an image over 65 535 bits is an unusable mapping (0x0025).
+#[test]
+fn an_image_over_65535_bits_is_0x0025() {
+    let mut od = Big::default();
+    let one = Layout::of(&od, Direction::Rx).unwrap().unwrap();
+    assert_eq!(
+        (one.bits(), one.bytes(), one.has_gaps()),
+        (65_025, 8129, true)
+    );
+    od.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1601]);
+    assert!(matches!(
+        Layout::of(&od, Direction::Rx),
+        Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
+    ));
 }

@@ -156,7 +156,7 @@ enum Then {
 }
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
-struct Images<D: 'static> {
+struct Images<D: ObjectDictionary> {
     outputs: Option<PdoLayout<D>>,
     inputs: Option<PdoLayout<D>>,
 }
@@ -166,7 +166,7 @@ struct Images<D: 'static> {
 type InputWrite<'b> = Option<(u16, &'b [u8])>;
 
 /// What one exchange needs.
-struct Exchange<'a, M: RawMutex, P, C, D: 'static> {
+struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
     esc: &'a SharedEsc<M, P>,
     app: &'a mut C,
     od: &'a SharedDictionary<M, D>,

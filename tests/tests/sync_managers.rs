@@ -20,8 +20,24 @@ fn run(config: ecat_core::DeviceConfig, script: impl AsyncFnOnce(TestMaster) + '
 #[test]
 fn bad_mailbox_settings_are_refused_with_0x0016() {
     let (rx, tx) = (MAILBOX.receive, MAILBOX.send);
-    let cases: [(&str, u8, u16, u16, u8, bool); 10] = [
+    let cases: [(&str, u8, u16, u16, u8, bool); 12] = [
         ("SM0 disabled", 0, rx.start, rx.length, SM0_CONTROL, false),
+        (
+            "SM0 without the PDI event",
+            0,
+            rx.start,
+            rx.length,
+            0x06,
+            true,
+        ),
+        (
+            "SM1 without the PDI event",
+            1,
+            tx.start,
+            tx.length,
+            0x02,
+            true,
+        ),
         ("SM0 start", 0, rx.start + 2, rx.length, SM0_CONTROL, true),
         ("SM0 length", 0, rx.start, rx.length - 1, SM0_CONTROL, true),
         ("SM0 length 0", 0, rx.start, 0, SM0_CONTROL, true),
@@ -52,7 +68,7 @@ fn bad_mailbox_settings_are_refused_with_0x0016() {
         assert_eq!(
             master.request(0x02).await,
             (0x02, 0),
-            "event bits are the MainDevice's choice"
+            "the ECAT event bit is the MainDevice's choice"
         );
     });
 }

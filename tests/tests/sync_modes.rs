@@ -6,12 +6,13 @@ mod common;
 
 use common::{client, walk_to};
 use ecat_core::AlState;
+use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::register;
 use ecat_core::sync::SupportedSync;
 use ecat_embassy::{Application, CycleHandler};
-use ecat_emu::coe_client::SdoClient;
+use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::devices::Drive;
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
@@ -184,7 +185,8 @@ fn dc_sync0_cycles_on_every_sync0_pulse_and_reports_its_cycle() {
 #[test]
 fn dc_configuration_errors_are_0x0030() {
     // (sync type, activation): SYNC0 mode without SYNC0; the SYNC unit on without SYNC0;
-    // SYNC1 without SYNC0; SYNC0 running while the MainDevice chose free-run.
+    // SYNC1 without SYNC0; SYNC0 running while the MainDevice chose free-run, or chose
+    // SM-synchronous by writing 0x1C32:01's default value.
     for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (0, 0x03)] {
         run(DC, async move |master| {
             preop_with_sync_type(&master, sync_type).await;
@@ -257,6 +259,40 @@ fn sync1_is_not_supported() {
         preop_with_sync_type(&master, 3).await;
         program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0028));
+    });
+}
+
+/// 0x22 (inputs latched with the SM2 event) and unknown values are not sync types of the
+/// outputs: 0x0028 at PREOP→SAFEOP.
+#[test]
+fn sm2_synchronous_or_unknown_in_0x1c32_is_0x0028() {
+    for sync_type in [0x22, 0x07] {
+        run(DC, async move |master| {
+            preop_with_sync_type(&master, sync_type).await;
+            assert_eq!(
+                safeop(&master, SM2_CONTROL).await,
+                (0x12, 0x0028),
+                "sync type {sync_type:#x}"
+            );
+        });
+    }
+}
+
+/// 0x1C32:03, :06 and :09 (shift, calc and copy, delay time) exist, read-only, 0 by default.
+#[test]
+fn the_timing_entries_are_readable() {
+    run(DC, async |master| {
+        let mut c = preop_with_sync_type(&master, 1).await;
+        for index in [0x1C32, 0x1C33] {
+            for sub in [3, 6, 9] {
+                assert_eq!(c.upload(index, sub, false).await, Ok(vec![0; 4]));
+                assert_eq!(
+                    c.download(index, sub, false, &[1, 0, 0, 0]).await,
+                    Err(SdoError::Abort(AbortCode::READ_ONLY)),
+                    "{index:#06x}:{sub}"
+                );
+            }
+        }
     });
 }
 
@@ -347,6 +383,22 @@ fn dc_cycles_without_new_outputs_count_as_sm_events_missed() {
             0,
             "no cycle lost"
         );
+        // Conformance: the SM-event-missed counter is reset at PREOP→SAFEOP.
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        common::send_outputs(&master).await;
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        for _ in 0..2 {
+            common::send_outputs(&master).await;
+            master.advance(Duration::from_millis(1)).await;
+        }
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 0x0B, false).await),
+            0,
+            "reset at PREOP→SAFEOP"
+        );
+        assert_eq!(c.upload(0x1C32, 0x20, false).await, Ok(vec![0]));
     });
 }
 

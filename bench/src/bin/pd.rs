@@ -3,7 +3,8 @@
 //! `bench/callgrind.sh`.
 //!
 //! Cases: `cia402` (RxPDO 0x6040 u16, 0x607A i32, 0x60FF i32, 0x6060 i8; TxPDO 0x6041 u16,
-//! 0x6064 i32, 0x606C i32, 0x6061 i8: 11 + 11 bytes), `io64` (64 bytes each way as 16 × u32),
+//! 0x6064 i32, 0x606C i32, 0x6061 i8: 11 + 11 bytes), `cia402-remapped` (the same entries
+//! in another order, as a MainDevice may configure them), `io64` (64 bytes each way as 16 × u32),
 //! `axis` (the `ecat-axis` dummy drive, enabled in CSV at 5 000 counts/s: its 13 + 19 bytes and
 //! one `Axis::step`, the CiA 402 state machine and the simulated motor).
 
@@ -11,7 +12,7 @@ use ecat_axis::{Axis, AxisOd};
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-use ecat_emu::devices::Drive;
+use ecat_emu::devices::{DRIVE_RX, DRIVE_TX, Drive};
 
 struct Io {
     outputs: [u32; 16],
@@ -73,6 +74,14 @@ fn cycles<D: ecat_core::dictionary::ObjectDictionary>(
     }
 }
 
+/// The CiA402-like application stub: the set-points back as actual values.
+fn echo(d: &mut Drive) {
+    d.statusword = d.controlword;
+    d.position = d.target_position;
+    d.velocity = d.target_velocity;
+    d.mode_display = d.mode;
+}
+
 /// The first output byte is the cycle number.
 fn vary_first_byte(i: usize, outputs: &mut [u8]) {
     outputs[0] = i as u8;
@@ -83,17 +92,20 @@ fn main() {
     let case = args.next().unwrap_or_else(|| "cia402".into());
     let n = args.next().and_then(|s| s.parse().ok()).unwrap_or(1);
     match case.as_str() {
-        "cia402" => cycles(&mut Drive::default(), n, vary_first_byte, |d| {
-            d.statusword = d.controlword;
-            d.position = d.target_position;
-            d.velocity = d.target_velocity;
-            d.mode_display = d.mode;
-        }),
+        "cia402" => cycles(&mut Drive::default(), n, vary_first_byte, echo),
+        "cia402-remapped" => {
+            let mut od = Drive {
+                rx1: PdoMapping::mapping(&[DRIVE_RX[3], DRIVE_RX[2], DRIVE_RX[1], DRIVE_RX[0]]),
+                tx1: PdoMapping::mapping(&[DRIVE_TX[1], DRIVE_TX[0], DRIVE_TX[3], DRIVE_TX[2]]),
+                ..Drive::default()
+            };
+            cycles(&mut od, n, vary_first_byte, echo)
+        }
         "io64" => cycles(&mut Io::default(), n, vary_first_byte, |d| {
             d.inputs = d.outputs
         }),
         "axis" => {
-            let (mut axis, mut od) = (Axis::new(), AxisOd::new());
+            let (mut axis, mut od) = (Axis::new(), AxisOd::default());
             for controlword in [0x00, 0x06] {
                 od.controlword = controlword;
                 axis.step(&mut od);

@@ -13,6 +13,7 @@
 ///         };
 ///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
 ///         0x1018 => identity(field, IDENTITY);
+///         0x1C00 => sync_manager_types(field);
 ///         0x1C32 => sync_parameters(field, outputs);   // and 0x1C33 … inputs
 ///     }
 /// }
@@ -21,7 +22,12 @@
 /// `sync_parameters` declares 0x1C32 (`outputs`) or 0x1C33 (`inputs`) as the standard record of a
 /// [`sync::SyncParameters`](crate::sync::SyncParameters) field with the entries the stack fills
 /// (SI1 sync type: writable in PREOP with default 1 for the outputs, read-only with default 0x22
-/// for the inputs; SI2 cycle time writable in PREOP; SI4, SI5, SI 0x0B, 0x0C, 0x20 read-only).
+/// for the inputs; SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C,
+/// 0x20 read-only).
+///
+/// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
+/// declaring as defaults) the communication types of SM0..SM3, [`sii::SM_TYPES`](crate::sii::SM_TYPES):
+/// mailbox out, mailbox in, outputs, inputs — what the SII and ESI say of the same SyncManagers.
 ///
 /// `identity` declares the identity object as the standard read-only record of a
 /// [`device::Identity`](crate::device::Identity) field, initialised from the device's constant
@@ -79,6 +85,24 @@ macro_rules! dictionary {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = &[
                 $( $crate::__ecat_object!($dict, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?), )*
             ];
+
+            type Offsets = [u16; $crate::pdo::layout::mappable_entries(
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
+            )];
+
+            const UNMAPPED: Self::Offsets = [$crate::pdo::layout::UNMAPPED; $crate::pdo::layout::mappable_entries(
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
+            )];
+
+            fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]) {
+                let od = self;
+                $( $crate::__ecat_mapped!(unpack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
+            }
+
+            fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]) {
+                let od = self;
+                $( $crate::__ecat_mapped!(pack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
+            }
         }
 
         const _: () = {
@@ -250,6 +274,22 @@ macro_rules! __ecat_object {
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {
         $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RO, 0x22)
     };
+    ($dict:ident, $index:literal, sync_manager_types ( $field:ident )) => {
+        $crate::dictionary::Object::<$dict> {
+            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
+                let value = usize::from(sub).checked_sub(1).and_then(|i| $crate::sii::SM_TYPES.get(i));
+                match (which, value, out.first_mut()) {
+                    ($crate::dictionary::Limit::Default, Some(&value), Some(out)) => {
+                        *out = value;
+                        1
+                    }
+                    _ => 0,
+                }
+            },
+            // `default` marks the element's default as declared; `limit` above gives each its own.
+            ..$crate::__ecat_object!($dict, $index, array ( $field, RO, "Sync manager type", "SM type", default = 0 ))
+        }
+    };
     ($dict:ident, $index:literal, identity ( $field:ident, $value:expr )) => {
         $crate::__ecat_object!($dict, $index, record ( $field : Identity, "Identity object" ) {
             1 => vendor_id, RO, "Vendor ID", default = $value.vendor_id;
@@ -311,6 +351,62 @@ macro_rules! __ecat_object {
     };
 }
 
+/// The process-data copy of one object's mappable fields, `unpack` (RxPDO-mappable entries) or
+/// `pack` (TxPDO-mappable): see [`pdo::image`](crate::pdo::image).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_mapped {
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal,
+     var ( $field:ident, $($acc:ident)|+, $name:literal $($rest:tt)* )) => {
+        $crate::__ecat_mapped_field!($mode, $dict, $od.$field, $offsets, $image, $index, 0, $($acc)|+);
+    };
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal,
+     array ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $($rest:tt)* )) => {
+        $crate::__ecat_mapped_field!($mode, $dict, $od.$field, $offsets, $image, $index, 1, $($acc)|+);
+    };
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal,
+     record ( $field:ident : $record:ident, $name:literal ) {
+        $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal $(, $key:ident = $value:expr)* ; )+
+    }) => {
+        $( $crate::__ecat_mapped_field!($mode, $dict, $od.$field.$sfield, $offsets, $image, $index, $sub, $($acc)|+); )+
+    };
+    // PDO mapping/assignment, identity and sync parameter objects are never mappable.
+    ($mode:ident, $dict:ident, $od:ident, $offsets:ident, $image:ident, $index:literal, $($other:tt)*) => {};
+}
+
+/// One mappable field's copy: `unpack` when its access allows RxPDO mapping, `pack` when it
+/// allows TxPDO mapping; `$sub` is the subindex of its (first) entry.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_mapped_field {
+    (unpack, $dict:ident, $($place:ident).+, $offsets:ident, $image:ident, $index:literal, $sub:literal, $($acc:ident)|+) => {
+        if let (true, Some(first)) = $crate::__ecat_entry_number!($dict, $index, $sub, rxpdo, $($acc)|+) {
+            $crate::pdo::image::Mapped::unpack(&mut $($place).+, $image, $offsets, first);
+        }
+    };
+    (pack, $dict:ident, $($place:ident).+, $offsets:ident, $image:ident, $index:literal, $sub:literal, $($acc:ident)|+) => {
+        if let (true, Some(first)) = $crate::__ecat_entry_number!($dict, $index, $sub, txpdo, $($acc)|+) {
+            $crate::pdo::image::Mapped::pack(&$($place).+, $image, $offsets, first);
+        }
+    };
+}
+
+/// `(whether the access allows the direction, the entry number)`, both constants.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_entry_number {
+    ($dict:ident, $index:literal, $sub:literal, $direction:ident, $($acc:ident)|+) => {
+        const {
+            (
+                $crate::__ecat_access!($($acc)|+).$direction(),
+                $crate::pdo::layout::entry_number(
+                    <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS, $index, $sub,
+                ),
+            )
+        }
+    };
+}
+
 /// The default value of one field.
 #[doc(hidden)]
 #[macro_export]
@@ -328,6 +424,9 @@ macro_rules! __ecat_default {
     };
     (identity ( $field:ident, $value:expr )) => {
         $value
+    };
+    (sync_manager_types ( $field:ident )) => {
+        $crate::sii::SM_TYPES
     };
     (sync_parameters ( $field:ident, outputs )) => {
         $crate::sync::SyncParameters { sync_type: 1, ..$crate::sync::SyncParameters::DEFAULT }
@@ -352,8 +451,11 @@ macro_rules! __ecat_sync_parameters {
         $crate::__ecat_object!($dict, $index, record ( $field : SyncParameters, $name ) {
             1 => sync_type, $sync_access, "Synchronization type", default = $sync_default;
             2 => cycle_time, RW_PREOP, "Cycle time";
+            3 => shift_time, RO, "Shift time";
             4 => supported, RO, "Synchronization types supported";
             5 => min_cycle_time, RO, "Minimum cycle time";
+            6 => calc_copy_time, RO, "Calc and copy time";
+            9 => delay_time, RO, "Delay time";
             0x0B => sm_event_missed, RO, "SM event missed counter";
             0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
             0x20 => sync_error, RO, "Sync error";

@@ -73,6 +73,22 @@ pub trait ObjectDictionary: Sized + 'static {
     /// Every object, sorted by index.
     const OBJECTS: &'static [Object<Self>];
 
+    /// A bit offset per PDO-mappable entry, indexed by
+    /// [entry number](crate::pdo::layout::entry_number): `[u16; N]`, `N` =
+    /// [`mappable_entries`](crate::pdo::layout::mappable_entries) of [`Self::OBJECTS`].
+    type Offsets: AsRef<[u16]> + AsMut<[u16]> + Copy;
+
+    /// Every entry [unmapped](crate::pdo::layout::UNMAPPED).
+    const UNMAPPED: Self::Offsets;
+
+    /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
+    /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
+    fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]);
+
+    /// Copies every TxPDO-mappable entry into `image` at its offset (generated: one
+    /// [`Mapped::pack`](crate::pdo::image::Mapped::pack) per field).
+    fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]);
+
     /// The object at `index`, by binary search.
     fn object(index: u16) -> Option<&'static Object<Self>> {
         let i = Self::OBJECTS
@@ -85,6 +101,10 @@ pub trait ObjectDictionary: Sized + 'static {
 /// The empty dictionary, for a device without objects of its own.
 impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
+    type Offsets = [u16; 0];
+    const UNMAPPED: [u16; 0] = [];
+    fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
+    fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
 }
 
 /// What [`Object::read`] returns: bytes copied and the entry's whole size.

@@ -1,86 +1,163 @@
 //! Bit-exact copies between the process image and the dictionary (ETG.1000.6 §5.6.7): entries
 //! sit at their bit offsets, little endian, least significant bit first.
 //!
-//! Each entry moves as a `u64` through its object's typed accessors (`Object::load` /
-//! `Object::store`). How it is copied ([`Place`]) is decided once when the layout is computed:
-//! byte-aligned 8/16/32/64-bit entries are one fixed-width load or store, others go bit by bit.
+//! [`unpack`] and [`pack`] run the code `dictionary!` generates for the dictionary
+//! (`ObjectDictionary::unpack_mapped`/`pack_mapped`): for each PDO-mappable field in turn,
+//! [`Mapped::unpack`]/[`Mapped::pack`] with the field's offsets from the [`Layout`], inlined
+//! with the field's type known, so an entry at a byte boundary is one fixed-width load and store
+//! and an unmapped one a compare; only entries that are not whole bytes at a byte boundary (BOOL,
+//! BITn, anything after them) go bit by bit.
 
-use super::layout::{Layout, Place, Slot};
-use crate::dictionary::ObjectDictionary;
+use super::layout::{BYTE_ALIGNED, Layout, UNMAPPED, bit_offset};
+use crate::dictionary::{ObjectDictionary, Value};
 
-/// Copies the image's entries into the dictionary (outputs: MainDevice → application).
+/// Copies the image's entries into the dictionary (outputs: MainDevice → application). An entry
+/// not wholly inside `image` is left as it is.
 pub fn unpack<D: ObjectDictionary>(layout: &Layout<D>, image: &[u8], od: &mut D) {
-    for slot in layout.slots() {
-        if let Some(object) = slot.object {
-            (object.store)(od, slot.sub, get(image, slot));
+    od.unpack_mapped(layout.offsets(), image);
+}
+
+/// Copies the dictionary's entries into the image (inputs: application → MainDevice). Gaps and
+/// the padding after the last entry are zero; an entry not wholly inside `image` is not
+/// written.
+pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
+    if layout.has_gaps() {
+        image.fill(0);
+    }
+    od.pack_mapped(layout.offsets(), image);
+    for repeat in layout.repeats() {
+        if let Some(bits) = get_bits(image, repeat.from, repeat.len) {
+            put_bits(image, repeat.to, repeat.len, bits);
         }
     }
 }
 
-/// Copies the dictionary's entries into the image (inputs: application → MainDevice). Gaps and
-/// the padding after the last entry are zero.
-pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
-    for slot in layout.slots() {
-        let bits = slot.object.map_or(0, |object| (object.load)(od, slot.sub));
-        put(image, slot, bits);
+/// A field PDO-mappable entries live in: a value (one entry) or an ARRAY's elements (one entry
+/// each, numbered in order). The code `dictionary!` generates calls these once per mappable field
+/// with the field's first [entry number](super::layout::entry_number), a constant.
+pub trait Mapped {
+    /// Copies the field's entries from their offsets in `image`.
+    fn unpack(&mut self, image: &[u8], offsets: &[u16], first: usize);
+    /// Copies the field's entries into `image` at their offsets.
+    fn pack(&self, image: &mut [u8], offsets: &[u16], first: usize);
+}
+
+impl<T: Value> Mapped for T {
+    #[inline(always)]
+    fn unpack(&mut self, image: &[u8], offsets: &[u16], first: usize) {
+        if let Some(&at) = offsets.get(first) {
+            unpack_value(self, image, at);
+        }
     }
-    let end = layout.bits();
-    let padding = (8 - end % 8) % 8;
-    if let (Ok(offset), Ok(padding @ 1..)) = (u16::try_from(end), u8::try_from(padding)) {
-        put_bits(image, offset, padding, 0);
+
+    #[inline(always)]
+    fn pack(&self, image: &mut [u8], offsets: &[u16], first: usize) {
+        if let Some(&at) = offsets.get(first) {
+            put::<T>(image, at, self.to_bits());
+        }
     }
 }
 
-/// The slot's bits in `image`; bits beyond the image read as 0.
-fn get<D>(image: &[u8], slot: &Slot<D>) -> u64 {
-    let value = match slot.place {
-        Place::U8(at) => image.get(at).map(|&b| u64::from(b)),
-        Place::U16(at) => chunk(image, at).map(|b| u64::from(u16::from_le_bytes(b))),
-        Place::U32(at) => chunk(image, at).map(|b| u64::from(u32::from_le_bytes(b))),
-        Place::U64(at) => chunk(image, at).map(u64::from_le_bytes),
-        Place::Bits => None,
-    };
-    value.unwrap_or_else(|| get_bits(image, slot.bit_offset, slot.bit_len))
+impl<T: Value, const N: usize> Mapped for [T; N] {
+    #[inline(always)]
+    fn unpack(&mut self, image: &[u8], offsets: &[u16], first: usize) {
+        if let Some(offsets) = offsets.get(first..).and_then(<[u16]>::first_chunk::<N>) {
+            for (value, &at) in self.iter_mut().zip(offsets) {
+                unpack_value(value, image, at);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn pack(&self, image: &mut [u8], offsets: &[u16], first: usize) {
+        if let Some(offsets) = offsets.get(first..).and_then(<[u16]>::first_chunk::<N>) {
+            for (value, &at) in self.iter().zip(offsets) {
+                put::<T>(image, at, value.to_bits());
+            }
+        }
+    }
+}
+
+#[inline(always)]
+fn unpack_value<T: Value>(value: &mut T, image: &[u8], at: u16) {
+    if let Some(v) = get::<T>(image, at).and_then(T::from_bits) {
+        *value = v;
+    }
+}
+
+/// The `T::BIT_LEN` bits of `image` at `stored` (a layout's offset); `None` when unmapped or not
+/// inside `image`.
+#[inline(always)]
+fn get<T: Value>(image: &[u8], stored: u16) -> Option<u64> {
+    let i = usize::from(stored);
+    match (stored < BYTE_ALIGNED, T::BIT_LEN) {
+        (true, 8) => image.get(i).copied().map(u64::from),
+        (true, 16) => chunk(image, i).map(|b| u16::from_le_bytes(b).into()),
+        (true, 32) => chunk(image, i).map(|b| u32::from_le_bytes(b).into()),
+        (true, 64) => chunk(image, i).map(u64::from_le_bytes),
+        _ if stored == UNMAPPED => None,
+        _ => get_bits(image, bit_offset(stored), u8::try_from(T::BIT_LEN).ok()?),
+    }
+}
+
+/// Writes the low `T::BIT_LEN` bits of `bits` into `image` at `stored` (a layout's offset),
+/// unless unmapped or not inside `image`.
+#[inline(always)]
+#[allow(clippy::cast_possible_truncation)] // each fast path stores exactly its width
+fn put<T: Value>(image: &mut [u8], stored: u16, bits: u64) {
+    let i = usize::from(stored);
+    match (stored < BYTE_ALIGNED, T::BIT_LEN) {
+        (true, 8) => set(image.get_mut(i), bits as u8),
+        (true, 16) => set(chunk_mut(image, i), (bits as u16).to_le_bytes()),
+        (true, 32) => set(chunk_mut(image, i), (bits as u32).to_le_bytes()),
+        (true, 64) => set(chunk_mut(image, i), bits.to_le_bytes()),
+        _ if stored == UNMAPPED => {}
+        _ => {
+            if let Ok(len) = u8::try_from(T::BIT_LEN) {
+                put_bits(image, bit_offset(stored), len, bits);
+            }
+        }
+    }
+}
+
+fn set<T>(place: Option<&mut T>, value: T) {
+    if let Some(place) = place {
+        *place = value;
+    }
 }
 
 /// The `N` bytes of `image` from `at`, if it has them.
+#[inline(always)]
 fn chunk<const N: usize>(image: &[u8], at: usize) -> Option<[u8; N]> {
-    image.get(at..)?.first_chunk().copied()
+    image.get(at..at.checked_add(N)?)?.try_into().ok()
 }
 
 /// The `N` bytes of `image` from `at`, if it has them, for writing.
+#[inline(always)]
 fn chunk_mut<const N: usize>(image: &mut [u8], at: usize) -> Option<&mut [u8; N]> {
-    image.get_mut(at..)?.first_chunk_mut()
+    image.get_mut(at..at.checked_add(N)?)?.try_into().ok()
 }
 
-/// Writes the slot's bits into `image`; bits beyond the image are dropped.
-#[allow(clippy::cast_possible_truncation)] // each fast path stores exactly its width
-fn put<D>(image: &mut [u8], slot: &Slot<D>, bits: u64) {
-    let done = match slot.place {
-        Place::U8(at) => image.get_mut(at).map(|b| *b = bits as u8),
-        Place::U16(at) => chunk_mut(image, at).map(|b| *b = (bits as u16).to_le_bytes()),
-        Place::U32(at) => chunk_mut(image, at).map(|b| *b = (bits as u32).to_le_bytes()),
-        Place::U64(at) => chunk_mut(image, at).map(|b| *b = bits.to_le_bytes()),
-        Place::Bits => None,
-    };
-    if done.is_none() {
-        put_bits(image, slot.bit_offset, slot.bit_len, bits);
-    }
-}
-
-/// `len` bits of `image` from bit `offset`, LSB first.
-fn get_bits(image: &[u8], offset: u16, len: u8) -> u64 {
+/// `len` bits of `image` from bit `offset`, LSB first; `None` unless all are inside `image`.
+fn get_bits(image: &[u8], offset: u16, len: u8) -> Option<u64> {
     let offset = usize::from(offset);
-    (0..usize::from(len).min(64)).fold(0, |bits, i| {
+    if offset + usize::from(len) > image.len().saturating_mul(8) {
+        return None;
+    }
+    Some((0..usize::from(len).min(64)).fold(0, |bits, i| {
         let bit = offset + i;
         let set = image.get(bit / 8).is_some_and(|b| b >> (bit % 8) & 1 != 0);
         bits | (u64::from(set) << i)
-    })
+    }))
 }
 
-/// Writes the low `len` bits of `bits` into `image` from bit `offset`, LSB first.
+/// Writes the low `len` bits of `bits` into `image` from bit `offset`, LSB first, unless some
+/// are beyond `image`.
 fn put_bits(image: &mut [u8], offset: u16, len: u8, bits: u64) {
     let offset = usize::from(offset);
+    if offset + usize::from(len) > image.len().saturating_mul(8) {
+        return;
+    }
     for i in 0..usize::from(len).min(64) {
         let bit = offset + i;
         if let Some(byte) = image.get_mut(bit / 8) {

@@ -1,86 +1,69 @@
-//! The process image a configuration describes: for each direction, the assigned PDOs' mapped
-//! entries, their bit offsets, and the image size the SyncManager must have
-//! (ETG.1000.6 §5.6.7; AL status codes 0x0024/0x0025 for an unusable mapping).
+//! The process image a configuration describes (ETG.1000.6 §5.6.7): for each direction, where the
+//! assigned PDOs put each mapped entry and the image size the SyncManager must have (AL status
+//! codes 0x0024/0x0025 for an unusable mapping).
+//!
+//! A [`Layout`] is a copy plan, computed once when the configuration is accepted and used every
+//! cycle by [`image`](super::image): it holds the bit offset of every PDO-mappable entry of the
+//! dictionary, indexed by the entry's [number](entry_number) ([`UNMAPPED`] where the
+//! configuration does not map it). The copy itself is code `dictionary!` generates per dictionary
+//! (`ObjectDictionary::unpack_mapped`/`pack_mapped`): a straight line over the mappable fields, so
+//! a cycle costs no lookup and no dispatch per entry.
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{Object, ObjectDictionary};
+use crate::dictionary::{Object, ObjectCode, ObjectDictionary};
 
-/// How many mapped entries one direction's image may hold.
-pub const MAX_ENTRIES: usize = 64;
+/// The offset of an entry the configuration does not map.
+pub const UNMAPPED: u16 = u16::MAX;
 
-/// How an entry is copied, decided once when the layout is computed: byte-aligned 8/16/32/64-bit
-/// entries as one fixed-width load or store at a byte index, everything else bit by bit.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Place {
-    /// One byte at this index.
-    U8(usize),
-    /// Two bytes from this index.
-    U16(usize),
-    /// Four bytes from this index.
-    U32(usize),
-    /// Eight bytes from this index.
-    U64(usize),
-    /// `bit_len` bits from `bit_offset`.
-    Bits,
+/// How a layout stores a bit offset: rotated right by 3, the byte index in bits 0..13 and the bit
+/// within the byte in bits 13..16, so an entry at a byte boundary is stored as its byte index
+/// (below [`BYTE_ALIGNED`]) and the copy needs no shift. [`UNMAPPED`] stores as itself.
+pub const fn stored(bit_offset: u16) -> u16 {
+    bit_offset.rotate_right(3)
 }
 
-impl Place {
-    fn of(bit_offset: u16, bit_len: u8) -> Self {
-        let at = usize::from(bit_offset / 8);
-        match (bit_offset.is_multiple_of(8), bit_len) {
-            (true, 8) => Self::U8(at),
-            (true, 16) => Self::U16(at),
-            (true, 32) => Self::U32(at),
-            (true, 64) => Self::U64(at),
-            _ => Self::Bits,
-        }
-    }
+/// The bit offset a layout stored ([`stored`]).
+pub const fn bit_offset(stored: u16) -> u16 {
+    stored.rotate_left(3)
 }
 
-/// One mapped entry's place in the image.
-pub struct Slot<D: 'static> {
-    /// The mapped object, `None` for a gap.
-    pub object: Option<&'static Object<D>>,
-    /// The mapped subindex.
-    pub sub: u8,
-    /// Offset from the start of the image, in bits.
-    pub bit_offset: u16,
-    /// Length in bits.
-    pub bit_len: u8,
-    /// How it is copied.
-    pub place: Place,
+/// Stored offsets below this are byte indices of entries at a byte boundary.
+pub const BYTE_ALIGNED: u16 = 1 << 13;
+
+/// How many entries a TxPDO configuration may map a second time (the image carries the value
+/// at each place).
+pub const MAX_REPEATS: usize = 8;
+
+/// A TxPDO entry mapped again: after packing, `len` bits are copied from `from` to `to`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Repeat {
+    /// The bit offset of the entry's first place.
+    pub from: u16,
+    /// The bit offset of the repeated place.
+    pub to: u16,
+    /// The entry's length in bits.
+    pub len: u8,
 }
 
-impl<D> Slot<D> {
-    const EMPTY: Self = Self {
-        object: None,
-        sub: 0,
-        bit_offset: 0,
-        bit_len: 0,
-        place: Place::Bits,
-    };
-}
-
-impl<D> Clone for Slot<D> {
-    fn clone(&self) -> Self {
-        *self
-    }
-}
-
-impl<D> Copy for Slot<D> {}
-
-/// One direction's image: its slots and its size.
-pub struct Layout<D: 'static> {
-    slots: [Slot<D>; MAX_ENTRIES],
-    len: usize,
-    bits: u32,
+/// One direction's image: the offset of every mappable entry and the image size.
+pub struct Layout<D: ObjectDictionary> {
+    offsets: D::Offsets,
+    bits: u16,
+    gaps: bool,
+    repeats: [Repeat; MAX_REPEATS],
+    repeat_count: u8,
 }
 
 impl<D: ObjectDictionary> Layout<D> {
     /// The image `direction` describes in `od`: the assigned PDOs (0x1C12/0x1C13) in order, their
     /// mapped entries in order. `Ok(None)` when the dictionary has no assignment object (a fixed
     /// layout from the device configuration applies).
+    ///
+    /// Refused with 0x0025 (outputs) or 0x0024 (inputs): an assignment naming a missing PDO or
+    /// one of the other direction, a mapping entry naming a missing or unmappable entry or with
+    /// the wrong bit length, an image over 65 535 bits, more than [`MAX_REPEATS`] entries of a
+    /// TxPDO mapped again. An RxPDO entry mapped twice takes its value from its last place.
     pub fn of(od: &D, direction: Direction) -> Result<Option<Self>, AlStatusCode> {
         let invalid = match direction {
             Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
@@ -90,9 +73,11 @@ impl<D: ObjectDictionary> Layout<D> {
             return Ok(None);
         };
         let mut layout = Self {
-            slots: [Slot::EMPTY; MAX_ENTRIES],
-            len: 0,
+            offsets: D::UNMAPPED,
             bits: 0,
+            gaps: false,
+            repeats: [Repeat::default(); MAX_REPEATS],
+            repeat_count: 0,
         };
         for pdo in 1..=count(od, assignment) {
             let index = read_u16(od, assignment, pdo).ok_or(invalid)?;
@@ -104,49 +89,126 @@ impl<D: ObjectDictionary> Layout<D> {
                 layout.push(entry, direction).ok_or(invalid)?;
             }
         }
+        layout.gaps |= !layout.bits.is_multiple_of(8);
         Ok(Some(layout))
     }
 
     fn push(&mut self, entry: MappingEntry, direction: Direction) -> Option<()> {
-        let object = match entry.index() {
-            0 => None,
-            index => {
-                let object = D::object(index)?;
-                let info = object.info.entry(entry.sub())?;
-                let mappable =
-                    direction.allows(info.access) && info.bit_len == u16::from(entry.bit_len());
-                Some(object).filter(|_| mappable)?.into()
-            }
-        };
-        let bit_offset = u16::try_from(self.bits).ok()?;
-        let bit_len = entry.bit_len();
-        let place = Place::of(bit_offset, bit_len);
-        *self.slots.get_mut(self.len)? = Slot {
-            object,
-            sub: entry.sub(),
-            bit_offset,
-            bit_len,
-            place,
-        };
-        self.len += 1;
-        self.bits += u32::from(entry.bit_len());
+        let at = self.bits;
+        self.bits = at.checked_add(entry.bit_len().into())?;
+        if entry.index() == 0 {
+            self.gaps = true;
+            return Some(());
+        }
+        let info = D::object(entry.index())?.info.entry(entry.sub())?;
+        let mappable = direction.allows(info.access) && info.bit_len == entry.bit_len().into();
+        let number = entry_number(D::OBJECTS, entry.index(), entry.sub()).filter(|_| mappable)?;
+        let offset = self.offsets.as_mut().get_mut(number)?;
+        let first = core::mem::replace(offset, stored(at));
+        if direction == Direction::Tx && first != UNMAPPED {
+            // The entry keeps its first place; the image repeats it here.
+            *offset = first;
+            return self.repeat(bit_offset(first), at, entry.bit_len());
+        }
+        Some(())
+    }
+
+    fn repeat(&mut self, from: u16, to: u16, len: u8) -> Option<()> {
+        *self.repeats.get_mut(usize::from(self.repeat_count))? = Repeat { from, to, len };
+        self.repeat_count += 1;
         Some(())
     }
 
     /// The image size in bits.
     pub fn bits(&self) -> u32 {
-        self.bits
+        self.bits.into()
     }
 
     /// The image size in bytes (bits rounded up).
     pub fn bytes(&self) -> u16 {
-        u16::try_from(self.bits.div_ceil(8)).unwrap_or(u16::MAX)
+        self.bits.div_ceil(8)
     }
 
-    /// The slots in image order.
-    pub fn slots(&self) -> &[Slot<D>] {
-        self.slots.get(..self.len).unwrap_or_default()
+    /// The offset of every mappable entry, by [entry number](entry_number), as [`stored`].
+    pub fn offsets(&self) -> &D::Offsets {
+        &self.offsets
     }
+
+    /// The bit offset of `index:sub` in the image, `None` if the layout does not map it (for a
+    /// TxPDO entry mapped more than once: its first place).
+    pub fn offset(&self, index: u16, sub: u8) -> Option<u16> {
+        let number = entry_number(D::OBJECTS, index, sub)?;
+        self.offsets
+            .as_ref()
+            .get(number)
+            .copied()
+            .filter(|&at| at != UNMAPPED)
+            .map(bit_offset)
+    }
+
+    /// Whether the image has bits no entry fills (gaps, padding after the last entry): they are
+    /// zeroed before packing.
+    pub fn has_gaps(&self) -> bool {
+        self.gaps
+    }
+
+    /// The TxPDO entries mapped again, in image order.
+    pub fn repeats(&self) -> &[Repeat] {
+        self.repeats
+            .get(..usize::from(self.repeat_count))
+            .unwrap_or_default()
+    }
+}
+
+/// The number of PDO-mappable entries in `objects` (the length of
+/// [`ObjectDictionary::Offsets`]).
+pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
+    match number_of(objects, None) {
+        Ok(n) | Err(n) => n,
+    }
+}
+
+/// The number of the PDO-mappable entry `index:sub`: the mappable entries (RxPDO or TxPDO) of
+/// `objects` counted in index order, subindex order within a RECORD, element by element within
+/// an ARRAY. `None` when `index:sub` is not mappable or does not exist.
+pub const fn entry_number<D>(objects: &[Object<D>], index: u16, sub: u8) -> Option<usize> {
+    match number_of(objects, Some((index, sub))) {
+        Ok(n) => Some(n),
+        Err(_) => None,
+    }
+}
+
+/// `Ok(number)` of `wanted`, or `Err(count of all mappable entries)` when `wanted` is `None` or
+/// not found.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+const fn number_of<D>(objects: &[Object<D>], wanted: Option<(u16, u8)>) -> Result<usize, usize> {
+    let mut n = 0;
+    let mut i = 0;
+    while i < objects.len() {
+        let info = &objects[i].info;
+        let mut j = 0;
+        while j < info.entries.len() {
+            let entry = &info.entries[j];
+            if entry.access.rxpdo() || entry.access.txpdo() {
+                // An ARRAY's element entry stands for subindices 1..=max_sub.
+                let count = match info.code {
+                    ObjectCode::Array => info.max_sub,
+                    ObjectCode::Var | ObjectCode::Record => 1,
+                };
+                if let Some((index, sub)) = wanted
+                    && index == info.index
+                    && sub >= entry.sub
+                    && sub - entry.sub < count
+                {
+                    return Ok(n + (sub - entry.sub) as usize);
+                }
+                n += count as usize;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    Err(n)
 }
 
 pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {

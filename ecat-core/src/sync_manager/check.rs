@@ -78,12 +78,16 @@ pub fn mailbox(
     if rx && tx { Ok(()) } else { Err(code) }
 }
 
+/// A mailbox channel as the SII describes it (control 0x26 / 0x22): mode, direction and the PDI
+/// event, without which the SubDevice would never see a mailbox event. The ECAT event bit is the
+/// MainDevice's choice.
 fn is_mailbox(channel: &Channel, area: Area, direction: Direction) -> bool {
     channel.enabled()
         && channel.start == area.start
         && channel.length == area.length
         && channel.control.mode() == Mode::Mailbox
         && channel.control.direction() == direction
+        && channel.control.pdi_event()
 }
 
 /// Checks SM2/SM3 against the process-data `sizes`, and that no enabled channel overlaps

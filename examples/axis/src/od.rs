@@ -40,8 +40,7 @@ pub const TX_MAPPING: [MappingEntry; 7] = [
     MappingEntry::new(0x603F, 0, 16),
 ];
 
-/// The object dictionary of the axis. Build it with [`AxisOd::new`] (0x1C00 needs its
-/// per-element values).
+/// The object dictionary of the axis; `AxisOd::default()` is the dictionary at power on.
 #[derive(Debug)]
 pub struct AxisOd {
     /// 0x1000 device type: 0x0002_0192 (CiA 402, servo drive).
@@ -128,7 +127,7 @@ ecat_core::dictionary! {
         0x1018 => identity(identity, IDENTITY);
         0x1600 => pdo(rx_mapping, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX_MAPPING));
         0x1A00 => pdo(tx_mapping, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX_MAPPING));
-        0x1C00 => array(sm_types, RO, "Sync manager type", "SM type");
+        0x1C00 => sync_manager_types(sm_types);
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
         0x1C32 => sync_parameters(sync_out, outputs);
@@ -159,15 +158,5 @@ ecat_core::dictionary! {
         0x60F4 => var(following_error, RO | TXPDO, "Following error actual value");
         0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
         0x6502 => var(supported_modes, RO, "Supported drive modes", default = SUPPORTED_MODES);
-    }
-}
-
-impl AxisOd {
-    /// The dictionary at power on: every declared default, and 0x1C00 = 1, 2, 3, 4.
-    pub fn new() -> Self {
-        Self {
-            sm_types: [1, 2, 3, 4],
-            ..Self::default()
-        }
     }
 }

@@ -31,8 +31,10 @@ fn cycle(axis: &mut Axis, od: &mut AxisOd, controlword: u16) {
 /// A fresh axis in Operation enabled in `mode` after three cycles (transitions 1, 2, 3+4).
 fn enabled(mode: i8) -> (Axis, AxisOd) {
     let mut axis = Axis::new();
-    let mut od = AxisOd::new();
-    od.mode = mode;
+    let mut od = AxisOd {
+        mode,
+        ..AxisOd::default()
+    };
     cycle(&mut axis, &mut od, 0x00);
     assert_eq!(od.statusword, 0x0250);
     cycle(&mut axis, &mut od, 0x06);
@@ -63,7 +65,7 @@ fn cycles_until(
 #[test]
 fn the_dictionary_declares_the_cia402_objects_as_the_profile_defines_them() {
     assert_eq!(objects::check::<AxisOd>(), Ok(()));
-    let od = AxisOd::new();
+    let od = AxisOd::default();
     assert_eq!(od.device_type, 0x0002_0192);
     assert_eq!(od.device_type & 0xFFFF, 402);
     assert_eq!(od.sm_types, [1, 2, 3, 4]);

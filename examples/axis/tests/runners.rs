@@ -44,7 +44,7 @@ fn a_master_enables_the_axis_in_csv_through_process_data() {
             inputs: 19,
         },
     );
-    let device = Device::new(config, AxisApp, Axis::new()).with_dictionary(AxisOd::new());
+    let device = Device::new(config, AxisApp, Axis::new()).with_dictionary(AxisOd::default());
     harness::run(device, |master| async move {
         master.reset().await;
         assert_eq!(master.request(0x01).await, (0x01, 0));

@@ -8,6 +8,6 @@ use ecat_emu::harness::Device;
 /// The axis, ready for the harness.
 pub fn sample() -> Sample<AxisApp, Axis, AxisOd> {
     let device =
-        Device::new(ecat_axis::DEVICE, AxisApp, Axis::new()).with_dictionary(AxisOd::new());
+        Device::new(ecat_axis::DEVICE, AxisApp, Axis::new()).with_dictionary(AxisOd::default());
     Sample::new(ecat_axis::NAMES, ecat_axis::IDENTITY, device)
 }

@@ -395,6 +395,12 @@ fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D, sii: &Sii, 
         (sms[3].1, sms[3].2, sms[3].3, sms[3].4),
         (inputs, 0x20, u8::from(inputs > 0), 4)
     );
+    // 0x1C00, where the dictionary has it, gives each SM the type the SII gives it.
+    if D::object(0x1C00).is_some() {
+        let types: Vec<Vec<u8>> = (1..=4).map(|sub| read(od, 0x1C00, sub)).collect();
+        let sii_types: Vec<Vec<u8>> = sms.iter().map(|sm| vec![sm.4]).collect();
+        assert_eq!(types, sii_types, "0x1C00 = SII SM types");
+    }
     // SM2 after the mailboxes, SM3 after SM2's three buffers, 8-byte aligned.
     assert_eq!(u32::from(sms[2].0), m.send.end().div_ceil(8) * 8);
     assert_eq!(sms[3].0, (sms[2].0 + 3 * outputs).div_ceil(8) * 8);

@@ -48,7 +48,7 @@ ecat_core::dictionary! {
         0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"1.0"));
         0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
         0x1018 => identity(identity, IDENTITY);
-        0x1C00 => array(sm_types, RO, "Sync manager type", "SM type");
+        0x1C00 => sync_manager_types(sm_types);
         0x2000 => var(text, RW, "Text");
         0x2001 => var(blob, RW, "Blob");
         0x2002 => record(params: Params, "Parameters") {

@@ -172,3 +172,63 @@ pub fn entry_value(
     }
     Some((value, 1))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dictionary::{Access, DataType, Limits};
+
+    const fn entry(sub: u8, data_type: DataType, bit_len: u16) -> EntryInfo {
+        EntryInfo {
+            sub,
+            name: "",
+            data_type,
+            bit_len,
+            access: Access::RW,
+            unit: 0,
+            limits: Limits(0),
+        }
+    }
+
+    const fn record(entries: &'static [EntryInfo]) -> ObjectInfo {
+        ObjectInfo {
+            index: 0x2000,
+            code: ObjectCode::Record,
+            name: "",
+            max_sub: 2,
+            entries,
+        }
+    }
+
+    /// A RECORD with a string or a DOMAIN entry is refused with 0x06010004, from SI0 and SI1;
+    /// one of numbers is not; from SI2 on, or on a VAR, the access itself is 0x06010000.
+    #[test]
+    fn variable_length_entries_refuse_complete_access() {
+        const fn with(second: DataType) -> [EntryInfo; 3] {
+            let count = EntryInfo::subindex_count("");
+            [
+                count,
+                entry(1, DataType::Unsigned16, 16),
+                entry(2, second, 64),
+            ]
+        }
+        const STRING: [EntryInfo; 3] = with(DataType::VisibleString);
+        const OCTETS: [EntryInfo; 3] = with(DataType::OctetString);
+        const DOMAIN: [EntryInfo; 3] = with(DataType::Domain);
+        const NUMBERS: [EntryInfo; 3] = with(DataType::Integer64);
+        for entries in [&STRING, &OCTETS, &DOMAIN] {
+            for sub in [0, 1] {
+                let refused = check(&record(entries), sub);
+                assert_eq!(refused, Err(AbortCode::CA_VARIABLE_LENGTH));
+            }
+        }
+        let numbers = record(&NUMBERS);
+        assert_eq!(check(&numbers, 0), Ok(()));
+        assert_eq!(check(&numbers, 2), Err(AbortCode::UNSUPPORTED_ACCESS));
+        let var = ObjectInfo {
+            code: ObjectCode::Var,
+            ..numbers
+        };
+        assert_eq!(check(&var, 0), Err(AbortCode::UNSUPPORTED_ACCESS));
+    }
+}

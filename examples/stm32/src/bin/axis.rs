@@ -57,7 +57,7 @@ async fn state_machine(high: SendSpawner, board: Board) {
         return;
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
-    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::new())));
+    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::default())));
     high.spawn(unwrap!(process_data(esc, od, irq, sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut AxisApp, od).await;
