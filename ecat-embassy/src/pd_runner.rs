@@ -83,37 +83,41 @@ where
     // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
     let mut tick: Option<Instant> = None;
     loop {
-        let news = esc.pd_news(current);
-        let layout = news.layout;
-        let plan = if layout != current {
-            let was_active = current.is_some_and(|l| l.outputs_active);
-            current = layout;
-            if was_active && !layout.is_some_and(|l| l.outputs_active) {
-                exchange.safe_state();
-            }
-            tick = layout.and_then(first_deadline);
-            exchange.on_new_layout(layout)
-        } else if !news.pd_events.is_empty() {
-            Some(exchange.on_trigger(layout, true))
-        } else {
-            let sync0_on = layout.is_some_and(|l| l.sync0());
-            let mut irq_low = pin!(irq.wait_for_low());
-            let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
-            match select4(
-                Maybe(news.irq_free.then_some(irq_low.as_mut())),
-                esc.pd_news_since(news.generation),
-                until(tick),
-                Maybe(sync0_on.then_some(sync0_edge.as_mut())),
-            )
-            .await
-            {
-                Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
-                Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
-                Either4::Second(()) => None,
-                Either4::Third(()) => exchange.on_tick(layout, &mut tick),
-                Either4::Fourth(Ok(())) => {
-                    tick = layout.and_then(first_deadline);
-                    exchange.on_sync0(layout)
+        // What woke the runner and what follows; the news and its copy of the layout end here,
+        // so only `current` lives on across the exchange.
+        let plan = {
+            let news = esc.pd_news(current);
+            let layout = news.layout;
+            if layout != current {
+                let was_active = current.is_some_and(|l| l.outputs_active);
+                current = layout;
+                if was_active && !layout.is_some_and(|l| l.outputs_active) {
+                    exchange.safe_state();
+                }
+                tick = layout.and_then(first_deadline);
+                exchange.on_new_layout(layout)
+            } else if !news.pd_events.is_empty() {
+                Some(exchange.on_trigger(layout, true))
+            } else {
+                let sync0_on = layout.is_some_and(|l| l.sync0());
+                let mut irq_low = pin!(irq.wait_for_low());
+                let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
+                match select4(
+                    Maybe(news.irq_free.then_some(irq_low.as_mut())),
+                    esc.pd_news_since(news.generation),
+                    until(tick),
+                    Maybe(sync0_on.then_some(sync0_edge.as_mut())),
+                )
+                .await
+                {
+                    Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
+                    Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
+                    Either4::Second(()) => None,
+                    Either4::Third(()) => exchange.on_tick(layout, &mut tick),
+                    Either4::Fourth(Ok(())) => {
+                        tick = layout.and_then(first_deadline);
+                        exchange.on_sync0(layout)
+                    }
                 }
             }
         };
