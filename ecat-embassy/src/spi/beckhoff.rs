@@ -182,12 +182,15 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                 Transactions::PerByte => 1,
             };
             let (piece, tail) = rest.split_at(piece_len);
+            rest = tail;
+            let at = address;
+            address = address.wrapping_add(piece_len as u16);
             // One transaction: the address phase, then the data (a read's with the read
             // termination on its last byte).
             let mut phase;
             let data = match piece {
                 Data::Read(buf) => {
-                    phase = AddressPhase::new(address, self.read_command());
+                    phase = AddressPhase::new(at, self.read_command());
                     buf.fill(READ_CONTINUE);
                     if let Some(last) = buf.last_mut() {
                         *last = READ_TERMINATION;
@@ -195,7 +198,7 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                     Operation::TransferInPlace(buf)
                 }
                 Data::Write(data) => {
-                    phase = AddressPhase::new(address, Command::Write);
+                    phase = AddressPhase::new(at, Command::Write);
                     Operation::Write(data)
                 }
             };
@@ -203,8 +206,6 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                 .transaction(&mut [Operation::TransferInPlace(phase.as_mut_slice()), data])
                 .await?;
             first.get_or_insert(phase.al_event());
-            address = address.wrapping_add(piece_len as u16);
-            rest = tail;
         }
         Ok(first.unwrap_or(AlEvent::NONE))
     }
