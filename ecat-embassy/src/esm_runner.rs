@@ -10,7 +10,9 @@ use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 
-use crate::shared::Runner;
+use crate::maybe::Maybe;
+use crate::pdi::Data;
+use crate::shared::{Notes, Runner};
 use crate::time::{now, until};
 use crate::{Application, Pdi, SharedEsc};
 
@@ -93,16 +95,17 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
 ) {
-    if esc.take_sync_received() {
+    let (notes, mut emergencies) = esc.take_news();
+    if notes.contains(Notes::SYNC_RECEIVED) {
         sub.sync_received();
     }
-    if esc.take_sync_lost() {
+    if notes.contains(Notes::SYNC_LOST) {
         sub.sync_lost();
     }
-    if esc.take_outputs_received() {
+    if notes.contains(Notes::OUTPUTS_RECEIVED) {
         sub.outputs_received();
     }
-    while let Some(emergency) = esc.take_emergency() {
+    while let Some(emergency) = emergencies.pop() {
         sub.emergency(emergency);
     }
 }
@@ -114,14 +117,11 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
 ) -> Result<(), P::Error> {
     while let Some(access) = sub.poll_access() {
         let clears = access.clears();
-        let event = match access {
-            ecat_core::Access::Read { address, buf, .. } => {
-                esc.read(Runner::Esm, address, buf, clears).await?
-            }
-            ecat_core::Access::Write { address, data, .. } => {
-                esc.write(Runner::Esm, address, data, clears).await?
-            }
+        let (address, data) = match access {
+            ecat_core::Access::Read { address, buf, .. } => (address, Data::Read(buf)),
+            ecat_core::Access::Write { address, data, .. } => (address, Data::Write(data)),
         };
+        let event = esc.access(Runner::Esm, address, data, clears).await?;
         sub.access_done(now(), event);
         esc.publish(sub.process_data(), sub.event_mask());
     }
@@ -139,26 +139,18 @@ async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
 ) -> Result<(), P::Error> {
     let mut decision = pin!(app.on_transition(t));
     while sub.pending_transition() == Some(t) {
-        let event = if sub.awaits_application() {
-            match select3(&mut decision, until(sub.poll_timeout()), esc.esm_events()).await {
-                Either3::First(result) => {
-                    sub.complete_transition(t, result);
-                    None
-                }
-                Either3::Second(()) => {
-                    sub.handle_timeout(now());
-                    None
-                }
-                Either3::Third(event) => Some(event),
+        // The application's decision only while the core waits for it.
+        let pending = Maybe(sub.awaits_application().then_some(decision.as_mut()));
+        let event = match select3(pending, until(sub.poll_timeout()), esc.esm_events()).await {
+            Either3::First(result) => {
+                sub.complete_transition(t, result);
+                None
             }
-        } else {
-            match select(until(sub.poll_timeout()), esc.esm_events()).await {
-                Either::First(()) => {
-                    sub.handle_timeout(now());
-                    None
-                }
-                Either::Second(event) => Some(event),
+            Either3::Second(()) => {
+                sub.handle_timeout(now());
+                None
             }
+            Either3::Third(event) => Some(event),
         };
         absorb(esc, sub);
         if let Some(event) = event {

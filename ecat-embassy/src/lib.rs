@@ -37,6 +37,7 @@
 
 pub mod app;
 pub mod esm_runner;
+mod maybe;
 pub mod pd_runner;
 pub mod pdi;
 pub mod shared;

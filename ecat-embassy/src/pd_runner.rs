@@ -1,6 +1,8 @@
 //! The process-data runner: owns the IRQ line, exchanges the process image. Runs in an
 //! `InterruptExecutor` at a priority above the thread executor.
 
+use core::pin::pin;
+
 use ecat_core::AlEvent;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectDictionary;
@@ -8,13 +10,16 @@ use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::process_data::{Clock, Layout};
+use ecat_core::register::AL_EVENT_REQUEST;
 use ecat_core::sync::{CycleMonitor, CycleReport};
 use embassy_futures::select::{Either4, select4};
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
-use crate::shared::Runner;
+use crate::maybe::Maybe;
+use crate::pdi::Data;
+use crate::shared::{Notes, Runner};
 use crate::time::{now, to_embassy, until_instant as until};
 use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
 
@@ -78,43 +83,80 @@ where
     // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
     let mut tick: Option<Instant> = None;
     loop {
-        let seen = esc.pd_generation();
-        let layout = esc.layout();
-        let step = if layout != current {
-            let was_active = current.is_some_and(|l| l.outputs_active);
-            current = layout;
-            if was_active && !layout.is_some_and(|l| l.outputs_active) {
-                exchange.safe_state();
-            }
-            tick = layout.and_then(first_deadline);
-            exchange.on_new_layout(layout).await
-        } else if !esc.take_pd_events().is_empty() {
-            exchange.on_trigger(layout, true).await
-        } else {
-            let irq_free = esc.esm_started() && !esc.esm_holds_irq();
-            let sync0_on = layout.is_some_and(|l| l.sync0());
-            match select4(
-                when(irq_free, irq.wait_for_low()),
-                esc.pd_news_since(seen),
-                until(tick),
-                when(sync0_on, sync0.wait_for_rising_edge()),
-            )
-            .await
-            {
-                Either4::First(Ok(())) => exchange.on_trigger(layout, false).await,
-                Either4::First(Err(e)) | Either4::Fourth(Err(e)) => Err(Error::Irq(e)),
-                Either4::Second(()) => Ok(()),
-                Either4::Third(()) => exchange.on_tick(layout, &mut tick).await,
-                Either4::Fourth(Ok(())) => {
-                    tick = layout.and_then(first_deadline);
-                    exchange.on_sync0(layout).await
+        // What woke the runner and what follows; the news and its copy of the layout end here,
+        // so only `current` lives on across the exchange.
+        let plan = {
+            let news = esc.pd_news(current);
+            let layout = news.layout;
+            if layout != current {
+                let was_active = current.is_some_and(|l| l.outputs_active);
+                current = layout;
+                if was_active && !layout.is_some_and(|l| l.outputs_active) {
+                    exchange.safe_state();
+                }
+                tick = layout.and_then(first_deadline);
+                exchange.on_new_layout(layout)
+            } else if !news.pd_events.is_empty() {
+                Some(exchange.on_trigger(layout, true))
+            } else {
+                let sync0_on = layout.is_some_and(|l| l.sync0());
+                let mut irq_low = pin!(irq.wait_for_low());
+                let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
+                match select4(
+                    Maybe(news.irq_free.then_some(irq_low.as_mut())),
+                    esc.pd_news_since(news.generation),
+                    until(tick),
+                    Maybe(sync0_on.then_some(sync0_edge.as_mut())),
+                )
+                .await
+                {
+                    Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
+                    Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
+                    Either4::Second(()) => None,
+                    Either4::Third(()) => exchange.on_tick(layout, &mut tick),
+                    Either4::Fourth(Ok(())) => {
+                        tick = layout.and_then(first_deadline);
+                        exchange.on_sync0(layout)
+                    }
                 }
             }
         };
-        if let Err(e) = step {
+        if let Some(plan) = plan
+            && let Err(e) = exchange.perform(plan, &current).await
+        {
             return e;
         }
     }
+}
+
+/// What a wake-up of the runner leads to: at most one read, then maybe a cycle (whose input
+/// write is the only other access). The decisions are synchronous, so the runner's future holds
+/// one read and one write, whatever woke it.
+struct Plan {
+    /// Read first: the output area (SM2), or the AL event register, which routes the IRQ's cause.
+    read: Option<Read>,
+    /// What follows the read.
+    then: Then,
+}
+
+/// The read a [`Plan`] starts with.
+enum Read {
+    Outputs(Area),
+    AlEvent,
+}
+
+/// What a [`Plan`] does after its read; a cycle runs on the current layout.
+enum Then {
+    /// Nothing: the read only routed the AL event to the state-machine runner.
+    Nothing,
+    /// The cycle that starts a new layout: valid inputs at once, no outputs applied.
+    FirstCycle,
+    /// A cycle started by a clock (free-run timer or SYNC0); the SM2 event the read brings along
+    /// tells whether the MainDevice sent outputs.
+    Clocked,
+    /// A cycle on the trigger event, unless the read shows it was not the trigger. `true`: the
+    /// other runner saw the trigger.
+    Triggered(bool),
 }
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
@@ -122,6 +164,10 @@ struct Images<D: ObjectDictionary> {
     outputs: Option<PdoLayout<D>>,
     inputs: Option<PdoLayout<D>>,
 }
+
+/// The write an exchange ends with: the input area's address and the input image, if the
+/// device has inputs.
+type InputWrite<'b> = Option<(u16, &'b [u8])>;
 
 /// What one exchange needs.
 struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
@@ -148,7 +194,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// Tells the state-machine runner that outputs arrived, once per layout.
     fn report_outputs(&mut self) {
         if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.esc.note_outputs_received();
+            self.esc.note(Notes::OUTPUTS_RECEIVED);
         }
     }
 
@@ -160,12 +206,12 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
     /// accepted, and valid inputs at once.
-    async fn on_new_layout<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
+    fn on_new_layout(&mut self, layout: Option<Layout>) -> Option<Plan> {
         self.reported = Reported::default();
-        let Some(layout) = layout else {
+        if layout.is_none() {
             self.images = None;
-            return Ok(());
-        };
+            return None;
+        }
         if self.images.is_none() {
             self.monitor.reset();
         }
@@ -176,116 +222,139 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });
-        self.cycle(layout, false, None).await
+        Some(Plan {
+            read: None,
+            then: Then::FirstCycle,
+        })
     }
 
-    /// Free-run: a cycle is due. Reads the outputs (their SM2 event, coming along, tells whether
-    /// the MainDevice sent any) and runs the cycle; the next one is due one cycle later.
+    /// Free-run: a cycle is due. It reads the outputs (their SM2 event, coming along, tells
+    /// whether the MainDevice sent any) and runs; the next one is due one cycle later.
     /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
-    async fn on_tick<I>(
-        &mut self,
-        layout: Option<Layout>,
-        tick: &mut Option<Instant>,
-    ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout else { return Ok(()) };
+    fn on_tick(&mut self, layout: Option<Layout>, tick: &mut Option<Instant>) -> Option<Plan> {
+        let layout = layout?;
         if layout.sync0() {
             *tick = None;
-            self.esc.note_sync_lost();
-            return Ok(());
+            self.esc.note(Notes::SYNC_LOST);
+            return None;
         }
-        if let (Some(next), Some(period)) = (tick.as_mut(), layout.period()) {
-            *next += to_embassy(period);
+        if let Some(period) = layout.period() {
+            *tick = tick.and_then(|next| next.checked_add(to_embassy(period)));
         }
-        self.clocked_cycle(layout).await
+        Some(Self::clocked(layout))
     }
 
-    async fn on_sync0<I>(&mut self, layout: Option<Layout>) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(Layout::sync0) else {
-            return Ok(());
-        };
+    fn on_sync0(&mut self, layout: Option<Layout>) -> Option<Plan> {
+        let layout = layout.filter(Layout::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
-            self.esc.note_sync_received();
+            self.esc.note(Notes::SYNC_RECEIVED);
         }
-        self.clocked_cycle(layout).await
+        Some(Self::clocked(layout))
     }
 
-    /// A cycle started by a clock (free-run timer or SYNC0): read the outputs, run the cycle.
-    async fn clocked_cycle<I>(&mut self, layout: Layout) -> Result<(), Error<P::Error, I>> {
-        let mut new_outputs = false;
-        if let Some(area) = layout.outputs {
-            let event = self.read_outputs(area).await?;
-            new_outputs = event.intersects(AlEvent::sync_manager(2));
-            if new_outputs {
-                self.report_outputs();
-            }
+    /// A cycle started by a clock: read the outputs, run the cycle.
+    fn clocked(layout: Layout) -> Plan {
+        Plan {
+            read: layout.outputs.map(Read::Outputs),
+            then: Then::Clocked,
         }
-        let apply = layout.outputs_active && layout.outputs.is_some();
-        self.cycle(layout, apply, Some(new_outputs)).await
-    }
-
-    /// Reads the output area (SM2) into the output buffer; returns the AL event seen.
-    async fn read_outputs<I>(&mut self, area: Area) -> Result<AlEvent, Error<P::Error, I>> {
-        let buf = self
-            .buffers
-            .outputs
-            .get_mut(..usize::from(area.length))
-            .ok_or(Error::BufferTooSmall)?;
-        self.esc
-            .read(Runner::ProcessData, area.start, buf, AlEvent::NONE)
-            .await
-            .map_err(Error::Pdi)
     }
 
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
-    async fn on_trigger<I>(
-        &mut self,
-        layout: Option<Layout>,
-        known: bool,
-    ) -> Result<(), Error<P::Error, I>> {
-        let Some(layout) = layout.filter(|l| l.period().is_none()) else {
+    fn on_trigger(&mut self, layout: Option<Layout>, known: bool) -> Plan {
+        match layout.filter(|l| l.period().is_none()) {
+            Some(layout) => Plan {
+                read: Some(layout.outputs.map_or(Read::AlEvent, Read::Outputs)),
+                then: Then::Triggered(known),
+            },
             // Not exchanging process data on events (none, or free-run): the IRQ is for the state
             // machine; reading the AL event routes it there.
-            self.esc
-                .read_al_event(Runner::ProcessData)
-                .await
-                .map_err(Error::Pdi)?;
-            return Ok(());
-        };
-        let event = match layout.outputs {
-            Some(area) => self.read_outputs(area).await?,
-            None => self
-                .esc
-                .read_al_event(Runner::ProcessData)
-                .await
-                .map_err(Error::Pdi)?,
-        };
-        let triggered =
-            known || event.intersects(layout.trigger()) || !self.esc.take_pd_events().is_empty();
-        if !triggered {
-            return Ok(());
+            None => Plan {
+                read: Some(Read::AlEvent),
+                then: Then::Nothing,
+            },
         }
-        let new_outputs = layout.outputs.is_some();
-        if new_outputs {
-            self.report_outputs();
+    }
+
+    /// Performs `plan`: its read, then the cycle when the read confirms it, then the write of
+    /// the inputs. The only two awaits of an exchange, both on [`SharedEsc::access`].
+    async fn perform<I>(
+        &mut self,
+        plan: Plan,
+        layout: &Option<Layout>,
+    ) -> Result<(), Error<P::Error, I>> {
+        let esc = self.esc;
+        let event = match plan.read {
+            Some(read) => {
+                let mut register = [0; 4];
+                let (address, buf) = match read {
+                    Read::Outputs(area) => (
+                        area.start,
+                        self.buffers
+                            .outputs
+                            .get_mut(..usize::from(area.length))
+                            .ok_or(Error::BufferTooSmall)?,
+                    ),
+                    Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
+                };
+                esc.access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
+                    .await
+                    .map_err(Error::Pdi)?
+            }
+            None => AlEvent::NONE,
+        };
+        let (layout, apply_outputs, new_outputs) = match (plan.then, layout) {
+            (Then::Nothing, _) | (_, None) => return Ok(()),
+            (Then::FirstCycle, Some(layout)) => (layout, false, None),
+            (Then::Clocked, Some(layout)) => {
+                let new_outputs = event.intersects(AlEvent::sync_manager(2));
+                if new_outputs {
+                    self.report_outputs();
+                }
+                let apply = layout.outputs_active && layout.outputs.is_some();
+                (layout, apply, Some(new_outputs))
+            }
+            (Then::Triggered(known), Some(layout)) => {
+                let triggered = known
+                    || event.intersects(layout.trigger())
+                    || !self.esc.take_pd_events().is_empty();
+                if !triggered {
+                    return Ok(());
+                }
+                let new_outputs = layout.outputs.is_some();
+                if new_outputs {
+                    self.report_outputs();
+                }
+                (
+                    layout,
+                    layout.outputs_active && new_outputs,
+                    Some(new_outputs),
+                )
+            }
+        };
+        if let Some((address, inputs)) = self.cycle(layout, apply_outputs, new_outputs)? {
+            esc.access(
+                Runner::ProcessData,
+                address,
+                Data::Write(inputs),
+                AlEvent::sync_manager(3),
+            )
+            .await
+            .map_err(Error::Pdi)?;
         }
-        self.cycle(
-            layout,
-            layout.outputs_active && new_outputs,
-            Some(new_outputs),
-        )
-        .await
+        Ok(())
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
-    /// application's cycle, the inputs out. `new_outputs`, for a cycle of the sync mode (not the
-    /// one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
-    /// for the cycle diagnostics.
-    async fn cycle<I>(
+    /// application's cycle, the inputs packed. `new_outputs`, for a cycle of the sync mode (not
+    /// the one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
+    /// for the cycle diagnostics. Returns the input area's address and image, to be written.
+    fn cycle<I>(
         &mut self,
-        layout: Layout,
+        layout: &Layout,
         apply_outputs: bool,
         new_outputs: Option<bool>,
-    ) -> Result<(), Error<P::Error, I>> {
+    ) -> Result<InputWrite<'_>, Error<P::Error, I>> {
         let out_len = layout.outputs.map_or(0, |a| usize::from(a.length));
         let in_len = layout.inputs.map_or(0, |a| usize::from(a.length));
         let outputs = self
@@ -319,18 +388,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 pack(tx, od, inputs);
             }
         });
-        if let Some(area) = layout.inputs {
-            self.esc
-                .write(
-                    Runner::ProcessData,
-                    area.start,
-                    inputs,
-                    AlEvent::sync_manager(3),
-                )
-                .await
-                .map_err(Error::Pdi)?;
-        }
-        Ok(())
+        Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }
 }
 
@@ -339,24 +397,16 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
 pub const SYNC0_LOSS_CYCLES: u32 = 10;
 
 /// The first deadline of a new layout or after a SYNC0 pulse: the next free-run cycle, or in DC
-/// SYNC0 mode in OP the instant SYNC0 counts as lost.
+/// SYNC0 mode in OP the instant SYNC0 counts as lost. A deadline beyond Embassy's clock is none
+/// (the checked arithmetic has no panic path).
 fn first_deadline(layout: Layout) -> Option<Instant> {
     let now = Instant::now();
     match layout.clock {
-        Clock::FreeRun(period) => Some(now + to_embassy(period)),
-        Clock::Sync0(period) if layout.outputs_active => {
-            Some(now + to_embassy(period) * SYNC0_LOSS_CYCLES)
-        }
+        Clock::FreeRun(period) => now.checked_add(to_embassy(period)),
+        Clock::Sync0(period) if layout.outputs_active => to_embassy(period)
+            .checked_mul(SYNC0_LOSS_CYCLES)
+            .and_then(|lost| now.checked_add(lost)),
         Clock::Sync0(_) | Clock::Event(_) => None,
-    }
-}
-
-/// `future` when `enabled`, else a future that never completes.
-async fn when<F: core::future::Future>(enabled: bool, future: F) -> F::Output {
-    if enabled {
-        future.await
-    } else {
-        core::future::pending().await
     }
 }
 

@@ -3,20 +3,70 @@
 
 use ecat_core::AlEvent;
 
+/// The data of one PDI access: the buffer a read fills, or the bytes a write sends.
+#[derive(Debug)]
+pub enum Data<'a> {
+    /// Read `buf.len()` bytes into the buffer.
+    Read(&'a mut [u8]),
+    /// Write these bytes.
+    Write(&'a [u8]),
+}
+
+impl<'a> Data<'a> {
+    /// The number of bytes the access moves.
+    pub fn len(&self) -> usize {
+        match self {
+            Data::Read(buf) => buf.len(),
+            Data::Write(data) => data.len(),
+        }
+    }
+
+    /// Whether the access moves no byte.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The first `mid` bytes and the rest (all of it and nothing when `mid` is beyond the end).
+    pub fn split_at(self, mid: usize) -> (Data<'a>, Data<'a>) {
+        match self {
+            Data::Read(buf) => {
+                let mid = mid.min(buf.len());
+                let (head, tail) = buf.split_at_mut(mid);
+                (Data::Read(head), Data::Read(tail))
+            }
+            Data::Write(data) => {
+                let mid = mid.min(data.len());
+                let (head, tail) = data.split_at(mid);
+                (Data::Write(head), Data::Write(tail))
+            }
+        }
+    }
+}
+
 /// Register and RAM access to the ESC over its PDI (SPI, parallel bus, or an emulator).
 ///
 /// Each access returns the AL event register (0x0220) value: SPI ESCs shift it out during the
 /// address phase of every transaction, so the runners learn about events without spending a
 /// transaction on it. A driver whose bus does not deliver it reads 0x0220 itself after the access.
 /// The value may be sampled before the access: callers discount the bits the access itself clears.
+///
+/// Reads and writes are one method, so that the runners hold one access future each and the
+/// firmware carries one copy of the driver's access code.
 #[allow(async_fn_in_trait)]
 pub trait Pdi {
     /// A bus error; the runners stop and hand it to the firmware.
     type Error: core::fmt::Debug;
 
+    /// Reads into or writes from `data`, starting at `address`, in one transaction.
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error>;
+
     /// Reads `buf.len()` bytes starting at `address` in one transaction.
-    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error>;
+    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
+        self.access(address, Data::Read(buf)).await
+    }
 
     /// Writes `data` starting at `address` in one transaction.
-    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Self::Error>;
+    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Self::Error> {
+        self.access(address, Data::Write(data)).await
+    }
 }

@@ -2,7 +2,7 @@
 //! events every access reports.
 
 use core::cell::RefCell;
-use core::future::poll_fn;
+use core::future::{Future, poll_fn};
 use core::task::Poll;
 
 use ecat_core::AlEvent;
@@ -15,6 +15,7 @@ use embassy_sync::mutex::Mutex;
 use embassy_sync::waitqueue::WakerRegistration;
 
 use crate::Pdi;
+use crate::pdi::Data;
 
 /// Which runner performs an access.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -49,12 +50,8 @@ struct Routing {
     pd_news: u32,
     /// Emergencies raised by the application, waiting for the state-machine runner.
     emergencies: Ring<Emergency, EMERGENCIES>,
-    /// The process-data runner received outputs the state-machine runner has not heard of.
-    outputs_received: bool,
-    /// The process-data runner ran a SYNC0 cycle the state-machine runner has not heard of.
-    sync_received: bool,
-    /// The process-data runner saw SYNC0 stop in OP.
-    sync_lost: bool,
+    /// What the process-data runner noted and the state-machine runner has not heard of.
+    notes: Notes,
     esm_waker: WakerRegistration,
     pd_waker: WakerRegistration,
 }
@@ -87,6 +84,42 @@ impl Routing {
     }
 }
 
+/// What the process-data runner learns from [`SharedEsc::pd_news`].
+pub(crate) struct PdNews {
+    /// The token for [`SharedEsc::pd_news_since`], taken with the rest.
+    pub(crate) generation: u32,
+    /// The process-data layout of the current state.
+    pub(crate) layout: Option<Layout>,
+    /// Process-data trigger events the state-machine runner saw.
+    pub(crate) pd_events: AlEvent,
+    /// No state-machine event may hold the IRQ line asserted: the process-data runner may wait
+    /// on it.
+    pub(crate) irq_free: bool,
+}
+
+/// What the process-data runner tells the state-machine runner besides AL events: a set of flags.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Notes(u8);
+
+impl Notes {
+    pub(crate) const NONE: Self = Self(0);
+    /// Outputs arrived from the MainDevice.
+    pub(crate) const OUTPUTS_RECEIVED: Self = Self(1);
+    /// A SYNC0-triggered cycle ran.
+    pub(crate) const SYNC_RECEIVED: Self = Self(2);
+    /// No SYNC0 for too long in OP.
+    pub(crate) const SYNC_LOST: Self = Self(4);
+
+    const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+
+    /// Whether all of `other` is in `self`.
+    pub(crate) const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+}
+
 /// Emergencies the application may raise between two turns of the state-machine runner.
 const EMERGENCIES: usize = 4;
 
@@ -112,49 +145,23 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 esm_started: false,
                 pd_news: 0,
                 emergencies: Ring::new(),
-                outputs_received: false,
-                sync_received: false,
-                sync_lost: false,
+                notes: Notes::NONE,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),
             })),
         }
     }
 
-    /// Reads at `address` for `runner`; returns the AL event seen, less the bits the read clears.
-    pub(crate) async fn read(
+    /// Performs one access for `runner`; returns the AL event seen, less the bits the access
+    /// clears (reading a register clears its event, writing SM1's buffer clears its read event).
+    pub(crate) async fn access(
         &self,
         runner: Runner,
         address: u16,
-        buf: &mut [u8],
+        data: Data<'_>,
         clears: AlEvent,
     ) -> Result<AlEvent, P::Error> {
-        let seen = self.pdi.lock().await.read(address, buf).await?;
-        Ok(self.observe_access(runner, seen, clears))
-    }
-
-    /// Reads the AL event register (0x0220) for `runner`, which routes what it holds.
-    pub(crate) async fn read_al_event(&self, runner: Runner) -> Result<AlEvent, P::Error> {
-        let mut register = [0; 4];
-        self.read(
-            runner,
-            ecat_core::register::AL_EVENT_REQUEST,
-            &mut register,
-            AlEvent::NONE,
-        )
-        .await
-    }
-
-    /// Writes at `address` for `runner`; returns the AL event seen, less the bits the write
-    /// clears (writing SM1's buffer clears its read event).
-    pub(crate) async fn write(
-        &self,
-        runner: Runner,
-        address: u16,
-        data: &[u8],
-        clears: AlEvent,
-    ) -> Result<AlEvent, P::Error> {
-        let seen = self.pdi.lock().await.write(address, data).await?;
+        let seen = self.pdi.lock().await.access(address, data).await?;
         Ok(self.observe_access(runner, seen, clears))
     }
 
@@ -189,15 +196,10 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     /// Waits for state-machine events seen by the other runner, or an emergency raised by the
     /// application.
-    pub(crate) async fn esm_events(&self) -> AlEvent {
+    pub(crate) fn esm_events(&self) -> impl Future<Output = AlEvent> + '_ {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.esm_events.is_empty()
-                    && r.emergencies.is_empty()
-                    && !r.outputs_received
-                    && !r.sync_received
-                    && !r.sync_lost
-                {
+                if r.esm_events.is_empty() && r.emergencies.is_empty() && r.notes == Notes::NONE {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
                 } else {
@@ -205,7 +207,6 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 }
             })
         })
-        .await
     }
 
     /// Raises an emergency from anywhere in the application (either executor): the
@@ -219,52 +220,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// The process-data runner received outputs from the MainDevice.
-    pub(crate) fn note_outputs_received(&self) {
+    /// The process-data runner tells the state-machine runner `notes`.
+    pub(crate) fn note(&self, notes: Notes) {
         self.with(|r| {
-            if !r.outputs_received {
-                r.outputs_received = true;
-                r.esm_waker.wake();
-            }
-        });
-    }
-
-    /// The process-data runner ran a SYNC0-triggered cycle.
-    pub(crate) fn note_sync_received(&self) {
-        self.with(|r| {
-            if !r.sync_received {
-                r.sync_received = true;
-                r.esm_waker.wake();
-            }
-        });
-    }
-
-    /// The process-data runner saw no SYNC0 for too long in OP.
-    pub(crate) fn note_sync_lost(&self) {
-        self.with(|r| {
-            r.sync_lost = true;
+            r.notes = r.notes.union(notes);
             r.esm_waker.wake();
         });
     }
 
-    /// Takes the news that SYNC0 was lost.
-    pub(crate) fn take_sync_lost(&self) -> bool {
-        self.with(|r| core::mem::take(&mut r.sync_lost))
-    }
-
-    /// Takes the news that a SYNC0-triggered cycle ran.
-    pub(crate) fn take_sync_received(&self) -> bool {
-        self.with(|r| core::mem::take(&mut r.sync_received))
-    }
-
-    /// Takes the news that outputs were received.
-    pub(crate) fn take_outputs_received(&self) -> bool {
-        self.with(|r| core::mem::take(&mut r.outputs_received))
-    }
-
-    /// Takes the next emergency raised by the application.
-    pub(crate) fn take_emergency(&self) -> Option<Emergency> {
-        self.with(|r| r.emergencies.pop())
+    /// Takes what the process-data runner noted and the emergencies the application raised.
+    pub(crate) fn take_news(&self) -> (Notes, Ring<Emergency, EMERGENCIES>) {
+        self.with(|r| {
+            (
+                core::mem::replace(&mut r.notes, Notes::NONE),
+                core::mem::take(&mut r.emergencies),
+            )
+        })
     }
 
     /// Publishes the process-data layout of the current state and the AL event mask in the ESC.
@@ -282,14 +253,22 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// Whether the state-machine runner has set up the ESC (see [`SharedEsc::publish`]).
-    pub(crate) fn esm_started(&self) -> bool {
-        self.with(|r| r.esm_started)
-    }
-
-    /// The process-data layout of the current state.
-    pub(crate) fn layout(&self) -> Option<Layout> {
-        self.with(|r| r.layout)
+    /// What the process-data runner looks at before it waits, in one critical section: the
+    /// layout of the current state, the trigger events seen by the state-machine runner (taken
+    /// only while `current` is still the layout), whether the IRQ line is free for it, and the
+    /// token for [`SharedEsc::pd_news_since`].
+    pub(crate) fn pd_news(&self, current: Option<Layout>) -> PdNews {
+        self.with(|r| PdNews {
+            generation: r.pd_news,
+            layout: r.layout,
+            pd_events: if r.layout == current {
+                core::mem::take(&mut r.pd_events)
+            } else {
+                AlEvent::NONE
+            },
+            // Before the state-machine runner set up the ESC, its reset mask may hold the line.
+            irq_free: r.esm_started && !r.esm_holds_irq,
+        })
     }
 
     /// Takes the process-data trigger events seen by the state-machine runner.
@@ -297,20 +276,10 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         self.with(|r| core::mem::take(&mut r.pd_events))
     }
 
-    /// Whether state-machine events may hold the IRQ line asserted.
-    pub(crate) fn esm_holds_irq(&self) -> bool {
-        self.with(|r| r.esm_holds_irq)
-    }
-
-    /// A token for [`SharedEsc::pd_news_since`]: take it before looking at the shared state.
-    pub(crate) fn pd_generation(&self) -> u32 {
-        self.with(|r| r.pd_news)
-    }
-
     /// Waits until something changed for the process-data runner since `seen` was taken: its
     /// trigger was seen, the state-machine events released the IRQ line, or the layout changed.
-    pub(crate) async fn pd_news_since(&self, seen: u32) {
-        poll_fn(|cx| {
+    pub(crate) fn pd_news_since(&self, seen: u32) -> impl Future<Output = ()> + '_ {
+        poll_fn(move |cx| {
             self.with(|r| {
                 if r.pd_news != seen {
                     Poll::Ready(())
@@ -320,7 +289,6 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 }
             })
         })
-        .await
     }
 
     fn with<R>(&self, f: impl FnOnce(&mut Routing) -> R) -> R {

@@ -2,6 +2,8 @@
 
 use embassy_time::Timer;
 
+use crate::maybe::Maybe;
+
 /// The current time as the core takes it.
 pub(crate) fn now() -> ecat_core::Instant {
     ecat_core::Instant::from_micros(embassy_time::Instant::now().as_micros())
@@ -13,17 +15,11 @@ pub(crate) fn to_embassy(duration: ecat_core::Duration) -> embassy_time::Duratio
 }
 
 /// Completes at the Embassy `deadline`, or never when there is none.
-pub(crate) async fn until_instant(deadline: Option<embassy_time::Instant>) {
-    match deadline {
-        Some(at) => Timer::at(at).await,
-        None => core::future::pending().await,
-    }
+pub(crate) fn until_instant(deadline: Option<embassy_time::Instant>) -> Maybe<Timer> {
+    Maybe(deadline.map(Timer::at))
 }
 
 /// Completes at `deadline`, or never when there is none.
-pub(crate) async fn until(deadline: Option<ecat_core::Instant>) {
-    match deadline {
-        Some(at) => Timer::at(embassy_time::Instant::from_micros(at.as_micros())).await,
-        None => core::future::pending().await,
-    }
+pub(crate) fn until(deadline: Option<ecat_core::Instant>) -> Maybe<Timer> {
+    until_instant(deadline.map(|at| embassy_time::Instant::from_micros(at.as_micros())))
 }

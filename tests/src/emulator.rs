@@ -12,6 +12,7 @@ use std::rc::Rc;
 use ecat_core::AlEvent;
 use ecat_core::register::{self, DcActivation, Watchdog};
 use ecat_embassy::Pdi;
+use ecat_embassy::pdi::Data;
 
 use crate::esc::{Esc, EscConfig};
 
@@ -204,14 +205,12 @@ pub struct EmulatedPdi(Emulator);
 impl Pdi for EmulatedPdi {
     type Error = Infallible;
 
-    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Infallible> {
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Infallible> {
         self.0.pdi_access();
-        Ok(self.0.with(|esc| esc.pdi_read(address, buf)))
-    }
-
-    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Infallible> {
-        self.0.pdi_access();
-        Ok(self.0.with(|esc| esc.pdi_write(address, data)))
+        Ok(self.0.with(|esc| match data {
+            Data::Read(buf) => esc.pdi_read(address, buf),
+            Data::Write(data) => esc.pdi_write(address, data),
+        }))
     }
 }
 

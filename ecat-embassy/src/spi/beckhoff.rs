@@ -21,6 +21,7 @@ use ecat_core::AlEvent;
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
+use crate::pdi::Data;
 
 /// The SPI commands CMD0/CMD1 (ESC datasheet section II, Table "SPI commands CMD0 and CMD1").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -165,94 +166,47 @@ impl<S: SpiDevice> BeckhoffSpi<S> {
             ReadLatency::SlowClock => Command::Read,
         }
     }
-
-    /// Performs one access as [`Config::transactions`] says; returns the AL event of the first
-    /// address phase. An empty access costs nothing and reports no event.
-    async fn access(&mut self, mut address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
-        match self.config.transactions {
-            Transactions::Burst if data.is_empty() => Ok(AlEvent::NONE),
-            Transactions::Burst => self.transaction(address, data).await,
-            Transactions::PerByte => {
-                let mut first = None;
-                let mut rest = data;
-                while let Some((byte, tail)) = rest.split_first() {
-                    let event = self.transaction(address, byte).await?;
-                    first.get_or_insert(event);
-                    address = address.wrapping_add(1);
-                    rest = tail;
-                }
-                Ok(first.unwrap_or(AlEvent::NONE))
-            }
-        }
-    }
-
-    /// One transaction: the address phase, then the data (a read's with the read termination on
-    /// its last byte). Returns the AL event of the address phase.
-    async fn transaction(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
-        let mut phase;
-        match data {
-            Data::Read(buf) => {
-                phase = AddressPhase::new(address, self.read_command());
-                buf.fill(READ_CONTINUE);
-                if let Some(last) = buf.last_mut() {
-                    *last = READ_TERMINATION;
-                }
-                self.spi
-                    .transaction(&mut [
-                        Operation::TransferInPlace(phase.as_mut_slice()),
-                        Operation::TransferInPlace(buf),
-                    ])
-                    .await?;
-            }
-            Data::Write(data) => {
-                phase = AddressPhase::new(address, Command::Write);
-                self.spi
-                    .transaction(&mut [
-                        Operation::TransferInPlace(phase.as_mut_slice()),
-                        Operation::Write(data),
-                    ])
-                    .await?;
-            }
-        }
-        Ok(phase.al_event())
-    }
-}
-
-/// The data of one access.
-enum Data<'a> {
-    Read(&'a mut [u8]),
-    Write(&'a [u8]),
-}
-
-impl<'a> Data<'a> {
-    fn is_empty(&self) -> bool {
-        match self {
-            Data::Read(buf) => buf.is_empty(),
-            Data::Write(data) => data.is_empty(),
-        }
-    }
-
-    /// The first byte and the rest, `None` when empty.
-    fn split_first(self) -> Option<(Data<'a>, Data<'a>)> {
-        match self {
-            Data::Read(buf) => buf
-                .split_at_mut_checked(1)
-                .map(|(first, rest)| (Data::Read(first), Data::Read(rest))),
-            Data::Write(data) => data
-                .split_at_checked(1)
-                .map(|(first, rest)| (Data::Write(first), Data::Write(rest))),
-        }
-    }
 }
 
 impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
     type Error = S::Error;
 
-    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, S::Error> {
-        self.access(address, Data::Read(buf)).await
-    }
-
-    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, S::Error> {
-        self.access(address, Data::Write(data)).await
+    /// Performs the access as [`Config::transactions`] says; returns the AL event of the first
+    /// address phase. An empty access costs nothing and reports no event.
+    async fn access(&mut self, mut address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
+        let mut first = None;
+        let mut rest = data;
+        while !rest.is_empty() {
+            let piece_len = match self.config.transactions {
+                Transactions::Burst => rest.len(),
+                Transactions::PerByte => 1,
+            };
+            let (piece, tail) = rest.split_at(piece_len);
+            rest = tail;
+            let at = address;
+            address = address.wrapping_add(piece_len as u16);
+            // One transaction: the address phase, then the data (a read's with the read
+            // termination on its last byte).
+            let mut phase;
+            let data = match piece {
+                Data::Read(buf) => {
+                    phase = AddressPhase::new(at, self.read_command());
+                    buf.fill(READ_CONTINUE);
+                    if let Some(last) = buf.last_mut() {
+                        *last = READ_TERMINATION;
+                    }
+                    Operation::TransferInPlace(buf)
+                }
+                Data::Write(data) => {
+                    phase = AddressPhase::new(at, Command::Write);
+                    Operation::Write(data)
+                }
+            };
+            self.spi
+                .transaction(&mut [Operation::TransferInPlace(phase.as_mut_slice()), data])
+                .await?;
+            first.get_or_insert(phase.al_event());
+        }
+        Ok(first.unwrap_or(AlEvent::NONE))
     }
 }

@@ -41,6 +41,7 @@
 //!   ([`WriteSpace::EmptyAtStart`], 16 DWORDs) and polls only for more, or polls before every
 //!   FIFO load ([`WriteSpace::Polled`]).
 
+use core::future::Future;
 use core::ops::Range;
 
 use ecat_core::AlEvent;
@@ -49,6 +50,7 @@ use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
+use crate::pdi::Data;
 
 /// SPI instruction READ: address, then data (LAN9252 datasheet, "SPI/SQI Slave", "SPI Read").
 const READ: u8 = 0x03;
@@ -247,195 +249,191 @@ impl<S: SpiDevice> Lan9252<S> {
     }
 
     /// Reads one LAN9252 register (a DWORD).
-    async fn read_register(&mut self, address: u16) -> Result<u32, Error<S::Error>> {
-        let mut value = [0; 4];
-        let header = Header::read(self.config.read, address);
-        self.transfer(&mut [
-            Operation::Write(header.as_slice()),
-            Operation::Read(&mut value),
-        ])
-        .await?;
-        Ok(u32::from_le_bytes(value))
+    fn read_register(
+        &mut self,
+        address: u16,
+    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
+        self.dwords(address, None)
     }
 
     /// Writes consecutive LAN9252 registers (at most two) in one transaction.
-    async fn write_dwords(&mut self, address: u16, values: &[u32]) -> Result<(), Error<S::Error>> {
+    fn write_dwords(
+        &mut self,
+        address: u16,
+        values: &[u32],
+    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
+        self.dwords(address, Some(values))
+    }
+
+    /// One transaction on the LAN9252's own registers: reads the DWORD at `address` (`write` is
+    /// `None`) and returns it, or writes the DWORDs of `write` (at most two) from `address` on.
+    /// Both kinds share one future, so the firmware carries one copy of it.
+    async fn dwords(
+        &mut self,
+        address: u16,
+        write: Option<&[u32]>,
+    ) -> Result<u32, Error<S::Error>> {
         let mut bytes = [0; 8];
-        for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-            chunk.copy_from_slice(&value.to_le_bytes());
-        }
-        let len = 4 * values.len().min(2);
-        let header = Header::write(address, values.len() > 1);
-        self.transfer(&mut [
-            Operation::Write(header.as_slice()),
-            Operation::Write(bytes.get(..len).unwrap_or_default()),
-        ])
-        .await
+        let header;
+        let data = match write {
+            None => {
+                header = Header::read(self.config.read, address);
+                Operation::Read(bytes.get_mut(..4).unwrap_or_default())
+            }
+            Some(values) => {
+                for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
+                    chunk.copy_from_slice(&value.to_le_bytes());
+                }
+                header = Header::write(address, values.len() > 1);
+                Operation::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
+            }
+        };
+        self.transfer(&mut [Operation::Write(header.as_slice()), data])
+            .await?;
+        let [b0, b1, b2, b3, ..] = bytes;
+        Ok(u32::from_le_bytes([b0, b1, b2, b3]))
     }
 
-    /// An EtherCAT CSR read of `size` (1, 2 or 4) bytes at `address`; the value in the low bytes.
-    async fn read_csr(&mut self, address: u16, size: usize) -> Result<u32, Error<S::Error>> {
-        self.write_dwords(
-            CSR_DATA,
-            &[CSR_MARKER, csr_command(CSR_READ, address, size)],
-        )
-        .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        loop {
-            let data = self.read_register(CSR_DATA).await?;
-            if data != CSR_MARKER {
-                return Ok(data);
-            }
-            // The marker: still busy, or the register holds the marker's value.
-            if self.read_register(CSR_CMD).await? & CSR_BUSY == 0 {
-                return self.read_register(CSR_DATA).await;
-            }
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::Timeout(Wait::Csr))?;
-        }
-    }
-
-    /// An EtherCAT CSR write of the low `size` (1, 2 or 4) bytes of `value` at `address`.
-    async fn write_csr(
+    /// One EtherCAT CSR command of `size` (1, 2 or 4) bytes at `address`: a read (`write` is
+    /// `None`; returns the value in the low bytes) or a write of the low bytes of `write`.
+    ///
+    /// A read writes [`CSR_MARKER`] into the data register together with the command (one
+    /// transaction), then reads the data register: a value other than the marker is the result.
+    /// The marker means still busy, or a register that holds the marker's value: the command
+    /// register tells which. A write waits for the command to finish (the next CSR command must
+    /// not overlap it).
+    async fn csr(
         &mut self,
         address: u16,
         size: usize,
-        value: u32,
-    ) -> Result<(), Error<S::Error>> {
-        self.write_dwords(CSR_DATA, &[value, csr_command(0, address, size)])
+        write: Option<u32>,
+    ) -> Result<u32, Error<S::Error>> {
+        let (data, read) = match write {
+            Some(value) => (value, 0),
+            None => (CSR_MARKER, CSR_READ),
+        };
+        self.write_dwords(CSR_DATA, &[data, csr_command(read, address, size)])
             .await?;
         let deadline = Deadline::after(self.config.busy_timeout);
-        while self.read_register(CSR_CMD).await? & CSR_BUSY != 0 {
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::Timeout(Wait::Csr))?;
-        }
-        Ok(())
-    }
-
-    /// The AL event register, through the CSR interface.
-    async fn read_al_event(&mut self) -> Result<AlEvent, Error<S::Error>> {
-        Ok(AlEvent(self.read_csr(AL_EVENT_REQUEST, 4).await?))
-    }
-
-    /// Reads ESC registers (all of `buf` below 0x1000) through the CSR interface.
-    async fn read_registers(
-        &mut self,
-        address: u16,
-        buf: &mut [u8],
-    ) -> Result<(), Error<S::Error>> {
-        let mut position = address;
-        let mut rest = buf;
-        while !rest.is_empty() {
-            let size = csr_size(position, rest.len());
-            let value = self.read_csr(position, size).await?.to_le_bytes();
-            let (piece, tail) = rest.split_at_mut_checked(size).unwrap_or_default();
-            piece.copy_from_slice(value.get(..size).unwrap_or_default());
-            rest = tail;
-            position = position.wrapping_add(size as u16);
-        }
-        Ok(())
-    }
-
-    /// Writes ESC registers (all of `data` below 0x1000) through the CSR interface.
-    async fn write_registers(&mut self, address: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
-        let mut position = address;
-        let mut rest = data;
-        while !rest.is_empty() {
-            let size = csr_size(position, rest.len());
-            let (piece, tail) = rest.split_at_checked(size).unwrap_or_default();
-            let mut value = [0; 4];
-            for (byte, &data) in value.iter_mut().zip(piece) {
-                *byte = data;
-            }
-            self.write_csr(position, size, u32::from_le_bytes(value))
-                .await?;
-            rest = tail;
-            position = position.wrapping_add(size as u16);
-        }
-        Ok(())
-    }
-
-    /// Reads process RAM through the PRAM read FIFO.
-    async fn read_pram(&mut self, address: u16, buf: &mut [u8]) -> Result<(), Error<S::Error>> {
-        if buf.is_empty() {
-            return Ok(());
-        }
-        let stream = FifoStream::new(address, buf.len());
-        self.write_dwords(
-            PRAM_READ_ADDR_LEN,
-            &[stream.address_length(address), PRAM_BUSY],
-        )
-        .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        let mut position = 0;
-        while position < stream.len() {
-            let available = fifo_bytes(self.read_register(PRAM_READ_CMD).await?);
-            if available == 0 {
+        let first = if write.is_none() { CSR_DATA } else { CSR_CMD };
+        let mut register = first;
+        let mut done = false;
+        loop {
+            let value = self.read_register(register).await?;
+            if register == CSR_DATA {
+                if done || value != CSR_MARKER {
+                    return Ok(value);
+                }
+                register = CSR_CMD;
+            } else if value & CSR_BUSY == 0 {
+                if write.is_some() {
+                    return Ok(0);
+                }
+                done = true;
+                register = CSR_DATA;
+            } else {
                 deadline
                     .pause()
                     .await
-                    .map_err(|Expired| Error::Timeout(Wait::PramRead))?;
-                continue;
+                    .map_err(|Expired| Error::Timeout(Wait::Csr))?;
+                register = first;
             }
-            let end = stream.len().min(position + available);
-            let layout = stream.layout(position..end);
-            let (mut head, mut tail) = ([0; 3], [0; 3]);
-            let header = Header::read(self.config.read, PRAM_READ_FIFO);
-            self.transfer(&mut [
-                Operation::Write(header.as_slice()),
-                Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
-                Operation::Read(buf.get_mut(layout.data.clone()).unwrap_or_default()),
-                Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
-            ])
-            .await?;
-            position = end;
+        }
+    }
+
+    /// Reads or writes ESC registers (all of `data` below 0x1000) through the CSR interface, in
+    /// the largest pieces the CSR interface takes.
+    async fn registers(
+        &mut self,
+        address: u16,
+        data: &mut Data<'_>,
+    ) -> Result<(), Error<S::Error>> {
+        let mut offset = 0;
+        while offset < data.len() {
+            let position = address.wrapping_add(offset as u16);
+            let size = csr_size(position, data.len() - offset);
+            let write = match data {
+                Data::Read(_) => None,
+                Data::Write(bytes) => {
+                    let mut value = [0; 4];
+                    for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size))
+                    {
+                        *byte = data;
+                    }
+                    Some(u32::from_le_bytes(value))
+                }
+            };
+            let value = self.csr(position, size, write).await?.to_le_bytes();
+            if let Data::Read(buf) = data {
+                for (byte, value) in buf.iter_mut().skip(offset).take(size).zip(value) {
+                    *byte = value;
+                }
+            }
+            offset += size;
         }
         Ok(())
     }
 
-    /// Writes process RAM through the PRAM write FIFO.
-    async fn write_pram(&mut self, address: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
+    /// Reads or writes process RAM through the PRAM read or write FIFO.
+    async fn pram(&mut self, address: u16, mut data: Data<'_>) -> Result<(), Error<S::Error>> {
         if data.is_empty() {
             return Ok(());
         }
-        let stream = FifoStream::new(address, data.len());
-        self.write_dwords(
-            PRAM_WRITE_ADDR_LEN,
-            &[stream.address_length(address), PRAM_BUSY],
-        )
-        .await?;
-        let mut space = match self.config.write_space {
-            WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
-            WriteSpace::Polled => 0,
+        let (address_length, command, wait, mut space) = match data {
+            Data::Read(_) => (PRAM_READ_ADDR_LEN, PRAM_READ_CMD, Wait::PramRead, 0),
+            Data::Write(_) => (
+                PRAM_WRITE_ADDR_LEN,
+                PRAM_WRITE_CMD,
+                Wait::PramWrite,
+                match self.config.write_space {
+                    WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
+                    WriteSpace::Polled => 0,
+                },
+            ),
         };
+        let stream = FifoStream::new(address, data.len());
+        self.write_dwords(address_length, &[stream.address_length(address), PRAM_BUSY])
+            .await?;
         let deadline = Deadline::after(self.config.busy_timeout);
         let mut position = 0;
         while position < stream.len() {
+            // A read polls the data available before every FIFO load, a write when the space it
+            // knows of is used up.
             if space == 0 {
-                space = fifo_bytes(self.read_register(PRAM_WRITE_CMD).await?);
+                space = fifo_bytes(self.read_register(command).await?);
                 if space == 0 {
                     deadline
                         .pause()
                         .await
-                        .map_err(|Expired| Error::Timeout(Wait::PramWrite))?;
+                        .map_err(|Expired| Error::Timeout(wait))?;
                     continue;
                 }
             }
             let end = stream.len().min(position + space);
             let layout = stream.layout(position..end);
-            let padding = [0; 3];
-            let header = Header::write(PRAM_WRITE_FIFO, false);
-            self.transfer(&mut [
-                Operation::Write(header.as_slice()),
-                Operation::Write(padding.get(..layout.head).unwrap_or_default()),
-                Operation::Write(data.get(layout.data).unwrap_or_default()),
-                Operation::Write(padding.get(..layout.tail).unwrap_or_default()),
-            ])
-            .await?;
+            let (mut head, mut tail) = ([0; 3], [0; 3]);
+            let header;
+            let mut operations = match &mut data {
+                Data::Read(buf) => {
+                    header = Header::read(self.config.read, PRAM_READ_FIFO);
+                    [
+                        Operation::Write(header.as_slice()),
+                        Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
+                        Operation::Read(buf.get_mut(layout.data).unwrap_or_default()),
+                        Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
+                    ]
+                }
+                Data::Write(bytes) => {
+                    header = Header::write(PRAM_WRITE_FIFO, false);
+                    [
+                        Operation::Write(header.as_slice()),
+                        Operation::Write(head.get(..layout.head).unwrap_or_default()),
+                        Operation::Write(bytes.get(layout.data).unwrap_or_default()),
+                        Operation::Write(tail.get(..layout.tail).unwrap_or_default()),
+                    ]
+                }
+            };
+            self.transfer(&mut operations).await?;
             space -= end - position;
             position = end;
         }
@@ -446,18 +444,31 @@ impl<S: SpiDevice> Lan9252<S> {
 impl<S: SpiDevice> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
-    /// Registers through the CSR interface, process RAM through the PRAM read FIFO. A read that
+    /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
     /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
-    /// any other read reports the state-machine events known to be pending (see the module docs).
-    async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
-        let clears = AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED);
-        let (registers, ram) = split_at_process_ram(address, buf);
+    /// any other access reports the state-machine events known to be pending (see the module docs).
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error> {
+        let clears = match &data {
+            Data::Read(buf) => {
+                AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED)
+            }
+            Data::Write(_) => AlEvent::NONE,
+        };
+        let reading = matches!(data, Data::Read(_));
+        let len = data.len();
+        let (mut registers, ram) = data.split_at(register_bytes(address, len));
         let mut fresh = None;
-        if !ram.is_empty() {
-            fresh = Some(self.read_al_event().await?);
+        if reading && !ram.is_empty() {
+            let mut value = [0; 4];
+            self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
+                .await?;
+            fresh = Some(AlEvent(u32::from_le_bytes(value)));
         }
-        self.read_registers(address, registers).await?;
-        self.read_pram(address.max(PROCESS_RAM), ram).await?;
+        self.registers(address, &mut registers).await?;
+        self.pram(address.max(PROCESS_RAM), ram).await?;
+        let Data::Read(registers) = registers else {
+            return Ok(self.known);
+        };
         let fresh = fresh.or_else(|| al_event_in(address, registers));
         let event = fresh.unwrap_or(self.known);
         self.known = fresh
@@ -465,28 +476,11 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             .difference(clears);
         Ok(event)
     }
-
-    /// Registers through the CSR interface, process RAM through the PRAM write FIFO. Reports the
-    /// state-machine events known to be pending.
-    async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Self::Error> {
-        let (registers, ram) = data
-            .split_at_checked(register_bytes(address, data.len()))
-            .unwrap_or_default();
-        self.write_registers(address, registers).await?;
-        self.write_pram(address.max(PROCESS_RAM), ram).await?;
-        Ok(self.known)
-    }
 }
 
 /// How many of `len` bytes at `address` are ESC registers (below 0x1000).
 fn register_bytes(address: u16, len: usize) -> usize {
     usize::from(PROCESS_RAM.saturating_sub(address)).min(len)
-}
-
-/// `buf` at `address` cut into its register part and its process RAM part.
-fn split_at_process_ram(address: u16, buf: &mut [u8]) -> (&mut [u8], &mut [u8]) {
-    let at = register_bytes(address, buf.len());
-    buf.split_at_mut_checked(at).unwrap_or_default()
 }
 
 /// The AL event register, if `registers` (read at `address`) holds all of it.
@@ -557,8 +551,10 @@ impl FifoStream {
     fn layout(&self, part: Range<usize>) -> Layout {
         let data_end = self.lane + self.data;
         let head = self.lane.min(part.end).saturating_sub(part.start);
-        let start = part.start.clamp(self.lane, data_end) - self.lane;
-        let end = part.end.clamp(self.lane, data_end) - self.lane;
+        // Clamped to lane..=data_end with max/min: `clamp` would carry a formatted panic for
+        // bounds that cannot be reversed here.
+        let start = part.start.max(self.lane).min(data_end) - self.lane;
+        let end = part.end.max(self.lane).min(data_end) - self.lane;
         let tail = part.end.saturating_sub(data_end.max(part.start));
         Layout {
             head,

@@ -18,15 +18,16 @@ mod chip {
     pub const SYNC_MANAGERS: u8 = 8;
     pub const PROCESS_RAM_END: u32 = 0x3000;
 
-    pub async fn start(spi: EscSpi) -> Result<Pdi, core::convert::Infallible> {
-        Ok(BeckhoffSpi::new(spi, Config::default()))
+    /// The driver on `spi` (the ESC needs no start-up sequence over SPI); never `None`.
+    pub async fn start_logged(spi: EscSpi) -> Option<Pdi> {
+        Some(BeckhoffSpi::new(spi, Config::default()))
     }
 }
 
 #[cfg(feature = "lan9252")]
 mod chip {
     //! LAN9252: reset, byte-order test, ready check, IRQ output enabled.
-    use ecat_embassy::spi::lan9252::{Config, Error, Lan9252};
+    use ecat_embassy::spi::lan9252::{Config, Lan9252};
 
     use crate::board::EscSpi;
 
@@ -35,25 +36,20 @@ mod chip {
     pub const SYNC_MANAGERS: u8 = 4;
     pub const PROCESS_RAM_END: u32 = 0x2000;
 
-    pub async fn start(
-        spi: EscSpi,
-    ) -> Result<Pdi, Error<<EscSpi as embedded_hal_async::spi::ErrorType>::Error>> {
-        Lan9252::start(spi, Config::default()).await
-    }
-}
-
-pub use chip::{PROCESS_RAM_END, Pdi, SYNC_MANAGERS, start};
-
-/// Starts the ESC on `spi`; logs why and returns `None` when it does not come up.
-pub async fn start_logged(spi: crate::board::EscSpi) -> Option<Pdi> {
-    match start(spi).await {
-        Ok(pdi) => Some(pdi),
-        Err(e) => {
-            defmt::error!("ESC start-up failed: {}", e);
-            None
+    /// Resets the chip and waits until it is ready; logs why and returns `None` when it does not
+    /// come up.
+    pub async fn start_logged(spi: EscSpi) -> Option<Pdi> {
+        match Lan9252::start(spi, Config::default()).await {
+            Ok(pdi) => Some(pdi),
+            Err(e) => {
+                defmt::error!("ESC start-up failed: {}", e);
+                None
+            }
         }
     }
 }
+
+pub use chip::{PROCESS_RAM_END, Pdi, SYNC_MANAGERS, start_logged};
 
 /// `config` adjusted to this ESC's SyncManagers and process RAM.
 pub const fn fit(mut config: DeviceConfig) -> DeviceConfig {

@@ -22,7 +22,7 @@ use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_proces
 use ecat_stm32::board::Board;
 use ecat_stm32::esc;
 use ecat_stm32::io::{self, DigitalIo};
-use embassy_executor::{SendSpawner, Spawner};
+use embassy_executor::SendSpawner;
 use embassy_stm32::exti::ExtiInput;
 
 use embassy_stm32::mode::Async;
@@ -52,25 +52,7 @@ ecat_stm32::executors!();
 fn main() -> ! {
     let board = Board::init();
     info!("ecat digital I/O starting");
-    run_executors(|high, spawner| spawner.spawn(unwrap!(start(spawner, high, board))))
-}
-
-/// Brings the ESC up (the LAN9252 needs a reset sequence), then starts the runners.
-#[embassy_executor::task]
-async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
-    let Board {
-        spi,
-        irq,
-        sync0,
-        io,
-    } = board;
-    let Some(pdi) = esc::start_logged(spi).await else {
-        return;
-    };
-    let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
-    high.spawn(unwrap!(process_data(esc, irq, io)));
-    high.spawn(unwrap!(sync(sync0)));
-    spawner.spawn(unwrap!(state_machine(esc)));
+    run_executors(|high, spawner| spawner.spawn(unwrap!(state_machine(high, board))))
 }
 
 /// State hooks: accept every transition, log state changes.
@@ -90,9 +72,23 @@ impl Application for Hooks {
 
 impl ObjectHooks<()> for Hooks {}
 
-/// The state machine and the mailbox, in the thread executor.
+/// The thread executor's task: brings the ESC up (the LAN9252 needs a reset sequence), starts the
+/// process-data runner and the SYNC0 task in the interrupt executor, then runs the state machine
+/// and the mailbox. One task, so the start-up's state shares the task's storage with the runner.
 #[embassy_executor::task]
-async fn state_machine(esc: &'static Esc) {
+async fn state_machine(high: SendSpawner, board: Board) {
+    let Board {
+        spi,
+        irq,
+        sync0,
+        io,
+    } = board;
+    let Some(pdi) = esc::start_logged(spi).await else {
+        return;
+    };
+    let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
+    high.spawn(unwrap!(process_data(esc, irq, io)));
+    high.spawn(unwrap!(sync(sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut Hooks, &DICTIONARY).await;
     error!("PDI failed: {}", error);

@@ -18,7 +18,7 @@ use ecat_embassy::pd_runner::Buffers;
 use ecat_embassy::{SharedDictionary, SharedEsc, run_esm, run_process_data};
 use ecat_stm32::board::Board;
 use ecat_stm32::esc;
-use embassy_executor::{SendSpawner, Spawner};
+use embassy_executor::SendSpawner;
 use embassy_stm32::exti::ExtiInput;
 
 use embassy_stm32::mode::Async;
@@ -42,12 +42,14 @@ ecat_stm32::executors!();
 fn main() -> ! {
     let board = Board::init();
     info!("ecat CiA402 axis starting");
-    run_executors(|high, spawner| spawner.spawn(unwrap!(start(spawner, high, board))))
+    run_executors(|high, spawner| spawner.spawn(unwrap!(state_machine(high, board))))
 }
 
-/// Brings the ESC up, then starts the runners. The board's digital I/O stays unused.
+/// The thread executor's task: brings the ESC up, starts the process-data runner in the interrupt
+/// executor, then runs the state machine and the mailbox. One task, so the start-up's state
+/// shares the task's storage with the runner. The board's digital I/O stays unused.
 #[embassy_executor::task]
-async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
+async fn state_machine(high: SendSpawner, board: Board) {
     let Board {
         spi, irq, sync0, ..
     } = board;
@@ -57,12 +59,6 @@ async fn start(spawner: Spawner, high: SendSpawner, board: Board) {
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::default())));
     high.spawn(unwrap!(process_data(esc, od, irq, sync0)));
-    spawner.spawn(unwrap!(state_machine(esc, od)));
-}
-
-/// The state machine and the mailbox, in the thread executor.
-#[embassy_executor::task]
-async fn state_machine(esc: &'static Esc, od: &'static Dictionary) {
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut AxisApp, od).await;
     error!("PDI failed: {}", error);

@@ -41,7 +41,7 @@ async fn exchange(mut spi: EscSpi, mut irq: ExtiInput<'static, Async>, mut io: D
     loop {
         irq.wait_for_low().await;
         if let Err(e) = spi.transfer_in_place(&mut frame).await {
-            error!("SPI failed: {}", defmt::Debug2Format(&e));
+            error!("SPI failed: {}", e);
         }
         io.apply(frame[3]);
         frame[0] = io::sample();
