@@ -193,6 +193,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     sync_received: bool,
     /// The sync type the dictionary asks for, or why it cannot be.
     sync: Result<sync::Requested, AlStatusCode>,
+    /// The entries of 0x1C32 the MainDevice wrote since PREOP was entered from INIT.
+    chosen: sync::Chosen,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -231,7 +233,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             sync: Ok(sync::Requested {
                 sync: SyncType::SmSynchronous,
                 chosen: false,
+                cycle_ns: None,
             }),
+            chosen: sync::Chosen::default(),
         }
     }
 
@@ -293,7 +297,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             clock: match self.sync() {
-                Ok(SyncType::FreeRun) => Clock::FreeRun(self.config.free_run_cycle),
+                Ok(SyncType::FreeRun) => Clock::FreeRun(self.free_run_cycle()),
                 Ok(SyncType::DcSync0) => Clock::Sync0(self.dc.sync0_cycle()),
                 _ => Clock::Event(self.process_data_trigger()),
             },
@@ -498,6 +502,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// not choose and activated SYNC0 ([`sync::Requested::effective`]).
     fn sync(&self) -> Result<SyncType, AlStatusCode> {
         self.sync.map(|r| r.effective(self.dc, self.config))
+    }
+
+    /// The free-run period ([`sync::Requested::free_run_cycle`]).
+    fn free_run_cycle(&self) -> crate::time::Duration {
+        self.sync.map_or(self.config.free_run_cycle, |r| {
+            r.free_run_cycle(self.config)
+        })
     }
 
     /// The DC registers read with an AL control event: the activation byte, and up to the SYNC0
@@ -885,7 +896,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The sync type must be supported; free-run needs SM2 in 3-buffer mode (0x0029); a
-    /// DC-capable device checks the DC SYNC unit ([`sync::check_dc`]).
+    /// DC-capable device checks the DC SYNC unit ([`sync::check_dc`]); a cycle time the
+    /// MainDevice wrote must suit the sync type ([`sync::check_cycle`]).
     fn check_sync(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
         let sync = self.sync()?;
         if self.config.sync.dc() {
@@ -894,6 +906,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // DC activated on a device without DC (conformance.md "Distributed clocks").
             return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
         }
+        let cycle_ns = self.sync.ok().and_then(|r| r.cycle_ns);
+        sync::check_cycle(sync, cycle_ns, self.dc, self.config)?;
         let one_buffer =
             self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;
         if sync == SyncType::FreeRun && sizes.outputs > 0 && one_buffer {
@@ -944,6 +958,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;
+            self.chosen = sync::Chosen::default();
             let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
             self.mailbox.start(self.active_mailbox(), repeat);
         }
@@ -983,8 +998,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             hooks,
             state: self.state,
             now,
+            chosen: sync::Chosen::default(),
         };
         let built = self.mailbox.service(&mut cx);
+        self.chosen.merge(cx.chosen);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.
@@ -1011,7 +1028,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         self.targets_changed();
-        self.sync = sync::requested(od, self.config);
+        self.sync = sync::requested(od, self.config, self.chosen);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
             Ok(Some(layout)) => Ok(layout.bytes()),
@@ -1025,7 +1042,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             })
         });
         let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
-        sync::fill(od, self.config, self.sync().ok(), self.dc, has_outputs);
+        sync::fill(od, self.config, self.sync.ok(), self.dc, has_outputs);
     }
 
     /// Raises an emergency: queued, and sent when SM1 is free. Refused (returns `false`) below

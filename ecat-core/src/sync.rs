@@ -218,19 +218,23 @@ pub const fn input_sync_type(output: SyncType, has_outputs: bool) -> SyncType {
 }
 
 /// Fills what the stack knows into 0x1C32 and 0x1C33 (those the dictionary has): the supported
-/// sync types (SI4), the minimum cycle time (SI5) and the cycle time in ns (SI2: the local cycle
-/// in free-run, the SYNC0 cycle in DC mode); in 0x1C33 also the inputs' sync type (SI1,
-/// [`input_sync_type`]).
+/// sync types (SI4), the minimum cycle time (SI5) and, unless the MainDevice wrote one
+/// (`requested.cycle_ns`), the cycle time in ns (SI2: the local cycle in free-run, the SYNC0
+/// cycle in DC mode); in 0x1C33 also the inputs' sync type (SI1, [`input_sync_type`]).
 pub fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
-    active: Option<SyncType>,
+    requested: Option<Requested>,
     dc: DcSettings,
     has_outputs: bool,
 ) {
-    let cycle_ns = match active {
-        Some(SyncType::FreeRun) => Some(device.free_run_cycle.as_micros().saturating_mul(1_000)),
-        Some(SyncType::DcSync0) => Some(u64::from(dc.sync0_cycle_ns)),
+    let active = requested.map(|r| r.effective(dc, device));
+    let cycle_ns = match (active, requested.and_then(|r| r.cycle_ns)) {
+        (_, Some(_)) => None,
+        (Some(SyncType::FreeRun), None) => {
+            Some(device.free_run_cycle.as_micros().saturating_mul(1_000))
+        }
+        (Some(SyncType::DcSync0), None) => Some(u64::from(dc.sync0_cycle_ns)),
         _ => None,
     };
     let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
@@ -250,15 +254,45 @@ pub fn fill<D: ObjectDictionary>(
     }
 }
 
-/// What the dictionary's 0x1C32:01 says.
+/// What the MainDevice wrote into 0x1C32 over SDO since the SubDevice entered PREOP from INIT:
+/// its choices, as against the declared defaults and the values the stack fills in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Chosen {
+    /// 0x1C32:01, the sync type, was written.
+    pub sync_type: bool,
+    /// 0x1C32:02, the cycle time, was written.
+    pub cycle_time: bool,
+}
+
+impl Chosen {
+    /// Notes a successful SDO write of `index:sub`.
+    pub fn note(&mut self, index: u16, sub: u8) {
+        match (index, sub) {
+            (OUTPUT_PARAMETERS, 1) => self.sync_type = true,
+            (OUTPUT_PARAMETERS, 2) => self.cycle_time = true,
+            _ => {}
+        }
+    }
+
+    /// Both notes together.
+    pub fn merge(&mut self, other: Chosen) {
+        self.sync_type |= other.sync_type;
+        self.cycle_time |= other.cycle_time;
+    }
+}
+
+/// What the dictionary's 0x1C32 says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Requested {
     /// The sync type.
     pub sync: SyncType,
-    /// The MainDevice chose it (0x1C32:01 differs from its declared default). Otherwise the
-    /// SubDevice follows the ESC: DC SYNC0 when the MainDevice activated SYNC0 (as SSC does for
-    /// MainDevices that configure DC but never write 0x1C32, e.g. ethercrab).
+    /// The MainDevice chose it: it wrote 0x1C32:01, or 0x1C32:01 differs from its declared
+    /// default. Otherwise the SubDevice follows the ESC: DC SYNC0 when the MainDevice activated
+    /// SYNC0 (as SSC does for MainDevices that configure DC but never write 0x1C32, e.g.
+    /// ethercrab).
     pub chosen: bool,
+    /// The cycle time in ns the MainDevice wrote into 0x1C32:02, if any (0 counts as none).
+    pub cycle_ns: Option<u32>,
 }
 
 impl Requested {
@@ -271,14 +305,24 @@ impl Requested {
             self.sync
         }
     }
+
+    /// The period of the local timer in free-run: the cycle time the MainDevice wrote, else
+    /// [`DeviceConfig::free_run_cycle`].
+    pub fn free_run_cycle(self, device: &DeviceConfig) -> Duration {
+        self.cycle_ns.map_or(device.free_run_cycle, |ns| {
+            Duration::from_micros(u64::from(ns) / 1_000)
+        })
+    }
 }
 
-/// The sync type the dictionary's 0x1C32:01 asks for, checked against the device
+/// The sync type and cycle time the dictionary's 0x1C32 asks for, checked against the device
 /// (conformance.md "Sync parameters"): unsupported free-run is 0x0027, any other unsupported type
-/// 0x0028. Without 0x1C32 the device runs SM-synchronous when it supports it, else free-run.
+/// 0x0028. `chosen` tells which entries the MainDevice wrote. Without 0x1C32 the device runs
+/// SM-synchronous when it supports it, else free-run.
 pub fn requested<D: ObjectDictionary>(
     od: &D,
     device: &DeviceConfig,
+    chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
     let Some(object) = D::object(OUTPUT_PARAMETERS) else {
         let sm = device.sync.supports(SyncType::SmSynchronous);
@@ -290,16 +334,45 @@ pub fn requested<D: ObjectDictionary>(
         return Ok(Requested {
             sync,
             chosen: false,
+            cycle_ns: None,
         });
     };
     let code = u16::try_from((object.load)(od, 1)).unwrap_or(u16::MAX);
     let mut default = [0u8; 2];
     let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
-    let chosen = !declared || u16::from_le_bytes(default) != code;
+    let default_kept = declared && u16::from_le_bytes(default) == code;
+    let cycle_ns = u32::try_from((object.load)(od, 2))
+        .ok()
+        .filter(|&ns| chosen.cycle_time && ns != 0);
     match SyncType::from_code(code) {
-        sync if device.sync.supports(sync) => Ok(Requested { sync, chosen }),
+        sync if device.sync.supports(sync) => Ok(Requested {
+            sync,
+            chosen: chosen.sync_type || !default_kept,
+            cycle_ns,
+        }),
         SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
+    }
+}
+
+/// The cycle time the MainDevice wrote into 0x1C32:02, checked at PREOP→SAFEOP against the
+/// sync type in effect (conformance.md AL status codes): in free-run or SM-synchronous mode below
+/// the device's minimum cycle (SI5) 0x002E; in DC SYNC0 mode other than the SYNC0 cycle 0x0035.
+pub fn check_cycle(
+    sync: SyncType,
+    cycle_ns: Option<u32>,
+    dc: DcSettings,
+    device: &DeviceConfig,
+) -> Result<(), AlStatusCode> {
+    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    match (sync, cycle_ns) {
+        (SyncType::DcSync0, Some(ns)) if ns != dc.sync0_cycle_ns => {
+            Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME)
+        }
+        (SyncType::FreeRun | SyncType::SmSynchronous, Some(ns)) if u64::from(ns) < min_ns => {
+            Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
+        }
+        _ => Ok(()),
     }
 }
 

@@ -119,7 +119,86 @@ fn free_run_cycles_on_the_local_timer() {
     });
 }
 
+/// A cycle time the MainDevice writes into 0x1C32:02 sets the free-run period.
+#[test]
+fn free_run_takes_the_cycle_time_the_maindevice_wrote() {
+    run(BOTH, async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        c.download(0x1C32, 1, false, &[0, 0]).await.unwrap();
+        let two_ms = 2_000_000u32.to_le_bytes();
+        c.download(0x1C32, 2, false, &two_ms).await.unwrap();
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        assert_eq!(c.upload(0x1C32, 2, false).await, Ok(two_ms.to_vec()));
+        let before = cycles(&master);
+        master.advance(Duration::from_millis(10)).await;
+        assert_eq!(
+            cycles(&master).wrapping_sub(before),
+            5,
+            "one cycle per 2 ms"
+        );
+    });
+}
+
+/// A cycle time below the minimum (0x1C32:05, 250 µs) in free-run or SM-synchronous mode is
+/// 0x002E at PREOP→SAFEOP; the minimum itself is accepted.
+#[test]
+fn a_cycle_time_below_the_minimum_is_0x002e() {
+    for (sync_type, cycle_ns, expected) in [
+        (0u16, 200_000u32, (0x12, 0x002E)),
+        (1, 249_000, (0x12, 0x002E)),
+        (1, 250_000, (0x04, 0)),
+    ] {
+        run(BOTH, async move |master| {
+            let mut c = preop_with_sync_type(&master, sync_type).await;
+            c.download(0x1C32, 2, false, &cycle_ns.to_le_bytes())
+                .await
+                .unwrap();
+            assert_eq!(
+                safeop(&master, SM2_CONTROL).await,
+                expected,
+                "sync type {sync_type}, {cycle_ns} ns"
+            );
+        });
+    }
+}
+
 const DC: u16 = BOTH | SupportedSync::SYNC0;
+
+/// In DC SYNC0 mode a cycle time the MainDevice wrote must be the SYNC0 cycle: 0x0035.
+#[test]
+fn a_cycle_time_other_than_sync0_is_0x0035() {
+    for (cycle_ns, expected) in [(2_000_000u32, (0x12, 0x0035)), (1_000_000, (0x04, 0))] {
+        run(DC, async move |master| {
+            let mut c = preop_with_sync_type(&master, 2).await;
+            c.download(0x1C32, 2, false, &cycle_ns.to_le_bytes())
+                .await
+                .unwrap();
+            program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+            assert_eq!(
+                safeop(&master, SM2_CONTROL).await,
+                expected,
+                "{cycle_ns} ns"
+            );
+        });
+    }
+}
+
+/// What a MainDevice chose is forgotten when the SubDevice goes back to INIT: the next one,
+/// writing nothing, gets the ESC's DC SYNC0 followed (as ethercrab needs) even though the value
+/// left in 0x1C32:01 is the default.
+#[test]
+fn a_choice_lasts_until_init() {
+    run(DC, async |master| {
+        preop_with_sync_type(&master, 1).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0030));
+        walk_to(&master, AlState::Init).await;
+        walk_to(&master, AlState::PreOp).await;
+        program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+    });
+}
 
 /// Programs the ESC's DC SYNC unit as a MainDevice does: SYNC0 cycle, start time `start_in`
 /// from now (system time = virtual time in ns), then the activation byte.
@@ -187,7 +266,7 @@ fn dc_configuration_errors_are_0x0030() {
     // (sync type, activation): SYNC0 mode without SYNC0; the SYNC unit on without SYNC0;
     // SYNC1 without SYNC0; SYNC0 running while the MainDevice chose free-run, or chose
     // SM-synchronous by writing 0x1C32:01's default value.
-    for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (0, 0x03)] {
+    for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (0, 0x03), (1, 0x03)] {
         run(DC, async move |master| {
             preop_with_sync_type(&master, sync_type).await;
             program_dc(&master, activation, 1_000_000, Duration::from_millis(1));

@@ -72,6 +72,9 @@ pub struct Context<'a, D, H> {
     pub state: AlState,
     /// Now.
     pub now: Instant,
+    /// The entries of 0x1C32 written in this service (the MainDevice's choice of sync type
+    /// and cycle time, [`crate::sync::Chosen`]).
+    pub chosen: crate::sync::Chosen,
 }
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
@@ -610,6 +613,7 @@ fn store_entry<D: ObjectDictionary, H: ObjectHooks<D>>(
     let index = object.info.index;
     cx.hooks.before_write(cx.od, index, sub, data)?;
     (object.write)(cx.od, sub, data)?;
+    cx.chosen.note(index, sub);
     cx.hooks.after_write(cx.od, index, sub);
     Ok(())
 }
@@ -721,6 +725,7 @@ mod tests {
                 hooks: &mut (),
                 state: AlState::PreOp,
                 now: Instant::from_micros(0),
+                chosen: crate::sync::Chosen::default(),
             };
             let [i0, i1] = u16::to_le_bytes(index);
             let mut out = [0xAA; 40];
