@@ -51,10 +51,11 @@ fn start_up_writes_mask_deactivates_sync_managers_and_presents_init() {
         log,
         [
             Op::Write(0x0204, vec![0x11, 0, 0, 0]),
-            Op::Write(0x0807, vec![1]),
-            Op::Write(0x080F, vec![1]),
+            // Deactivations in the order of a downward transition: outputs, inputs, mailbox.
             Op::Write(0x0817, vec![1]),
             Op::Write(0x081F, vec![1]),
+            Op::Write(0x080F, vec![1]),
+            Op::Write(0x0807, vec![1]),
             Op::Write(0x0134, vec![0, 0]),
             Op::Write(0x0130, vec![1, 0]),
         ]
@@ -377,4 +378,58 @@ fn every_register_follows_errors_acknowledges_state_changes_and_deactivation() {
     regs.drive(&mut sub, T0);
     assert_eq!(presented(&regs), (0x11, 0x16, 0x011, [1, 1, 1, 1]));
     assert_eq!(sub.state(), AlState::Init);
+}
+
+/// A SubDevice walked up to OP, its outputs received.
+fn in_op(regs: &mut Regs) -> SubDevice<'static> {
+    let mut sub = started(regs);
+    configure_all(regs);
+    step_up(regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    step_up(regs, &mut sub, 4, AlState::PreOp, AlState::SafeOp);
+    step_up(regs, &mut sub, 8, AlState::SafeOp, AlState::Op);
+    sub.outputs_received();
+    regs.drive(&mut sub, T0);
+    assert_eq!(sub.state(), AlState::Op);
+    sub
+}
+
+#[test]
+fn downward_transitions_stop_outputs_then_inputs_then_the_mailbox() {
+    // Deactivations SM2, SM3, then SM1, SM0 (conformance.md "ESM"), before AL status shows the
+    // lower state: all four on OP→INIT, the process-data channels on OP→PREOP.
+    let cases = [
+        (
+            0x0001,
+            vec![
+                Op::Write(0x0204, vec![0x11, 0, 0, 0]),
+                Op::Write(0x0817, vec![1]),
+                Op::Write(0x081F, vec![1]),
+                Op::Write(0x080F, vec![1]),
+                Op::Write(0x0807, vec![1]),
+                Op::Write(0x0130, vec![1, 0]),
+            ],
+        ),
+        (
+            0x0002,
+            vec![
+                Op::Write(0x0204, vec![0x11, 0x01, 0, 0]),
+                Op::Write(0x0817, vec![1]),
+                Op::Write(0x081F, vec![1]),
+                Op::Write(0x0130, vec![2, 0]),
+            ],
+        ),
+    ];
+    for (control, writes) in cases {
+        let mut regs = Regs::new();
+        let mut sub = in_op(&mut regs);
+        let log = request(&mut regs, &mut sub, control);
+        let reads = [
+            Op::Read(0x0800, 64),
+            Op::Read(0x0420, 2),
+            Op::Read(0x0981, 1),
+            Op::Read(0x0120, 2),
+        ];
+        assert_eq!(log[..4], reads, "AL control {control:#06x}");
+        assert_eq!(log[4..], writes, "AL control {control:#06x}");
+    }
 }
