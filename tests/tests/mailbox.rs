@@ -165,6 +165,29 @@ fn malformed_messages_get_the_exact_error_reply() {
     });
 }
 
+/// In BOOT only FoE would be served (conformance.md "ESM"); FoE is not implemented, so every
+/// protocol, CoE and FoE alike, gets the mailbox error reply 0x0002 "protocol not supported".
+#[test]
+fn in_boot_every_protocol_gets_error_0x0002() {
+    run(async |master| {
+        walk_to(&master, AlState::Boot).await;
+        let mut c = client(&master);
+        let (header, payload) = upload_1001(1);
+        assert_eq!(
+            c.exchange_raw(&header, &payload).await,
+            Some(error_reply(1, 0x02)),
+            "CoE in BOOT"
+        );
+        // FoE read request (opcode 1, password 0, file "fw").
+        let foe = [0x01, 0x00, 0, 0, 0, 0, b'f', b'w'];
+        assert_eq!(
+            c.exchange_raw(&[0x08, 0x00, 0, 0, 0, 0x24], &foe).await,
+            Some(error_reply(2, 0x02)),
+            "FoE in BOOT"
+        );
+    });
+}
+
 #[test]
 fn unknown_coe_service_is_answered_with_an_sdo_abort() {
     run(async |master| {

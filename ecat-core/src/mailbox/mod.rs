@@ -11,7 +11,8 @@
 //! - repeat: when the MainDevice toggles SM1's repeat request, the last message is written again
 //!   before the acknowledge bit follows it;
 //! - dispatch by protocol: CoE (SDO, SDO Information); every other protocol gets "protocol not
-//!   supported" (0x0002), and in BOOT only FoE would be served.
+//!   supported" (0x0002). In BOOT only FoE would be served (ETG.1000.6 §6.4.1, conformance.md
+//!   "ESM"), and FoE is not implemented: in BOOT every protocol, FoE included, gets 0x0002.
 
 mod error;
 mod header;
