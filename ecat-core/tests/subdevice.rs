@@ -111,6 +111,27 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
 }
 
 #[test]
+fn mailbox_start_copies_the_repeat_request_into_the_repeat_ack() {
+    // SM1's repeat request (0x080E bit 1) is set before INIT→PREOP: at mailbox start the
+    // acknowledge (0x080F bit 1) takes its value (conformance.md "Mailbox"), and nothing is
+    // repeated.
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    regs.put(0x080E, &[0x03]);
+    let log = step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    assert_eq!(
+        log,
+        [
+            Op::Write(0x0204, vec![0x11, 0x01, 0, 0]),
+            Op::Write(0x0807, vec![0]),
+            Op::Write(0x080F, vec![0x02]),
+            Op::Write(0x0130, vec![2, 0])
+        ]
+    );
+}
+
+#[test]
 fn refusal_writes_the_code_before_the_error_indication() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
