@@ -5,8 +5,10 @@ mod common;
 
 use common::{DEVICE, Op, Regs, configure_all};
 use ecat_core::coe::Emergency;
+use ecat_core::device::MailboxConfig;
 use ecat_core::{
-    AlEvent, AlState, AlStatusCode, Duration, Event, Instant, SubDevice, Transition, register,
+    AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Event, Instant, SubDevice, Transition,
+    register,
 };
 
 const T0: Instant = Instant::from_micros(0);
@@ -179,6 +181,31 @@ fn process_data_trigger_joins_the_event_mask_in_safeop() {
     assert!(
         !layout.outputs_active,
         "outputs are never applied in SAFEOP"
+    );
+}
+
+#[test]
+fn a_mailbox_larger_than_mbx_is_refused_with_0x0002() {
+    // SM0/SM1 of 256 bytes, as the device describes them, on a SubDevice<128>: no memory.
+    const BIG: MailboxConfig = MailboxConfig::contiguous(0x1000, 256);
+    static CONFIG: DeviceConfig = DeviceConfig::new(BIG, DEVICE.process_data);
+    let mut regs = Regs::new();
+    let mut sub: SubDevice<'_, 128> = SubDevice::new(&CONFIG);
+    regs.drive(&mut sub, T0);
+    regs.sm(0, BIG.receive.start, BIG.receive.length, 0x26, true);
+    regs.sm(1, BIG.send.start, BIG.send.length, 0x22, true);
+    let log = request(&mut regs, &mut sub, 0x0002);
+    assert_eq!(
+        log[4..],
+        [
+            Op::Write(0x0134, vec![0x02, 0]),
+            Op::Write(0x0130, vec![0x11, 0]),
+        ]
+    );
+    assert_eq!(sub.poll_event(), None, "the application is not asked");
+    assert_eq!(
+        (sub.state(), sub.al_status_code()),
+        (AlState::Init, AlStatusCode::NO_MEMORY)
     );
 }
 
