@@ -188,6 +188,50 @@ fn in_boot_every_protocol_gets_error_0x0002() {
     });
 }
 
+/// An SDO Information request shorter than its header and the fixed part of its opcode is a CoE
+/// payload shorter than required: mailbox error 0x0008 (conformance.md "Mailbox"). A well-formed
+/// request that cannot be served still gets an SDO Info error.
+#[test]
+fn short_sdo_information_requests_get_error_0x0008() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let cases: [(&str, [u8; 6], &[u8]); 3] = [
+            (
+                "SDO Information header cut",
+                [0x04, 0x00, 0, 0, 0, 0x13],
+                &[0x00, 0x80, 0x01, 0x00],
+            ),
+            (
+                "Get OD List without its list type",
+                [0x06, 0x00, 0, 0, 0, 0x23],
+                &[0x00, 0x80, 0x01, 0x00, 0x00, 0x00],
+            ),
+            (
+                "Get Entry Description without its value info",
+                [0x09, 0x00, 0, 0, 0, 0x33],
+                &[0x00, 0x80, 0x05, 0x00, 0x00, 0x00, 0x00, 0x10, 0x00],
+            ),
+        ];
+        for (n, (what, header, payload)) in cases.into_iter().enumerate() {
+            let answer = c.exchange_raw(&header, payload).await;
+            assert_eq!(answer, Some(error_reply(n as u8 + 1, 0x08)), "{what}");
+        }
+        let list_type_9 = [0x00, 0x80, 0x01, 0x00, 0x00, 0x00, 0x09, 0x00];
+        let mut info_error = vec![
+            0x0A, 0x00, 0x00, 0x00, 0x00, 0x43, 0x00, 0x80, 0x07, 0x00, 0x00, 0x00, 0x00, 0x00,
+            0x01, 0x06,
+        ];
+        info_error.resize(128, 0);
+        assert_eq!(
+            c.exchange_raw(&[0x08, 0x00, 0, 0, 0, 0x43], &list_type_9)
+                .await,
+            Some(info_error),
+            "list type 9: SDO Info error 0x06010000"
+        );
+    });
+}
+
 #[test]
 fn unknown_coe_service_is_answered_with_an_sdo_abort() {
     run(async |master| {
