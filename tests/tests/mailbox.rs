@@ -232,6 +232,31 @@ fn short_sdo_information_requests_get_error_0x0008() {
     });
 }
 
+/// A short SDO Information request is still a new request: it ends a fragmented OD list in
+/// progress, as any other would.
+#[test]
+fn a_short_sdo_information_request_ends_a_fragmented_list() {
+    let mailbox = MailboxConfig::contiguous(0x1000, 16);
+    let mut device = Device::new(common::drive(), BlobApp::default(), Loopback)
+        .with_dictionary(TestOd::default());
+    device.config.mailbox = mailbox;
+    device.config.bootstrap_mailbox = None;
+    harness::run(device, move |master| async move {
+        walk_to_with(&master, AlState::PreOp, &mailbox).await;
+        let mut c = SdoClient::new(&master, (0x1000, 16), (0x1010, 16));
+        let all = [0x00, 0x80, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00];
+        let first = c.exchange(MailboxType::Coe, &all).await.unwrap();
+        assert_eq!(first[8], 0x82, "an OD list response, more fragments follow");
+        // The request is served before the next fragment: the mailbox error, and the list ends.
+        let short = c.exchange(MailboxType::Coe, &[0x00, 0x80, 0x01]).await;
+        assert_eq!(
+            short.unwrap()[..10],
+            [0x04, 0x00, 0x00, 0x00, 0x00, 0x20, 0x01, 0x00, 0x08, 0x00]
+        );
+        assert_eq!(c.read().await, None, "no fragment after the error");
+    });
+}
+
 #[test]
 fn unknown_coe_service_is_answered_with_an_sdo_abort() {
     run(async |master| {

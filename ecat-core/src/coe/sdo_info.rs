@@ -33,7 +33,7 @@
 //!   Information header and the fixed part its opcode needs (2 bytes for Get OD List and Get
 //!   Object Description, 4 for Get Entry Description, none for other opcodes) is a CoE payload
 //!   shorter than required, which the mailbox answers with mailbox error 0x0008 "invalid size"
-//!   (ETG.1000.4 §5.6, conformance.md "Mailbox"; [`InfoRequest::parse`] gives `None`). Longer
+//!   (ETG.1000.4 Table 30, conformance.md "Mailbox"; [`InfoRequest::parse`] gives `None`). Longer
 //!   requests (mailbox padding) are accepted.
 //! - **Errors** of well-formed requests (opcode 0x07, ETG.1000.6 Table 41 codes):
 //!   - an opcode that is not a request: `0x05040001` ([`AbortCode::COMMAND_SPECIFIER`]);
