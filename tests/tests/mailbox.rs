@@ -232,17 +232,25 @@ fn short_sdo_information_requests_get_error_0x0008() {
     });
 }
 
-/// A short SDO Information request is still a new request: it ends a fragmented OD list in
-/// progress, as any other would.
-#[test]
-fn a_short_sdo_information_request_ends_a_fragmented_list() {
-    let mailbox = MailboxConfig::contiguous(0x1000, 16);
+/// Runs `script` on the test device with both mailboxes of `size` bytes (contiguous at 0x1000, no
+/// BOOT), walked to PREOP.
+fn in_preop_with_mailbox(size: u16, script: impl AsyncFnOnce(TestMaster) + 'static) {
+    let mailbox = MailboxConfig::contiguous(0x1000, size);
     let mut device = Device::new(common::drive(), BlobApp::default(), Loopback)
         .with_dictionary(TestOd::default());
     device.config.mailbox = mailbox;
     device.config.bootstrap_mailbox = None;
     harness::run(device, move |master| async move {
         walk_to_with(&master, AlState::PreOp, &mailbox).await;
+        script(master).await
+    })
+}
+
+/// A short SDO Information request is still a new request: it ends a fragmented OD list in
+/// progress, as any other would.
+#[test]
+fn a_short_sdo_information_request_ends_a_fragmented_list() {
+    in_preop_with_mailbox(16, async |master| {
         let mut c = SdoClient::new(&master, (0x1000, 16), (0x1010, 16));
         let all = [0x00, 0x80, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00];
         let first = c.exchange(MailboxType::Coe, &all).await.unwrap();
@@ -297,13 +305,7 @@ fn nothing_is_served_in_init() {
 
 #[test]
 fn a_1024_byte_mailbox_carries_long_answers_in_one_message() {
-    let mailbox = MailboxConfig::contiguous(0x1000, 1024);
-    let mut device = Device::new(common::drive(), BlobApp::default(), Loopback)
-        .with_dictionary(TestOd::default());
-    device.config.mailbox = mailbox;
-    device.config.bootstrap_mailbox = None;
-    harness::run(device, move |master| async move {
-        walk_to_with(&master, AlState::PreOp, &mailbox).await;
+    in_preop_with_mailbox(1024, async |master| {
         let mut c = SdoClient::new(&master, (0x1000, 1024), (0x1400, 1024));
         let text = vec![b'k'; 300];
         c.download(0x2000, 0, false, &text).await.unwrap();
