@@ -591,14 +591,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         None
     }
 
-    /// The PDI control write due, SM0 first. Out of line, as the other rarely stale parts.
+    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]). Out of
+    /// line, as the other rarely stale parts.
     #[inline(never)]
     fn next_pdi_control(&mut self) -> Option<(Op, u32)> {
         let desired = self.targets().pdi_control(&self.mailbox);
-        let written = self.written.pdi_control;
-        (0u8..)
-            .zip(desired.into_iter().zip(written))
-            .find_map(|(n, (d, w))| (d != w).then_some((Op::WritePdiControl(n), u32::from(d))))
+        let (n, value) = self.written.pdi_control_due(desired)?;
+        Some((Op::WritePdiControl(n), u32::from(value)))
     }
 
     /// The AL status code write due, or else the AL status write.

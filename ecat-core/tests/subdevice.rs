@@ -5,8 +5,10 @@ mod common;
 
 use common::{DEVICE, Op, Regs, configure_all};
 use ecat_core::coe::Emergency;
+use ecat_core::device::MailboxConfig;
 use ecat_core::{
-    AlEvent, AlState, AlStatusCode, Duration, Event, Instant, SubDevice, Transition, register,
+    AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Event, Instant, SubDevice, Transition,
+    register,
 };
 
 const T0: Instant = Instant::from_micros(0);
@@ -51,10 +53,11 @@ fn start_up_writes_mask_deactivates_sync_managers_and_presents_init() {
         log,
         [
             Op::Write(0x0204, vec![0x11, 0, 0, 0]),
-            Op::Write(0x0807, vec![1]),
-            Op::Write(0x080F, vec![1]),
+            // Deactivations in the order of a downward transition: outputs, inputs, mailbox.
             Op::Write(0x0817, vec![1]),
             Op::Write(0x081F, vec![1]),
+            Op::Write(0x080F, vec![1]),
+            Op::Write(0x0807, vec![1]),
             Op::Write(0x0134, vec![0, 0]),
             Op::Write(0x0130, vec![1, 0]),
         ]
@@ -110,6 +113,27 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
 }
 
 #[test]
+fn mailbox_start_copies_the_repeat_request_into_the_repeat_ack() {
+    // SM1's repeat request (0x080E bit 1) is set before INIT→PREOP: at mailbox start the
+    // acknowledge (0x080F bit 1) takes its value (conformance.md "Mailbox"), and nothing is
+    // repeated.
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    regs.put(0x080E, &[0x03]);
+    let log = step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    assert_eq!(
+        log,
+        [
+            Op::Write(0x0204, vec![0x11, 0x01, 0, 0]),
+            Op::Write(0x0807, vec![0]),
+            Op::Write(0x080F, vec![0x02]),
+            Op::Write(0x0130, vec![2, 0])
+        ]
+    );
+}
+
+#[test]
 fn refusal_writes_the_code_before_the_error_indication() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);
@@ -157,6 +181,31 @@ fn process_data_trigger_joins_the_event_mask_in_safeop() {
     assert!(
         !layout.outputs_active,
         "outputs are never applied in SAFEOP"
+    );
+}
+
+#[test]
+fn a_mailbox_larger_than_mbx_is_refused_with_0x0002() {
+    // SM0/SM1 of 256 bytes, as the device describes them, on a SubDevice<128>: no memory.
+    const BIG: MailboxConfig = MailboxConfig::contiguous(0x1000, 256);
+    static CONFIG: DeviceConfig = DeviceConfig::new(BIG, DEVICE.process_data);
+    let mut regs = Regs::new();
+    let mut sub: SubDevice<'_, 128> = SubDevice::new(&CONFIG);
+    regs.drive(&mut sub, T0);
+    regs.sm(0, BIG.receive.start, BIG.receive.length, 0x26, true);
+    regs.sm(1, BIG.send.start, BIG.send.length, 0x22, true);
+    let log = request(&mut regs, &mut sub, 0x0002);
+    assert_eq!(
+        log[4..],
+        [
+            Op::Write(0x0134, vec![0x02, 0]),
+            Op::Write(0x0130, vec![0x11, 0]),
+        ]
+    );
+    assert_eq!(sub.poll_event(), None, "the application is not asked");
+    assert_eq!(
+        (sub.state(), sub.al_status_code()),
+        (AlState::Init, AlStatusCode::NO_MEMORY)
     );
 }
 
@@ -377,4 +426,58 @@ fn every_register_follows_errors_acknowledges_state_changes_and_deactivation() {
     regs.drive(&mut sub, T0);
     assert_eq!(presented(&regs), (0x11, 0x16, 0x011, [1, 1, 1, 1]));
     assert_eq!(sub.state(), AlState::Init);
+}
+
+/// A SubDevice walked up to OP, its outputs received.
+fn in_op(regs: &mut Regs) -> SubDevice<'static> {
+    let mut sub = started(regs);
+    configure_all(regs);
+    step_up(regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    step_up(regs, &mut sub, 4, AlState::PreOp, AlState::SafeOp);
+    step_up(regs, &mut sub, 8, AlState::SafeOp, AlState::Op);
+    sub.outputs_received();
+    regs.drive(&mut sub, T0);
+    assert_eq!(sub.state(), AlState::Op);
+    sub
+}
+
+#[test]
+fn downward_transitions_stop_outputs_then_inputs_then_the_mailbox() {
+    // Deactivations SM2, SM3, then SM1, SM0 (conformance.md "ESM"), before AL status shows the
+    // lower state: all four on OP→INIT, the process-data channels on OP→PREOP.
+    let cases = [
+        (
+            0x0001,
+            vec![
+                Op::Write(0x0204, vec![0x11, 0, 0, 0]),
+                Op::Write(0x0817, vec![1]),
+                Op::Write(0x081F, vec![1]),
+                Op::Write(0x080F, vec![1]),
+                Op::Write(0x0807, vec![1]),
+                Op::Write(0x0130, vec![1, 0]),
+            ],
+        ),
+        (
+            0x0002,
+            vec![
+                Op::Write(0x0204, vec![0x11, 0x01, 0, 0]),
+                Op::Write(0x0817, vec![1]),
+                Op::Write(0x081F, vec![1]),
+                Op::Write(0x0130, vec![2, 0]),
+            ],
+        ),
+    ];
+    for (control, writes) in cases {
+        let mut regs = Regs::new();
+        let mut sub = in_op(&mut regs);
+        let log = request(&mut regs, &mut sub, control);
+        let reads = [
+            Op::Read(0x0800, 64),
+            Op::Read(0x0420, 2),
+            Op::Read(0x0981, 1),
+            Op::Read(0x0120, 2),
+        ];
+        assert_eq!(log[..4], reads, "AL control {control:#06x}");
+        assert_eq!(log[4..], writes, "AL control {control:#06x}");
+    }
 }

@@ -165,6 +165,106 @@ fn malformed_messages_get_the_exact_error_reply() {
     });
 }
 
+/// In BOOT only FoE would be served (conformance.md "ESM"); FoE is not implemented, so every
+/// protocol, CoE and FoE alike, gets the mailbox error reply 0x0002 "protocol not supported".
+#[test]
+fn in_boot_every_protocol_gets_error_0x0002() {
+    run(async |master| {
+        walk_to(&master, AlState::Boot).await;
+        let mut c = client(&master);
+        let (header, payload) = upload_1001(1);
+        assert_eq!(
+            c.exchange_raw(&header, &payload).await,
+            Some(error_reply(1, 0x02)),
+            "CoE in BOOT"
+        );
+        // FoE read request (opcode 1, password 0, file "fw").
+        let foe = [0x01, 0x00, 0, 0, 0, 0, b'f', b'w'];
+        assert_eq!(
+            c.exchange_raw(&[0x08, 0x00, 0, 0, 0, 0x24], &foe).await,
+            Some(error_reply(2, 0x02)),
+            "FoE in BOOT"
+        );
+    });
+}
+
+/// An SDO Information request shorter than its header and the fixed part of its opcode is a CoE
+/// payload shorter than required: mailbox error 0x0008 (conformance.md "Mailbox"). A well-formed
+/// request that cannot be served still gets an SDO Info error.
+#[test]
+fn short_sdo_information_requests_get_error_0x0008() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let cases: [(&str, [u8; 6], &[u8]); 3] = [
+            (
+                "SDO Information header cut",
+                [0x04, 0x00, 0, 0, 0, 0x13],
+                &[0x00, 0x80, 0x01, 0x00],
+            ),
+            (
+                "Get OD List without its list type",
+                [0x06, 0x00, 0, 0, 0, 0x23],
+                &[0x00, 0x80, 0x01, 0x00, 0x00, 0x00],
+            ),
+            (
+                "Get Entry Description without its value info",
+                [0x09, 0x00, 0, 0, 0, 0x33],
+                &[0x00, 0x80, 0x05, 0x00, 0x00, 0x00, 0x00, 0x10, 0x00],
+            ),
+        ];
+        for (n, (what, header, payload)) in cases.into_iter().enumerate() {
+            let answer = c.exchange_raw(&header, payload).await;
+            assert_eq!(answer, Some(error_reply(n as u8 + 1, 0x08)), "{what}");
+        }
+        let list_type_9 = [0x00, 0x80, 0x01, 0x00, 0x00, 0x00, 0x09, 0x00];
+        let mut info_error = vec![
+            0x0A, 0x00, 0x00, 0x00, 0x00, 0x43, 0x00, 0x80, 0x07, 0x00, 0x00, 0x00, 0x00, 0x00,
+            0x01, 0x06,
+        ];
+        info_error.resize(128, 0);
+        assert_eq!(
+            c.exchange_raw(&[0x08, 0x00, 0, 0, 0, 0x43], &list_type_9)
+                .await,
+            Some(info_error),
+            "list type 9: SDO Info error 0x06010000"
+        );
+    });
+}
+
+/// Runs `script` on the test device with both mailboxes of `size` bytes (contiguous at 0x1000, no
+/// BOOT), walked to PREOP.
+fn in_preop_with_mailbox(size: u16, script: impl AsyncFnOnce(TestMaster) + 'static) {
+    let mailbox = MailboxConfig::contiguous(0x1000, size);
+    let mut device = Device::new(common::drive(), BlobApp::default(), Loopback)
+        .with_dictionary(TestOd::default());
+    device.config.mailbox = mailbox;
+    device.config.bootstrap_mailbox = None;
+    harness::run(device, move |master| async move {
+        walk_to_with(&master, AlState::PreOp, &mailbox).await;
+        script(master).await
+    })
+}
+
+/// A short SDO Information request is still a new request: it ends a fragmented OD list in
+/// progress, as any other would.
+#[test]
+fn a_short_sdo_information_request_ends_a_fragmented_list() {
+    in_preop_with_mailbox(16, async |master| {
+        let mut c = SdoClient::new(&master, (0x1000, 16), (0x1010, 16));
+        let all = [0x00, 0x80, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00];
+        let first = c.exchange(MailboxType::Coe, &all).await.unwrap();
+        assert_eq!(first[8], 0x82, "an OD list response, more fragments follow");
+        // The request is served before the next fragment: the mailbox error, and the list ends.
+        let short = c.exchange(MailboxType::Coe, &[0x00, 0x80, 0x01]).await;
+        assert_eq!(
+            short.unwrap()[..10],
+            [0x04, 0x00, 0x00, 0x00, 0x00, 0x20, 0x01, 0x00, 0x08, 0x00]
+        );
+        assert_eq!(c.read().await, None, "no fragment after the error");
+    });
+}
+
 #[test]
 fn unknown_coe_service_is_answered_with_an_sdo_abort() {
     run(async |master| {
@@ -205,13 +305,7 @@ fn nothing_is_served_in_init() {
 
 #[test]
 fn a_1024_byte_mailbox_carries_long_answers_in_one_message() {
-    let mailbox = MailboxConfig::contiguous(0x1000, 1024);
-    let mut device = Device::new(common::drive(), BlobApp::default(), Loopback)
-        .with_dictionary(TestOd::default());
-    device.config.mailbox = mailbox;
-    device.config.bootstrap_mailbox = None;
-    harness::run(device, move |master| async move {
-        walk_to_with(&master, AlState::PreOp, &mailbox).await;
+    in_preop_with_mailbox(1024, async |master| {
         let mut c = SdoClient::new(&master, (0x1000, 1024), (0x1400, 1024));
         let text = vec![b'k'; 300];
         c.download(0x2000, 0, false, &text).await.unwrap();

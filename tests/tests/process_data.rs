@@ -8,9 +8,10 @@ use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
+use ecat_core::mailbox::MailboxType;
 use ecat_core::pdo::MappingEntry;
 use ecat_embassy::{Application, CycleHandler};
-use ecat_emu::coe_client::SdoError;
+use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::devices::{DRIVE_TX, Drive};
 use ecat_emu::harness::{self, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
@@ -65,43 +66,39 @@ fn the_default_mapping_needs_11_bytes_each_way() {
     });
 }
 
+/// Maps `entries` into 0x1600 and assigns it alone, as MainDevices do: SI0 = 0, the entries,
+/// SI0 = n, the assignment the same way.
+async fn map_rx(c: &mut SdoClient<'_>, entries: &[MappingEntry]) {
+    c.download(0x1C12, 0, false, &[0]).await.unwrap();
+    c.download(0x1600, 0, false, &[0]).await.unwrap();
+    for (sub, entry) in (1u8..).zip(entries) {
+        c.download(0x1600, sub, false, &entry.0.to_le_bytes())
+            .await
+            .unwrap();
+    }
+    c.download(0x1600, 0, false, &[entries.len() as u8])
+        .await
+        .unwrap();
+    c.download(0x1C12, 1, false, &0x1600u16.to_le_bytes())
+        .await
+        .unwrap();
+    c.download(0x1C12, 0, false, &[1]).await.unwrap();
+}
+
 #[test]
 fn a_mapping_reconfigured_over_sdo_changes_the_lengths_safeop_needs() {
     run(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
-        // What MainDevices do: SI0 = 0, the entries, SI0 = n; then the assignment the same way.
-        c.download(0x1C12, 0, false, &[0]).await.unwrap();
-        c.download(0x1600, 0, false, &[0]).await.unwrap();
-        c.download(
-            0x1600,
-            1,
-            false,
-            &MappingEntry::new(0x6040, 0, 16).0.to_le_bytes(),
+        map_rx(
+            &mut c,
+            &[
+                MappingEntry::new(0x6040, 0, 16),
+                MappingEntry::new(0, 0, 8),
+                MappingEntry::new(0x6060, 0, 8),
+            ],
         )
-        .await
-        .unwrap();
-        c.download(
-            0x1600,
-            2,
-            false,
-            &MappingEntry::new(0, 0, 8).0.to_le_bytes(),
-        )
-        .await
-        .unwrap();
-        c.download(
-            0x1600,
-            3,
-            false,
-            &MappingEntry::new(0x6060, 0, 8).0.to_le_bytes(),
-        )
-        .await
-        .unwrap();
-        c.download(0x1600, 0, false, &[3]).await.unwrap();
-        c.download(0x1C12, 1, false, &0x1600u16.to_le_bytes())
-            .await
-            .unwrap();
-        c.download(0x1C12, 0, false, &[1]).await.unwrap();
+        .await;
         assert_eq!(
             request_safeop(&master, 11, 11).await,
             (0x12, 0x001D),
@@ -209,5 +206,83 @@ fn op_moves_the_image_through_the_dictionary() {
         assert!(master.write(OUT.start, &rx2));
         master.settle().await;
         assert_eq!(master.read(IN.start, 11), Some(rx2.to_vec()));
+    });
+}
+
+/// The whole answer to an expedited 4-byte download of `value` into `index:0`.
+async fn download_u32(c: &mut SdoClient<'_>, index: u16, value: u32) -> Vec<u8> {
+    let [i0, i1] = index.to_le_bytes();
+    let mut request = vec![0x00, 0x20, 0x23, i0, i1, 0x00];
+    request.extend_from_slice(&value.to_le_bytes());
+    c.exchange(MailboxType::Coe, &request).await.unwrap()
+}
+
+/// In SAFEOP and OP the process data owns what the RxPDO configuration maps: an SDO download
+/// into it is refused with 0x06010006 (conformance.md "CoE SDO"). Unmapped entries stay
+/// writable, uploads stay allowed, and in PREOP nothing is blocked.
+#[test]
+fn downloads_into_mapped_rxpdo_entries_are_refused_in_safeop_and_op() {
+    let device = Device::new(common::drive(), App, Echo).with_dictionary(Drive::default());
+    harness::run(device, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        // 0x60FF out of the mapping, a 32-bit gap in its place: still 11 bytes.
+        map_rx(
+            &mut c,
+            &[
+                MappingEntry::new(0x6040, 0, 16),
+                MappingEntry::new(0x607A, 0, 32),
+                MappingEntry::new(0, 0, 32),
+                MappingEntry::new(0x6060, 0, 8),
+            ],
+        )
+        .await;
+        let accepted = [0x00, 0x30, 0x60, 0x7A, 0x60, 0x00, 0, 0, 0, 0];
+        assert_eq!(
+            download_u32(&mut c, 0x607A, 7).await[6..16],
+            accepted,
+            "PREOP: mapped, but no process data yet"
+        );
+        assert_eq!(request_safeop(&master, 11, 11).await, (0x04, 0));
+        let blocked = [0x00, 0x20, 0x80, 0x7A, 0x60, 0x00, 0x06, 0x00, 0x01, 0x06];
+        for (state, control) in [("SAFEOP", None), ("OP", Some(0x08))] {
+            if let Some(control) = control {
+                assert!(master.write(OUT.start, &[0; 11]));
+                master.settle().await;
+                assert_eq!(master.request(control).await, (control, 0));
+            }
+            let answer = download_u32(&mut c, 0x607A, 8).await;
+            assert_eq!(answer[..6], [0x0A, 0, 0, 0, 0, answer[5] & 0xF0 | 0x03]);
+            assert_eq!(answer[6..16], blocked, "{state}: 0x607A is mapped");
+            assert_eq!(
+                c.download(0x60FF, 0, false, &[2, 0, 0, 0]).await,
+                Ok(()),
+                "{state}: 0x60FF is not mapped"
+            );
+            assert_eq!(
+                c.upload(0x607A, 0, false).await,
+                Ok(vec![7, 0, 0, 0]),
+                "{state}: uploads are not blocked"
+            );
+        }
+    });
+}
+
+/// The same for a complete-access download: any mapped entry among those it writes blocks it.
+#[test]
+fn complete_access_into_mapped_rxpdo_entries_is_refused_in_safeop() {
+    let sample = ecat_emu::devices::dio();
+    harness::run(sample.device, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        assert_eq!(c.download(0x7000, 1, true, &[0x11, 0x22]).await, Ok(()));
+        assert_eq!(request_safeop(&master, 2, 2).await, (0x04, 0));
+        assert_eq!(
+            c.sdo(&[0x31, 0x00, 0x70, 0x01, 2, 0, 0, 0, 0x33, 0x44])
+                .await,
+            Err(SdoError::Abort(AbortCode::MAPPED_TO_RXPDO)),
+            "0x7000:01..02 are mapped"
+        );
+        assert_eq!(c.upload(0x7000, 1, true).await, Ok(vec![0x11, 0x22]));
     });
 }

@@ -322,6 +322,11 @@ fn every_abort_code_the_server_produces() {
                 AbortCode::LENGTH_TOO_LOW,
             ),
             (
+                "UNICODE_STRING of 3 bytes",
+                [0x27, 0x05, 0x20, 0x00, b'A', 0x00, b'B', 0],
+                AbortCode::LENGTH_MISMATCH,
+            ),
+            (
                 "unknown command",
                 [0xE0, 0x00, 0x10, 0x00, 0, 0, 0, 0],
                 AbortCode::COMMAND_SPECIFIER,
@@ -385,6 +390,12 @@ fn every_abort_code_the_server_produces() {
             c.download(0x2000, 0, false, &text).await,
             Err(SdoError::Abort(AbortCode::LENGTH_TOO_HIGH)),
             "301 bytes into 300"
+        );
+        assert_eq!(
+            c.download(0x2005, 0, false, &[b'A', 0, b'B', 0, b'C'])
+                .await,
+            Err(SdoError::Abort(AbortCode::LENGTH_MISMATCH)),
+            "normal download of 5 bytes into a UNICODE_STRING"
         );
     });
 }

@@ -12,8 +12,8 @@
 //! | 4..6 | fragments left, u16 LE |
 //! | 6.. | the service data of the opcode |
 //!
-//! [`SdoInfo`] answers the three requests; the service-data formats are documented on the
-//! functions that write them.
+//! [`InfoRequest::parse`] reads a request, [`SdoInfo`] answers the three requests; the
+//! service-data formats are documented on the functions that write them.
 //!
 //! ## Decisions where ETG.1000.6 leaves room
 //! - **Fragments**: only an OD list is fragmented. Every fragment carries as many whole 16-bit
@@ -29,11 +29,14 @@
 //!   them and they fit, otherwise the bit is cleared and the field omitted. Each value field is
 //!   `ceil(bit length / 8)` bytes in the entry's encoding, zero-padded (a string's default shorter
 //!   than its capacity), so the MainDevice can find where the next field starts.
-//! - **Errors** (opcode 0x07, ETG.1000.6 Table 41 codes):
-//!   - header shorter than 4 bytes, or an opcode that is not a request: `0x05040001`
-//!     ([`AbortCode::COMMAND_SPECIFIER`]);
-//!   - a request shorter than its fixed part: `0x06070013` ([`AbortCode::LENGTH_TOO_LOW`]);
-//!     longer requests (mailbox padding) are accepted;
+//! - **Short requests** are not SDO Information errors: a request shorter than the SDO
+//!   Information header and the fixed part its opcode needs (2 bytes for Get OD List and Get
+//!   Object Description, 4 for Get Entry Description, none for other opcodes) is a CoE payload
+//!   shorter than required, which the mailbox answers with mailbox error 0x0008 "invalid size"
+//!   (ETG.1000.4 Table 30, conformance.md "Mailbox"; [`InfoRequest::parse`] gives `None`). Longer
+//!   requests (mailbox padding) are accepted.
+//! - **Errors** of well-formed requests (opcode 0x07, ETG.1000.6 Table 41 codes):
+//!   - an opcode that is not a request: `0x05040001` ([`AbortCode::COMMAND_SPECIFIER`]);
 //!   - a list type above 5: `0x06010000` ([`AbortCode::UNSUPPORTED_ACCESS`], as SOES does);
 //!   - missing object `0x06020000`, missing subindex `0x06090011`;
 //!   - a message too short for a description's fixed part: `0x06010005`
@@ -131,6 +134,51 @@ impl InfoHeader {
         let incomplete = if self.incomplete { 0x80 } else { 0 };
         let [lo, hi] = self.fragments_left.to_le_bytes();
         [self.opcode.code() | incomplete, 0, lo, hi]
+    }
+}
+
+/// An SDO Information request: the opcode and the fixed part of its service data (ETG.1000.6
+/// §5.6.3.3–§5.6.3.6).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum InfoRequest {
+    /// Get OD List: the list type (u16, any value; checked when served).
+    OdList(u16),
+    /// Get Object Description: the index.
+    ObjectDescription(u16),
+    /// Get Entry Description: the index, the subindex and the value info asked for.
+    EntryDescription {
+        /// The object.
+        index: u16,
+        /// The entry.
+        sub: u8,
+        /// Which optional fields the MainDevice asks for.
+        value_info: ValueInfo,
+    },
+    /// Any other opcode (a response, an error, an unknown code): answered with `0x05040001`.
+    Unsupported,
+}
+
+impl InfoRequest {
+    /// Parses the bytes after the CoE header: the SDO Information header, then the fixed part of
+    /// the opcode; bytes after it (mailbox padding) and the incomplete bit are ignored. `None`
+    /// when shorter: a CoE payload shorter than required, mailbox error 0x0008.
+    pub fn parse(bytes: &[u8]) -> Option<Self> {
+        let header = InfoHeader::parse(bytes)?;
+        let params = bytes.get(InfoHeader::SIZE..)?;
+        let index = || params.first_chunk::<2>().map(|&b| u16::from_le_bytes(b));
+        Some(match header.opcode {
+            Opcode::GetOdListRequest => Self::OdList(index()?),
+            Opcode::GetObjectDescriptionRequest => Self::ObjectDescription(index()?),
+            Opcode::GetEntryDescriptionRequest => {
+                let &[i0, i1, sub, value_info] = params.first_chunk::<4>()?;
+                Self::EntryDescription {
+                    index: u16::from_le_bytes([i0, i1]),
+                    sub,
+                    value_info: ValueInfo(value_info),
+                }
+            }
+            _ => Self::Unsupported,
+        })
     }
 }
 
@@ -256,14 +304,13 @@ impl SdoInfo {
         Self { transfer: None }
     }
 
-    /// Handles one SDO Information request: `request` = the bytes after the CoE header. Writes
-    /// the whole first response message (CoE header included) into `out` (`out.len()` = capacity
-    /// of one mailbox message's data after the 6-byte mailbox header) and returns its length:
-    /// 0 when `out` is shorter than an error response. A new request abandons a fragmented
-    /// response in progress.
+    /// Handles one SDO Information request ([`InfoRequest::parse`]). Writes the whole first
+    /// response message (CoE header included) into `out` (`out.len()` = capacity of one mailbox
+    /// message's data after the 6-byte mailbox header) and returns its length: 0 when `out` is
+    /// shorter than an error response. A new request abandons a fragmented response in progress.
     #[must_use]
-    pub fn request<D: ObjectDictionary>(&mut self, request: &[u8], out: &mut [u8]) -> usize {
-        self.transfer = None;
+    pub fn request<D: ObjectDictionary>(&mut self, request: InfoRequest, out: &mut [u8]) -> usize {
+        self.abandon();
         if out.len() < MIN_MESSAGE {
             return 0;
         }
@@ -289,6 +336,11 @@ impl SdoInfo {
         Some(finish(out, response))
     }
 
+    /// Drops a fragmented response in progress: a new request came, served or not.
+    pub fn abandon(&mut self) {
+        self.transfer = None;
+    }
+
     /// Whether fragments are pending.
     pub fn is_pending(&self) -> bool {
         self.transfer.is_some()
@@ -305,23 +357,24 @@ impl SdoInfo {
         response
     }
 
-    /// Parses the SDO Information header and serves the request into `data`.
+    /// Serves `request` into `data`.
     fn serve<D: ObjectDictionary>(
         &mut self,
-        request: &[u8],
+        request: InfoRequest,
         data: &mut [u8],
     ) -> Result<Response, AbortCode> {
-        let header = InfoHeader::parse(request).ok_or(AbortCode::COMMAND_SPECIFIER)?;
-        let params = request.get(InfoHeader::SIZE..).unwrap_or_default();
-        match header.opcode {
-            Opcode::GetOdListRequest => {
-                let list = ListType::from_code(read_u16(params, 0)?)
-                    .ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
+        match request {
+            InfoRequest::OdList(code) => {
+                let list = ListType::from_code(code).ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
                 Ok(self.send::<D>(ListTransfer::new::<D>(list), data))
             }
-            Opcode::GetObjectDescriptionRequest => object_description::<D>(params, data),
-            Opcode::GetEntryDescriptionRequest => entry_description::<D>(params, data),
-            _ => Err(AbortCode::COMMAND_SPECIFIER),
+            InfoRequest::ObjectDescription(index) => object_description::<D>(index, data),
+            InfoRequest::EntryDescription {
+                index,
+                sub,
+                value_info,
+            } => entry_description::<D>(index, sub, value_info, data),
+            InfoRequest::Unsupported => Err(AbortCode::COMMAND_SPECIFIER),
         }
     }
 }
@@ -372,10 +425,9 @@ fn info_error(code: AbortCode, data: &mut [u8]) -> Response {
 /// Get Object Description (ETG.1000.6 §5.6.3.5). Request: u16 index. Response: u16 index, u16
 /// data type, u8 max subindex, u8 object code, then the name (cut to fit, no terminator).
 fn object_description<D: ObjectDictionary>(
-    params: &[u8],
+    index: u16,
     data: &mut [u8],
 ) -> Result<Response, AbortCode> {
-    let index = read_u16(params, 0)?;
     let info = &D::object(index).ok_or(AbortCode::NO_OBJECT)?.info;
     let [i0, i1] = index.to_le_bytes();
     let [t0, t1] = info.data_type().to_le_bytes();
@@ -392,12 +444,11 @@ fn object_description<D: ObjectDictionary>(
 /// length, u16 object access, then the fields value info announces (unit u16, default, minimum,
 /// maximum, see the module documentation), then the name (cut to fit, no terminator).
 fn entry_description<D: ObjectDictionary>(
-    params: &[u8],
+    index: u16,
+    sub: u8,
+    requested: ValueInfo,
     data: &mut [u8],
 ) -> Result<Response, AbortCode> {
-    let index = read_u16(params, 0)?;
-    let sub = read_u8(params, 2)?;
-    let requested = ValueInfo(read_u8(params, 3)?);
     let object = D::object(index).ok_or(AbortCode::NO_OBJECT)?;
     let entry = object.info.entry(sub).ok_or(AbortCode::NO_SUBINDEX)?;
     let mut w = Writer::new(data);
@@ -505,19 +556,6 @@ impl ListTransfer {
             }
         }
     }
-}
-
-/// Reads the u16 LE at `at` of a request's parameters.
-fn read_u16(params: &[u8], at: usize) -> Result<u16, AbortCode> {
-    match params.get(at..at + 2) {
-        Some(&[lo, hi]) => Ok(u16::from_le_bytes([lo, hi])),
-        _ => Err(AbortCode::LENGTH_TOO_LOW),
-    }
-}
-
-/// Reads the byte at `at` of a request's parameters.
-fn read_u8(params: &[u8], at: usize) -> Result<u8, AbortCode> {
-    params.get(at).copied().ok_or(AbortCode::LENGTH_TOO_LOW)
 }
 
 /// Appends to a message buffer; what does not fit is not written at all.

@@ -2,7 +2,9 @@
 //! SM1 messages to it. This module owns both buffers and the protocol around them:
 //!
 //! - the 6-byte [`MailboxHeader`]; a message with length 0 or longer than the mailbox is
-//!   answered with a mailbox error reply ([`MailboxError`]);
+//!   answered with a mailbox error reply ([`MailboxError`]), and so is a CoE payload shorter
+//!   than its service needs (0x0008: an SDO request under 8 bytes, an SDO Information request
+//!   without its header and the fixed part of its opcode, [`InfoRequest::parse`]);
 //! - counters: a message whose non-zero counter equals the previous one is a repeat and is
 //!   dropped; the SubDevice numbers its own messages 1..=7;
 //! - flow control: a request is read from SM0 only when its answer can be sent, so nothing is
@@ -11,7 +13,8 @@
 //! - repeat: when the MainDevice toggles SM1's repeat request, the last message is written again
 //!   before the acknowledge bit follows it;
 //! - dispatch by protocol: CoE (SDO, SDO Information); every other protocol gets "protocol not
-//!   supported" (0x0002), and in BOOT only FoE would be served.
+//!   supported" (0x0002). In BOOT only FoE would be served (ETG.1000.6 §6.4.1, conformance.md
+//!   "ESM"), and FoE is not implemented: in BOOT every protocol, FoE included, gets 0x0002.
 
 mod error;
 mod header;
@@ -22,7 +25,7 @@ pub use header::{MailboxHeader, MailboxType, next_counter};
 use crate::AlEvent;
 use crate::AlState;
 use crate::coe::sdo::{self, Context, SdoServer};
-use crate::coe::sdo_info::SdoInfo;
+use crate::coe::sdo_info::{InfoRequest, SdoInfo};
 use crate::coe::{AbortCode, CoeHeader, Emergency, Service};
 use crate::device::{Area, MailboxConfig};
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
@@ -336,7 +339,13 @@ impl<const N: usize> Mailbox<N> {
                 return self.build_error(MailboxError::INVALID_SIZE);
             }
             Service::SdoRequest => self.sdo.request(cx, payload, out),
-            Service::SdoInformation => self.sdo_info.request::<D>(payload, out),
+            Service::SdoInformation => match InfoRequest::parse(payload) {
+                Some(request) => self.sdo_info.request::<D>(request, out),
+                None => {
+                    self.sdo_info.abandon();
+                    return self.build_error(MailboxError::INVALID_SIZE);
+                }
+            },
             _ => sdo::abort(out, 0, 0, AbortCode::UNSUPPORTED_ACCESS),
         };
         len > 0 && self.build(MailboxType::Coe, len)

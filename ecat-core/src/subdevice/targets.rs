@@ -132,6 +132,24 @@ impl Written {
         }
     }
 
+    /// The PDI control write that brings SM0..SM3 closer to `desired`: SyncManager n and its
+    /// value. Deactivations come first, in the order "stop outputs, then inputs, then mailbox"
+    /// of a downward transition (ETG.1000.6 §6.4.1, Table 17; conformance.md "ESM"): SM2, SM3,
+    /// SM1, SM0. Then the other changes (activations, SM1's repeat acknowledge) in SM order, so
+    /// that on the way up the mailbox is active before the process data.
+    pub(super) fn pdi_control_due(&self, desired: [u8; 4]) -> Option<(u8, u8)> {
+        let due = |n: u8| {
+            let i = usize::from(n);
+            let (d, w) = (*desired.get(i)?, *self.pdi_control.get(i)?);
+            (d != w).then_some((n, d))
+        };
+        let stop = [2, 3, 1, 0]
+            .into_iter()
+            .filter_map(due)
+            .find(|&(_, d)| d & Channel::PDI_DEACTIVATE != 0);
+        stop.or_else(|| (0..4).find_map(due))
+    }
+
     /// Whether SM0 and SM1 were last written active.
     pub(super) fn mailbox_active(&self) -> bool {
         let [receive, send, ..] = self.pdi_control;

@@ -5,7 +5,7 @@ use std::rc::Rc;
 
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Identity;
-use ecat_core::dictionary::{Bits, Domain, ObjectHooks, VisibleString};
+use ecat_core::dictionary::{Bits, Domain, ObjectHooks, UnicodeString, VisibleString};
 use ecat_embassy::Application;
 
 /// 0x1018.
@@ -36,6 +36,7 @@ pub struct TestOd {
     pub params: Params,
     pub secret: u32,
     pub tuning: u16,
+    pub label: UnicodeString<4>,
     pub controlword: u16,
     pub target_position: i32,
 }
@@ -59,6 +60,7 @@ ecat_core::dictionary! {
         };
         0x2003 => var(secret, WO, "Secret");
         0x2004 => var(tuning, RW_PREOP, "Tuning");
+        0x2005 => var(label, RW, "Label");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x607A => var(target_position, RW | RXPDO, "Target position", min = -1000, max = 1000);
     }

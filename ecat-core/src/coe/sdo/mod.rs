@@ -13,7 +13,8 @@
 //! Segments alternate a toggle bit starting at 0 (0x05030000 otherwise). A transfer left
 //! unfinished for [`SdoServer::SEGMENT_TIMEOUT`] is dropped; the next segment request gets
 //! 0x05040000. A download larger than the server's buffer `N` (other than a DOMAIN, which
-//! streams to the application) is refused with 0x05040005.
+//! streams to the application) is refused with 0x05040005. In SAFEOP and OP a download into an
+//! entry the RxPDO configuration maps is refused with 0x06010006: the process data owns it.
 
 mod command;
 pub mod complete_access;
@@ -23,6 +24,7 @@ use command::{Request, response};
 use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
 use crate::dictionary::{DataType, EntryInfo, Object, ObjectDictionary, ObjectHooks};
+use crate::pdo::{self, layout::Layout as PdoLayout};
 use crate::time::{Duration, Instant};
 
 /// Bytes of an SDO message up to its data: command, index, subindex, 4 data/size bytes.
@@ -187,7 +189,7 @@ impl<const N: usize> SdoServer<N> {
     ) -> Result<usize, AbortCode> {
         self.transfer = None;
         self.timed_out = false;
-        let (object, target) = resolve::<D>(target, cx.state, Direction::Read)?;
+        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
         let body = body_of(out);
         // The value is read once, straight into the answer's data area; its size then says
@@ -276,7 +278,7 @@ impl<const N: usize> SdoServer<N> {
     ) -> Result<usize, AbortCode> {
         self.transfer = None;
         self.timed_out = false;
-        let (object, target) = resolve::<D>(target, cx.state, Direction::Write)?;
+        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
         let data = if expedited {
             let size = if size_indicated {
                 4 - usize::from(unused)
@@ -441,8 +443,10 @@ enum Direction {
     Write,
 }
 
-/// Finds the object and checks the access: existence, subindex, rights in `state`.
+/// Finds the object and checks the access: existence, subindex, rights in `state`, and for a
+/// download that the process data does not own the entries ([`check_not_rx_mapped`]).
 fn resolve<D: ObjectDictionary>(
+    od: &D,
     target: Target,
     state: AlState,
     direction: Direction,
@@ -450,9 +454,12 @@ fn resolve<D: ObjectDictionary>(
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
     if target.complete {
         complete_access::check(&object.info, target.sub)?;
-        for (_, entry) in complete_access::entries(&object.info, target.sub).filter(|(s, _)| *s > 0)
-        {
+        let entries = || complete_access::entries(&object.info, target.sub).filter(|(s, _)| *s > 0);
+        for (_, entry) in entries() {
             check_access(entry, state, direction)?;
+        }
+        if direction == Direction::Write {
+            check_not_rx_mapped(od, state, target.index, entries())?;
         }
         return Ok((object, target));
     }
@@ -461,6 +468,9 @@ fn resolve<D: ObjectDictionary>(
         .entry(target.sub)
         .ok_or(AbortCode::NO_SUBINDEX)?;
     check_access(entry, state, direction)?;
+    if direction == Direction::Write {
+        check_not_rx_mapped(od, state, target.index, [(target.sub, entry)].into_iter())?;
+    }
     Ok((
         object,
         Target {
@@ -489,6 +499,36 @@ fn check_access(entry: &EntryInfo, state: AlState, direction: Direction) -> Resu
         (true, false) => Err(AbortCode::DEVICE_STATE),
         (true, true) => Ok(()),
     }
+}
+
+/// A download into entries of `index` that the active RxPDO configuration maps (0x1C12, its
+/// mappings) is refused in SAFEOP and OP with 0x06010006 (ETG.1000.6 Table 41; conformance.md
+/// "CoE SDO"): the process data owns them. The layout is computed only for a download in
+/// SAFEOP or OP with an RxPDO-mappable entry among `entries`; a dictionary without 0x1C12 (a
+/// fixed layout the application copies) or with an unusable mapping refuses nothing.
+fn check_not_rx_mapped<'e, D: ObjectDictionary>(
+    od: &D,
+    state: AlState,
+    index: u16,
+    entries: impl Iterator<Item = (u8, &'e EntryInfo)>,
+) -> Result<(), AbortCode> {
+    if !state.has_process_data() {
+        return Ok(());
+    }
+    let mut mappable = entries
+        .filter(|(_, e)| e.access.rxpdo())
+        .map(|(sub, _)| sub);
+    let Some(first) = mappable.next() else {
+        return Ok(());
+    };
+    let Ok(Some(layout)) = PdoLayout::of(od, pdo::Direction::Rx) else {
+        return Ok(());
+    };
+    let mapped = |sub| layout.offset(index, sub).is_some();
+    if mapped(first) || mappable.any(mapped) {
+        return Err(AbortCode::MAPPED_TO_RXPDO);
+    }
+    Ok(())
 }
 
 /// The encoded size of the target's value.
