@@ -296,6 +296,61 @@ fn too_many_repeated_tx_entries_are_0x0024() {
     ));
 }
 
+#[test]
+fn an_unusable_mapping_is_0x0025_or_0x0024() {
+    let mut od = Od {
+        rx_assign: PdoAssignment::assignment(&[0x1601]),
+        ..Od::default()
+    };
+    assert!(matches!(
+        Layout::of(&od, Direction::Rx),
+        Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
+    ));
+    od.tx1 = PdoMapping::mapping(&[MappingEntry::new(0x6040, 0, 16)]);
+    assert!(
+        matches!(
+            Layout::of(&od, Direction::Tx),
+            Err(AlStatusCode::INVALID_INPUT_MAPPING)
+        ),
+        "an RxPDO entry in a TxPDO"
+    );
+}
+
+#[test]
+fn pack_and_unpack_the_cia402_image() {
+    let mut od = Od {
+        statusword: 0x0237,
+        position: -5,
+        velocity: 0x0102_0304,
+        mode_display: 8,
+        ..Od::default()
+    };
+    let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
+    let mut image = [0xAA; 11];
+    pack(&tx, &od, &mut image);
+    assert_eq!(
+        image,
+        [
+            0x37, 0x02, 0xFB, 0xFF, 0xFF, 0xFF, 0x04, 0x03, 0x02, 0x01, 0x08
+        ]
+    );
+    let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
+    unpack(
+        &rx,
+        &[0x0F, 0x00, 0x10, 0x27, 0, 0, 0xF0, 0xD8, 0xFF, 0xFF, 0x09],
+        &mut od,
+    );
+    assert_eq!(
+        (
+            od.controlword,
+            od.target_position,
+            od.target_velocity,
+            od.mode
+        ),
+        (0x000F, 10_000, -10_000, 9)
+    );
+}
+
 /// The entries a property case may map, both ways: (index, subindex, bit length).
 const ENTRIES: [(u16, u8, u8); 8] = [
     (0x2000, 0, 1),
