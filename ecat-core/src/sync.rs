@@ -255,29 +255,37 @@ pub fn fill<D: ObjectDictionary>(
 }
 
 /// What the MainDevice wrote into 0x1C32 over SDO since the SubDevice entered PREOP from INIT:
-/// its choices, as against the declared defaults and the values the stack fills in.
+/// its choices, as against the declared defaults and the values the stack fills in (SI2 in
+/// SM-synchronous mode shows the measured cycle, [`CycleMonitor`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Chosen {
     /// 0x1C32:01, the sync type, was written.
     pub sync_type: bool,
-    /// 0x1C32:02, the cycle time, was written.
-    pub cycle_time: bool,
+    /// 0x1C32:02, the cycle time in ns, as last written (0 takes the choice back).
+    pub cycle_time: Option<u32>,
 }
 
 impl Chosen {
-    /// Notes a successful SDO write of `index:sub`.
-    pub fn note(&mut self, index: u16, sub: u8) {
-        match (index, sub) {
-            (OUTPUT_PARAMETERS, 1) => self.sync_type = true,
-            (OUTPUT_PARAMETERS, 2) => self.cycle_time = true,
+    /// Notes a successful SDO write of `data` into `index:sub`.
+    pub fn note(&mut self, index: u16, sub: u8, data: &[u8]) {
+        match (index, sub, data) {
+            (OUTPUT_PARAMETERS, 1, _) => self.sync_type = true,
+            (OUTPUT_PARAMETERS, 2, &[a, b, c, d]) => {
+                self.cycle_time = Some(u32::from_le_bytes([a, b, c, d]));
+            }
             _ => {}
         }
     }
 
-    /// Both notes together.
+    /// The later notes `other` added to these.
     pub fn merge(&mut self, other: Chosen) {
         self.sync_type |= other.sync_type;
-        self.cycle_time |= other.cycle_time;
+        self.cycle_time = other.cycle_time.or(self.cycle_time);
+    }
+
+    /// The cycle time the MainDevice chose, if any.
+    pub fn cycle_ns(self) -> Option<u32> {
+        self.cycle_time.filter(|&ns| ns != 0)
     }
 }
 
@@ -341,14 +349,11 @@ pub fn requested<D: ObjectDictionary>(
     let mut default = [0u8; 2];
     let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
     let default_kept = declared && u16::from_le_bytes(default) == code;
-    let cycle_ns = u32::try_from((object.load)(od, 2))
-        .ok()
-        .filter(|&ns| chosen.cycle_time && ns != 0);
     match SyncType::from_code(code) {
         sync if device.sync.supports(sync) => Ok(Requested {
             sync,
             chosen: chosen.sync_type || !default_kept,
-            cycle_ns,
+            cycle_ns: chosen.cycle_ns(),
         }),
         SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
@@ -357,7 +362,8 @@ pub fn requested<D: ObjectDictionary>(
 
 /// The cycle time the MainDevice wrote into 0x1C32:02, checked at PREOP→SAFEOP against the
 /// sync type in effect (conformance.md AL status codes): in free-run or SM-synchronous mode below
-/// the device's minimum cycle (SI5) 0x002E; in DC SYNC0 mode other than the SYNC0 cycle 0x0035.
+/// the device's minimum cycle (SI5) 0x002E, in free-run also below the local timer's 1 µs; in DC
+/// SYNC0 mode other than the SYNC0 cycle 0x0035.
 pub fn check_cycle(
     sync: SyncType,
     cycle_ns: Option<u32>,
@@ -365,11 +371,15 @@ pub fn check_cycle(
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
     let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    let below_min = |ns: u32| u64::from(ns) < min_ns;
     match (sync, cycle_ns) {
         (SyncType::DcSync0, Some(ns)) if ns != dc.sync0_cycle_ns => {
             Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME)
         }
-        (SyncType::FreeRun | SyncType::SmSynchronous, Some(ns)) if u64::from(ns) < min_ns => {
+        (SyncType::FreeRun, Some(ns)) if ns < 1_000 || below_min(ns) => {
+            Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
+        }
+        (SyncType::SmSynchronous, Some(ns)) if below_min(ns) => {
             Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
         }
         _ => Ok(()),
@@ -473,6 +483,29 @@ fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A free-run cycle the local timer cannot count (under 1 µs) is refused even on a device
+    /// without a minimum cycle; a written 0 takes the choice back.
+    #[test]
+    fn free_run_cycles_under_a_microsecond_are_0x002e() {
+        use crate::device::{MailboxConfig, ProcessDataSizes};
+        let mut device = DeviceConfig::new(
+            MailboxConfig::contiguous(0x1000, 128),
+            ProcessDataSizes::default(),
+        );
+        device.min_cycle_time = Duration::from_micros(0);
+        let check = |ns| check_cycle(SyncType::FreeRun, Some(ns), DcSettings::default(), &device);
+        assert_eq!(check(999), Err(AlStatusCode::CYCLE_TIME_TOO_SMALL));
+        assert_eq!(check(1_000), Ok(()));
+        let mut chosen = Chosen::default();
+        chosen.note(OUTPUT_PARAMETERS, 2, &500u32.to_le_bytes());
+        assert_eq!(chosen.cycle_ns(), Some(500));
+        chosen.merge(Chosen {
+            sync_type: false,
+            cycle_time: Some(0),
+        });
+        assert_eq!((chosen.sync_type, chosen.cycle_ns()), (false, None));
+    }
 
     #[test]
     fn inputs_follow_the_outputs_sync_type() {

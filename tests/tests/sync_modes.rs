@@ -163,6 +163,30 @@ fn a_cycle_time_below_the_minimum_is_0x002e() {
     }
 }
 
+/// The cycle time the MainDevice wrote is what PREOP→SAFEOP checks, not the interval the
+/// SubDevice measured since (0x1C32:02 in SM-synchronous mode).
+#[test]
+fn a_measured_cycle_does_not_replace_the_written_one() {
+    run(BOTH, async |master| {
+        let mut c = preop_with_sync_type(&master, 1).await;
+        c.download(0x1C32, 2, false, &1_000_000u32.to_le_bytes())
+            .await
+            .unwrap();
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+        for _ in 0..3 {
+            common::send_outputs(&master).await;
+            master.advance(Duration::from_micros(50)).await;
+        }
+        assert_eq!(
+            u16_of(c.upload(0x1C32, 2, false).await.map(|b| b[..2].to_vec())),
+            50_000,
+            "SI2 shows the measured 50 µs"
+        );
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
+    });
+}
+
 const DC: u16 = BOTH | SupportedSync::SYNC0;
 
 /// In DC SYNC0 mode a cycle time the MainDevice wrote must be the SYNC0 cycle: 0x0035.

@@ -653,7 +653,7 @@ fn store_entry<D: ObjectDictionary, H: ObjectHooks<D>>(
     let index = object.info.index;
     cx.hooks.before_write(cx.od, index, sub, data)?;
     (object.write)(cx.od, sub, data)?;
-    cx.chosen.note(index, sub);
+    cx.chosen.note(index, sub, data);
     cx.hooks.after_write(cx.od, index, sub);
     Ok(())
 }
