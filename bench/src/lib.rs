@@ -178,6 +178,8 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         while self.sub.service_mailbox(Instant::from_micros(0), od, hooks) {
             self.drive();
         }
+        // As the state-machine runner does after the mailbox.
+        self.sub.refresh_process_data(od);
         self.drive();
     }
 }

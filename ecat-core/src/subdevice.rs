@@ -990,7 +990,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_mailbox() || !self.mailbox.has_work() {
             return false;
         }
-        self.pd_stale = true;
         let request = self.mailbox.request_pending();
         let mut cx = Context {
             od,
@@ -998,9 +997,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             state: self.state,
             now,
             chosen: sync::Chosen::default(),
+            configured: false,
         };
         let built = self.mailbox.service(&mut cx);
         self.chosen.merge(cx.chosen);
+        self.pd_stale |= cx.configured;
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.
@@ -1013,7 +1014,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// Recomputes the process-image sizes from the PDO assignment and mapping objects of `od`
-    /// when they may have changed (after mailbox traffic, on entering PREOP). Call it before the
+    /// when they may have changed (after an SDO write to the PDO configuration or 0x1C32/0x1C33,
+    /// on entering PREOP, on a new DC setting). Call it before the
     /// SubDevice handles AL events; without assignment objects (0x1C12/0x1C13) the device
     /// configuration's fixed sizes apply. An unusable mapping answers PREOP→SAFEOP with 0x0025
     /// (outputs) or 0x0024 (inputs).

@@ -2,12 +2,14 @@
 //! `bench/callgrind.sh`; the difference between n = 1001 and n = 1 divided by 1000 is the cost
 //! of one case.
 //!
-//! Cases: `expedited-upload` (0x1018:01 with a 128-byte mailbox), `upload-1k-128` and
+//! Cases: `expedited-upload` (0x1018:01 with a 128-byte mailbox), `expedited-upload-pdo` (the
+//! same from a dictionary with PDO and sync parameter objects), `upload-1k-128` and
 //! `upload-1k-1024` (a 1 KiB string, segmented with 128-byte mailboxes, normal with 1024-byte),
 //! `download-1k-128`, `download-1k-1024` (1 KiB into a DOMAIN streamed to the application).
 
 use ecat_bench::{Bench, Od, Sink, device};
 use ecat_core::dictionary::VisibleString;
+use ecat_emu::devices::Drive;
 
 fn upload(bench_case: &str, n: usize) {
     let big = bench_case.ends_with("1024");
@@ -29,12 +31,7 @@ fn run<const MBX: usize>(config: &ecat_core::DeviceConfig, od: &mut Od, case: &s
     for _ in 0..n {
         match case {
             "expedited-upload" => {
-                let answer = bench.exchange(
-                    od,
-                    &mut (),
-                    &[0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0],
-                );
-                assert_eq!(answer[2], 0x43);
+                assert_eq!(bench.exchange(od, &mut (), &UPLOAD_1018_01)[2], 0x43);
             }
             c if c.starts_with("upload-1k") => {
                 let answer = bench.exchange(
@@ -80,6 +77,21 @@ fn run<const MBX: usize>(config: &ecat_core::DeviceConfig, od: &mut Od, case: &s
     }
 }
 
+/// CoE header + SDO expedited upload request of 0x1018:01.
+const UPLOAD_1018_01: [u8; 10] = [0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0];
+
+/// `expedited-upload-pdo`: the same upload from the CiA402-like drive's dictionary, which has PDO
+/// mapping, assignment and sync parameter objects (the SubDevice recomputes their layout only
+/// when one is written).
+fn upload_from_drive(n: usize) {
+    let config = device(128);
+    let mut bench = Bench::<128>::new(&config);
+    let mut od = Drive::default();
+    for _ in 0..n {
+        assert_eq!(bench.exchange(&mut od, &mut (), &UPLOAD_1018_01)[2], 0x43);
+    }
+}
+
 fn main() {
     let mut args = std::env::args().skip(1);
     let case = args.next().unwrap_or_else(|| "expedited-upload".into());
@@ -98,6 +110,9 @@ fn main() {
             core::mem::size_of::<ecat_core::mailbox::Mailbox<128>>()
         );
         return;
+    }
+    if case == "expedited-upload-pdo" {
+        return upload_from_drive(n);
     }
     upload(&case, n);
 }

@@ -117,6 +117,15 @@ impl<T: Copy + Default, const N: usize> Default for Counted<T, N> {
     }
 }
 
+/// Whether `index` configures the process data: a PDO mapping or assignment object, or a sync
+/// manager parameter object (0x1C32/0x1C33). A write to one makes the SubDevice recompute its
+/// process-data layout and sync type.
+pub const fn configures_process_data(index: u16) -> bool {
+    Direction::of_mapping(index).is_some()
+        || Direction::of_assignment(index).is_some()
+        || matches!(index, 0x1C32 | 0x1C33)
+}
+
 /// Which way a PDO goes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Direction {

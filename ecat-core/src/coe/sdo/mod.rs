@@ -77,6 +77,9 @@ pub struct Context<'a, D, H> {
     /// The entries of 0x1C32 written in this service (the MainDevice's choice of sync type
     /// and cycle time, [`crate::sync::Chosen`]).
     pub chosen: crate::sync::Chosen,
+    /// A write in this service touched the process-data configuration
+    /// ([`crate::pdo::configures_process_data`]).
+    pub configured: bool,
 }
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
@@ -654,6 +657,7 @@ fn store_entry<D: ObjectDictionary, H: ObjectHooks<D>>(
     cx.hooks.before_write(cx.od, index, sub, data)?;
     (object.write)(cx.od, sub, data)?;
     cx.chosen.note(index, sub, data);
+    cx.configured |= crate::pdo::configures_process_data(index);
     cx.hooks.after_write(cx.od, index, sub);
     Ok(())
 }
@@ -766,6 +770,7 @@ mod tests {
                 state: AlState::PreOp,
                 now: Instant::from_micros(0),
                 chosen: crate::sync::Chosen::default(),
+                configured: false,
             };
             let [i0, i1] = u16::to_le_bytes(index);
             let mut out = [0xAA; 40];
