@@ -209,6 +209,29 @@ fn mappable_entries_are_numbered_in_dictionary_order() {
     assert_eq!(Od::UNMAPPED.len(), 18);
 }
 
+/// The run-time lookup (binary search + each object's first number) gives every subindex of
+/// every object the number the `const` walk gives it.
+#[test]
+fn the_run_time_entry_number_agrees_with_the_const_one() {
+    use ecat_core::pdo::layout::{entry_number, number};
+    fn agree<D: ObjectDictionary>() {
+        for object in D::OBJECTS {
+            let index = object.info.index;
+            for sub in 0..=u8::MAX {
+                assert_eq!(
+                    number::<D>(index, sub),
+                    entry_number(D::OBJECTS, index, sub),
+                    "{index:#06x}:{sub}"
+                );
+            }
+        }
+        assert_eq!(number::<D>(0x0FFF, 0), None, "no such object");
+    }
+    agree::<Od>();
+    agree::<Big>();
+    assert_eq!(Od::FIRST_ENTRIES.len(), Od::OBJECTS.len());
+}
+
 /// An ARRAY's elements and a RECORD's entries travel at their own offsets.
 #[test]
 fn array_elements_and_record_entries_are_mapped_one_by_one() {

@@ -94,6 +94,11 @@ macro_rules! dictionary {
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
             )];
 
+            const FIRST_ENTRIES: &'static [usize] = &$crate::pdo::layout::first_entries::<
+                $dict,
+                { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
+            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
             fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(unpack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*

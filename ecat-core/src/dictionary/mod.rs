@@ -81,6 +81,11 @@ pub trait ObjectDictionary: Sized + 'static {
     /// Every entry [unmapped](crate::pdo::layout::UNMAPPED).
     const UNMAPPED: Self::Offsets;
 
+    /// The number of each object's first PDO-mappable entry, parallel to [`Self::OBJECTS`]
+    /// ([`first_entries`](crate::pdo::layout::first_entries)): what makes finding an entry's
+    /// number a binary search.
+    const FIRST_ENTRIES: &'static [usize];
+
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
     /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
     fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]);
@@ -103,6 +108,7 @@ impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
     type Offsets = [u16; 0];
     const UNMAPPED: [u16; 0] = [];
+    const FIRST_ENTRIES: &'static [usize] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
 }

@@ -11,7 +11,7 @@
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{Object, ObjectCode, ObjectDictionary};
+use crate::dictionary::{Object, ObjectCode, ObjectDictionary, ObjectInfo};
 
 /// The offset of an entry the configuration does not map.
 pub const UNMAPPED: u16 = u16::MAX;
@@ -102,7 +102,7 @@ impl<D: ObjectDictionary> Layout<D> {
         }
         let info = D::object(entry.index())?.info.entry(entry.sub())?;
         let mappable = direction.allows(info.access) && info.bit_len == entry.bit_len().into();
-        let number = entry_number(D::OBJECTS, entry.index(), entry.sub()).filter(|_| mappable)?;
+        let number = number::<D>(entry.index(), entry.sub()).filter(|_| mappable)?;
         let offset = self.offsets.as_mut().get_mut(number)?;
         let first = core::mem::replace(offset, stored(at));
         if direction == Direction::Tx && first != UNMAPPED {
@@ -137,7 +137,7 @@ impl<D: ObjectDictionary> Layout<D> {
     /// The bit offset of `index:sub` in the image, `None` if the layout does not map it (for a
     /// TxPDO entry mapped more than once: its first place).
     pub fn offset(&self, index: u16, sub: u8) -> Option<u16> {
-        let number = entry_number(D::OBJECTS, index, sub)?;
+        let number = number::<D>(index, sub)?;
         self.offsets
             .as_ref()
             .get(number)
@@ -170,12 +170,39 @@ pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
 
 /// The number of the PDO-mappable entry `index:sub`: the mappable entries (RxPDO or TxPDO) of
 /// `objects` counted in index order, subindex order within a RECORD, element by element within
-/// an ARRAY. `None` when `index:sub` is not mappable or does not exist.
+/// an ARRAY. `None` when `index:sub` is not mappable or does not exist. A linear walk, for
+/// `const` contexts (the code `dictionary!` generates); at run time [`number`] finds the same
+/// number by binary search.
 pub const fn entry_number<D>(objects: &[Object<D>], index: u16, sub: u8) -> Option<usize> {
     match number_of(objects, Some((index, sub))) {
         Ok(n) => Some(n),
         Err(_) => None,
     }
+}
+
+/// [`entry_number`] of `index:sub` in `D`, by binary search and the table of each object's first
+/// entry number ([`ObjectDictionary::FIRST_ENTRIES`]).
+pub fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
+    let i = D::OBJECTS
+        .binary_search_by_key(&index, |o| o.info.index)
+        .ok()?;
+    let first = *D::FIRST_ENTRIES.get(i)?;
+    Some(first + position_in(&D::OBJECTS.get(i)?.info, sub)?)
+}
+
+/// The number of each object's first mappable entry (the count of mappable entries before it):
+/// [`ObjectDictionary::FIRST_ENTRIES`], `N` = the number of objects.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [usize; N] {
+    let mut first = [0; N];
+    let mut n = 0;
+    let mut i = 0;
+    while i < N && i < objects.len() {
+        first[i] = n;
+        n += mappable_in(&objects[i].info);
+        i += 1;
+    }
+    first
 }
 
 /// `Ok(number)` of `wanted`, or `Err(count of all mappable entries)` when `wanted` is `None` or
@@ -186,27 +213,57 @@ const fn number_of<D>(objects: &[Object<D>], wanted: Option<(u16, u8)>) -> Resul
     let mut i = 0;
     while i < objects.len() {
         let info = &objects[i].info;
-        let mut j = 0;
-        while j < info.entries.len() {
-            let entry = &info.entries[j];
-            if entry.access.rxpdo() || entry.access.txpdo() {
-                // An ARRAY's element entry stands for subindices 1..=max_sub.
-                let count = match info.code {
-                    ObjectCode::Array => info.max_sub,
-                    ObjectCode::Var | ObjectCode::Record => 1,
-                };
-                if let Some((index, sub)) = wanted
-                    && index == info.index
-                    && sub >= entry.sub
-                    && sub - entry.sub < count
-                {
-                    return Ok(n + (sub - entry.sub) as usize);
-                }
-                n += count as usize;
-            }
-            j += 1;
+        if let Some((index, sub)) = wanted
+            && index == info.index
+        {
+            return match position_in(info, sub) {
+                Some(position) => Ok(n + position),
+                None => Err(n),
+            };
         }
+        n += mappable_in(info);
         i += 1;
+    }
+    Err(n)
+}
+
+/// How many mappable entries `info` has.
+const fn mappable_in(info: &ObjectInfo) -> usize {
+    match mappable_position(info, None) {
+        Ok(n) | Err(n) => n,
+    }
+}
+
+/// The position of `sub` among the mappable entries of `info`, `None` if it is not one.
+const fn position_in(info: &ObjectInfo, sub: u8) -> Option<usize> {
+    match mappable_position(info, Some(sub)) {
+        Ok(position) => Some(position),
+        Err(_) => None,
+    }
+}
+
+/// `Ok(position)` of `wanted` among the mappable entries of `info`, or `Err(count of them)`.
+#[allow(clippy::indexing_slicing)] // bounded by the loop condition
+const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usize, usize> {
+    let mut n = 0;
+    let mut j = 0;
+    while j < info.entries.len() {
+        let entry = &info.entries[j];
+        if entry.access.rxpdo() || entry.access.txpdo() {
+            // An ARRAY's element entry stands for subindices 1..=max_sub.
+            let count = match info.code {
+                ObjectCode::Array => info.max_sub,
+                ObjectCode::Var | ObjectCode::Record => 1,
+            };
+            if let Some(sub) = wanted
+                && sub >= entry.sub
+                && sub - entry.sub < count
+            {
+                return Ok(n + (sub - entry.sub) as usize);
+            }
+            n += count as usize;
+        }
+        j += 1;
     }
     Err(n)
 }
