@@ -29,7 +29,7 @@ use crate::esm::{self, Decision, Transition};
 use crate::mailbox::Mailbox;
 use crate::pdo::Direction;
 use crate::pdo::layout::Layout as PdoLayout;
-use crate::process_data::{Clock, Layout};
+use crate::process_data::{Clock, Layout, Writes};
 use crate::register;
 use crate::ring::Ring;
 use crate::sync::{self, DcSettings, SyncType};
@@ -233,7 +233,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             sync: Ok(sync::Requested {
                 sync: SyncType::SmSynchronous,
                 chosen: false,
-                cycle_ns: None,
             }),
             chosen: sync::Chosen::default(),
         }
@@ -297,7 +296,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             clock: match self.sync() {
-                Ok(SyncType::FreeRun) => Clock::FreeRun(self.free_run_cycle()),
+                Ok(SyncType::FreeRun) => Clock::FreeRun(self.chosen.free_run_cycle(self.config)),
                 Ok(SyncType::DcSync0) => Clock::Sync0(self.dc.sync0_cycle()),
                 _ => Clock::Event(self.process_data_trigger()),
             },
@@ -502,13 +501,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// not choose and activated SYNC0 ([`sync::Requested::effective`]).
     fn sync(&self) -> Result<SyncType, AlStatusCode> {
         self.sync.map(|r| r.effective(self.dc, self.config))
-    }
-
-    /// The free-run period ([`sync::Requested::free_run_cycle`]).
-    fn free_run_cycle(&self) -> crate::time::Duration {
-        self.sync.map_or(self.config.free_run_cycle, |r| {
-            r.free_run_cycle(self.config)
-        })
     }
 
     /// The DC registers read with an AL control event: the activation byte, and up to the SYNC0
@@ -905,8 +897,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // DC activated on a device without DC (conformance.md "Distributed clocks").
             return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
         }
-        let cycle_ns = self.sync.ok().and_then(|r| r.cycle_ns);
-        sync::check_cycle(sync, cycle_ns, self.dc, self.config)?;
+        sync::check_cycle(sync, self.chosen.cycle_ns(), self.dc, self.config)?;
         let one_buffer =
             self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;
         if sync == SyncType::FreeRun && sizes.outputs > 0 && one_buffer {
@@ -996,12 +987,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             hooks,
             state: self.state,
             now,
-            chosen: sync::Chosen::default(),
-            configured: false,
+            writes: Writes::default(),
         };
         let built = self.mailbox.service(&mut cx);
-        self.chosen.merge(cx.chosen);
-        self.pd_stale |= cx.configured;
+        self.chosen.merge(cx.writes.chosen);
+        self.pd_stale |= cx.writes.configured;
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.
@@ -1043,7 +1033,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             })
         });
         let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
-        sync::fill(od, self.config, self.sync.ok(), self.dc, has_outputs);
+        let (active, chosen_cycle) = (self.sync().ok(), self.chosen.cycle_ns());
+        sync::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
     }
 
     /// Raises an emergency: queued, and sent when SM1 is free. Refused (returns `false`) below

@@ -219,17 +219,18 @@ pub const fn input_sync_type(output: SyncType, has_outputs: bool) -> SyncType {
 
 /// Fills what the stack knows into 0x1C32 and 0x1C33 (those the dictionary has): the supported
 /// sync types (SI4), the minimum cycle time (SI5) and, unless the MainDevice wrote one
-/// (`requested.cycle_ns`), the cycle time in ns (SI2: the local cycle in free-run, the SYNC0
-/// cycle in DC mode); in 0x1C33 also the inputs' sync type (SI1, [`input_sync_type`]).
+/// (`chosen_cycle`, [`Chosen::cycle_ns`]), the cycle time in ns (SI2: the local cycle in
+/// free-run, the SYNC0 cycle in DC mode); in 0x1C33 also the inputs' sync type (SI1,
+/// [`input_sync_type`]) of the `active` sync type.
 pub fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
-    requested: Option<Requested>,
+    active: Option<SyncType>,
+    chosen_cycle: Option<u32>,
     dc: DcSettings,
     has_outputs: bool,
 ) {
-    let active = requested.map(|r| r.effective(dc, device));
-    let cycle_ns = match (active, requested.and_then(|r| r.cycle_ns)) {
+    let cycle_ns = match (active, chosen_cycle) {
         (_, Some(_)) => None,
         (Some(SyncType::FreeRun), None) => {
             Some(device.free_run_cycle.as_micros().saturating_mul(1_000))
@@ -287,6 +288,14 @@ impl Chosen {
     pub fn cycle_ns(self) -> Option<u32> {
         self.cycle_time.filter(|&ns| ns != 0)
     }
+
+    /// The period of the local timer in free-run: the cycle time the MainDevice chose, else
+    /// [`DeviceConfig::free_run_cycle`].
+    pub fn free_run_cycle(self, device: &DeviceConfig) -> Duration {
+        self.cycle_ns().map_or(device.free_run_cycle, |ns| {
+            Duration::from_micros(u64::from(ns) / 1_000)
+        })
+    }
 }
 
 /// What the dictionary's 0x1C32 says.
@@ -299,8 +308,6 @@ pub struct Requested {
     /// SYNC0 (as SSC does for MainDevices that configure DC but never write 0x1C32, e.g.
     /// ethercrab).
     pub chosen: bool,
-    /// The cycle time in ns the MainDevice wrote into 0x1C32:02, if any (0 counts as none).
-    pub cycle_ns: Option<u32>,
 }
 
 impl Requested {
@@ -313,19 +320,11 @@ impl Requested {
             self.sync
         }
     }
-
-    /// The period of the local timer in free-run: the cycle time the MainDevice wrote, else
-    /// [`DeviceConfig::free_run_cycle`].
-    pub fn free_run_cycle(self, device: &DeviceConfig) -> Duration {
-        self.cycle_ns.map_or(device.free_run_cycle, |ns| {
-            Duration::from_micros(u64::from(ns) / 1_000)
-        })
-    }
 }
 
-/// The sync type and cycle time the dictionary's 0x1C32 asks for, checked against the device
+/// The sync type the dictionary's 0x1C32:01 asks for, checked against the device
 /// (conformance.md "Sync parameters"): unsupported free-run is 0x0027, any other unsupported type
-/// 0x0028. `chosen` tells which entries the MainDevice wrote. Without 0x1C32 the device runs
+/// 0x0028. `chosen` tells whether the MainDevice wrote it. Without 0x1C32 the device runs
 /// SM-synchronous when it supports it, else free-run.
 pub fn requested<D: ObjectDictionary>(
     od: &D,
@@ -342,7 +341,6 @@ pub fn requested<D: ObjectDictionary>(
         return Ok(Requested {
             sync,
             chosen: false,
-            cycle_ns: None,
         });
     };
     let code = u16::try_from((object.load)(od, 1)).unwrap_or(u16::MAX);
@@ -353,7 +351,6 @@ pub fn requested<D: ObjectDictionary>(
         sync if device.sync.supports(sync) => Ok(Requested {
             sync,
             chosen: chosen.sync_type || !default_kept,
-            cycle_ns: chosen.cycle_ns(),
         }),
         SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),

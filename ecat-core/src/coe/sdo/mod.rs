@@ -25,6 +25,7 @@ use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
 use crate::dictionary::{DataType, EntryInfo, Object, ObjectDictionary, ObjectHooks};
 use crate::pdo::{self, layout::Layout as PdoLayout};
+use crate::process_data::Writes;
 use crate::time::{Duration, Instant};
 
 /// Bytes of an SDO message up to its data: command, index, subindex, 4 data/size bytes.
@@ -74,12 +75,8 @@ pub struct Context<'a, D, H> {
     pub state: AlState,
     /// Now.
     pub now: Instant,
-    /// The entries of 0x1C32 written in this service (the MainDevice's choice of sync type
-    /// and cycle time, [`crate::sync::Chosen`]).
-    pub chosen: crate::sync::Chosen,
-    /// A write in this service touched the process-data configuration
-    /// ([`crate::pdo::configures_process_data`]).
-    pub configured: bool,
+    /// What this service's writes changed of the process-data configuration.
+    pub writes: Writes,
 }
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
@@ -656,8 +653,7 @@ fn store_entry<D: ObjectDictionary, H: ObjectHooks<D>>(
     let index = object.info.index;
     cx.hooks.before_write(cx.od, index, sub, data)?;
     (object.write)(cx.od, sub, data)?;
-    cx.chosen.note(index, sub, data);
-    cx.configured |= crate::pdo::configures_process_data(index);
+    cx.writes.note(index, sub, data);
     cx.hooks.after_write(cx.od, index, sub);
     Ok(())
 }
@@ -769,8 +765,7 @@ mod tests {
                 hooks: &mut (),
                 state: AlState::PreOp,
                 now: Instant::from_micros(0),
-                chosen: crate::sync::Chosen::default(),
-                configured: false,
+                writes: Writes::default(),
             };
             let [i0, i1] = u16::to_le_bytes(index);
             let mut out = [0xAA; 40];
