@@ -184,8 +184,8 @@ fn cia402_like_layout_is_11_bytes_each_way() {
 /// index order, a RECORD's by subindex, an ARRAY's element by element; others have none.
 #[test]
 fn mappable_entries_are_numbered_in_dictionary_order() {
-    use ecat_core::pdo::layout::{entry_number, mappable_entries};
-    let number = |index, sub| entry_number(Od::OBJECTS, index, sub);
+    use ecat_core::pdo::layout::mappable_entries;
+    let number = ecat_core::pdo::layout::number::<Od>;
     assert_eq!(number(0x2000, 0), Some(0));
     assert_eq!(number(0x2002, 0), Some(2));
     assert_eq!(number(0x2003, 0), None, "not mappable");
@@ -209,20 +209,30 @@ fn mappable_entries_are_numbered_in_dictionary_order() {
     assert_eq!(Od::UNMAPPED.len(), 18);
 }
 
-/// The run-time lookup (binary search + each object's first number) gives every subindex of
-/// every object the number the `const` walk gives it.
+/// The lookup (binary search + each object's first number) gives every subindex of every object
+/// the number a plain count gives it: the mappable entries before it in index and subindex order,
+/// an ARRAY's element standing for each of its subindices.
 #[test]
-fn the_run_time_entry_number_agrees_with_the_const_one() {
-    use ecat_core::pdo::layout::{entry_number, number};
+fn the_entry_number_is_the_count_of_mappable_entries_before_it() {
+    use ecat_core::dictionary::ObjectCode;
+    use ecat_core::pdo::layout::number;
     fn agree<D: ObjectDictionary>() {
+        let mut count = 0;
         for object in D::OBJECTS {
-            let index = object.info.index;
+            let info = &object.info;
             for sub in 0..=u8::MAX {
+                let mappable = info
+                    .entry(sub)
+                    .filter(|_| sub > 0 || info.code == ObjectCode::Var)
+                    .is_some_and(|e| e.access.rxpdo() || e.access.txpdo());
+                let expected = mappable.then_some(count);
                 assert_eq!(
-                    number::<D>(index, sub),
-                    entry_number(D::OBJECTS, index, sub),
-                    "{index:#06x}:{sub}"
+                    number::<D>(info.index, sub),
+                    expected,
+                    "{:#06x}:{sub}",
+                    info.index
                 );
+                count += usize::from(mappable);
             }
         }
         assert_eq!(number::<D>(0x0FFF, 0), None, "no such object");

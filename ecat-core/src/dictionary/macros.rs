@@ -404,9 +404,7 @@ macro_rules! __ecat_entry_number {
         const {
             (
                 $crate::__ecat_access!($($acc)|+).$direction(),
-                $crate::pdo::layout::entry_number(
-                    <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS, $index, $sub,
-                ),
+                $crate::pdo::layout::number::<$dict>($index, $sub),
             )
         }
     };

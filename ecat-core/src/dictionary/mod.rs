@@ -74,7 +74,7 @@ pub trait ObjectDictionary: Sized + 'static {
     const OBJECTS: &'static [Object<Self>];
 
     /// A bit offset per PDO-mappable entry, indexed by
-    /// [entry number](crate::pdo::layout::entry_number): `[u16; N]`, `N` =
+    /// [entry number](crate::pdo::layout::number): `[u16; N]`, `N` =
     /// [`mappable_entries`](crate::pdo::layout::mappable_entries) of [`Self::OBJECTS`].
     type Offsets: AsRef<[u16]> + AsMut<[u16]> + Copy;
 

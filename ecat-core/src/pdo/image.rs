@@ -34,7 +34,7 @@ pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
 
 /// A field PDO-mappable entries live in: a value (one entry) or an ARRAY's elements (one entry
 /// each, numbered in order). The code `dictionary!` generates calls these once per mappable field
-/// with the field's first [entry number](super::layout::entry_number), a constant.
+/// with the field's first [entry number](super::layout::number), a constant.
 pub trait Mapped {
     /// Copies the field's entries from their offsets in `image`.
     fn unpack(&mut self, image: &[u8], offsets: &[u16], first: usize);

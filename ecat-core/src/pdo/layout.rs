@@ -4,7 +4,7 @@
 //!
 //! A [`Layout`] is a copy plan, computed once when the configuration is accepted and used every
 //! cycle by [`image`](super::image): it holds the bit offset of every PDO-mappable entry of the
-//! dictionary, indexed by the entry's [number](entry_number) ([`UNMAPPED`] where the
+//! dictionary, indexed by the entry's [`number`] ([`UNMAPPED`] where the
 //! configuration does not map it). The copy itself is code `dictionary!` generates per dictionary
 //! (`ObjectDictionary::unpack_mapped`/`pack_mapped`): a straight line over the mappable fields, so
 //! a cycle costs no lookup and no dispatch per entry.
@@ -129,7 +129,7 @@ impl<D: ObjectDictionary> Layout<D> {
         self.bits.div_ceil(8)
     }
 
-    /// The offset of every mappable entry, by [entry number](entry_number), as [`stored`].
+    /// The offset of every mappable entry, by [entry number](number), as [`stored`].
     pub fn offsets(&self) -> &D::Offsets {
         &self.offsets
     }
@@ -162,32 +162,42 @@ impl<D: ObjectDictionary> Layout<D> {
 
 /// The number of PDO-mappable entries in `objects` (the length of
 /// [`ObjectDictionary::Offsets`]).
+#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
-    match number_of(objects, None) {
-        Ok(n) | Err(n) => n,
+    let mut n = 0;
+    let mut i = 0;
+    while i < objects.len() {
+        n += mappable_in(&objects[i].info);
+        i += 1;
     }
+    n
 }
 
-/// The number of the PDO-mappable entry `index:sub`: the mappable entries (RxPDO or TxPDO) of
-/// `objects` counted in index order, subindex order within a RECORD, element by element within
-/// an ARRAY. `None` when `index:sub` is not mappable or does not exist. A linear walk, for
-/// `const` contexts (the code `dictionary!` generates); at run time [`number`] finds the same
-/// number by binary search.
-pub const fn entry_number<D>(objects: &[Object<D>], index: u16, sub: u8) -> Option<usize> {
-    match number_of(objects, Some((index, sub))) {
-        Ok(n) => Some(n),
-        Err(_) => None,
+/// The number of the PDO-mappable entry `index:sub` of `D`: the mappable entries (RxPDO or
+/// TxPDO) counted in index order, subindex order within a RECORD, element by element within an
+/// ARRAY. `None` when `index:sub` is not mappable or does not exist. A binary search for the
+/// object, then its first number ([`ObjectDictionary::FIRST_ENTRIES`]) and the entry's place in
+/// it; `const`, so the code `dictionary!` generates gets every field's number as a constant.
+#[allow(clippy::indexing_slicing)] // `mid` < `len` of both tables (`FIRST_ENTRIES` is parallel)
+pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
+    let (objects, first) = (D::OBJECTS, D::FIRST_ENTRIES);
+    let (mut low, mut high) = (0, objects.len());
+    while low < high {
+        let mid = low + (high - low) / 2;
+        let info = &objects[mid].info;
+        if info.index < index {
+            low = mid + 1;
+        } else if info.index > index {
+            high = mid;
+        } else if mid < first.len()
+            && let Some(position) = position_in(info, sub)
+        {
+            return Some(first[mid] + position);
+        } else {
+            return None;
+        }
     }
-}
-
-/// [`entry_number`] of `index:sub` in `D`, by binary search and the table of each object's first
-/// entry number ([`ObjectDictionary::FIRST_ENTRIES`]).
-pub fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
-    let i = D::OBJECTS
-        .binary_search_by_key(&index, |o| o.info.index)
-        .ok()?;
-    let first = *D::FIRST_ENTRIES.get(i)?;
-    Some(first + position_in(&D::OBJECTS.get(i)?.info, sub)?)
+    None
 }
 
 /// The number of each object's first mappable entry (the count of mappable entries before it):
@@ -203,28 +213,6 @@ pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [usize; 
         i += 1;
     }
     first
-}
-
-/// `Ok(number)` of `wanted`, or `Err(count of all mappable entries)` when `wanted` is `None` or
-/// not found.
-#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-const fn number_of<D>(objects: &[Object<D>], wanted: Option<(u16, u8)>) -> Result<usize, usize> {
-    let mut n = 0;
-    let mut i = 0;
-    while i < objects.len() {
-        let info = &objects[i].info;
-        if let Some((index, sub)) = wanted
-            && index == info.index
-        {
-            return match position_in(info, sub) {
-                Some(position) => Ok(n + position),
-                None => Err(n),
-            };
-        }
-        n += mappable_in(info);
-        i += 1;
-    }
-    Err(n)
 }
 
 /// How many mappable entries `info` has.
