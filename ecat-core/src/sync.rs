@@ -24,7 +24,8 @@
 
 use crate::AlStatusCode;
 use crate::device::DeviceConfig;
-use crate::dictionary::ObjectDictionary;
+use crate::dictionary::{Object, ObjectDictionary};
+use crate::pdo::layout::read_u16;
 use crate::register::DcActivation;
 use crate::time::{Duration, Instant};
 
@@ -243,16 +244,28 @@ pub fn fill<D: ObjectDictionary>(
         let Some(object) = D::object(index) else {
             continue;
         };
-        (object.store)(od, 4, u64::from(device.sync.0));
-        (object.store)(od, 5, min_ns);
+        set(od, object, 4, &device.sync.0.to_le_bytes());
+        set(od, object, 5, &saturated_u32(min_ns).to_le_bytes());
         if let Some(ns) = cycle_ns {
-            (object.store)(od, 2, ns);
+            set(od, object, 2, &saturated_u32(ns).to_le_bytes());
         }
         if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
             let input = input_sync_type(output, has_outputs);
-            (object.store)(od, 1, u64::from(input.code()));
+            set(od, object, 1, &input.code().to_le_bytes());
         }
     }
+}
+
+/// Writes an entry the stack fills, in its encoding, through the object's typed `write` (the
+/// same decoding an SDO download gets; read-only is the MainDevice's restriction, not the
+/// stack's). The entries of `sync_parameters` have the sizes written here.
+fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
+    let _ = (object.write)(od, sub, bytes);
+}
+
+/// A nanosecond count as the UNSIGNED32 of 0x1C32/0x1C33, saturated.
+fn saturated_u32(ns: u64) -> u32 {
+    u32::try_from(ns).unwrap_or(u32::MAX)
 }
 
 /// What the MainDevice wrote into 0x1C32 over SDO since the SubDevice entered PREOP from INIT:
@@ -343,7 +356,7 @@ pub fn requested<D: ObjectDictionary>(
             chosen: false,
         });
     };
-    let code = u16::try_from((object.load)(od, 1)).unwrap_or(u16::MAX);
+    let code = read_u16(od, object, 1).unwrap_or(u16::MAX);
     let mut default = [0u8; 2];
     let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
     let default_kept = declared && u16::from_le_bytes(default) == code;
@@ -469,11 +482,11 @@ fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
             continue;
         };
         if let Some(ns) = d.measured_ns {
-            (object.store)(od, 2, ns);
+            set(od, object, 2, &saturated_u32(ns).to_le_bytes());
         }
-        (object.store)(od, 0x0B, u64::from(d.missed));
-        (object.store)(od, 0x0C, u64::from(d.overruns));
-        (object.store)(od, 0x20, u64::from(d.error));
+        set(od, object, 0x0B, &d.missed.to_le_bytes());
+        set(od, object, 0x0C, &d.overruns.to_le_bytes());
+        set(od, object, 0x20, &[u8::from(d.error)]);
     }
 }
 

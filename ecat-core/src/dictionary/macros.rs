@@ -167,15 +167,6 @@ macro_rules! __ecat_object {
                 $( (0, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $max, out), )?
                 _ => 0,
             },
-            load: |d: &$dict, sub: u8| match sub {
-                0 => $crate::dictionary::Value::to_bits(&d.$field),
-                _ => 0,
-            },
-            store: |d: &mut $dict, sub: u8, bits: u64| {
-                if let (0, Some(value)) = (sub, $crate::dictionary::Value::from_bits(bits)) {
-                    d.$field = value;
-                }
-            },
         }
     };
     ($dict:ident, $index:literal, array (
@@ -217,15 +208,6 @@ macro_rules! __ecat_object {
                 $( (_, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $min, out), )?
                 $( (_, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $max, out), )?
                 _ => 0,
-            },
-            load: |d: &$dict, sub: u8| {
-                d.$field.get(usize::from(sub).wrapping_sub(1)).map_or(0, $crate::dictionary::Value::to_bits)
-            },
-            store: |d: &mut $dict, sub: u8, bits: u64| {
-                let slot = d.$field.get_mut(usize::from(sub).wrapping_sub(1));
-                if let (Some(slot), Some(value)) = (slot, $crate::dictionary::Value::from_bits(bits)) {
-                    *slot = value;
-                }
             },
         }
     };
@@ -269,8 +251,6 @@ macro_rules! __ecat_object {
                 }
             },
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
-            load: |_: &$dict, _: u8| 0,
-            store: |_: &mut $dict, _: u8, _: u64| {},
         }
     };
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, outputs )) => {
@@ -339,18 +319,6 @@ macro_rules! __ecat_object {
                     $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?), )+
                     _ => 0,
                 }
-            },
-            load: |d: &$dict, sub: u8| match sub {
-                $( $sub => $crate::dictionary::Value::to_bits(&d.$field.$sfield), )+
-                _ => 0,
-            },
-            store: |d: &mut $dict, sub: u8, bits: u64| match sub {
-                $( $sub => {
-                    if let Some(value) = $crate::dictionary::Value::from_bits(bits) {
-                        d.$field.$sfield = value;
-                    }
-                } )+
-                _ => {}
             },
         }
     };

@@ -132,11 +132,6 @@ pub struct Object<D> {
     pub write: fn(&mut D, u8, &[u8]) -> Result<(), AbortCode>,
     /// Encodes a declared default, minimum or maximum of a subindex; 0 bytes when not declared.
     pub limit: fn(u8, Limit, &mut [u8]) -> usize,
-    /// A subindex's value as process-image bits ([`Value::to_bits`]); 0 when not mappable.
-    pub load: fn(&D, u8) -> u64,
-    /// Stores process-image bits into a subindex ([`Value::from_bits`]); process data is not
-    /// range checked.
-    pub store: fn(&mut D, u8, u64),
 }
 
 /// The application's say in SDO access, implemented beside the dictionary. Every method has a
