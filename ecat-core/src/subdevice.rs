@@ -110,9 +110,7 @@ enum Op {
     ReadDc,
     ReadAlControl,
     WritePdiControl(u8),
-    ReadMailbox,
-    WriteMailbox,
-    CompleteMailbox,
+    Mailbox(MailboxOp),
     WriteStatusCode,
     WriteStatus,
 }
@@ -123,12 +121,23 @@ impl Op {
         match self {
             Op::ReadAlControl => AlEvent::AL_CONTROL,
             Op::ReadSyncManagers => AlEvent::SM_CHANGE,
-            Op::ReadMailbox => AlEvent::sync_manager(0),
+            Op::Mailbox(MailboxOp::Read) => AlEvent::sync_manager(0),
             Op::ReadWatchdogStatus => AlEvent::WATCHDOG_PROCESS_DATA,
-            Op::WriteMailbox => AlEvent::sync_manager(1),
+            Op::Mailbox(MailboxOp::Write) => AlEvent::sync_manager(1),
             _ => AlEvent::NONE,
         }
     }
+}
+
+/// The SM0/SM1 accesses of the mailbox.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum MailboxOp {
+    /// Read SM0 whole (the request).
+    Read,
+    /// Write the message into SM1.
+    Write,
+    /// Write SM1's last byte after a message shorter than SM1 (what marks it full).
+    Complete,
 }
 
 /// A transition waiting for the application.
@@ -343,13 +352,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.read_watchdog_status = true;
         }
         if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
-            self.stale.insert(Stale::MAILBOX_QUEUE);
+            // The mailbox's SM0/SM1 events in the mask change only when its flags change them:
+            // in the request/answer rhythm they do not, and the poll goes the mailbox's way.
+            let wanted = self.mailbox.event_mask();
             if event.contains(AlEvent::sync_manager(0)) {
                 self.mailbox.receive_event();
             }
             if event.contains(AlEvent::sync_manager(1)) {
                 self.mailbox.send_event();
             }
+            self.stale.insert(if self.mailbox.event_mask() == wanted {
+                Stale::MAILBOX
+            } else {
+                Stale::MAILBOX_QUEUE
+            });
         }
     }
 
@@ -357,11 +373,26 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`SubDevice::access_done`] is called the same access is returned again.
     #[inline]
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
-        // Settled: the answer costs the driver's loop a test, not a call.
-        if self.in_flight.is_none() && self.stale == Stale::NONE {
-            return None;
+        if self.in_flight.is_none() {
+            // Settled: the answer costs the driver's loop a test, not a call.
+            if self.stale == Stale::NONE {
+                return None;
+            }
+            // Only the mailbox's accesses may be due: the request/answer rhythm's way.
+            if self.stale == Stale::MAILBOX {
+                return self.mailbox_access();
+            }
         }
         self.next_access()
+    }
+
+    /// The mailbox part of the plan alone ([`SubDevice::next_op`] when nothing else is stale).
+    #[inline(never)]
+    fn mailbox_access(&mut self) -> Option<Access<'_>> {
+        self.stale = Stale::NONE;
+        let op = self.next_mailbox_op()?;
+        self.in_flight = Some((Op::Mailbox(op), 0));
+        Some(self.prepare_mailbox(op))
     }
 
     fn next_access(&mut self) -> Option<Access<'_>> {
@@ -385,8 +416,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
             // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
             // served.
-            Op::ReadMailbox => self.mailbox.received(),
-            Op::WriteMailbox => {
+            Op::Mailbox(MailboxOp::Read) => self.mailbox.received(),
+            Op::Mailbox(MailboxOp::Write) => {
                 let short =
                     self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
                 if short {
@@ -397,7 +428,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     self.sent();
                 }
             }
-            Op::CompleteMailbox => {
+            Op::Mailbox(MailboxOp::Complete) => {
                 self.complete_mailbox = false;
                 self.sent();
             }
@@ -571,7 +602,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // makes due (see `access_done`).
             self.stale.remove(Stale::MAILBOX);
             if let Some(op) = self.next_mailbox_op() {
-                return Some((op, 0));
+                return Some((Op::Mailbox(op), 0));
             }
         }
         if self.stale.contains(Stale::STATUS) {
@@ -615,15 +646,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The SM0/SM1 access due, once SM0 and SM1 are active in a mailbox state: the last byte of
     /// a short message, the next message (or the last again), the next request.
-    fn next_mailbox_op(&self) -> Option<Op> {
+    fn next_mailbox_op(&self) -> Option<MailboxOp> {
         if !self.state.has_mailbox() || !self.written.mailbox_active() {
             None
         } else if self.complete_mailbox {
-            Some(Op::CompleteMailbox)
+            Some(MailboxOp::Complete)
         } else if self.mailbox.write_due().is_some() {
-            Some(Op::WriteMailbox)
+            Some(MailboxOp::Write)
         } else if self.mailbox.read_due() {
-            Some(Op::ReadMailbox)
+            Some(MailboxOp::Read)
         } else {
             None
         }
@@ -666,38 +697,45 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
         match op {
-            Op::ReadMailbox => {
+            Op::Mailbox(op) => self.prepare_mailbox(op),
+            _ => self.prepare_register(op, value),
+        }
+    }
+
+    /// The SM0 read or SM1 write of `op`.
+    fn prepare_mailbox(&mut self, op: MailboxOp) -> Access<'_> {
+        let clears = Op::Mailbox(op).clears();
+        match op {
+            MailboxOp::Read => {
                 let (address, buf) = self.mailbox.rx_buffer();
-                return Access::Read {
+                Access::Read {
                     address,
                     buf,
-                    clears: op.clears(),
-                };
+                    clears,
+                }
             }
-            Op::WriteMailbox => {
-                let address = self.mailbox.send_address();
-                let data = self.mailbox.write_due().unwrap_or_default();
-                return Access::Write {
-                    address,
-                    data,
-                    clears: op.clears(),
-                };
-            }
-            Op::CompleteMailbox => {
+            MailboxOp::Write => Access::Write {
+                address: self.mailbox.send_address(),
+                data: self.mailbox.write_due().unwrap_or_default(),
+                clears,
+            },
+            MailboxOp::Complete => {
                 let last = self.mailbox.send_size().saturating_sub(1);
-                let data = self.mailbox.sent_byte(last);
                 let address = self
                     .mailbox
                     .send_address()
                     .saturating_add(u16::try_from(last).unwrap_or(0));
-                return Access::Write {
+                Access::Write {
                     address,
-                    data,
-                    clears: op.clears(),
-                };
+                    data: self.mailbox.sent_byte(last),
+                    clears,
+                }
             }
-            _ => {}
         }
+    }
+
+    /// A register access of the plan: event mask, reads, PDI control, AL status code and status.
+    fn prepare_register(&mut self, op: Op, value: u32) -> Access<'_> {
         let sm_bytes = usize::from(self.config.sync_manager_count.clamp(4, 16)) * Channel::SIZE;
         let (address, len, write) = match op {
             Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
@@ -713,7 +751,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             ),
             Op::WriteStatusCode => (register::AL_STATUS_CODE, 2, true),
             Op::WriteStatus => (register::AL_STATUS, 2, true),
-            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox => (0, 0, false),
+            Op::Mailbox(_) => (0, 0, false),
         };
         let buf = self.buf.get_mut(..len).unwrap_or_default();
         if write {
@@ -740,7 +778,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[inline(never)]
     fn complete_register(&mut self, now: Instant, op: Op, value: u32) {
         match op {
-            Op::ReadMailbox | Op::WriteMailbox | Op::CompleteMailbox => {}
+            Op::Mailbox(_) => {}
             Op::WriteEventMask => self.written.event_mask = Some(value),
             Op::WritePdiControl(n) => {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
