@@ -1,12 +1,14 @@
 //! PDO mapping and assignment: the configuration write rules, the image layout, and bit-exact
 //! pack/unpack against a reference model (ETG.1000.6 §5.6.7, conformance.md "CoE SDO").
 
-use ecat_core::AlStatusCode;
 use ecat_core::coe::AbortCode;
+use ecat_core::coe::sdo::{Context, SdoServer};
 use ecat_core::dictionary::{Bits, ObjectDictionary};
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
+use ecat_core::process_data::Writes;
+use ecat_core::{AlState, AlStatusCode, Instant};
 use proptest::prelude::*;
 
 #[derive(Default)]
@@ -540,4 +542,51 @@ fn an_image_over_65535_bits_is_0x0025() {
         Layout::of(&od, Direction::Rx),
         Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
     ));
+}
+
+/// A segmented download started in PREOP into entries the RxPDO configuration maps is refused
+/// with 0x06010006 at its last segment when the SubDevice reached SAFEOP meanwhile: the check
+/// is made again before the value is stored, and the value stays as it was.
+#[test]
+fn a_segmented_download_into_mapped_entries_is_checked_again_at_its_last_segment() {
+    let mut od = Od {
+        rx1: PdoMapping::mapping(&[MappingEntry::new(0x2006, 2, 16)]),
+        ..Od::default()
+    };
+    let mut server = SdoServer::<64>::new();
+    let mut serve = |od: &mut Od, state, request: &[u8]| {
+        let mut cx = Context {
+            od,
+            hooks: &mut (),
+            state,
+            now: Instant::from_micros(0),
+            writes: Writes::default(),
+        };
+        let mut out = [0u8; 58];
+        let n = server.request(&mut cx, request, &mut out);
+        out[..n].to_vec()
+    };
+    // Complete access to 0x2006 from SI0: SI0 and its pad byte, three words = 8 bytes, of
+    // which the initiate carries 4.
+    let initiate = [0x31, 0x06, 0x20, 0x00, 8, 0, 0, 0, 3, 0, 0x11, 0x11];
+    let accepted = serve(&mut od, AlState::PreOp, &initiate);
+    assert_eq!(accepted, [0x00, 0x30, 0x70, 0x06, 0x20, 0x00, 0, 0, 0, 0]);
+    // The last segment: 4 data bytes of 7 (3 unused), toggle 0.
+    let last = [0x07, 0x22, 0x22, 0x33, 0x33, 0, 0, 0];
+    let refused = serve(&mut od, AlState::SafeOp, &last);
+    assert_eq!(
+        refused,
+        [0x00, 0x20, 0x80, 0x06, 0x20, 0x00, 0x06, 0x00, 0x01, 0x06]
+    );
+    assert_eq!(od.words, [0, 0, 0], "nothing stored");
+    // In PREOP the same transfer completes.
+    assert_eq!(
+        serve(&mut od, AlState::PreOp, &initiate),
+        [0x00, 0x30, 0x70, 0x06, 0x20, 0x00, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        serve(&mut od, AlState::PreOp, &last),
+        [0x00, 0x30, 0x20, 0, 0, 0, 0, 0, 0, 0]
+    );
+    assert_eq!(od.words, [0x1111, 0x2222, 0x3333]);
 }

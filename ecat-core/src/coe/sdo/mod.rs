@@ -189,7 +189,7 @@ impl<const N: usize> SdoServer<N> {
     ) -> Result<usize, AbortCode> {
         self.transfer = None;
         self.timed_out = false;
-        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
+        let (object, target) = resolve(target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
         let body = body_of(out);
         // The value is read once, straight into the answer's data area; its size then says
@@ -278,7 +278,8 @@ impl<const N: usize> SdoServer<N> {
     ) -> Result<usize, AbortCode> {
         self.transfer = None;
         self.timed_out = false;
-        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
+        let (object, target) = resolve(target, cx.state, Direction::Write)?;
+        check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
         let data = if expedited {
             let size = if size_indicated {
                 4 - usize::from(unused)
@@ -359,6 +360,7 @@ impl<const N: usize> SdoServer<N> {
                 .ok_or(AbortCode::OUT_OF_MEMORY)?
                 .copy_from_slice(data);
             if last {
+                check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
                 let value = self.buf.get(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
                 store(cx, object, target, value, 0, true)?;
             }
@@ -443,10 +445,9 @@ enum Direction {
     Write,
 }
 
-/// Finds the object and checks the access: existence, subindex, rights in `state`, and for a
-/// download that the process data does not own the entries ([`check_not_rx_mapped`]).
+/// Finds the object and checks the access: existence, subindex, rights in `state` (a download
+/// then checks that the process data does not own the entries, [`check_not_rx_mapped`]).
 fn resolve<D: ObjectDictionary>(
-    od: &D,
     target: Target,
     state: AlState,
     direction: Direction,
@@ -454,12 +455,9 @@ fn resolve<D: ObjectDictionary>(
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
     if target.complete {
         complete_access::check(&object.info, target.sub)?;
-        let entries = || complete_access::entries(&object.info, target.sub).filter(|(s, _)| *s > 0);
-        for (_, entry) in entries() {
+        for (_, entry) in complete_access::entries(&object.info, target.sub).filter(|(s, _)| *s > 0)
+        {
             check_access(entry, state, direction)?;
-        }
-        if direction == Direction::Write {
-            check_not_rx_mapped(od, state, target.index, entries())?;
         }
         return Ok((object, target));
     }
@@ -468,9 +466,6 @@ fn resolve<D: ObjectDictionary>(
         .entry(target.sub)
         .ok_or(AbortCode::NO_SUBINDEX)?;
     check_access(entry, state, direction)?;
-    if direction == Direction::Write {
-        check_not_rx_mapped(od, state, target.index, [(target.sub, entry)].into_iter())?;
-    }
     Ok((
         object,
         Target {
@@ -501,20 +496,27 @@ fn check_access(entry: &EntryInfo, state: AlState, direction: Direction) -> Resu
     }
 }
 
-/// A download into entries of `index` that the active RxPDO configuration maps (0x1C12, its
+/// A download into entries of `target` that the active RxPDO configuration maps (0x1C12, its
 /// mappings) is refused in SAFEOP and OP with 0x06010006 (ETG.1000.6 Table 41; conformance.md
-/// "CoE SDO"): the process data owns them. The layout is computed only for a download in
-/// SAFEOP or OP with an RxPDO-mappable entry among `entries`; a dictionary without 0x1C12 (a
-/// fixed layout the application copies) or with an unusable mapping refuses nothing.
-fn check_not_rx_mapped<'e, D: ObjectDictionary>(
+/// "CoE SDO"): the process data owns them. Checked when a download starts and again before a
+/// segmented one stores its value (the state may have reached SAFEOP meanwhile). The layout is
+/// computed only for a download in SAFEOP or OP with an RxPDO-mappable entry among the
+/// target's; a dictionary without 0x1C12 (a fixed layout the application copies) or with an
+/// unusable mapping refuses nothing.
+fn check_not_rx_mapped<D: ObjectDictionary>(
     od: &D,
     state: AlState,
-    index: u16,
-    entries: impl Iterator<Item = (u8, &'e EntryInfo)>,
+    object: &Object<D>,
+    target: Target,
 ) -> Result<(), AbortCode> {
     if !state.has_process_data() {
         return Ok(());
     }
+    let single = object.info.entry(target.sub).map(|e| (target.sub, e));
+    let entries = complete_access::entries(&object.info, target.sub)
+        .filter(|(s, _)| *s > 0 && target.complete)
+        .chain(single.filter(|_| !target.complete));
+    let index = object.info.index;
     let mut mappable = entries
         .filter(|(_, e)| e.access.rxpdo())
         .map(|(sub, _)| sub);
