@@ -152,8 +152,12 @@ impl<D: ObjectDictionary> Layout<D> {
         self.gaps
     }
 
-    /// The TxPDO entries mapped again, in image order.
+    /// The TxPDO entries mapped again, in image order. A dictionary without PDO-mappable
+    /// entries has none, known at compile time (its firmware carries no code for them).
     pub fn repeats(&self) -> &[Repeat] {
+        if D::UNMAPPED.as_ref().is_empty() {
+            return &[];
+        }
         self.repeats
             .get(..usize::from(self.repeat_count))
             .unwrap_or_default()
