@@ -445,8 +445,13 @@ impl CycleMonitor {
         *self = Self::default();
     }
 
-    /// Accounts for one cycle and stores the diagnostics into `od`'s 0x1C32/0x1C33.
+    /// Accounts for one cycle and stores the diagnostics into `od`'s 0x1C32/0x1C33. A dictionary
+    /// without either keeps no diagnostics: known at compile time, so its firmware carries no
+    /// monitor code.
     pub fn cycle<D: ObjectDictionary>(&mut self, od: &mut D, report: CycleReport) {
+        if !const { has_sync_parameters(D::OBJECTS) } {
+            return;
+        }
         let elapsed = self
             .last
             .map(|last| report.now.as_micros().saturating_sub(last.as_micros()));
@@ -473,6 +478,20 @@ impl CycleMonitor {
             store(od, now);
         }
     }
+}
+
+/// Whether `objects` has 0x1C32 or 0x1C33.
+#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
+const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
+    let mut i = 0;
+    while i < objects.len() {
+        let index = objects[i].info.index;
+        if index == OUTPUT_PARAMETERS || index == INPUT_PARAMETERS {
+            return true;
+        }
+        i += 1;
+    }
+    false
 }
 
 /// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).

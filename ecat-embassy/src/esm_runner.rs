@@ -95,7 +95,7 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
 ) {
-    let (notes, mut emergencies) = esc.take_news();
+    let notes = esc.take_notes();
     if notes.contains(Notes::SYNC_RECEIVED) {
         sub.sync_received();
     }
@@ -105,7 +105,7 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     if notes.contains(Notes::OUTPUTS_RECEIVED) {
         sub.outputs_received();
     }
-    while let Some(emergency) = emergencies.pop() {
+    while let Some(emergency) = esc.take_emergency() {
         sub.emergency(emergency);
     }
 }

@@ -228,14 +228,15 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// Takes what the process-data runner noted and the emergencies the application raised.
-    pub(crate) fn take_news(&self) -> (Notes, Ring<Emergency, EMERGENCIES>) {
-        self.with(|r| {
-            (
-                core::mem::replace(&mut r.notes, Notes::NONE),
-                core::mem::take(&mut r.emergencies),
-            )
-        })
+    /// Takes what the process-data runner noted.
+    pub(crate) fn take_notes(&self) -> Notes {
+        self.with(|r| core::mem::replace(&mut r.notes, Notes::NONE))
+    }
+
+    /// Takes the oldest emergency the application raised. One at a time, so the queue is
+    /// never copied out of the critical section.
+    pub(crate) fn take_emergency(&self) -> Option<Emergency> {
+        self.with(|r| r.emergencies.pop())
     }
 
     /// Publishes the process-data layout of the current state and the AL event mask in the ESC.

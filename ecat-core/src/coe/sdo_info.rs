@@ -576,11 +576,16 @@ impl<'a> Writer<'a> {
 
     /// Appends `bytes` whole; `false` (nothing written) when they do not fit.
     fn put(&mut self, bytes: &[u8]) -> bool {
-        let end = self.len.saturating_add(bytes.len());
-        match self.buf.get_mut(self.len..end) {
+        // `..bytes.len()` of the rest: the lengths match by construction, so the copy has no
+        // length-mismatch panic path.
+        let dst = self
+            .buf
+            .get_mut(self.len..)
+            .and_then(|rest| rest.get_mut(..bytes.len()));
+        match dst {
             Some(dst) => {
                 dst.copy_from_slice(bytes);
-                self.len = end;
+                self.len += bytes.len();
                 true
             }
             None => false,

@@ -94,6 +94,14 @@ macro_rules! dictionary {
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
             )];
 
+            type Repeats = [$crate::pdo::layout::Repeat; $crate::pdo::layout::repeat_room(
+                $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
+            )];
+
+            const NO_REPEATS: Self::Repeats = [$crate::pdo::layout::Repeat::EMPTY; $crate::pdo::layout::repeat_room(
+                $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
+            )];
+
             const FIRST_ENTRIES: &'static [usize] = &$crate::pdo::layout::first_entries::<
                 $dict,
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },

@@ -67,6 +67,7 @@ pub use object::{
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
 use crate::coe::AbortCode;
+use crate::pdo::layout::Repeat;
 
 /// A dictionary: the `const` table of its objects. Implemented by [`dictionary!`](crate::dictionary!).
 pub trait ObjectDictionary: Sized + 'static {
@@ -80,6 +81,14 @@ pub trait ObjectDictionary: Sized + 'static {
 
     /// Every entry [unmapped](crate::pdo::layout::UNMAPPED).
     const UNMAPPED: Self::Offsets;
+
+    /// Room for the TxPDO entries a configuration maps a second time: `[Repeat; N]`, `N` =
+    /// [`repeat_room`](crate::pdo::layout::repeat_room) of the mappable entries — none for a
+    /// dictionary without PDO-mappable entries, whose layouts then take no space for them.
+    type Repeats: AsRef<[Repeat]> + AsMut<[Repeat]> + Copy;
+
+    /// Every slot of [`Self::Repeats`] [empty](Repeat::EMPTY).
+    const NO_REPEATS: Self::Repeats;
 
     /// The number of each object's first PDO-mappable entry, parallel to [`Self::OBJECTS`]
     /// ([`first_entries`](crate::pdo::layout::first_entries)): what makes finding an entry's
@@ -108,6 +117,8 @@ impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
     type Offsets = [u16; 0];
     const UNMAPPED: [u16; 0] = [];
+    type Repeats = [Repeat; 0];
+    const NO_REPEATS: [Repeat; 0] = [];
     const FIRST_ENTRIES: &'static [usize] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}

@@ -46,12 +46,28 @@ pub struct Repeat {
     pub len: u8,
 }
 
+impl Repeat {
+    /// An unused slot of [`ObjectDictionary::Repeats`].
+    pub const EMPTY: Self = Self {
+        from: 0,
+        to: 0,
+        len: 0,
+    };
+}
+
+/// The length of [`ObjectDictionary::Repeats`] for a dictionary with `mappable` PDO-mappable
+/// entries: [`MAX_REPEATS`], or none when there is no entry to map twice (a layout of such a
+/// dictionary then carries no room for repeats).
+pub const fn repeat_room(mappable: usize) -> usize {
+    if mappable == 0 { 0 } else { MAX_REPEATS }
+}
+
 /// One direction's image: the offset of every mappable entry and the image size.
 pub struct Layout<D: ObjectDictionary> {
     offsets: D::Offsets,
     bits: u16,
     gaps: bool,
-    repeats: [Repeat; MAX_REPEATS],
+    repeats: D::Repeats,
     repeat_count: u8,
 }
 
@@ -76,7 +92,7 @@ impl<D: ObjectDictionary> Layout<D> {
             offsets: D::UNMAPPED,
             bits: 0,
             gaps: false,
-            repeats: [Repeat::default(); MAX_REPEATS],
+            repeats: D::NO_REPEATS,
             repeat_count: 0,
         };
         for pdo in 1..=count(od, assignment) {
@@ -114,7 +130,10 @@ impl<D: ObjectDictionary> Layout<D> {
     }
 
     fn repeat(&mut self, from: u16, to: u16, len: u8) -> Option<()> {
-        *self.repeats.get_mut(usize::from(self.repeat_count))? = Repeat { from, to, len };
+        *self
+            .repeats
+            .as_mut()
+            .get_mut(usize::from(self.repeat_count))? = Repeat { from, to, len };
         self.repeat_count += 1;
         Some(())
     }
@@ -155,6 +174,7 @@ impl<D: ObjectDictionary> Layout<D> {
     /// The TxPDO entries mapped again, in image order.
     pub fn repeats(&self) -> &[Repeat] {
         self.repeats
+            .as_ref()
             .get(..usize::from(self.repeat_count))
             .unwrap_or_default()
     }

@@ -8,6 +8,7 @@
 pub mod board;
 pub mod esc;
 pub mod io;
+pub mod mem;
 
 /// The two executors every firmware of this board runs (priorities: README.md): defines the
 /// statics, the UART4 handler (UART4 is unused on this board, its vector runs the interrupt
