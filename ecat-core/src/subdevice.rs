@@ -352,20 +352,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.read_watchdog_status = true;
         }
         if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
-            // The mailbox's SM0/SM1 events in the mask change only when its flags change them:
-            // in the request/answer rhythm they do not, and the poll goes the mailbox's way.
-            let wanted = self.mailbox.event_mask();
+            self.stale.insert(Stale::MAILBOX_QUEUE);
             if event.contains(AlEvent::sync_manager(0)) {
                 self.mailbox.receive_event();
             }
             if event.contains(AlEvent::sync_manager(1)) {
                 self.mailbox.send_event();
             }
-            self.stale.insert(if self.mailbox.event_mask() == wanted {
-                Stale::MAILBOX
-            } else {
-                Stale::MAILBOX_QUEUE
-            });
         }
     }
 
