@@ -482,7 +482,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The application's answer to [`Event::TransitionRequested`]: `Ok` completes the transition,
-    /// `Err(code)` refuses it with `code`. Ignored when `transition` is no longer pending.
+    /// `Err(code)` refuses it with `code` ([`AlStatusCode::UNSPECIFIED_ERROR`] if `code` is
+    /// [`AlStatusCode::NO_ERROR`]: a refusal always shows a code). Ignored when `transition` is
+    /// no longer pending.
     pub fn complete_transition(
         &mut self,
         transition: Transition,
@@ -559,7 +561,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn finish_transition(&mut self, transition: Transition, result: Result<(), AlStatusCode>) {
         self.pending = None;
         let verified = result
-            .map_err(|code| (code, transition.from))
+            .map_err(|code| match code {
+                AlStatusCode::NO_ERROR => (AlStatusCode::UNSPECIFIED_ERROR, transition.from),
+                code => (code, transition.from),
+            })
             .and_then(|()| self.verify(transition.to));
         match verified {
             Ok(()) => self.change_state(transition),

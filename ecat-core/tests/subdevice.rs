@@ -278,6 +278,22 @@ fn application_refusal_carries_its_code() {
     assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0011, 0x8001));
 }
 
+/// An application that refuses without a code (0x0000) still shows the MainDevice an error
+/// with a code: 0x0001, unspecified (found by the fuzz target).
+#[test]
+fn application_refusal_without_a_code_is_0x0001() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    request(&mut regs, &mut sub, 0x0002);
+    sub.complete_transition(
+        up(AlState::Init, AlState::PreOp),
+        Err(AlStatusCode::NO_ERROR),
+    );
+    regs.drive(&mut sub, T0);
+    assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0011, 0x0001));
+}
+
 #[test]
 fn register_reads_clear_the_events_the_esc_clears() {
     use ecat_core::AlEvent;

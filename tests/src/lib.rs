@@ -9,6 +9,7 @@
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
+//! | [`fuzz`] | a SubDevice session driven by arbitrary bytes: the fuzz target of the core |
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
@@ -18,6 +19,7 @@ pub mod devices;
 pub mod emulator;
 pub mod esc;
 pub mod frame;
+pub mod fuzz;
 pub mod harness;
 pub mod line;
 pub mod master;
