@@ -196,6 +196,11 @@ enum Step<'a> {
     Watchdog(u16, bool),
     /// A process-data cycle with these output bytes.
     Cycle(&'a [u8]),
+    /// The MainDevice writes an SDO Information request into SM0 (counter, opcode, then the
+    /// index or list type, subindex and value-info byte as the opcode reads them).
+    SdoInfo(u8, u8, u16, u8, u8),
+    /// The MainDevice configures SM0/SM1 as the bootstrap mailbox.
+    ConfigureBoot,
 }
 
 /// The bytes, read front to back; a read past the end gives zeros.
@@ -219,7 +224,7 @@ impl<'a> Bytes<'a> {
     }
 
     fn step(&mut self) -> Step<'a> {
-        match self.u8() % 13 {
+        match self.u8() % 15 {
             0 => Step::AlControl(self.u16() & 0x003F),
             1 => Step::SyncManager(self.u8() % 9, core::array::from_fn(|_| self.u8())),
             2 => Step::ConfigureAll,
@@ -245,9 +250,25 @@ impl<'a> Bytes<'a> {
             9 => Step::Emergency(self.u16()),
             10 => Step::Dc(self.u8(), u32::from(self.u16()) * 10),
             11 => Step::Watchdog(self.u16(), self.u8() & 1 != 0),
-            _ => Step::Cycle(self.take(CYCLE_BYTES)),
+            12 => Step::Cycle(self.take(CYCLE_BYTES)),
+            13 => {
+                let (counter, opcode) = (self.u8(), self.u8() % 9);
+                let index = match self.u8() {
+                    pick @ 0..=127 => INDICES[usize::from(pick) % INDICES.len()],
+                    list_type => u16::from(list_type % 8),
+                };
+                Step::SdoInfo(counter, opcode, index, self.u8() % 8, self.u8())
+            }
+            _ => Step::ConfigureBoot,
         }
     }
+}
+
+/// The registers of an enabled SyncManager at `start` of `length` bytes with `control`.
+fn sm(start: u16, length: u16, control: u8) -> [u8; 8] {
+    let [s0, s1] = start.to_le_bytes();
+    let [l0, l1] = length.to_le_bytes();
+    [s0, s1, l0, l1, control, 0, 1, 0]
 }
 
 /// The output bytes a cycle step takes.
@@ -303,14 +324,18 @@ mod seed {
     pub const READ_SM1: u8 = 5;
     pub const ANSWER_OK: [u8; 2] = [8, 0];
     pub const CYCLE: u8 = 12;
+    pub const SDO_INFO: u8 = 13;
+    pub const CONFIGURE_BOOT: u8 = 14;
 }
 
 /// Starting points for the fuzzer (committed as `fuzz/corpus/session/seed-*`): a session that
-/// reaches OP and exchanges process data, and one that reaches PREOP and makes SDO requests
-/// of every kind on the way (expedited upload and download, complete access, a segmented
-/// upload, an abort).
+/// reaches OP and exchanges process data, one that reaches PREOP and makes SDO requests of
+/// every kind on the way (expedited upload and download, complete access, a segmented upload,
+/// an abort, SDO Information lists and descriptions), and one that reaches BOOT.
 pub fn seeds() -> Vec<Vec<u8>> {
-    use seed::{AL_CONTROL, ANSWER_OK, CONFIGURE_ALL, CYCLE, READ_SM1, SDO};
+    use seed::{
+        AL_CONTROL, ANSWER_OK, CONFIGURE_ALL, CONFIGURE_BOOT, CYCLE, READ_SM1, SDO, SDO_INFO,
+    };
     let control = |state: u8| [AL_CONTROL, state, 0];
     let index = |i: u16| INDICES.iter().position(|&x| x == i).unwrap_or(0) as u8;
     let sdo = |counter: u8, command: u8, object: u16, sub: u8, data: &[u8]| {
@@ -343,7 +368,16 @@ pub fn seeds() -> Vec<Vec<u8>> {
     preop.extend(sdo(4, 0x40, 0x2000, 0, &[0; 4]));
     preop.extend(sdo(5, 0x60, 0x2000, 0, &[0; 7]));
     preop.extend(sdo(6, 0x80, 0x2000, 0, &[0, 0, 4, 5]));
-    vec![op, preop]
+    // Get OD list of list type 1 (all objects), then the object and entry descriptions of
+    // 0x2002 (the index picked by its position in INDICES, below 128).
+    preop.extend([SDO_INFO, 7, 0x01, 0x81, 0, 0, READ_SM1]);
+    preop.extend([SDO_INFO, 1, 0x03, index(0x2002), 0, 0, READ_SM1]);
+    preop.extend([SDO_INFO, 2, 0x05, index(0x2002), 6, 0x78, READ_SM1]);
+    let mut boot = vec![CONFIGURE_BOOT];
+    boot.extend(control(3));
+    boot.extend(ANSWER_OK);
+    boot.extend(sdo(1, 0x40, 0x1018, 1, &[0; 4]));
+    vec![op, preop, boot]
 }
 
 impl Session<'_> {
@@ -370,11 +404,19 @@ impl Session<'_> {
                 let [i0, i1] = index.to_le_bytes();
                 let mut payload = vec![0x00, 0x20, command, i0, i1, sub];
                 payload.extend_from_slice(data);
-                let header =
-                    MailboxHeader::new(MailboxType::Coe, payload.len() as u16, counter % 8);
-                let mut message = header.to_bytes().to_vec();
-                message.extend_from_slice(&payload);
-                self.write_sm0(&message);
+                self.write_coe(counter, &payload);
+            }
+            Step::SdoInfo(counter, opcode, index, sub, value_info) => {
+                let [i0, i1] = index.to_le_bytes();
+                let payload = [0x00, 0x80, opcode, 0, 0, 0, i0, i1, sub, value_info];
+                self.write_coe(counter, &payload);
+            }
+            Step::ConfigureBoot => {
+                let boot = DEVICE.bootstrap_mailbox.unwrap_or(MAILBOX);
+                let (rx, tx) = (boot.receive, boot.send);
+                self.put(register::sync_manager(0), &sm(rx.start, rx.length, 0x26));
+                self.put(register::sync_manager(1), &sm(tx.start, tx.length, 0x22));
+                self.event |= AlEvent::SM_CHANGE.bits();
             }
             Step::ReadSm1 => self.event |= AlEvent::sync_manager(1).bits(),
             Step::Repeat => {
@@ -423,14 +465,17 @@ impl Session<'_> {
         }
     }
 
+    /// A CoE message with `payload` (CoE header on) and the mailbox counter `counter` into SM0.
+    fn write_coe(&mut self, counter: u8, payload: &[u8]) {
+        let header = MailboxHeader::new(MailboxType::Coe, payload.len() as u16, counter % 8);
+        let mut message = header.to_bytes().to_vec();
+        message.extend_from_slice(payload);
+        self.write_sm0(&message);
+    }
+
     /// SM0..SM3 as the device describes them: the default PDOs' 7 bytes out and 7 bytes in at
     /// 0x1100/0x1200.
     fn configure_all(&mut self) {
-        let sm = |start: u16, length: u16, control: u8| {
-            let [s0, s1] = start.to_le_bytes();
-            let [l0, l1] = length.to_le_bytes();
-            [s0, s1, l0, l1, control, 0, 1, 0]
-        };
         let (rx, tx) = (MAILBOX.receive, MAILBOX.send);
         self.put(register::sync_manager(0), &sm(rx.start, rx.length, 0x26));
         self.put(register::sync_manager(1), &sm(tx.start, tx.length, 0x22));
@@ -439,10 +484,11 @@ impl Session<'_> {
         self.event |= AlEvent::SM_CHANGE.bits();
     }
 
-    /// The MainDevice writes `message` at SM0's start and the ESC raises the SM0 event.
+    /// The MainDevice writes `message` at SM0's start (the bootstrap mailbox's in BOOT) and the
+    /// ESC raises the SM0 event.
     fn write_sm0(&mut self, message: &[u8]) {
         let message = message.get(..128).unwrap_or(message);
-        self.put(MAILBOX.receive.start, message);
+        self.put(self.mailbox().receive.start, message);
         self.event |= AlEvent::sync_manager(0).bits();
     }
 
@@ -497,7 +543,11 @@ impl Session<'_> {
     /// Performs every access the core asks for, checking each.
     fn drive(&mut self) {
         let mut n = 0;
-        while let Some(access) = self.sub.poll_access() {
+        loop {
+            let send = self.mailbox().send;
+            let Some(access) = self.sub.poll_access() else {
+                return;
+            };
             n += 1;
             assert!(n < ROUND_LIMIT, "unbounded register accesses");
             let event = AlEvent(self.event);
@@ -515,13 +565,21 @@ impl Session<'_> {
                 Access::Read { buf, .. } => buf.copy_from_slice(&self.mem[a..end]),
                 Access::Write { data, .. } => {
                     self.mem[a..end].copy_from_slice(data);
-                    if address == MAILBOX.send.start {
-                        check_message(data);
+                    if address == send.start {
+                        check_message(data, send.length);
                     }
                 }
             }
             self.event &= !clears.bits();
             self.sub.access_done(self.now, event);
+        }
+    }
+
+    /// The mailbox of the current state: the bootstrap mailbox in BOOT.
+    fn mailbox(&self) -> MailboxConfig {
+        match (self.sub.state(), DEVICE.bootstrap_mailbox) {
+            (AlState::Boot, Some(boot)) => boot,
+            _ => MAILBOX,
         }
     }
 
@@ -540,11 +598,11 @@ impl Session<'_> {
 
 /// A message the SubDevice writes into SM1: a mailbox header whose length fits SM1, of type 0
 /// (error reply) or 3 (CoE).
-fn check_message(data: &[u8]) {
+fn check_message(data: &[u8], sm1: u16) {
     let header = MailboxHeader::parse(data).expect("a message starts with its header");
     let length = usize::from(header.length);
     assert!(
-        length + MailboxHeader::SIZE <= usize::from(MAILBOX.send.length),
+        length + MailboxHeader::SIZE <= usize::from(sm1),
         "message longer than SM1: {length}"
     );
     assert!(

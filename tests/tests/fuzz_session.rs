@@ -12,12 +12,12 @@ fn corpus() -> PathBuf {
 }
 
 /// The seeds reach what they are for, and the committed seed files are [`seeds`]' output (so
-/// the fuzzer in CI starts from them): one session ends in OP, the other in PREOP.
+/// the fuzzer in CI starts from them): the sessions end in OP, PREOP and BOOT.
 #[test]
-fn the_seeds_reach_op_and_preop_and_are_committed() {
+fn the_seeds_reach_op_preop_and_boot_and_are_committed() {
     let seeds = seeds();
     let reached: Vec<AlState> = seeds.iter().map(|s| session(s)).collect();
-    assert_eq!(reached, [AlState::Op, AlState::PreOp]);
+    assert_eq!(reached, [AlState::Op, AlState::PreOp, AlState::Boot]);
     for (i, seed) in seeds.iter().enumerate() {
         let file = corpus().join(format!("seed-{i}"));
         let committed = std::fs::read(&file).unwrap_or_default();
@@ -48,7 +48,7 @@ proptest! {
 
     /// Random byte strings, and random steps after a seed's way into OP or PREOP.
     #[test]
-    fn any_bytes(tail in proptest::collection::vec(any::<u8>(), 0..600), which in 0usize..3) {
+    fn any_bytes(tail in proptest::collection::vec(any::<u8>(), 0..600), which in 0usize..4) {
         let mut data = seeds().get(which).cloned().unwrap_or_default();
         data.extend_from_slice(&tail);
         session(&data);
