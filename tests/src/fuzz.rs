@@ -20,7 +20,7 @@
 
 use ecat_core::coe::Emergency;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{Bits, Domain, OctetString, VisibleString};
+use ecat_core::dictionary::{Bits, Domain, OctetString, UnicodeString, VisibleString};
 use ecat_core::mailbox::MailboxHeader;
 use ecat_core::mailbox::MailboxType;
 use ecat_core::pdo::image::{pack, unpack};
@@ -45,8 +45,9 @@ pub struct Record {
 }
 
 /// The fuzzed device's dictionary: every object kind and data type class the stack serves —
-/// identity, PDO mapping and assignment, sync parameters, strings, a DOMAIN, a record with
-/// gaps, an array with limits, a write-only entry, REAL32 and the CiA402-like process data.
+/// identity, PDO mapping and assignment, sync parameters, strings (visible, octet, unicode), a
+/// DOMAIN, a record with gaps, an array with limits, a write-only entry, REAL32 and the
+/// CiA402-like process data.
 #[derive(Debug)]
 pub struct FuzzOd {
     /// 0x1008.
@@ -81,6 +82,8 @@ pub struct FuzzOd {
     pub octets: OctetString<8>,
     /// 0x2006.
     pub gain: f32,
+    /// 0x2007.
+    pub label: UnicodeString<8>,
     /// 0x6040.
     pub controlword: u16,
     /// 0x6041.
@@ -136,6 +139,7 @@ ecat_core::dictionary! {
         0x2004 => var(secret, WO, "Secret");
         0x2005 => var(octets, RW, "Octets");
         0x2006 => var(gain, RW, "Gain", default = 1.5);
+        0x2007 => var(label, RW, "Label");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
         0x6060 => var(mode, RW | RXPDO, "Modes of operation");
@@ -275,9 +279,9 @@ fn sm(start: u16, length: u16, control: u8) -> [u8; 8] {
 const CYCLE_BYTES: usize = 24;
 
 /// The indices an SDO step aims at: every object, and one that does not exist.
-const INDICES: [u16; 22] = [
+const INDICES: [u16; 23] = [
     0x1008, 0x1018, 0x1600, 0x1601, 0x1A00, 0x1C12, 0x1C13, 0x1C32, 0x1C33, 0x2000, 0x2001, 0x2002,
-    0x2003, 0x2004, 0x2005, 0x2006, 0x6040, 0x6041, 0x6060, 0x6064, 0x607A, 0x5555,
+    0x2003, 0x2004, 0x2005, 0x2006, 0x2007, 0x6040, 0x6041, 0x6060, 0x6064, 0x607A, 0x5555,
 ];
 
 /// The ESC as plain memory, the SubDevice, its dictionary and the time.
