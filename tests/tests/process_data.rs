@@ -162,6 +162,45 @@ fn complete_access_on_the_assignment_follows_the_configuration_sequence() {
     });
 }
 
+/// TwinCAT and SOEM write an assignment with complete access as SI0 and only the entries it
+/// counts (`01 00 00 16`: one PDO, 4 bytes of a 6-byte object); the whole object is accepted as
+/// well. Anything else is a length error: shorter than SI0 counts 0x06070013, longer than the
+/// object 0x06070012, in between 0x06070010.
+#[test]
+fn complete_access_on_the_assignment_takes_the_entries_si0_counts() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        assert_eq!(c.download(0x1C12, 0, true, &[0, 0]).await, Ok(()), "none");
+        assert_eq!(c.upload(0x1C12, 0, false).await, Ok(vec![0]));
+        assert_eq!(
+            c.download(0x1C12, 0, true, &[1, 0, 0x00, 0x16]).await,
+            Ok(()),
+            "SI0 and one entry"
+        );
+        assert_eq!(
+            c.upload(0x1C12, 0, true).await,
+            Ok(vec![1, 0, 0x00, 0x16, 0x00, 0x00])
+        );
+        let refused = [
+            (&[2, 0, 0x00, 0x16][..], AbortCode::LENGTH_TOO_LOW),
+            (&[1, 0, 0x00, 0x16, 0x00][..], AbortCode::LENGTH_MISMATCH),
+            (
+                &[1, 0, 0x00, 0x16, 0x00, 0x00, 0x00][..],
+                AbortCode::LENGTH_TOO_HIGH,
+            ),
+        ];
+        for (image, code) in refused {
+            assert_eq!(
+                c.download(0x1C12, 0, true, image).await,
+                Err(SdoError::Abort(code)),
+                "{image:02x?}"
+            );
+        }
+        assert_eq!(c.upload(0x1C12, 0, false).await, Ok(vec![1]), "unchanged");
+    });
+}
+
 #[test]
 fn main_devices_read_the_mapping_one_expedited_upload_at_a_time() {
     run(async |master| {

@@ -69,7 +69,15 @@ pub fn bit_offsets(object: &ObjectInfo) -> impl Iterator<Item = (u8, usize)> + '
 
 /// The size in bytes of the complete-access image from `sub`.
 pub fn size(object: &ObjectInfo, sub: u8) -> usize {
+    size_through(object, sub, u8::MAX)
+}
+
+/// The size in bytes of the complete-access image from `sub` that ends with subindex `last`:
+/// what a MainDevice sends for a configuration object whose SI0 it sets to `last` (SI0 and
+/// the entries it counts, TwinCAT's and SOEM's `0x1C12` downloads).
+pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
     slots(object, sub)
+        .take_while(|s| s.sub <= last)
         .last()
         .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
 }

@@ -23,7 +23,7 @@ use command::{Request, response};
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
-use crate::dictionary::{DataType, EntryInfo, Object, ObjectDictionary, ObjectHooks};
+use crate::dictionary::{DataType, EntryInfo, Object, ObjectDictionary, ObjectHooks, ObjectInfo};
 use crate::pdo::{self, layout::Layout as PdoLayout};
 use crate::process_data::Writes;
 use crate::time::{Duration, Instant};
@@ -589,35 +589,30 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
 }
 
 /// A complete-access download (ETG.1000.6 §5.6.2.1.2). With a writable SI0 (PDO configuration
-/// objects) the configuration sequence is followed: SI0 := 0, entries 1..=n, SI0 := n. With a
-/// read-only SI0 the image must carry its current value; every entry is written.
+/// objects) the configuration sequence is followed: SI0 := 0, entries 1..=n, SI0 := n; the
+/// image is either the whole object or ends with entry n (what TwinCAT and SOEM send: SI0 and
+/// the entries it counts). With a read-only SI0 the image must be the whole object and carry
+/// SI0's current value; every entry is written.
 fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
     cx: &mut Context<'_, D, H>,
     object: &Object<D>,
     from: u8,
     data: &[u8],
 ) -> Result<(), AbortCode> {
-    let size = complete_access::size(&object.info, from);
-    if data.len() != size {
-        return Err(if data.len() > size {
-            AbortCode::LENGTH_TOO_HIGH
-        } else {
-            AbortCode::LENGTH_TOO_LOW
-        });
-    }
     let value_of = |sub| {
         complete_access::entry_value(data, &object.info, from, sub)
             .ok_or(AbortCode::LENGTH_MISMATCH)
-    };
-    let si0 = if from == 0 {
-        Some(value_of(0)?.0[0])
-    } else {
-        None
     };
     let writable = object
         .info
         .entry(0)
         .is_some_and(|e| e.access.writable_in(cx.state));
+    let si0 = if from == 0 {
+        Some(value_of(0)?.0[0])
+    } else {
+        None
+    };
+    check_complete_length(&object.info, from, data.len(), si0.filter(|_| writable))?;
     let mut last = object.info.max_sub;
     match si0 {
         Some(n) if writable => {
@@ -642,6 +637,28 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
     match si0 {
         Some(n) if writable => store_entry(cx, object, 0, &[n]),
         _ => Ok(()),
+    }
+}
+
+/// A complete-access image of `len` bytes from `from` must be the whole object, or, when the
+/// MainDevice sets a writable SI0 to `counted`, end with the entry SI0 counts: longer is
+/// 0x06070012, shorter 0x06070013.
+fn check_complete_length(
+    object: &ObjectInfo,
+    from: u8,
+    len: usize,
+    counted: Option<u8>,
+) -> Result<(), AbortCode> {
+    let whole = complete_access::size(object, from);
+    let least = counted.map_or(whole, |n| complete_access::size_through(object, from, n));
+    if len == whole || len == least {
+        Ok(())
+    } else if len > whole {
+        Err(AbortCode::LENGTH_TOO_HIGH)
+    } else if len < least {
+        Err(AbortCode::LENGTH_TOO_LOW)
+    } else {
+        Err(AbortCode::LENGTH_MISMATCH)
     }
 }
 
