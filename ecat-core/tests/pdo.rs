@@ -165,6 +165,14 @@ fn configuration_write_rules() {
         write(&mut od, 0x1C12, 0, &[1, 0]),
         Err(AbortCode::LENGTH_TOO_HIGH)
     );
+    assert_eq!(
+        write(&mut od, 0x1C12, 0, &[2]),
+        Err(AbortCode::VALUE_RANGE),
+        "SI0 would count SI2, never written (0x0000 is no RxPDO)"
+    );
+    assert_eq!(od.rx_assign.count, 0);
+    assert_eq!(write(&mut od, 0x1C12, 0, &[1]), Ok(()));
+    assert_eq!(od.rx_assign.valid().collect::<Vec<_>>(), [0x1600]);
 }
 
 #[test]

@@ -248,7 +248,10 @@ macro_rules! __ecat_object {
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
                 $crate::pdo::check_counted_write(d.$field.count, d.$field.items.len(), sub, data)?;
                 match sub {
-                    0 => $crate::dictionary::write_value(&mut d.$field.count, data, None, None),
+                    0 => {
+                        $crate::pdo::check_counted_entries::<$dict, _>($index, &d.$field.items, data)?;
+                        $crate::dictionary::write_value(&mut d.$field.count, data, None, None)
+                    }
                     n => {
                         $crate::pdo::check_entry::<$dict>($index, data)?;
                         match d.$field.items.get_mut(usize::from(n) - 1) {
