@@ -282,7 +282,7 @@ mod sync_parameters_kind {
         assert_eq!((od.sync_out.sync_type, od.sync_in.sync_type), (1, 0x22));
         for (index, name, si1) in [
             (0x1C32, "SM output parameter", Access::RW_PREOP),
-            (0x1C33, "SM input parameter", Access::RO),
+            (0x1C33, "SM input parameter", Access::RW_PREOP),
         ] {
             let object = Od::object(index).expect("declared");
             assert_eq!(object.info.code, ObjectCode::Record);

@@ -21,9 +21,11 @@
 ///
 /// `sync_parameters` declares 0x1C32 (`outputs`) or 0x1C33 (`inputs`) as the standard record of a
 /// [`sync::SyncParameters`](crate::sync::SyncParameters) field with the entries the stack fills
-/// (SI1 sync type: writable in PREOP with default 1 for the outputs, read-only with default 0x22
-/// for the inputs; SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C,
-/// 0x20 read-only).
+/// (SI1 sync type: writable in PREOP, default 1 for the outputs, 0x22 for the inputs — the
+/// inputs' type follows the outputs' ([`sync::input_sync_type`](crate::sync::input_sync_type)),
+/// so a value a MainDevice writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is
+/// replaced by the type in effect when the configuration is next refreshed; SI2 cycle time
+/// writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C, 0x20 read-only).
 ///
 /// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
 /// declaring as defaults) the communication types of SM0..SM3, [`sii::SM_TYPES`](crate::sii::SM_TYPES):
@@ -268,7 +270,7 @@ macro_rules! __ecat_object {
         $crate::__ecat_sync_parameters!($dict, $index, $field, "SM output parameter", RW_PREOP, 1)
     };
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {
-        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RO, 0x22)
+        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RW_PREOP, 0x22)
     };
     ($dict:ident, $index:literal, sync_manager_types ( $field:ident )) => {
         $crate::dictionary::Object::<$dict> {
