@@ -120,8 +120,9 @@ impl Notes {
     }
 }
 
-/// Emergencies the application may raise between two turns of the state-machine runner.
-const EMERGENCIES: usize = 4;
+/// Emergencies the application may raise between two turns of the state-machine runner: as
+/// many as wait in the mailbox, so both queues are one type.
+const EMERGENCIES: usize = ecat_core::mailbox::EMERGENCY_QUEUE;
 
 /// The ESC shared by the two runners. `M` is `CriticalSectionRawMutex` in firmware, where the
 /// runners live in different executors.
