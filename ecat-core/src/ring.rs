@@ -5,14 +5,17 @@
 #[derive(Debug, Clone)]
 pub struct Ring<T: Copy, const N: usize> {
     slots: [Option<T>; N],
-    head: usize,
-    len: usize,
+    /// The oldest element's slot and the element count: bytes, as `N` < 128 (checked in `new`),
+    /// so that their sum fits.
+    head: u8,
+    len: u8,
     dropped: u32,
 }
 
 impl<T: Copy, const N: usize> Ring<T, N> {
     /// An empty queue.
     pub const fn new() -> Self {
+        const { assert!(N < 128, "a Ring holds fewer than 128 elements") };
         Self {
             slots: [None; N],
             head: 0,
@@ -27,11 +30,11 @@ impl<T: Copy, const N: usize> Ring<T, N> {
             self.dropped = self.dropped.saturating_add(1);
             return;
         }
-        if self.len == N {
+        if self.len == N as u8 {
             self.pop();
             self.dropped = self.dropped.saturating_add(1);
         }
-        let tail = (self.head + self.len) % N;
+        let tail = usize::from((self.head + self.len) % N as u8);
         if let Some(slot) = self.slots.get_mut(tail) {
             *slot = Some(value);
             self.len += 1;
@@ -43,15 +46,18 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         if self.len == 0 {
             return None;
         }
-        let value = self.slots.get_mut(self.head).and_then(Option::take);
-        self.head = (self.head + 1) % N;
+        let value = self
+            .slots
+            .get_mut(usize::from(self.head))
+            .and_then(Option::take);
+        self.head = (self.head + 1) % N as u8;
         self.len -= 1;
         value
     }
 
     /// Number of queued elements.
     pub const fn len(&self) -> usize {
-        self.len
+        self.len as usize
     }
 
     /// Whether nothing is queued.

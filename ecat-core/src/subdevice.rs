@@ -47,8 +47,19 @@ pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 /// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
 const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
 
-/// The largest SyncManager register block the SubDevice reads (16 channels).
-const MAX_SM_BYTES: usize = 16 * Channel::SIZE;
+/// The SyncManager registers are read four channels (32 bytes) at a time: SM0..SM3, which
+/// [`Channels`] parses, and the channels beyond, read only for their activation bytes.
+const SM_CHUNK: usize = Channels::SIZE;
+// A chunk starts where the unread bytes' last multiple of `SM_CHUNK` does (a mask).
+const _: () = assert!(SM_CHUNK.is_power_of_two() && SM_CHUNK < 256);
+
+/// The register buffer: one chunk of SyncManager registers or the DC registers, whichever is
+/// longer.
+const BUF_LEN: usize = if SM_CHUNK > DcSettings::READ_LEN {
+    SM_CHUNK
+} else {
+    DcSettings::READ_LEN
+};
 
 /// One register access the driver must perform for the core, then report with
 /// [`SubDevice::access_done`].
@@ -164,7 +175,10 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     id_requested: bool,
     device_id: u16,
     channels: Channels,
-    read_sync_managers: bool,
+    /// The bytes of SyncManager registers still to read, from 0x0800 on: read in chunks of
+    /// [`SM_CHUNK`] from the end, the channels beyond SM3 first and SM0..SM3 last; 0 when no read
+    /// is due.
+    sm_unread: u8,
     read_al_control: bool,
     /// The process-data watchdog time (0x0420) is read with every AL control event, for the
     /// watchdog consistency check at PREOP→SAFEOP.
@@ -186,7 +200,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     in_flight: Option<(Op, u32)>,
     pending: Option<Pending>,
     events: Ring<Event, 8>,
-    buf: [u8; MAX_SM_BYTES],
+    buf: [u8; BUF_LEN],
     mailbox: Mailbox<MBX>,
     /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
     complete_mailbox: bool,
@@ -218,7 +232,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             id_requested: false,
             device_id: 0,
             channels: Channels::default(),
-            read_sync_managers: false,
+            sm_unread: 0,
             read_al_control: false,
             read_watchdog: false,
             watchdog_time: 0,
@@ -231,7 +245,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             in_flight: None,
             pending: None,
             events: Ring::new(),
-            buf: [0; MAX_SM_BYTES],
+            buf: [0; BUF_LEN],
             mailbox: Mailbox::new(),
             complete_mailbox: false,
             stale: Stale::ALL,
@@ -338,15 +352,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
-        if event.contains(AlEvent::AL_CONTROL) && !self.read_al_control {
-            self.read_sync_managers = true;
+        let al_control = event.contains(AlEvent::AL_CONTROL) && !self.read_al_control;
+        if al_control {
             self.read_al_control = true;
             self.read_watchdog = true;
             self.read_dc = true;
         }
         if event.contains(AlEvent::SM_CHANGE) {
-            self.read_sync_managers = true;
             self.sm_changed = true;
+        }
+        if al_control || event.contains(AlEvent::SM_CHANGE) {
+            self.sm_unread = self.sm_bytes();
         }
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
             self.read_watchdog_status = true;
@@ -529,6 +545,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.sync.map(|r| r.effective(self.dc, self.config))
     }
 
+    /// The bytes of SyncManager registers the ESC has: 8 per channel
+    /// ([`DeviceConfig::sync_manager_count`], 4 to 16).
+    fn sm_bytes(&self) -> u8 {
+        self.config.sync_manager_count.clamp(4, 16) * Channel::SIZE as u8
+    }
+
+    /// Where the last chunk of the SyncManager registers still unread starts: the channels beyond
+    /// SM3 are read first, so that SM0..SM3, which the checks use, are read last, right before
+    /// AL control.
+    fn sm_chunk_start(&self) -> u8 {
+        self.sm_unread.saturating_sub(1) & !(SM_CHUNK as u8 - 1)
+    }
+
     /// The DC registers read with an AL control event: the activation byte, and up to the SYNC0
     /// cycle time for a device that supports DC SYNC0.
     fn dc_read_len(&self) -> usize {
@@ -664,7 +693,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[inline(never)]
     fn next_read(&self) -> Option<Op> {
         let reads = [
-            (self.read_sync_managers, Op::ReadSyncManagers),
+            (self.sm_unread > 0, Op::ReadSyncManagers),
             (self.read_watchdog, Op::ReadWatchdog),
             (self.read_watchdog_status, Op::ReadWatchdogStatus),
             (self.read_dc, Op::ReadDc),
@@ -734,10 +763,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// A register access of the plan: event mask, reads, PDI control, AL status code and status.
     fn prepare_register(&mut self, op: Op, value: u32) -> Access<'_> {
-        let sm_bytes = usize::from(self.config.sync_manager_count.clamp(4, 16)) * Channel::SIZE;
         let (address, len, write) = match op {
             Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
-            Op::ReadSyncManagers => (register::SM_BASE, sm_bytes, false),
+            Op::ReadSyncManagers => {
+                let start = self.sm_chunk_start();
+                let len = self.sm_unread - start;
+                (
+                    register::SM_BASE + u16::from(start),
+                    usize::from(len),
+                    false,
+                )
+            }
             Op::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, false),
             Op::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, false),
             Op::ReadDc => (register::DC_ACTIVATION, self.dc_read_len(), false),
@@ -808,7 +844,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 }
             }
             Op::ReadSyncManagers => {
-                self.read_sync_managers = false;
+                self.sm_unread = self.sm_chunk_start();
+                if self.sm_unread > 0 {
+                    // A chunk beyond SM3: read for its activation bytes only.
+                    return;
+                }
                 if let Some(channels) = self
                     .buf
                     .get(..Channels::SIZE)

@@ -78,7 +78,8 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
     assert_eq!(
         log,
         [
-            Op::Read(0x0800, 64),
+            Op::Read(0x0820, 32),
+            Op::Read(0x0800, 32),
             Op::Read(0x0420, 2),
             Op::Read(0x0981, 1),
             Op::Read(0x0120, 2)
@@ -113,6 +114,50 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
 }
 
 #[test]
+fn sync_manager_reads_cover_every_channel_of_the_esc_four_at_a_time() {
+    // Reading a channel's activation register is what clears its share of the SM-change event,
+    // so every channel the ESC has is read: beyond SM3 in chunks of four channels, the last
+    // chunk shorter when the count is not a multiple of four, SM0..SM3 last.
+    let cases: [(u8, &[Op]); 6] = [
+        (4, &[Op::Read(0x0800, 32)]),
+        (6, &[Op::Read(0x0820, 16), Op::Read(0x0800, 32)]),
+        (8, &[Op::Read(0x0820, 32), Op::Read(0x0800, 32)]),
+        (
+            16,
+            &[
+                Op::Read(0x0860, 32),
+                Op::Read(0x0840, 32),
+                Op::Read(0x0820, 32),
+                Op::Read(0x0800, 32),
+            ],
+        ),
+        (2, &[Op::Read(0x0800, 32)]),
+        (
+            200,
+            &[
+                Op::Read(0x0860, 32),
+                Op::Read(0x0840, 32),
+                Op::Read(0x0820, 32),
+                Op::Read(0x0800, 32),
+            ],
+        ),
+    ];
+    for (count, reads) in cases {
+        let config = DeviceConfig {
+            sync_manager_count: count,
+            ..DEVICE
+        };
+        let mut regs = Regs::new();
+        let mut sub = SubDevice::new(&config);
+        regs.drive(&mut sub, T0);
+        regs.event |= AlEvent::SM_CHANGE.bits();
+        sub.handle_al_event(AlEvent::SM_CHANGE);
+        assert_eq!(regs.drive(&mut sub, T0), reads, "{count} SyncManagers");
+        assert_eq!(regs.event, 0, "{count} SyncManagers: SM change cleared");
+    }
+}
+
+#[test]
 fn mailbox_start_copies_the_repeat_request_into_the_repeat_ack() {
     // SM1's repeat request (0x080E bit 1) is set before INIT→PREOP: at mailbox start the
     // acknowledge (0x080F bit 1) takes its value (conformance.md "Mailbox"), and nothing is
@@ -143,7 +188,8 @@ fn refusal_writes_the_code_before_the_error_indication() {
     assert_eq!(
         log,
         [
-            Op::Read(0x0800, 64),
+            Op::Read(0x0820, 32),
+            Op::Read(0x0800, 32),
             Op::Read(0x0420, 2),
             Op::Read(0x0981, 1),
             Op::Read(0x0120, 2),
@@ -196,7 +242,7 @@ fn a_mailbox_larger_than_mbx_is_refused_with_0x0002() {
     regs.sm(1, BIG.send.start, BIG.send.length, 0x22, true);
     let log = request(&mut regs, &mut sub, 0x0002);
     assert_eq!(
-        log[4..],
+        log[5..],
         [
             Op::Write(0x0134, vec![0x02, 0]),
             Op::Write(0x0130, vec![0x11, 0]),
@@ -488,12 +534,13 @@ fn downward_transitions_stop_outputs_then_inputs_then_the_mailbox() {
         let mut sub = in_op(&mut regs);
         let log = request(&mut regs, &mut sub, control);
         let reads = [
-            Op::Read(0x0800, 64),
+            Op::Read(0x0820, 32),
+            Op::Read(0x0800, 32),
             Op::Read(0x0420, 2),
             Op::Read(0x0981, 1),
             Op::Read(0x0120, 2),
         ];
-        assert_eq!(log[..4], reads, "AL control {control:#06x}");
-        assert_eq!(log[4..], writes, "AL control {control:#06x}");
+        assert_eq!(log[..reads.len()], reads, "AL control {control:#06x}");
+        assert_eq!(log[reads.len()..], writes, "AL control {control:#06x}");
     }
 }

@@ -120,8 +120,9 @@ impl Notes {
     }
 }
 
-/// Emergencies the application may raise between two turns of the state-machine runner.
-const EMERGENCIES: usize = 4;
+/// Emergencies the application may raise between two turns of the state-machine runner: as
+/// many as wait in the mailbox, so both queues are one type.
+const EMERGENCIES: usize = ecat_core::mailbox::EMERGENCY_QUEUE;
 
 /// The ESC shared by the two runners. `M` is `CriticalSectionRawMutex` in firmware, where the
 /// runners live in different executors.
@@ -154,15 +155,20 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     /// Performs one access for `runner`; returns the AL event seen, less the bits the access
     /// clears (reading a register clears its event, writing SM1's buffer clears its read event).
-    pub(crate) async fn access(
+    /// An `async` block, which keeps no copy of its arguments beside them (as an `async fn`
+    /// would), in the future each runner holds.
+    #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+    pub(crate) fn access(
         &self,
         runner: Runner,
         address: u16,
         data: Data<'_>,
         clears: AlEvent,
-    ) -> Result<AlEvent, P::Error> {
-        let seen = self.pdi.lock().await.access(address, data).await?;
-        Ok(self.observe_access(runner, seen, clears))
+    ) -> impl Future<Output = Result<AlEvent, P::Error>> {
+        async move {
+            let seen = self.pdi.lock().await.access(address, data).await?;
+            Ok(self.observe_access(runner, seen, clears))
+        }
     }
 
     /// The AL event `runner` saw during its access, less the bits the access cleared, routed.

@@ -387,6 +387,27 @@ fn emergencies_wait_behind_an_unread_answer() {
     });
 }
 
+/// While the MainDevice leaves SM1 unread, 4 emergencies wait in the mailbox
+/// (`EMERGENCY_QUEUE`); beyond that the oldest is dropped.
+#[test]
+fn four_emergencies_wait_behind_an_unread_one_and_the_oldest_are_dropped() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        master.raise_emergency(emergency(0x1000));
+        master.settle().await;
+        for code in 0x2001..=0x2006 {
+            master.raise_emergency(emergency(code));
+            master.settle().await;
+        }
+        assert_eq!(c.read().await, Some(emergency_frame(1, 0x1000)));
+        for (counter, code) in (2..).zip(0x2003..=0x2006) {
+            assert_eq!(c.read().await, Some(emergency_frame(counter, code)));
+        }
+        assert_eq!(c.read().await, None, "0x2001 and 0x2002 dropped");
+    });
+}
+
 #[test]
 fn emergencies_need_a_mailbox_state() {
     run(async |master| {

@@ -332,6 +332,33 @@ fn sm_change_in_preop_safeop_op_falls_back_with_the_right_code() {
     });
 }
 
+/// An SM-change event of a channel the SubDevice does not use (SM4..SM7 of the 8 an ET1100 has)
+/// is cleared too: the ESC clears AL event bit 4 only once every changed channel's activation
+/// register was read, so the SubDevice reads them all, four channels at a time (SM4..SM7 in one
+/// read, SM0..SM3 in another), and stays where it is.
+#[test]
+fn sm_change_of_a_channel_beyond_sm3_is_cleared() {
+    run(common::drive(), async move |master| {
+        walk_to(&master, AlState::PreOp).await;
+        for n in 4..8 {
+            let before = master.pdi_accesses();
+            assert!(master.write(ecat_core::register::sync_manager(n) + 6, &[0]));
+            master.settle().await;
+            let event = master.emulator().with(|esc| esc.al_event());
+            assert!(
+                !event.contains(ecat_core::AlEvent::SM_CHANGE),
+                "SM{n}'s change still pending: {event:?}"
+            );
+            assert_eq!(
+                master.pdi_accesses() - before,
+                3,
+                "SM{n}: the AL event, SM4..SM7, SM0..SM3"
+            );
+            assert_eq!((master.al_status(), master.al_status_code()), (0x02, 0));
+        }
+    });
+}
+
 /// SM2's watchdog trigger bit and the process-data watchdog time must agree (0x001F).
 #[test]
 fn inconsistent_watchdog_configuration_is_0x001f() {

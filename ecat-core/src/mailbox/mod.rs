@@ -33,7 +33,10 @@ use crate::ring::Ring;
 use crate::time::Instant;
 
 /// How many emergencies wait for SM1 at most; when full the oldest is dropped and counted.
-pub const EMERGENCY_QUEUE: usize = 8;
+/// They wait only while the MainDevice leaves SM1 unread, and a MainDevice that polls the
+/// mailbox takes one per poll; 4 is also what `SharedEsc` holds between two turns of the
+/// state-machine runner, so both queues are the same type (one copy of its code).
+pub const EMERGENCY_QUEUE: usize = 4;
 
 /// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes.
 #[derive(Debug)]

@@ -94,12 +94,19 @@ struct AddressPhase {
     /// Sent, then overwritten with what the ESC shifted out.
     bytes: [u8; 4],
     /// Bytes in use: 2 or 3 address/command bytes, plus the wait state byte.
-    len: usize,
+    len: u8,
     /// 3-byte addressing: the ESC shifts out 0x0222 as well.
     extended: bool,
 }
 
 impl AddressPhase {
+    /// No transaction yet.
+    const NONE: Self = Self {
+        bytes: [0; 4],
+        len: 0,
+        extended: false,
+    };
+
     /// The bytes that address `address` with `command`: 2-byte addressing below
     /// [`THREE_BYTE_ADDRESSING_FROM`], 3-byte addressing from there on.
     fn new(address: u16, command: Command) -> Self {
@@ -120,7 +127,7 @@ impl AddressPhase {
         };
         let mut len = if extended { 3 } else { 2 };
         if command == Command::ReadWithWaitState {
-            if let Some(byte) = bytes.get_mut(len) {
+            if let Some(byte) = bytes.get_mut(usize::from(len)) {
                 *byte = WAIT_STATE;
             }
             len += 1;
@@ -134,7 +141,9 @@ impl AddressPhase {
 
     /// The bytes to clock out; after the transfer, what the ESC shifted out meanwhile.
     fn as_mut_slice(&mut self) -> &mut [u8] {
-        self.bytes.get_mut(..self.len).unwrap_or_default()
+        self.bytes
+            .get_mut(..usize::from(self.len))
+            .unwrap_or_default()
     }
 
     /// The AL event register as the ESC shifted it out during the address phase: 0x0220, 0x0221
@@ -149,6 +158,9 @@ impl AddressPhase {
 pub struct BeckhoffSpi<S> {
     spi: S,
     config: Config,
+    /// The address phase of the transaction in flight: kept here, once, rather than in the
+    /// access future each runner holds.
+    phase: AddressPhase,
 }
 
 impl<S: SpiDevice> BeckhoffSpi<S> {
@@ -156,7 +168,11 @@ impl<S: SpiDevice> BeckhoffSpi<S> {
     /// register 0x0150, usually mode 3) with its chip-select line. The ESC needs no start-up
     /// sequence over SPI.
     pub const fn new(spi: S, config: Config) -> Self {
-        Self { spi, config }
+        Self {
+            spi,
+            config,
+            phase: AddressPhase::NONE,
+        }
     }
 
     /// The read command for the configured read latency.
@@ -173,40 +189,45 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
 
     /// Performs the access as [`Config::transactions`] says; returns the AL event of the first
     /// address phase. An empty access costs nothing and reports no event.
-    async fn access(&mut self, mut address: u16, data: Data<'_>) -> Result<AlEvent, S::Error> {
-        let mut first = None;
-        let mut rest = data;
-        while !rest.is_empty() {
-            let piece_len = match self.config.transactions {
-                Transactions::Burst => rest.len(),
-                Transactions::PerByte => 1,
-            };
-            let (piece, tail) = rest.split_at(piece_len);
-            rest = tail;
-            let at = address;
-            address = address.wrapping_add(piece_len as u16);
-            // One transaction: the address phase, then the data (a read's with the read
-            // termination on its last byte).
-            let mut phase;
-            let data = match piece {
-                Data::Read(buf) => {
-                    phase = AddressPhase::new(at, self.read_command());
-                    buf.fill(READ_CONTINUE);
-                    if let Some(last) = buf.last_mut() {
-                        *last = READ_TERMINATION;
+    ///
+    /// An `async` block rather than an `async fn`: the block works on its captured arguments
+    /// themselves, where an `async fn` keeps a copy of each beside it (18 bytes of a future each
+    /// runner holds).
+    #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+    fn access(
+        &mut self,
+        mut address: u16,
+        mut rest: Data<'_>,
+    ) -> impl Future<Output = Result<AlEvent, S::Error>> {
+        async move {
+            let mut first = None;
+            while !rest.is_empty() {
+                let piece_len = match self.config.transactions {
+                    Transactions::Burst => rest.len(),
+                    Transactions::PerByte => 1,
+                };
+                let (piece, tail) = rest.split_at(piece_len);
+                rest = tail;
+                let at = address;
+                address = address.wrapping_add(piece_len as u16);
+                // One transaction: the address phase, then the data (a read's with the read
+                // termination on its last byte).
+                let (command, data) = match piece {
+                    Data::Read(buf) => {
+                        buf.fill(READ_CONTINUE);
+                        if let Some(last) = buf.last_mut() {
+                            *last = READ_TERMINATION;
+                        }
+                        (self.read_command(), Operation::TransferInPlace(buf))
                     }
-                    Operation::TransferInPlace(buf)
-                }
-                Data::Write(data) => {
-                    phase = AddressPhase::new(at, Command::Write);
-                    Operation::Write(data)
-                }
-            };
-            self.spi
-                .transaction(&mut [Operation::TransferInPlace(phase.as_mut_slice()), data])
-                .await?;
-            first.get_or_insert(phase.al_event());
+                    Data::Write(data) => (Command::Write, Operation::Write(data)),
+                };
+                self.phase = AddressPhase::new(at, command);
+                let phase = Operation::TransferInPlace(self.phase.as_mut_slice());
+                self.spi.transaction(&mut [phase, data]).await?;
+                first.get_or_insert(self.phase.al_event());
+            }
+            Ok(first.unwrap_or(AlEvent::NONE))
         }
-        Ok(first.unwrap_or(AlEvent::NONE))
     }
 }

@@ -447,34 +447,42 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
     /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
     /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
     /// any other access reports the state-machine events known to be pending (see the module docs).
-    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error> {
-        let clears = match &data {
-            Data::Read(buf) => {
-                AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED)
+    /// An `async` block rather than an `async fn`, which would keep a copy of its arguments.
+    #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+    fn access(
+        &mut self,
+        address: u16,
+        data: Data<'_>,
+    ) -> impl Future<Output = Result<AlEvent, Self::Error>> {
+        async move {
+            let clears = match &data {
+                Data::Read(buf) => {
+                    AlEvent::cleared_by_register_read(address, buf.len()).intersection(TRACKED)
+                }
+                Data::Write(_) => AlEvent::NONE,
+            };
+            let reading = matches!(data, Data::Read(_));
+            let len = data.len();
+            let (mut registers, ram) = data.split_at(register_bytes(address, len));
+            let mut fresh = None;
+            if reading && !ram.is_empty() {
+                let mut value = [0; 4];
+                self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
+                    .await?;
+                fresh = Some(AlEvent(u32::from_le_bytes(value)));
             }
-            Data::Write(_) => AlEvent::NONE,
-        };
-        let reading = matches!(data, Data::Read(_));
-        let len = data.len();
-        let (mut registers, ram) = data.split_at(register_bytes(address, len));
-        let mut fresh = None;
-        if reading && !ram.is_empty() {
-            let mut value = [0; 4];
-            self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
-                .await?;
-            fresh = Some(AlEvent(u32::from_le_bytes(value)));
+            self.registers(address, &mut registers).await?;
+            self.pram(address.max(PROCESS_RAM), ram).await?;
+            let Data::Read(registers) = registers else {
+                return Ok(self.known);
+            };
+            let fresh = fresh.or_else(|| al_event_in(address, registers));
+            let event = fresh.unwrap_or(self.known);
+            self.known = fresh
+                .map_or(self.known, |e| e.intersection(TRACKED))
+                .difference(clears);
+            Ok(event)
         }
-        self.registers(address, &mut registers).await?;
-        self.pram(address.max(PROCESS_RAM), ram).await?;
-        let Data::Read(registers) = registers else {
-            return Ok(self.known);
-        };
-        let fresh = fresh.or_else(|| al_event_in(address, registers));
-        let event = fresh.unwrap_or(self.known);
-        self.known = fresh
-            .map_or(self.known, |e| e.intersection(TRACKED))
-            .difference(clears);
-        Ok(event)
     }
 }
 
