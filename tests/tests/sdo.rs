@@ -208,6 +208,34 @@ fn toggle_error_aborts_the_transfer() {
     });
 }
 
+/// The same on the download side: a segment whose toggle does not alternate (the first
+/// carries 0) is 0x05030000, and the value stays as it was.
+#[test]
+fn download_toggle_error_aborts_the_transfer() {
+    run(async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        c.download(0x2000, 0, false, &[b'a'; 4]).await.unwrap();
+        // A normal download of 200 bytes announced, 8 carried: segments must follow.
+        let mut initiate = vec![0x21, 0x00, 0x20, 0x00, 200, 0, 0, 0];
+        initiate.extend_from_slice(&[b'z'; 8]);
+        assert_eq!(c.sdo(&initiate).await.map(|a| a[0]), Ok(0x60));
+        assert_eq!(
+            c.sdo(&[0x10, b'z', b'z', b'z', b'z', b'z', b'z', b'z'])
+                .await,
+            Err(SdoError::Abort(AbortCode::TOGGLE_BIT)),
+            "first segment with toggle 1"
+        );
+        assert_eq!(
+            c.sdo(&[0x00, b'z', b'z', b'z', b'z', b'z', b'z', b'z'])
+                .await,
+            Err(SdoError::Abort(AbortCode::COMMAND_SPECIFIER)),
+            "transfer gone"
+        );
+        assert_eq!(c.upload(0x2000, 0, false).await, Ok(b"aaaa".to_vec()));
+    });
+}
+
 #[test]
 fn toggle_abort_names_the_transfer_object() {
     run(async |master| {

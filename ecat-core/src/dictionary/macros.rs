@@ -46,7 +46,8 @@
 /// Array fields are `[T; N]`; record fields are structs whose fields the entries name. The macro
 /// implements [`ObjectDictionary`](crate::dictionary::ObjectDictionary) and `Default` (every field
 /// at its declared default, or the type's default), and asserts at compile time that indices and
-/// subindices ascend strictly and that only mappable types are PDO-mappable:
+/// subindices ascend strictly, that only mappable types are PDO-mappable and that PDO mapping and
+/// assignment objects are writable in PREOP only:
 ///
 /// ```compile_fail
 /// pub struct Od { a: u8, b: u8 }
@@ -73,6 +74,16 @@
 /// ecat_core::dictionary! {
 ///     Od {
 ///         0x2000 => var(a, RO, "A", min = 300); // 300 is not a u8
+///     }
+/// }
+/// ```
+///
+/// ```compile_fail
+/// use ecat_core::pdo::PdoAssignment;
+/// pub struct Od { assign: PdoAssignment<2> }
+/// ecat_core::dictionary! {
+///     Od {
+///         0x1C12 => pdo(assign, RW, "SM2 assignment", "PDO"); // writable in OP: does not compile
 ///     }
 /// }
 /// ```
@@ -129,6 +140,10 @@ macro_rules! dictionary {
             assert!(
                 $crate::dictionary::mappable_types_only(objects),
                 "only numeric and bit types may be PDO-mappable"
+            );
+            assert!(
+                $crate::dictionary::pdo_configuration_preop_only(objects),
+                "PDO mapping and assignment objects may be writable in PREOP only"
             );
         };
 

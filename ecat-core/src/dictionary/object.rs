@@ -160,6 +160,33 @@ pub const fn is_well_formed<D>(objects: &[super::Object<D>]) -> bool {
     true
 }
 
+/// `const` check that the PDO configuration objects (mappings 0x1600..0x17FF and
+/// 0x1A00..0x1BFF, assignments 0x1C12/0x1C13) are written in PREOP only: none of their entries
+/// is writable in SAFEOP or OP, where the process data runs on them (ETG.1000.6 §5.6.7,
+/// conformance.md "CoE SDO").
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn pdo_configuration_preop_only<D>(objects: &[super::Object<D>]) -> bool {
+    use crate::AlState;
+    use crate::pdo::Direction;
+    let mut i = 0;
+    while i < objects.len() {
+        let index = objects[i].info.index;
+        let configures =
+            Direction::of_mapping(index).is_some() || Direction::of_assignment(index).is_some();
+        let entries = objects[i].info.entries;
+        let mut j = 0;
+        while configures && j < entries.len() {
+            let access = entries[j].access;
+            if access.writable_in(AlState::SafeOp) || access.writable_in(AlState::Op) {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
+}
+
 /// `const` check that every PDO-mappable entry has a mappable type.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
 pub const fn mappable_types_only<D>(objects: &[super::Object<D>]) -> bool {
