@@ -43,6 +43,23 @@ impl<F: FnMut(&mut [u8]) -> Option<usize>> Medium for F {
     }
 }
 
+/// ethercrab's timeouts for an in-process line: its defaults (30 ms per PDU, 10 ms per EEPROM
+/// operation, 5 s per state transition) are wall-clock times meant for a real network; here
+/// every frame is answered at once, so they can only expire when the host is starved (a loaded
+/// CI machine), and a test would fail for nothing. A hundred times longer, they still end a
+/// test that hangs.
+pub fn timeouts() -> Timeouts {
+    let d = Timeouts::default();
+    Timeouts {
+        state_transition: d.state_transition * 100,
+        pdu: d.pdu * 100,
+        eeprom: d.eeprom * 100,
+        wait_loop_delay: d.wait_loop_delay,
+        mailbox_echo: d.mailbox_echo * 100,
+        mailbox_response: d.mailbox_response * 100,
+    }
+}
+
 /// The configuration for tests: no DC static-drift compensation (ethercrab's default sends
 /// 10 000 DC frames before OP) and ethercrab's default timeouts.
 pub fn config() -> MainDeviceConfig {

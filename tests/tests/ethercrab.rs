@@ -8,7 +8,7 @@ use ecat_core::sync::SupportedSync;
 use ecat_emu::devices;
 use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;
-use ecat_emu::real_master::{next_cycle, run_on_line};
+use ecat_emu::real_master::{next_cycle, run_on_line, timeouts};
 use ethercrab::subdevice_group::{DcConfiguration, Op, PreOp, SafeOp};
 use ethercrab::{DcSupport, DcSync, DefaultLock, MainDevice, SubDeviceGroup, Timeouts};
 
@@ -56,7 +56,7 @@ async fn cycle_into_op<DC>(
 /// `description()` the SII name string.
 #[test]
 fn discovery_reads_identity_and_names_from_the_generated_sii() {
-    let found = run_on_line(three(), Timeouts::default(), async |main, _| {
+    let found = run_on_line(three(), timeouts(), async |main, _| {
         let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
             .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
             .await
@@ -91,7 +91,7 @@ fn discovery_reads_identity_and_names_from_the_generated_sii() {
 #[test]
 fn three_subdevices_reach_op_and_exchange_10000_cycles() {
     let cycles = 10_000u32;
-    let report = run_on_line(three(), Timeouts::default(), async move |main, masters| {
+    let report = run_on_line(three(), timeouts(), async move |main, masters| {
         let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
             .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
             .await
@@ -232,7 +232,7 @@ fn dc_line() -> Vec<Box<dyn Spawn>> {
 #[test]
 fn ethercrab_dc_sync0_drives_the_cycle() {
     let (support, sync_in, cycle_ns, counted) =
-        run_on_line(dc_line(), Timeouts::default(), async |main, masters| {
+        run_on_line(dc_line(), timeouts(), async |main, masters| {
             let mut group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
                 .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
                 .await

@@ -4,7 +4,7 @@
 
 use ecat_emu::master::TestMaster;
 use ecat_emu::real_master::{self, next_cycle};
-use ethercrab::{MainDevice, SubDeviceGroup, Timeouts};
+use ethercrab::{MainDevice, SubDeviceGroup};
 
 use crate::cia402::{Feedback, Pdo, Phase, Profile, State, mode_names, state_name};
 
@@ -37,7 +37,7 @@ pub fn run(report: impl FnMut(&str) + 'static) -> Result<Vec<Sample>, String> {
     let axis = crate::catalog::device("cia402").ok_or("no cia402 device")?;
     real_master::run_on_line(
         vec![axis],
-        Timeouts::default(),
+        real_master::timeouts(),
         async move |main, masters| {
             Demo {
                 main,
