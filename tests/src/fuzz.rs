@@ -4,7 +4,7 @@
 //! application's answers to transitions, time, emergencies and the process-data cycle (copy
 //! plan, pack/unpack, cycle monitor).
 //!
-//! [`session`] reads the bytes as a list of steps ([`Step`]), performs each against a plain
+//! [`session`] reads the bytes as a list of steps (the private `Step`), performs each against a plain
 //! register file standing in for the ESC, and lets the core perform every access it asks for
 //! after each step, as the runners do. Whatever the bytes, it asserts that
 //! - the core does not panic (the target's reason to exist: ecat-core is panic-free);
