@@ -4,7 +4,9 @@
 /// A FIFO of at most `N` elements.
 #[derive(Debug, Clone)]
 pub struct Ring<T: Copy, const N: usize> {
-    slots: [Option<T>; N],
+    /// The elements, `len` of them from `head` on (wrapping); the other slots hold stale values
+    /// or the filler, never returned (no `Option` per slot: its tag is what `len` says).
+    slots: [T; N],
     /// The oldest element's slot and the element count: bytes, as `N` < 128 (checked in `new`),
     /// so that their sum fits.
     head: u8,
@@ -13,11 +15,11 @@ pub struct Ring<T: Copy, const N: usize> {
 }
 
 impl<T: Copy, const N: usize> Ring<T, N> {
-    /// An empty queue.
-    pub const fn new() -> Self {
+    /// An empty queue whose slots hold `fill` until used (never returned).
+    pub const fn new(fill: T) -> Self {
         const { assert!(N < 128, "a Ring holds fewer than 128 elements") };
         Self {
-            slots: [None; N],
+            slots: [fill; N],
             head: 0,
             len: 0,
             dropped: 0,
@@ -36,7 +38,7 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         }
         let tail = usize::from((self.head + self.len) % N as u8);
         if let Some(slot) = self.slots.get_mut(tail) {
-            *slot = Some(value);
+            *slot = value;
             self.len += 1;
         }
     }
@@ -46,10 +48,7 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         if self.len == 0 {
             return None;
         }
-        let value = self
-            .slots
-            .get_mut(usize::from(self.head))
-            .and_then(Option::take);
+        let value = self.slots.get(usize::from(self.head)).copied();
         self.head = (self.head + 1) % N as u8;
         self.len -= 1;
         value
@@ -71,9 +70,9 @@ impl<T: Copy, const N: usize> Ring<T, N> {
     }
 }
 
-impl<T: Copy, const N: usize> Default for Ring<T, N> {
+impl<T: Copy + Default, const N: usize> Default for Ring<T, N> {
     fn default() -> Self {
-        Self::new()
+        Self::new(T::default())
     }
 }
 
@@ -83,7 +82,7 @@ mod tests {
 
     #[test]
     fn fifo_order_and_oldest_dropped_when_full() {
-        let mut r: Ring<u8, 3> = Ring::new();
+        let mut r: Ring<u8, 3> = Ring::new(0);
         for v in 1..=5 {
             r.push(v);
         }

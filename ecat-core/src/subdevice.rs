@@ -244,7 +244,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             written: Written::new(),
             in_flight: None,
             pending: None,
-            events: Ring::new(),
+            events: Ring::new(Event::StateChanged(Transition {
+                from: AlState::Init,
+                to: AlState::Init,
+            })),
             buf: [0; BUF_LEN],
             mailbox: Mailbox::new(),
             complete_mailbox: false,

@@ -145,7 +145,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 last_event: AlEvent::NONE,
                 esm_started: false,
                 pd_news: 0,
-                emergencies: Ring::new(),
+                emergencies: Ring::new(Emergency::NONE),
                 notes: Notes::NONE,
                 esm_waker: WakerRegistration::new(),
                 pd_waker: WakerRegistration::new(),

@@ -15,6 +15,13 @@ impl Emergency {
     /// Size of the emergency data after the CoE header.
     pub const SIZE: usize = 8;
 
+    /// Error code 0x0000 "no error", register 0, no data: what an empty queue slot holds.
+    pub const NONE: Self = Self {
+        code: 0,
+        register: 0,
+        data: [0; 5],
+    };
+
     /// The 8 data bytes on the wire.
     pub const fn to_bytes(self) -> [u8; 8] {
         let c = self.code.to_le_bytes();

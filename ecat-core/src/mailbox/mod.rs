@@ -95,7 +95,7 @@ impl<const N: usize> Mailbox<N> {
             repeat_request: false,
             sdo: SdoServer::new(),
             sdo_info: SdoInfo::new(),
-            emergencies: Ring::new(),
+            emergencies: Ring::new(Emergency::NONE),
         }
     }
 
