@@ -11,7 +11,8 @@ pub struct Ring<T: Copy, const N: usize> {
     /// so that their sum fits.
     head: u8,
     len: u8,
-    dropped: u32,
+    /// Saturating: a diagnostic count, 16 bits like the other counters of the SubDevice.
+    dropped: u16,
 }
 
 impl<T: Copy, const N: usize> Ring<T, N> {
@@ -64,8 +65,8 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         self.len == 0
     }
 
-    /// How many elements were dropped because the queue was full.
-    pub const fn dropped(&self) -> u32 {
+    /// How many elements were dropped because the queue was full (saturating at 65 535).
+    pub const fn dropped(&self) -> u16 {
         self.dropped
     }
 }

@@ -140,6 +140,21 @@ impl Op {
     }
 }
 
+/// The register reads an AL event asks for besides the SyncManagers' (`SubDevice::reads`), in the
+/// order they are made.
+mod read {
+    /// The process-data watchdog time (0x0420), with every AL control event: for the watchdog
+    /// consistency check at PREOP→SAFEOP.
+    pub const WATCHDOG: u8 = 1 << 0;
+    /// The watchdog status (0x0440) after AL event bit 6 in OP; reading it acknowledges the event.
+    pub const WATCHDOG_STATUS: u8 = 1 << 1;
+    /// The DC activation (and, on a DC-capable device, the SYNC0 cycle), with every AL control
+    /// event: for the DC checks at PREOP→SAFEOP.
+    pub const DC: u8 = 1 << 2;
+    /// AL control (0x0120), after all the others.
+    pub const AL_CONTROL: u8 = 1 << 3;
+}
+
 /// The SM0/SM1 accesses of the mailbox.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum MailboxOp {
@@ -179,17 +194,10 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// [`SM_CHUNK`] from the end, the channels beyond SM3 first and SM0..SM3 last; 0 when no read
     /// is due.
     sm_unread: u8,
-    read_al_control: bool,
-    /// The process-data watchdog time (0x0420) is read with every AL control event, for the
-    /// watchdog consistency check at PREOP→SAFEOP.
-    read_watchdog: bool,
+    /// The other register reads due, a bit each ([`read`]).
+    reads: u8,
     /// 0x0420 as last read.
     watchdog_time: u16,
-    /// AL event bit 6 came: read the watchdog status (0x0440), which also acknowledges it.
-    read_watchdog_status: bool,
-    /// The DC activation (and, on a DC-capable device, the SYNC0 cycle) is read with every AL
-    /// control event, for the DC checks at PREOP→SAFEOP.
-    read_dc: bool,
     /// The DC registers as last read.
     dc: DcSettings,
     sm_changed: bool,
@@ -233,11 +241,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             device_id: 0,
             channels: Channels::default(),
             sm_unread: 0,
-            read_al_control: false,
-            read_watchdog: false,
+            reads: 0,
             watchdog_time: 0,
-            read_watchdog_status: false,
-            read_dc: false,
             dc: DcSettings::default(),
             sm_changed: false,
             targets: None,
@@ -355,11 +360,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
-        let al_control = event.contains(AlEvent::AL_CONTROL) && !self.read_al_control;
+        let al_control = event.contains(AlEvent::AL_CONTROL) && !self.read_due(read::AL_CONTROL);
         if al_control {
-            self.read_al_control = true;
-            self.read_watchdog = true;
-            self.read_dc = true;
+            self.reads |= read::AL_CONTROL | read::WATCHDOG | read::DC;
         }
         if event.contains(AlEvent::SM_CHANGE) {
             self.sm_changed = true;
@@ -368,7 +371,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.sm_unread = self.sm_bytes();
         }
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
-            self.read_watchdog_status = true;
+            self.reads |= read::WATCHDOG_STATUS;
         }
         if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
             self.stale.insert(Stale::MAILBOX_QUEUE);
@@ -697,12 +700,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn next_read(&self) -> Option<Op> {
         let reads = [
             (self.sm_unread > 0, Op::ReadSyncManagers),
-            (self.read_watchdog, Op::ReadWatchdog),
-            (self.read_watchdog_status, Op::ReadWatchdogStatus),
-            (self.read_dc, Op::ReadDc),
-            (self.read_al_control, Op::ReadAlControl),
+            (self.read_due(read::WATCHDOG), Op::ReadWatchdog),
+            (self.read_due(read::WATCHDOG_STATUS), Op::ReadWatchdogStatus),
+            (self.read_due(read::DC), Op::ReadDc),
+            (self.read_due(read::AL_CONTROL), Op::ReadAlControl),
         ];
         reads.into_iter().find_map(|(due, op)| due.then_some(op))
+    }
+
+    /// Whether the register read `read` ([`read`]) is due.
+    fn read_due(&self, read: u8) -> bool {
+        self.reads & read != 0
     }
 
     /// An input of the register targets changed (state, error, code, device ID, process-data
@@ -825,11 +833,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
             Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
             Op::ReadWatchdog => {
-                self.read_watchdog = false;
+                self.reads &= !read::WATCHDOG;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
             }
             Op::ReadDc => {
-                self.read_dc = false;
+                self.reads &= !read::DC;
                 let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
                 let dc = DcSettings::from_bytes(bytes);
                 if dc != self.dc {
@@ -839,7 +847,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 }
             }
             Op::ReadWatchdogStatus => {
-                self.read_watchdog_status = false;
+                self.reads &= !read::WATCHDOG_STATUS;
                 let running = self.buf[0] & 1 != 0;
                 if !running && self.state == AlState::Op {
                     // ETG.1000.6: SM watchdog in OP → SAFEOP with error 0x001B.
@@ -861,12 +869,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     let repeat = channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
                     self.mailbox.repeat_request(repeat);
                 }
-                if !self.read_al_control {
+                if !self.read_due(read::AL_CONTROL) {
                     self.check_sm_change();
                 }
             }
             Op::ReadAlControl => {
-                self.read_al_control = false;
+                self.reads &= !read::AL_CONTROL;
                 let control = AlControl::from_le_bytes([self.buf[0], self.buf[1]]);
                 self.on_control(now, control);
                 self.check_sm_change();
@@ -1129,7 +1137,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// Emergencies dropped because the queue was full.
-    pub fn emergencies_dropped(&self) -> u32 {
+    pub fn emergencies_dropped(&self) -> u16 {
         self.mailbox.emergencies_dropped()
     }
 }

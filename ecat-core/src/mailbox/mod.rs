@@ -253,7 +253,7 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// Emergencies dropped because the queue was full.
-    pub fn emergencies_dropped(&self) -> u32 {
+    pub fn emergencies_dropped(&self) -> u16 {
         self.emergencies.dropped()
     }
 
