@@ -598,3 +598,36 @@ fn a_segmented_download_into_mapped_entries_is_checked_again_at_its_last_segment
     );
     assert_eq!(od.words, [0x1111, 0x2222, 0x3333]);
 }
+
+/// The same for the access rights: a segmented download started in PREOP into an entry writable
+/// in PREOP only (a complete access to 0x1C12) is refused with 0x08000022 at its last segment in
+/// SAFEOP, and the assignment stays as it was.
+#[test]
+fn a_segmented_download_is_checked_for_the_state_it_ends_in() {
+    let mut od = Od::default();
+    let mut server = SdoServer::<64>::new();
+    let mut serve = |od: &mut Od, state, request: &[u8]| {
+        let mut cx = Context {
+            od,
+            hooks: &mut (),
+            state,
+            now: Instant::from_micros(0),
+            writes: Writes::default(),
+        };
+        let mut out = [0u8; 58];
+        let n = server.request(&mut cx, request, &mut out);
+        out[..n].to_vec()
+    };
+    // SI0 = 2 and its pad, 0x1600, then 0x1601 in the segment.
+    let initiate = [0x31, 0x12, 0x1C, 0x00, 6, 0, 0, 0, 2, 0, 0x00, 0x16];
+    let last = [0x0B, 0x01, 0x16, 0, 0, 0, 0, 0];
+    assert_eq!(
+        serve(&mut od, AlState::PreOp, &initiate),
+        [0x00, 0x30, 0x70, 0x12, 0x1C, 0x00, 0, 0, 0, 0]
+    );
+    assert_eq!(
+        serve(&mut od, AlState::SafeOp, &last),
+        [0x00, 0x20, 0x80, 0x12, 0x1C, 0x00, 0x22, 0x00, 0x00, 0x08]
+    );
+    assert_eq!((od.rx_assign.count, od.rx_assign.items), (1, [0x1600, 0]));
+}

@@ -165,7 +165,7 @@ fn complete_access_on_the_assignment_follows_the_configuration_sequence() {
 /// TwinCAT and SOEM write an assignment with complete access as SI0 and only the entries it
 /// counts (`01 00 00 16`: one PDO, 4 bytes of a 6-byte object); the whole object is accepted as
 /// well. Anything else is a length error: shorter than SI0 counts 0x06070013, longer than the
-/// object 0x06070012, in between 0x06070010.
+/// object 0x06070012, in between 0x06070010. A refused download leaves the assignment as it was.
 #[test]
 fn complete_access_on_the_assignment_takes_the_entries_si0_counts() {
     run(async |master| {
@@ -189,6 +189,13 @@ fn complete_access_on_the_assignment_takes_the_entries_si0_counts() {
                 &[1, 0, 0x00, 0x16, 0x00, 0x00, 0x00][..],
                 AbortCode::LENGTH_TOO_HIGH,
             ),
+            // Refused by the configuration rules before anything is stored: more than the
+            // capacity of 2, a TxPDO in SM2's assignment.
+            (
+                &[3, 0, 0x00, 0x16, 0x00, 0x16][..],
+                AbortCode::VALUE_TOO_HIGH,
+            ),
+            (&[1, 0, 0x00, 0x1A][..], AbortCode::VALUE_RANGE),
         ];
         for (image, code) in refused {
             assert_eq!(
@@ -197,7 +204,11 @@ fn complete_access_on_the_assignment_takes_the_entries_si0_counts() {
                 "{image:02x?}"
             );
         }
-        assert_eq!(c.upload(0x1C12, 0, false).await, Ok(vec![1]), "unchanged");
+        assert_eq!(
+            c.upload(0x1C12, 0, true).await,
+            Ok(vec![1, 0, 0x00, 0x16, 0x00, 0x00]),
+            "unchanged"
+        );
     });
 }
 

@@ -214,25 +214,23 @@ pub fn check_assignment_entry<D: ObjectDictionary>(
     }
 }
 
-/// Checks that SI0 := `data` of PDO configuration object `index` counts only valid entries
-/// among `items` (SI1..): entries written while SI0 was 0 were checked one by one, but an entry
-/// never written (0) is no PDO of an assignment: 0x06090030 (conformance.md "CoE SDO").
+/// Checks that SI0 := `data` of assignment object `index` counts only PDOs among `items`
+/// (SI1..): entries written while SI0 was 0 were checked one by one, but an entry never written
+/// (0x0000) is no PDO: 0x06090030 (conformance.md "CoE SDO"). A mapping object's entries need no
+/// such check: each was checked when written, and one never written (0) is a 0-bit gap.
 #[doc(hidden)]
 pub fn check_counted_entries<D: ObjectDictionary, T: Copy + Into<u32>>(
     index: u16,
     items: &[T],
     data: &[u8],
 ) -> Result<(), AbortCode> {
+    if Direction::of_assignment(index).is_none() {
+        return Ok(());
+    }
     let n = usize::from(data.first().copied().unwrap_or(0));
     items.iter().take(n).try_for_each(|item| {
-        let value: u32 = (*item).into();
-        match Direction::of_assignment(index) {
-            Some(_) => {
-                let pdo = u16::try_from(value).map_err(|_| AbortCode::VALUE_RANGE)?;
-                check_assignment_entry::<D>(index, pdo)
-            }
-            None => check_mapping_entry::<D>(index, value),
-        }
+        let pdo = u16::try_from((*item).into()).map_err(|_| AbortCode::VALUE_RANGE)?;
+        check_assignment_entry::<D>(index, pdo)
     })
 }
 

@@ -63,6 +63,9 @@ struct Segmented {
     /// The toggle bit the next segment must carry.
     toggle: bool,
     deadline: Instant,
+    /// The ESM state the rights were checked in: a download whose state changed meanwhile is
+    /// checked again before it stores (access rights, RxPDO-mapped entries).
+    state: AlState,
 }
 
 /// What a request is served with: the dictionary, the hooks, the state and the time.
@@ -225,7 +228,7 @@ impl<const N: usize> SdoServer<N> {
             let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
             let command = response::upload_normal(target.complete);
             if sent < size {
-                self.begin(cx.now, Kind::Upload, target, size, sent);
+                self.begin(cx, Kind::Upload, target, size, sent);
             }
             write_sdo(body, command, target, size_bytes) + sent
         };
@@ -326,7 +329,7 @@ impl<const N: usize> SdoServer<N> {
                 .ok_or(AbortCode::OUT_OF_MEMORY)?
                 .copy_from_slice(first);
         }
-        self.begin(cx.now, Kind::Download, target, size, first.len());
+        self.begin(cx, Kind::Download, target, size, first.len());
         Ok(download_response(out, target))
     }
 
@@ -342,6 +345,7 @@ impl<const N: usize> SdoServer<N> {
             target,
             size,
             done: received,
+            state,
             ..
         } = self.next_segment(Kind::Download, toggle)?;
         let total = received + data.len();
@@ -352,6 +356,12 @@ impl<const N: usize> SdoServer<N> {
             return Err(AbortCode::LENGTH_TOO_LOW);
         }
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
+        if state != cx.state {
+            // The rights of the initiate's state do not carry over (a download started in PREOP
+            // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
+            resolve::<D>(target, cx.state, Direction::Write)?;
+            check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
+        }
         if target.domain {
             store(cx, object, target, data, received, last)?;
         } else {
@@ -360,7 +370,6 @@ impl<const N: usize> SdoServer<N> {
                 .ok_or(AbortCode::OUT_OF_MEMORY)?
                 .copy_from_slice(data);
             if last {
-                check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
                 let value = self.buf.get(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
                 store(cx, object, target, value, 0, true)?;
             }
@@ -382,8 +391,15 @@ impl<const N: usize> SdoServer<N> {
 
     /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
     /// toggle 0.
-    fn begin(&mut self, now: Instant, kind: Kind, target: Target, size: usize, done: usize) {
-        let deadline = now.saturating_add(Self::SEGMENT_TIMEOUT);
+    fn begin<D, H>(
+        &mut self,
+        cx: &Context<'_, D, H>,
+        kind: Kind,
+        target: Target,
+        size: usize,
+        done: usize,
+    ) {
+        let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
         self.transfer = Some(Segmented {
             kind,
             target,
@@ -391,6 +407,7 @@ impl<const N: usize> SdoServer<N> {
             done,
             toggle: false,
             deadline,
+            state: cx.state,
         });
     }
 
@@ -616,6 +633,9 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
     let mut last = object.info.max_sub;
     match si0 {
         Some(n) if writable => {
+            // Checked before anything is stored: a refused configuration leaves the object as
+            // it was (the sequence below empties it first).
+            check_configuration::<D>(object, from, data, n)?;
             store_entry(cx, object, 0, &[0])?;
             last = n;
         }
@@ -638,6 +658,26 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         Some(n) if writable => store_entry(cx, object, 0, &[n]),
         _ => Ok(()),
     }
+}
+
+/// The entries a complete access to a configuration object (writable SI0) counts with `n`, as
+/// the PDO configuration rules will judge them one by one: at most the capacity (0x06090031),
+/// each a valid mapping or assignment entry ([`pdo::check_entry`]).
+fn check_configuration<D: ObjectDictionary>(
+    object: &Object<D>,
+    from: u8,
+    data: &[u8],
+    n: u8,
+) -> Result<(), AbortCode> {
+    if n > object.info.max_sub {
+        return Err(AbortCode::VALUE_TOO_HIGH);
+    }
+    for sub in 1..=n {
+        let (value, len) = complete_access::entry_value(data, &object.info, from, sub)
+            .ok_or(AbortCode::LENGTH_MISMATCH)?;
+        pdo::check_entry::<D>(object.info.index, value.get(..len).unwrap_or_default())?;
+    }
+    Ok(())
 }
 
 /// A complete-access image of `len` bytes from `from` must be the whole object, or, when the
