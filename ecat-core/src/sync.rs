@@ -23,6 +23,7 @@
 //! ```
 
 use crate::AlStatusCode;
+use crate::coe::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{Object, ObjectDictionary};
 use crate::pdo::layout::read_u16;
@@ -215,6 +216,21 @@ pub const fn input_sync_type(output: SyncType, has_outputs: bool) -> SyncType {
     match output {
         SyncType::SmSynchronous if has_outputs => SyncType::Sm2Synchronous,
         other => other,
+    }
+}
+
+/// A write of 0x1C33:01 must name a sync type of the inputs (ETG.1000.6 Table 74: free-run 0,
+/// SM3-synchronous 1, DC SYNC0 2, DC SYNC1 3, SM2-synchronous 0x22), else 0x06090030. What it
+/// shows afterwards is the inputs' type in effect ([`input_sync_type`], filled by [`fill`]): the
+/// inputs follow the outputs' 0x1C32:01 (or, without 0x1C32, the ESC's SYNC0 activation).
+#[doc(hidden)]
+pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+    match (sub, data) {
+        (1, &[lo, hi]) => match u16::from_le_bytes([lo, hi]) {
+            0x00..=0x03 | 0x22 => Ok(()),
+            _ => Err(AbortCode::VALUE_RANGE),
+        },
+        _ => Ok(()),
     }
 }
 

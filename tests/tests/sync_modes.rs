@@ -87,8 +87,9 @@ fn sm_synchronous_by_default_and_the_supported_types_are_readable() {
 
 /// TwinCAT and SOEM setups write 0x1C33:01 beside 0x1C32:01 in PREOP: the write is accepted
 /// (conformance.md "Sync parameters": SI1 writable in PREOP), and 0x1C33:01 shows the inputs'
-/// type that follows from the outputs' — SM-synchronous with outputs: 0x22, latched with SM2.
-/// In SAFEOP it is read-only like 0x1C32:01 (0x08000022).
+/// type that follows from the outputs' — SM-synchronous with outputs: 0x22, latched with SM2. A
+/// value that is no sync type is 0x06090030; in SAFEOP it is read-only like 0x1C32:01
+/// (0x08000022).
 #[test]
 fn the_inputs_sync_type_is_writable_in_preop_and_follows_the_outputs() {
     run(BOTH, async |master| {
@@ -97,6 +98,11 @@ fn the_inputs_sync_type_is_writable_in_preop_and_follows_the_outputs() {
         assert_eq!(c.download(0x1C32, 1, false, &[1, 0]).await, Ok(()));
         assert_eq!(c.download(0x1C33, 1, false, &[1, 0]).await, Ok(()));
         assert_eq!(c.upload(0x1C33, 1, false).await, Ok(vec![0x22, 0]));
+        assert_eq!(
+            c.download(0x1C33, 1, false, &[0x05, 0]).await,
+            Err(SdoError::Abort(AbortCode::VALUE_RANGE)),
+            "not a sync type"
+        );
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
         assert_eq!(
             c.download(0x1C33, 1, false, &[0x22, 0]).await,

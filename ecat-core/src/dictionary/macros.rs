@@ -24,7 +24,9 @@
 /// (SI1 sync type: writable in PREOP, default 1 for the outputs, 0x22 for the inputs — the
 /// inputs' type follows the outputs' ([`sync::input_sync_type`](crate::sync::input_sync_type)),
 /// so a value a MainDevice writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is
-/// replaced by the type in effect when the configuration is next refreshed; SI2 cycle time
+/// replaced by the type in effect when the configuration is next refreshed, and one that is no
+/// sync type is refused, [`sync::check_input_sync_write`](crate::sync::check_input_sync_write);
+/// SI2 cycle time
 /// writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C, 0x20 read-only).
 ///
 /// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
@@ -284,9 +286,17 @@ macro_rules! __ecat_object {
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, outputs )) => {
         $crate::__ecat_sync_parameters!($dict, $index, $field, "SM output parameter", RW_PREOP, 1)
     };
-    ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {
-        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RW_PREOP, 0x22)
-    };
+    ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {{
+        const RECORD: $crate::dictionary::Object<$dict> =
+            $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RW_PREOP, 0x22);
+        $crate::dictionary::Object::<$dict> {
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                $crate::sync::check_input_sync_write(sub, data)?;
+                (RECORD.write)(d, sub, data)
+            },
+            ..RECORD
+        }
+    }};
     ($dict:ident, $index:literal, sync_manager_types ( $field:ident )) => {
         $crate::dictionary::Object::<$dict> {
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
