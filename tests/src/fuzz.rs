@@ -588,15 +588,33 @@ impl Session<'_> {
     }
 
     /// AL status and code agree with the core and with each other.
+    /// What the ESC's registers present once the core settled: AL status (0x0130) and code
+    /// (0x0134) as the core holds them, a valid state, the error indication exactly when the
+    /// code is not 0x0000 (unless 0x0134 shows the device ID).
     fn check(&self) {
-        let status = self.sub.al_status();
-        assert!(matches!(status.state as u8, 1 | 2 | 3 | 4 | 8));
-        let code = self.sub.al_status_code();
+        let word = |address: u16| {
+            let a = usize::from(address);
+            u16::from_le_bytes([self.mem[a], self.mem[a + 1]])
+        };
+        let (status, code) = (word(register::AL_STATUS), word(register::AL_STATUS_CODE));
+        assert_eq!(status, self.sub.al_status().bits(), "AL status presented");
         assert_eq!(
-            status.error,
-            code != AlStatusCode::NO_ERROR && !status.id_loaded,
-            "error indication without a code or a code without it: {status:?} {code:?}"
+            code,
+            self.sub.al_status_code().0,
+            "AL status code presented"
         );
+        assert!(
+            matches!(status & 0x0F, 1 | 2 | 3 | 4 | 8),
+            "state {status:#06x}"
+        );
+        let (error, id_loaded) = (status & 0x10 != 0, status & 0x20 != 0);
+        if !id_loaded {
+            assert_eq!(
+                error,
+                code != 0,
+                "error indication without a code or a code without it: {status:#06x} {code:#06x}"
+            );
+        }
     }
 }
 

@@ -61,7 +61,7 @@ pub fn timeouts() -> Timeouts {
 }
 
 /// The configuration for tests: no DC static-drift compensation (ethercrab's default sends
-/// 10 000 DC frames before OP) and ethercrab's default timeouts.
+/// 10 000 DC frames before OP), ethercrab's defaults otherwise (the timeouts are [`timeouts`]).
 pub fn config() -> MainDeviceConfig {
     MainDeviceConfig {
         dc_static_sync_iterations: 0,

@@ -189,7 +189,7 @@ fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {
         .with_eeprom(sample.eeprom());
     let timeouts = Timeouts {
         state_transition: std::time::Duration::from_millis(200),
-        ..Timeouts::default()
+        ..timeouts()
     };
     let (result, status, code) =
         run_on_line(vec![Box::new(refusing)], timeouts, async |main, _| {
