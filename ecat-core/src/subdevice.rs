@@ -53,6 +53,10 @@ const SM_CHUNK: usize = Channels::SIZE;
 // A chunk starts where the unread bytes' last multiple of `SM_CHUNK` does (a mask).
 const _: () = assert!(SM_CHUNK.is_power_of_two() && SM_CHUNK < 256);
 
+/// Marks a SyncManager read in flight (its chunk in the low bytes of the plan's value) that an
+/// SM-change or AL control event overtook: its completion must not count the chunk as read.
+const SM_READ_OVERTAKEN: u32 = 1 << 16;
+
 /// The register buffer: one chunk of SyncManager registers or the DC registers, whichever is
 /// longer.
 const BUF_LEN: usize = if SM_CHUNK > DcSettings::READ_LEN {
@@ -369,6 +373,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if al_control || event.contains(AlEvent::SM_CHANGE) {
             self.sm_unread = self.sm_bytes();
+            if let Some((Op::ReadSyncManagers, chunk)) = &mut self.in_flight {
+                *chunk |= SM_READ_OVERTAKEN;
+            }
         }
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
             self.reads |= read::WATCHDOG_STATUS;
@@ -620,7 +627,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if self.stale.contains(Stale::READS) {
             if let Some(read) = self.next_read() {
-                return Some((read, 0));
+                // A SyncManager read carries its chunk (start and end), fixed at the poll: an
+                // SM-change event handled before it completes starts the reads over.
+                let chunk = u32::from(self.sm_chunk_start()) | u32::from(self.sm_unread) << 8;
+                return Some((
+                    read,
+                    if read == Op::ReadSyncManagers {
+                        chunk
+                    } else {
+                        0
+                    },
+                ));
             }
             self.stale.remove(Stale::READS);
         }
@@ -777,11 +794,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let (address, len, write) = match op {
             Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
             Op::ReadSyncManagers => {
-                let start = self.sm_chunk_start();
-                let len = self.sm_unread - start;
+                let [start, end, ..] = value.to_le_bytes();
                 (
                     register::SM_BASE + u16::from(start),
-                    usize::from(len),
+                    usize::from(end.saturating_sub(start)),
                     false,
                 )
             }
@@ -855,7 +871,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 }
             }
             Op::ReadSyncManagers => {
-                self.sm_unread = self.sm_chunk_start();
+                if value & SM_READ_OVERTAKEN != 0 {
+                    // An SM-change or AL control event came while the chunk was in flight: the
+                    // reads start over.
+                    return;
+                }
+                let [start, ..] = value.to_le_bytes();
+                self.sm_unread = start;
                 if self.sm_unread > 0 {
                     // A chunk beyond SM3: read for its activation bytes only.
                     return;

@@ -7,8 +7,8 @@ use common::{DEVICE, Op, Regs, configure_all};
 use ecat_core::coe::Emergency;
 use ecat_core::device::MailboxConfig;
 use ecat_core::{
-    AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Event, Instant, SubDevice, Transition,
-    register,
+    Access, AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Event, Instant, SubDevice,
+    Transition, register,
 };
 
 const T0: Instant = Instant::from_micros(0);
@@ -110,6 +110,32 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
     assert_eq!(
         sub.poll_event(),
         Some(Event::StateChanged(up(AlState::Init, AlState::PreOp)))
+    );
+}
+
+/// An SM-change event handled while a chunk of SyncManager registers is being read (between the
+/// poll and its completion) starts the reads over: the chunk in flight is read again, then
+/// SM0..SM3; the same access is returned until it completes.
+#[test]
+fn an_sm_change_during_a_chunk_read_starts_the_reads_over() {
+    let mut regs = Regs::new();
+    let mut sub = SubDevice::new(&DEVICE);
+    regs.drive(&mut sub, T0);
+    sub.handle_al_event(AlEvent::SM_CHANGE);
+    let high = |sub: &mut SubDevice<'_>| {
+        matches!(
+            sub.poll_access(),
+            Some(Access::Read { address: 0x0820, buf, .. }) if buf.len() == 32
+        )
+    };
+    assert!(high(&mut sub), "SM4..SM7 first");
+    sub.handle_al_event(AlEvent::SM_CHANGE);
+    assert!(high(&mut sub), "the same access until it completes");
+    sub.access_done(T0, AlEvent::NONE);
+    assert_eq!(
+        regs.drive(&mut sub, T0),
+        [Op::Read(0x0820, 32), Op::Read(0x0800, 32)],
+        "read again from the top"
     );
 }
 

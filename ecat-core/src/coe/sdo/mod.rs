@@ -63,9 +63,6 @@ struct Segmented {
     /// The toggle bit the next segment must carry.
     toggle: bool,
     deadline: Instant,
-    /// The ESM state the rights were checked in: a download whose state changed meanwhile is
-    /// checked again before it stores (access rights, RxPDO-mapped entries).
-    state: AlState,
 }
 
 /// What a request is served with: the dictionary, the hooks, the state and the time.
@@ -86,6 +83,10 @@ pub struct Context<'a, D, H> {
 #[derive(Debug)]
 pub struct SdoServer<const N: usize> {
     transfer: Option<Segmented>,
+    /// The ESM state the transfer's rights were checked in: a download whose state changed
+    /// meanwhile is checked again before it stores (access rights, RxPDO-mapped entries). Here
+    /// rather than in [`Segmented`], where it would cost 8 bytes of alignment.
+    checked_in: AlState,
     timed_out: bool,
     buf: [u8; N],
 }
@@ -104,6 +105,7 @@ impl<const N: usize> SdoServer<N> {
     pub const fn new() -> Self {
         Self {
             transfer: None,
+            checked_in: AlState::Init,
             timed_out: false,
             buf: [0; N],
         }
@@ -345,7 +347,6 @@ impl<const N: usize> SdoServer<N> {
             target,
             size,
             done: received,
-            state,
             ..
         } = self.next_segment(Kind::Download, toggle)?;
         let total = received + data.len();
@@ -356,7 +357,7 @@ impl<const N: usize> SdoServer<N> {
             return Err(AbortCode::LENGTH_TOO_LOW);
         }
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
-        if state != cx.state {
+        if self.checked_in != cx.state {
             // The rights of the initiate's state do not carry over (a download started in PREOP
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
             resolve::<D>(target, cx.state, Direction::Write)?;
@@ -407,8 +408,8 @@ impl<const N: usize> SdoServer<N> {
             done,
             toggle: false,
             deadline,
-            state: cx.state,
         });
+        self.checked_in = cx.state;
     }
 
     /// The transfer a segment of `kind` with `toggle` continues: none is 0x05040001 (or
