@@ -552,6 +552,20 @@ fn an_image_over_65535_bits_is_0x0025() {
     ));
 }
 
+/// One SDO request to `server` in `state`; the answer (CoE header on).
+fn serve(server: &mut SdoServer<64>, od: &mut Od, state: AlState, request: &[u8]) -> Vec<u8> {
+    let mut cx = Context {
+        od,
+        hooks: &mut (),
+        state,
+        now: Instant::from_micros(0),
+        writes: Writes::default(),
+    };
+    let mut out = [0u8; 58];
+    let n = server.request(&mut cx, request, &mut out);
+    out[..n].to_vec()
+}
+
 /// A segmented download started in PREOP into entries the RxPDO configuration maps is refused
 /// with 0x06010006 at its last segment when the SubDevice reached SAFEOP meanwhile: the check
 /// is made again before the value is stored, and the value stays as it was.
@@ -562,18 +576,7 @@ fn a_segmented_download_into_mapped_entries_is_checked_again_at_its_last_segment
         ..Od::default()
     };
     let mut server = SdoServer::<64>::new();
-    let mut serve = |od: &mut Od, state, request: &[u8]| {
-        let mut cx = Context {
-            od,
-            hooks: &mut (),
-            state,
-            now: Instant::from_micros(0),
-            writes: Writes::default(),
-        };
-        let mut out = [0u8; 58];
-        let n = server.request(&mut cx, request, &mut out);
-        out[..n].to_vec()
-    };
+    let mut serve = |od: &mut Od, state, request: &[u8]| serve(&mut server, od, state, request);
     // Complete access to 0x2006 from SI0: SI0 and its pad byte, three words = 8 bytes, of
     // which the initiate carries 4.
     let initiate = [0x31, 0x06, 0x20, 0x00, 8, 0, 0, 0, 3, 0, 0x11, 0x11];
@@ -606,18 +609,7 @@ fn a_segmented_download_into_mapped_entries_is_checked_again_at_its_last_segment
 fn a_segmented_download_is_checked_for_the_state_it_ends_in() {
     let mut od = Od::default();
     let mut server = SdoServer::<64>::new();
-    let mut serve = |od: &mut Od, state, request: &[u8]| {
-        let mut cx = Context {
-            od,
-            hooks: &mut (),
-            state,
-            now: Instant::from_micros(0),
-            writes: Writes::default(),
-        };
-        let mut out = [0u8; 58];
-        let n = server.request(&mut cx, request, &mut out);
-        out[..n].to_vec()
-    };
+    let mut serve = |od: &mut Od, state, request: &[u8]| serve(&mut server, od, state, request);
     // SI0 = 2 and its pad, 0x1600, then 0x1601 in the segment.
     let initiate = [0x31, 0x12, 0x1C, 0x00, 6, 0, 0, 0, 2, 0, 0x00, 0x16];
     let last = [0x0B, 0x01, 0x16, 0, 0, 0, 0, 0];

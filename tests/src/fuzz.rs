@@ -416,11 +416,7 @@ impl Session<'_> {
                 self.write_coe(counter, &payload);
             }
             Step::ConfigureBoot => {
-                let boot = DEVICE.bootstrap_mailbox.unwrap_or(MAILBOX);
-                let (rx, tx) = (boot.receive, boot.send);
-                self.put(register::sync_manager(0), &sm(rx.start, rx.length, 0x26));
-                self.put(register::sync_manager(1), &sm(tx.start, tx.length, 0x22));
-                self.event |= AlEvent::SM_CHANGE.bits();
+                self.configure_mailbox(DEVICE.bootstrap_mailbox.unwrap_or(MAILBOX));
             }
             Step::ReadSm1 => self.event |= AlEvent::sync_manager(1).bits(),
             Step::Repeat => {
@@ -480,11 +476,16 @@ impl Session<'_> {
     /// SM0..SM3 as the device describes them: the default PDOs' 7 bytes out and 7 bytes in at
     /// 0x1100/0x1200.
     fn configure_all(&mut self) {
-        let (rx, tx) = (MAILBOX.receive, MAILBOX.send);
-        self.put(register::sync_manager(0), &sm(rx.start, rx.length, 0x26));
-        self.put(register::sync_manager(1), &sm(tx.start, tx.length, 0x22));
+        self.configure_mailbox(MAILBOX);
         self.put(register::sync_manager(2), &sm(0x1100, 7, 0x64));
         self.put(register::sync_manager(3), &sm(0x1200, 7, 0x20));
+    }
+
+    /// SM0 and SM1 as `mailbox` describes them.
+    fn configure_mailbox(&mut self, mailbox: MailboxConfig) {
+        let (rx, tx) = (mailbox.receive, mailbox.send);
+        self.put(register::sync_manager(0), &sm(rx.start, rx.length, 0x26));
+        self.put(register::sync_manager(1), &sm(tx.start, tx.length, 0x22));
         self.event |= AlEvent::SM_CHANGE.bits();
     }
 

@@ -26,8 +26,7 @@
 /// so a value a MainDevice writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is
 /// replaced by the type in effect when the configuration is next refreshed, and one that is no
 /// sync type is refused, [`sync::check_input_sync_write`](crate::sync::check_input_sync_write);
-/// SI2 cycle time
-/// writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C, 0x20 read-only).
+/// SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C, 0x20 read-only).
 ///
 /// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
 /// declaring as defaults) the communication types of SM0..SM3, [`sii::SM_TYPES`](crate::sii::SM_TYPES):

@@ -473,8 +473,7 @@ fn resolve<D: ObjectDictionary>(
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
     if target.complete {
         complete_access::check(&object.info, target.sub)?;
-        for (_, entry) in complete_access::entries(&object.info, target.sub).filter(|(s, _)| *s > 0)
-        {
+        for (_, entry) in entries_of(object, target) {
             check_access(entry, state, direction)?;
         }
         return Ok((object, target));
@@ -491,6 +490,15 @@ fn resolve<D: ObjectDictionary>(
             ..target
         },
     ))
+}
+
+/// The entries `target` reads or writes, with their subindices: a complete access's from its
+/// subindex on (SI0 aside: it carries the count), a single access's one.
+fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8, &EntryInfo)> {
+    let single = object.info.entry(target.sub).map(|e| (target.sub, e));
+    complete_access::entries(&object.info, target.sub)
+        .filter(move |(s, _)| *s > 0 && target.complete)
+        .chain(single.filter(|_| !target.complete))
 }
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
@@ -530,12 +538,8 @@ fn check_not_rx_mapped<D: ObjectDictionary>(
     if !state.has_process_data() {
         return Ok(());
     }
-    let single = object.info.entry(target.sub).map(|e| (target.sub, e));
-    let entries = complete_access::entries(&object.info, target.sub)
-        .filter(|(s, _)| *s > 0 && target.complete)
-        .chain(single.filter(|_| !target.complete));
     let index = object.info.index;
-    let mut mappable = entries
+    let mut mappable = entries_of(object, target)
         .filter(|(_, e)| e.access.rxpdo())
         .map(|(sub, _)| sub);
     let Some(first) = mappable.next() else {
@@ -661,18 +665,17 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
     }
 }
 
-/// The entries a complete access to a configuration object (writable SI0) counts with `n`, as
-/// the PDO configuration rules will judge them one by one: at most the capacity (0x06090031),
-/// each a valid mapping or assignment entry ([`pdo::check_entry`]).
+/// The entries a complete access to a configuration object (writable SI0) counts with `n`,
+/// judged by the PDO configuration rules before anything is stored: SI0 within the capacity
+/// ([`pdo::check_counted_write`]), each a valid mapping or assignment entry
+/// ([`pdo::check_entry`]).
 fn check_configuration<D: ObjectDictionary>(
     object: &Object<D>,
     from: u8,
     data: &[u8],
     n: u8,
 ) -> Result<(), AbortCode> {
-    if n > object.info.max_sub {
-        return Err(AbortCode::VALUE_TOO_HIGH);
-    }
+    pdo::check_counted_write(0, usize::from(object.info.max_sub), 0, &[n])?;
     for sub in 1..=n {
         let (value, len) = complete_access::entry_value(data, &object.info, from, sub)
             .ok_or(AbortCode::LENGTH_MISMATCH)?;
