@@ -122,8 +122,7 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
     }
 
     fn put(&mut self, address: u16, data: &[u8]) {
-        let a = usize::from(address);
-        self.mem[a..a + data.len()].copy_from_slice(data);
+        put(&mut self.mem, address, data);
     }
 
     /// Performs every access the core asks for.
@@ -135,9 +134,17 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
                     let a = usize::from(address);
                     buf.copy_from_slice(&self.mem[a..a + buf.len()]);
                 }
-                Access::Write { address, data, .. } => {
-                    let a = usize::from(address);
-                    self.mem[a..a + data.len()].copy_from_slice(data);
+                Access::Write { address, data, .. } => put(&mut self.mem, address, data),
+                Access::Send {
+                    address,
+                    data,
+                    last,
+                    ..
+                } => {
+                    put(&mut self.mem, address, data);
+                    if let Some(last) = last {
+                        put(&mut self.mem, last, &[0]);
+                    }
                 }
             }
             self.sub.access_done(Instant::from_micros(0), event);
@@ -182,4 +189,10 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         self.sub.refresh_process_data(od);
         self.drive();
     }
+}
+
+/// Writes `data` into the register file `mem` at `address`.
+fn put(mem: &mut [u8], address: u16, data: &[u8]) {
+    let a = usize::from(address);
+    mem[a..a + data.len()].copy_from_slice(data);
 }

@@ -87,6 +87,21 @@ pub enum Access<'a> {
         /// The AL event bits this access clears (see [`Access::clears`]).
         clears: AlEvent,
     },
+    /// Write a mailbox message into SM1: `data` at `address`, then, when the message is shorter
+    /// than SM1, one byte of value 0 at `last`, SM1's last byte. The ESC hands a mailbox buffer
+    /// to the MainDevice once its last byte is written (a SyncManager in mailbox mode), so the
+    /// second write completes the first; perform them in this order and
+    /// report the AL event of the last one.
+    Send {
+        /// ESC address of SM1's first byte.
+        address: u16,
+        /// The message, mailbox header included.
+        data: &'a [u8],
+        /// SM1's last byte, when the message ends before it.
+        last: Option<u16>,
+        /// The AL event bits this access clears (see [`Access::clears`]).
+        clears: AlEvent,
+    },
 }
 
 impl Access<'_> {
@@ -96,7 +111,9 @@ impl Access<'_> {
     /// these bits in the value it returns are stale and must not be taken as news.
     pub fn clears(&self) -> AlEvent {
         match self {
-            Access::Read { clears, .. } | Access::Write { clears, .. } => *clears,
+            Access::Read { clears, .. }
+            | Access::Write { clears, .. }
+            | Access::Send { clears, .. } => *clears,
         }
     }
 }
@@ -164,10 +181,8 @@ mod read {
 enum MailboxOp {
     /// Read SM0 whole (the request).
     Read,
-    /// Write the message into SM1.
+    /// Write the message into SM1, and SM1's last byte after a shorter one ([`Access::Send`]).
     Write,
-    /// Write SM1's last byte after a message shorter than SM1 (what marks it full).
-    Complete,
 }
 
 /// A transition waiting for the application.
@@ -214,8 +229,6 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     events: Ring<Event, 8>,
     buf: [u8; BUF_LEN],
     mailbox: Mailbox<MBX>,
-    /// SM1 was written with a message shorter than SM1: its last byte still has to be written.
-    complete_mailbox: bool,
     /// The parts of the register plan that may not be satisfied: what the next poll looks at.
     stale: Stale,
     /// The process-image sizes of the current PDO configuration, or why it is unusable.
@@ -259,7 +272,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             })),
             buf: [0; BUF_LEN],
             mailbox: Mailbox::new(),
-            complete_mailbox: false,
             stale: Stale::ALL,
             pd_sizes: Ok(config.process_data),
             pd_stale: true,
@@ -381,14 +393,27 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.reads |= read::WATCHDOG_STATUS;
         }
         if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
-            self.stale.insert(Stale::MAILBOX_QUEUE);
             if event.contains(AlEvent::sync_manager(0)) {
                 self.mailbox.receive_event();
             }
             if event.contains(AlEvent::sync_manager(1)) {
                 self.mailbox.send_event();
             }
+            self.stale.insert(if self.mailbox_mask_holds() {
+                Stale::MAILBOX
+            } else {
+                Stale::MAILBOX_QUEUE
+            });
         }
+    }
+
+    /// Whether the AL event mask as written already carries what the mailbox wants after an
+    /// SM0/SM1 event, without looking at the plan: in the request/answer rhythm SM1 is free and
+    /// the request can be read, so the mailbox wants the SM0 event and not the SM1 event — what
+    /// the mask had while it waited for the request.
+    fn mailbox_mask_holds(&self) -> bool {
+        let written = self.written.event_mask.unwrap_or(0) & MAILBOX_EVENTS.bits();
+        written == AlEvent::sync_manager(0).bits() && self.mailbox.can_receive()
     }
 
     /// The next register access the core needs, or `None` when it has nothing to do. Until
@@ -439,21 +464,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
             // served.
             Op::Mailbox(MailboxOp::Read) => self.mailbox.received(),
-            Op::Mailbox(MailboxOp::Write) => {
-                let short =
-                    self.mailbox.write_due().map_or(0, <[u8]>::len) < self.mailbox.send_size();
-                if short {
-                    // Its last byte is due next.
-                    self.complete_mailbox = true;
-                    self.stale.insert(Stale::MAILBOX);
-                } else {
-                    self.sent();
-                }
-            }
-            Op::Mailbox(MailboxOp::Complete) => {
-                self.complete_mailbox = false;
-                self.sent();
-            }
+            Op::Mailbox(MailboxOp::Write) => self.sent(),
             _ => {
                 self.stale = Stale::ALL;
                 self.complete_register(now, op, value);
@@ -694,13 +705,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    /// The SM0/SM1 access due, once SM0 and SM1 are active in a mailbox state: the last byte of
-    /// a short message, the next message (or the last again), the next request.
+    /// The SM0/SM1 access due, once SM0 and SM1 are active in a mailbox state: the next message
+    /// (or the last again), the next request.
     fn next_mailbox_op(&self) -> Option<MailboxOp> {
         if !self.state.has_mailbox() || !self.written.mailbox_active() {
             None
-        } else if self.complete_mailbox {
-            Some(MailboxOp::Complete)
         } else if self.mailbox.write_due().is_some() {
             Some(MailboxOp::Write)
         } else if self.mailbox.read_due() {
@@ -769,20 +778,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     clears,
                 }
             }
-            MailboxOp::Write => Access::Write {
-                address: self.mailbox.send_address(),
-                data: self.mailbox.write_due().unwrap_or_default(),
-                clears,
-            },
-            MailboxOp::Complete => {
-                let last = self.mailbox.send_size().saturating_sub(1);
-                let address = self
-                    .mailbox
-                    .send_address()
-                    .saturating_add(u16::try_from(last).unwrap_or(0));
-                Access::Write {
+            MailboxOp::Write => {
+                let data = self.mailbox.write_due().unwrap_or_default();
+                let (address, size) = (self.mailbox.send_address(), self.mailbox.send_size());
+                let last = (data.len() < size)
+                    .then(|| address.saturating_add(u16::try_from(size - 1).unwrap_or(0)));
+                Access::Send {
                     address,
-                    data: self.mailbox.sent_byte(last),
+                    data,
+                    last,
                     clears,
                 }
             }
@@ -1049,7 +1053,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.state = t.to;
         if t.from.has_mailbox() && !t.to.has_mailbox() {
             self.mailbox.stop();
-            self.complete_mailbox = false;
         }
         if t.to == AlState::SafeOp {
             self.outputs_received = false;

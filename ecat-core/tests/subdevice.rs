@@ -511,6 +511,75 @@ fn every_register_follows_errors_acknowledges_state_changes_and_deactivation() {
     assert_eq!(sub.state(), AlState::Init);
 }
 
+/// The answer (an abort of the empty dictionary) to `mailbox_request`'s upload, with the
+/// SubDevice's message counter `counter`.
+fn abort_answer(counter: u8) -> Vec<u8> {
+    let coe = (counter << 4) | 3;
+    vec![
+        10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x80, 0x18, 0x10, 0x01, 0x00, 0x00, 0x02, 0x06,
+    ]
+}
+
+#[test]
+fn a_request_in_the_rhythm_is_read_and_answered_without_mask_writes() {
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    let (receive, send) = (common::MAILBOX.receive, common::MAILBOX.send);
+    let last = send.start + send.length - 1;
+    let serve = |regs: &mut Regs, sub: &mut SubDevice<'_>, event: AlEvent| {
+        sub.handle_al_event(event);
+        let mut log = regs.drive(sub, T0);
+        while sub.service_mailbox(T0, &mut (), &mut ()) {
+            log.extend(regs.drive(sub, T0));
+        }
+        log
+    };
+    let request = |regs: &mut Regs, counter: u8| {
+        let coe = (counter << 4) | 3;
+        regs.put(
+            receive.start,
+            &[
+                10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
+            ],
+        );
+    };
+    let answered = |counter| {
+        vec![
+            Op::Read(receive.start, usize::from(receive.length)),
+            Op::Write(send.start, abort_answer(counter)),
+            Op::Write(last, vec![0]),
+        ]
+    };
+
+    // The first request, and the next after the MainDevice read the answer (SM1's event
+    // latched beside SM0's): the SM0 read and the answer, with SM1's last byte, and nothing else.
+    request(&mut regs, 1);
+    assert_eq!(
+        serve(&mut regs, &mut sub, AlEvent::sync_manager(0)),
+        answered(1)
+    );
+    request(&mut regs, 2);
+    let both = AlEvent::sync_manager(0) | AlEvent::sync_manager(1);
+    assert_eq!(serve(&mut regs, &mut sub, both), answered(2));
+
+    // A request while the answer is still unread cannot be read: the SM0 event leaves the mask
+    // (it would hold the IRQ line) and the SM1 event joins it.
+    request(&mut regs, 3);
+    assert_eq!(
+        serve(&mut regs, &mut sub, AlEvent::sync_manager(0)),
+        [Op::Write(0x0204, vec![0x11, 0x02, 0, 0])]
+    );
+    // The MainDevice reads the answer: the mask takes SM0 back, then the request is served.
+    let mut expected = vec![Op::Write(0x0204, vec![0x11, 0x01, 0, 0])];
+    expected.extend(answered(3));
+    assert_eq!(
+        serve(&mut regs, &mut sub, AlEvent::sync_manager(1)),
+        expected
+    );
+}
+
 /// A SubDevice walked up to OP, its outputs received.
 fn in_op(regs: &mut Regs) -> SubDevice<'static> {
     let mut sub = started(regs);

@@ -5,7 +5,7 @@ use core::cell::RefCell;
 use core::pin::pin;
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{Event, SubDevice, Transition};
+use ecat_core::{Access, Event, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -117,11 +117,23 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
 ) -> Result<(), P::Error> {
     while let Some(access) = sub.poll_access() {
         let clears = access.clears();
-        let (address, data) = match access {
-            ecat_core::Access::Read { address, buf, .. } => (address, Data::Read(buf)),
-            ecat_core::Access::Write { address, data, .. } => (address, Data::Write(data)),
+        let (address, data, last) = match access {
+            Access::Read { address, buf, .. } => (address, Data::Read(buf), None),
+            Access::Write { address, data, .. } => (address, Data::Write(data), None),
+            Access::Send {
+                address,
+                data,
+                last,
+                ..
+            } => (address, Data::Write(data), last),
         };
-        let event = esc.access(Runner::Esm, address, data, clears).await?;
+        let mut event = esc.access(Runner::Esm, address, data, clears).await?;
+        if let Some(last) = last {
+            // The message is shorter than SM1: its last byte hands SM1 to the MainDevice.
+            event = esc
+                .access(Runner::Esm, last, Data::Write(&[0]), clears)
+                .await?;
+        }
         sub.access_done(now(), event);
         esc.publish(sub.process_data(), sub.event_mask());
     }

@@ -557,21 +557,31 @@ impl Session<'_> {
             assert!(n < ROUND_LIMIT, "unbounded register accesses");
             let event = AlEvent(self.event);
             let clears = access.clears();
-            let (address, len) = match &access {
-                Access::Read { address, buf, .. } => (*address, buf.len()),
-                Access::Write { address, data, .. } => (*address, data.len()),
-            };
-            let (a, end) = (usize::from(address), usize::from(address) + len);
-            assert!(
-                end <= self.mem.len(),
-                "access past 0xFFFF: {address:#06x}+{len}"
-            );
             match access {
-                Access::Read { buf, .. } => buf.copy_from_slice(&self.mem[a..end]),
-                Access::Write { data, .. } => {
-                    self.mem[a..end].copy_from_slice(data);
-                    if address == send.start {
-                        check_message(data, send.length);
+                Access::Read { address, buf, .. } => {
+                    buf.copy_from_slice(span(&mut self.mem, address, buf.len()))
+                }
+                Access::Write { address, data, .. } => {
+                    span(&mut self.mem, address, data.len()).copy_from_slice(data)
+                }
+                Access::Send {
+                    address,
+                    data,
+                    last,
+                    ..
+                } => {
+                    assert_eq!(address, send.start, "a message goes to SM1");
+                    check_message(data, send.length);
+                    span(&mut self.mem, address, data.len()).copy_from_slice(data);
+                    let end = usize::from(send.start) + usize::from(send.length) - 1;
+                    let expected = (data.len() < usize::from(send.length)).then_some(end);
+                    assert_eq!(
+                        last.map(usize::from),
+                        expected,
+                        "SM1's last byte, only after a short message"
+                    );
+                    if let Some(last) = last {
+                        span(&mut self.mem, last, 1)[0] = 0;
                     }
                 }
             }
@@ -617,6 +627,13 @@ impl Session<'_> {
             );
         }
     }
+}
+
+/// `len` bytes of the register file `mem` at `address`; an access must stay inside 64 KiB.
+fn span(mem: &mut [u8], address: u16, len: usize) -> &mut [u8] {
+    let (a, end) = (usize::from(address), usize::from(address) + len);
+    assert!(end <= mem.len(), "access past 0xFFFF: {address:#06x}+{len}");
+    &mut mem[a..end]
 }
 
 /// A message the SubDevice writes into SM1: a mailbox header whose length fits SM1, of type 0

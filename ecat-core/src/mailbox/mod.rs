@@ -223,15 +223,9 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// The byte that completes the send mailbox when the message is shorter than SM1: its last
-    /// byte, at `send_size - 1`.
+    /// SM1's length (clamped to `N`): a shorter message needs its last byte written too.
     pub fn send_size(&self) -> usize {
         usize::from(self.send.length)
-    }
-
-    /// Byte `i` of the message buffer (zero-padded to SM1's size), as a one-byte slice.
-    pub fn sent_byte(&self, i: usize) -> &[u8] {
-        self.tx.get(i..i + 1).unwrap_or_default()
     }
 
     /// The message from [`Mailbox::write_due`] is now in SM1.
@@ -387,14 +381,6 @@ impl<const N: usize> Mailbox<N> {
             dst.copy_from_slice(&header);
         }
         let end = (MailboxHeader::SIZE + len).min(N);
-        // Bytes past the message are padding the MainDevice ignores; only the last byte of SM1,
-        // written to complete a short message, needs a defined value.
-        let send_size = self.send_size();
-        if end < send_size
-            && let Some(last) = self.tx.get_mut(send_size - 1)
-        {
-            *last = 0;
-        }
         self.tx_len = end;
         self.tx_pending = true;
         true

@@ -54,7 +54,13 @@ impl Regs {
         u16::from_le_bytes([self.mem[a], self.mem[a + 1]])
     }
 
-    /// Performs every access the core asks for; returns them in order.
+    fn write(&mut self, log: &mut Vec<Op>, address: u16, data: &[u8]) {
+        self.put(address, data);
+        log.push(Op::Write(address, data.to_vec()));
+    }
+
+    /// Performs every access the core asks for; returns them in order (an [`Access::Send`] as
+    /// its two writes).
     pub fn drive(&mut self, sub: &mut SubDevice<'_>, now: Instant) -> Vec<Op> {
         let mut log = Vec::new();
         while let Some(access) = sub.poll_access() {
@@ -74,10 +80,17 @@ impl Regs {
                     buf.copy_from_slice(&self.mem[a..a + buf.len()]);
                     log.push(Op::Read(address, buf.len()));
                 }
-                Access::Write { address, data, .. } => {
-                    let a = usize::from(address);
-                    self.mem[a..a + data.len()].copy_from_slice(data);
-                    log.push(Op::Write(address, data.to_vec()));
+                Access::Write { address, data, .. } => self.write(&mut log, address, data),
+                Access::Send {
+                    address,
+                    data,
+                    last,
+                    ..
+                } => {
+                    self.write(&mut log, address, data);
+                    if let Some(last) = last {
+                        self.write(&mut log, last, &[0]);
+                    }
                 }
             }
             self.event &= !clears.bits();
