@@ -399,11 +399,25 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             if event.contains(AlEvent::sync_manager(1)) {
                 self.mailbox.send_event();
             }
-            self.stale.insert(if self.mailbox_mask_holds() {
-                Stale::MAILBOX
+            if !self.mailbox_mask_holds() {
+                self.stale.insert(Stale::MAILBOX_QUEUE);
+            } else if event.contains(AlEvent::sync_manager(0)) {
+                // The request can be read (the mask holds because it can).
+                self.mailbox_due(MailboxOp::Read);
             } else {
-                Stale::MAILBOX_QUEUE
-            });
+                self.stale.insert(Stale::MAILBOX);
+            }
+        }
+    }
+
+    /// The mailbox access `op` is due: it is the next access when nothing else is (no access in
+    /// flight, no part of the plan stale: the SyncManagers are active then), else the plan
+    /// finds it.
+    fn mailbox_due(&mut self, op: MailboxOp) {
+        if self.in_flight.is_none() && self.stale == Stale::NONE {
+            self.in_flight = Some((Op::Mailbox(op), 0));
+        } else {
+            self.stale.insert(Stale::MAILBOX);
         }
     }
 
@@ -420,17 +434,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`SubDevice::access_done`] is called the same access is returned again.
     #[inline]
     pub fn poll_access(&mut self) -> Option<Access<'_>> {
-        if self.in_flight.is_none() {
+        match self.in_flight {
             // Settled: the answer costs the driver's loop a test, not a call.
-            if self.stale == Stale::NONE {
-                return None;
-            }
-            // Only the mailbox's accesses may be due: the request/answer rhythm's way.
-            if self.stale == Stale::MAILBOX {
-                return self.mailbox_access();
-            }
+            None if self.stale == Stale::NONE => None,
+            // Only the mailbox's accesses may be due.
+            None if self.stale == Stale::MAILBOX => self.mailbox_access(),
+            // The request/answer rhythm's way: the SM0 read or the answer, made due by the
+            // event or the service that needed it (`mailbox_due`).
+            Some((Op::Mailbox(op), _)) => Some(self.prepare_mailbox(op)),
+            _ => self.next_access(),
         }
-        self.next_access()
     }
 
     /// The mailbox part of the plan alone ([`SubDevice::next_op`] when nothing else is stale).
@@ -710,7 +723,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn next_mailbox_op(&self) -> Option<MailboxOp> {
         if !self.state.has_mailbox() || !self.written.mailbox_active() {
             None
-        } else if self.mailbox.write_due().is_some() {
+        } else if self.mailbox.write_due() {
             Some(MailboxOp::Write)
         } else if self.mailbox.read_due() {
             Some(MailboxOp::Read)
@@ -767,6 +780,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The SM0 read or SM1 write of `op`.
+    #[inline(never)]
     fn prepare_mailbox(&mut self, op: MailboxOp) -> Access<'_> {
         let clears = Op::Mailbox(op).clears();
         match op {
@@ -779,10 +793,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 }
             }
             MailboxOp::Write => {
-                let data = self.mailbox.write_due().unwrap_or_default();
-                let (address, size) = (self.mailbox.send_address(), self.mailbox.send_size());
-                let last = (data.len() < size)
-                    .then(|| address.saturating_add(u16::try_from(size - 1).unwrap_or(0)));
+                let (address, data, last) = self.mailbox.message();
                 Access::Send {
                     address,
                     data,
@@ -1084,13 +1095,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Serves the mailbox: the request read from SM0, or the next SDO Information fragment or
     /// emergency. Call it after the accesses are done; it may queue an SM1 write. Returns whether
     /// it built a message. Bounded: at most one message per call.
+    #[inline]
     pub fn service_mailbox<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         now: Instant,
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
-        if !self.state.has_mailbox() || !self.mailbox.has_work() {
+        if !self.state.has_mailbox() {
             return false;
         }
         let request = self.mailbox.request_pending();
@@ -1101,17 +1113,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             now,
             writes: Writes::default(),
         };
-        let built = self.mailbox.service(&mut cx);
+        let Some(built) = self.mailbox.service(&mut cx) else {
+            return false;
+        };
         self.chosen.merge(cx.writes.chosen);
         self.pd_stale |= cx.writes.configured;
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.
-        self.stale.insert(if request && built {
-            Stale::MAILBOX
+        if request && built {
+            self.mailbox_due(MailboxOp::Write);
         } else {
-            Stale::MAILBOX_QUEUE
-        });
+            self.stale.insert(Stale::MAILBOX_QUEUE);
+        }
         built
     }
 

@@ -38,6 +38,7 @@ pub trait Value: Sized {
 }
 
 /// Copies `bytes[offset..]` into `out` as far as both go.
+#[inline]
 fn copy_from(bytes: &[u8], offset: usize, out: &mut [u8]) -> usize {
     // The whole value (an SDO upload): a copy of the value's own length, which a fixed-size
     // value turns into a plain store.
@@ -70,6 +71,7 @@ macro_rules! numbers {
             const DATA_TYPE: DataType = DataType::$dt;
             const BIT_LEN: u16 = <$ty>::BITS as u16;
             fn size(&self) -> usize { core::mem::size_of::<$ty>() }
+            #[inline]
             fn read_at(&self, offset: usize, out: &mut [u8]) -> usize { copy_from(&self.to_le_bytes(), offset, out) }
             fn decode(data: &[u8]) -> Result<Self, AbortCode> { exact(data).map(<$ty>::from_le_bytes) }
             #[allow(clippy::cast_sign_loss)]

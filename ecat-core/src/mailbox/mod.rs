@@ -193,11 +193,6 @@ impl<const N: usize> Mailbox<N> {
         )
     }
 
-    /// SM1's address.
-    pub fn send_address(&self) -> u16 {
-        self.send.start
-    }
-
     fn receive_size(&self) -> usize {
         usize::from(self.receive.length)
     }
@@ -213,22 +208,29 @@ impl<const N: usize> Mailbox<N> {
         self.rx_pending = true;
     }
 
-    /// What must be written to SM1 now, if anything: the next message, or the last one again.
-    pub fn write_due(&self) -> Option<&[u8]> {
-        let due = (self.tx_pending && !self.send_busy) || self.repeat_pending();
-        if due {
-            self.tx.get(..self.tx_len)
-        } else {
-            None
-        }
+    /// Whether a message must be written to SM1 now: the next message, or the last one again.
+    pub fn write_due(&self) -> bool {
+        (self.tx_pending && !self.send_busy) || self.repeat_pending()
     }
 
-    /// SM1's length (clamped to `N`): a shorter message needs its last byte written too.
-    pub fn send_size(&self) -> usize {
+    /// What writing the message into SM1 takes: SM1's address, the message (the last one built)
+    /// and, when it is shorter than SM1, the address of SM1's last byte, whose write hands SM1
+    /// to the MainDevice.
+    pub fn message(&self) -> (u16, &[u8], Option<u16>) {
+        let message = self.tx.get(..self.tx_len).unwrap_or_default();
+        let last = self
+            .send
+            .start
+            .saturating_add(self.send.length.saturating_sub(1));
+        let short = message.len() < self.send_size();
+        (self.send.start, message, short.then_some(last))
+    }
+
+    fn send_size(&self) -> usize {
         usize::from(self.send.length)
     }
 
-    /// The message from [`Mailbox::write_due`] is now in SM1.
+    /// The message ([`Mailbox::message`]) is now in SM1.
     pub fn written(&mut self) {
         self.tx_pending = false;
         self.send_busy = true;
@@ -263,22 +265,33 @@ impl<const N: usize> Mailbox<N> {
 
     /// Whether [`Mailbox::service`] has anything to do: SM1 is free and a request, an SDO
     /// Information fragment or an emergency waits for it.
-    pub fn has_work(&self) -> bool {
+    fn has_work(&self) -> bool {
         let free = !self.tx_pending && !self.send_busy && !self.repeat_pending();
         free && (self.rx_pending || self.sdo_info.is_pending() || !self.emergencies.is_empty())
     }
 
     /// Serves what is due: the received message, or else the next fragment or emergency when SM1
-    /// is free. Returns whether a message was built. Bounded: one message per call.
+    /// is free. Returns `None` when nothing was due, else whether a message was built (a request
+    /// may be dropped without one). Bounded: one message per call.
+    #[inline]
     pub fn service<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
-    ) -> bool {
+    ) -> Option<bool> {
+        // Inline: the caller's loop asks once more after each message, and SM1 is busy then.
         if !self.has_work() {
-            return false;
+            return None;
         }
+        self.serve(cx)
+    }
+
+    /// [`Mailbox::service`] once it has work.
+    fn serve<D: ObjectDictionary, H: ObjectHooks<D>>(
+        &mut self,
+        cx: &mut Context<'_, D, H>,
+    ) -> Option<bool> {
         if core::mem::take(&mut self.rx_pending) {
-            return self.serve_request(cx);
+            return Some(self.serve_request(cx));
         }
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self
@@ -286,12 +299,10 @@ impl<const N: usize> Mailbox<N> {
             .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
             .unwrap_or_default();
         if let Some(len) = self.sdo_info.next_fragment::<D>(out) {
-            return self.build(MailboxType::Coe, len);
+            return Some(self.build(MailboxType::Coe, len));
         }
-        match self.emergencies.pop() {
-            Some(emergency) => self.build_emergency(emergency),
-            None => false,
-        }
+        let emergency = self.emergencies.pop()?;
+        Some(self.build_emergency(emergency))
     }
 
     fn serve_request<D: ObjectDictionary, H: ObjectHooks<D>>(

@@ -465,6 +465,7 @@ enum Direction {
 
 /// Finds the object and checks the access: existence, subindex, rights in `state` (a download
 /// then checks that the process data does not own the entries, [`check_not_rx_mapped`]).
+#[inline]
 fn resolve<D: ObjectDictionary>(
     target: Target,
     state: AlState,
@@ -472,10 +473,7 @@ fn resolve<D: ObjectDictionary>(
 ) -> Result<(&'static Object<D>, Target), AbortCode> {
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
     if target.complete {
-        complete_access::check(&object.info, target.sub)?;
-        for (_, entry) in entries_of(object, target) {
-            check_access(entry, state, direction)?;
-        }
+        check_complete(object, target, state, direction)?;
         return Ok((object, target));
     }
     let entry = object
@@ -490,6 +488,19 @@ fn resolve<D: ObjectDictionary>(
             ..target
         },
     ))
+}
+
+/// A complete access to `object` from `target.sub`: allowed on the object, every entry
+/// accessible in `state`. Out of line, away from the single entries' way.
+#[inline(never)]
+fn check_complete<D>(
+    object: &Object<D>,
+    target: Target,
+    state: AlState,
+    direction: Direction,
+) -> Result<(), AbortCode> {
+    complete_access::check(&object.info, target.sub)?;
+    entries_of(object, target).try_for_each(|(_, entry)| check_access(entry, state, direction))
 }
 
 /// The entries `target` reads or writes, with their subindices: a complete access's from its
