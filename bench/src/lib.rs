@@ -143,7 +143,7 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
                 } => {
                     put(&mut self.mem, address, data);
                     if let Some(last) = last {
-                        put(&mut self.mem, last, &[0]);
+                        self.mem[usize::from(last)] = 0;
                     }
                 }
             }
@@ -181,13 +181,13 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         // register and arrives with the SM0 event of this request, as in the real rhythm.
         self.sub
             .handle_al_event(AlEvent::sync_manager(0) | AlEvent::sync_manager(1));
+        // What the state-machine runner does after an AL event (`run_esm`): the process-data
+        // configuration refreshed, the accesses, the mailbox served until it has nothing more.
+        self.sub.refresh_process_data(od);
         self.drive();
         while self.sub.service_mailbox(Instant::from_micros(0), od, hooks) {
             self.drive();
         }
-        // As the state-machine runner does after the mailbox.
-        self.sub.refresh_process_data(od);
-        self.drive();
     }
 }
 

@@ -9,8 +9,7 @@ use crate::sync::Chosen;
 use crate::time::Duration;
 
 /// What SDO writes changed of the process-data configuration: noted by the SDO server at each
-/// successful write (`coe::sdo::Context::writes`), taken over by the SubDevice after the mailbox
-/// service.
+/// successful write (`coe::sdo::Context::writes`), in the SubDevice's own record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Writes {
     /// The MainDevice's choices in 0x1C32 (sync type, cycle time).

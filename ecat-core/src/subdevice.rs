@@ -241,8 +241,10 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     sync_received: bool,
     /// The sync type the dictionary asks for, or why it cannot be.
     sync: Result<sync::Requested, AlStatusCode>,
-    /// The entries of 0x1C32 the MainDevice wrote since PREOP was entered from INIT.
-    chosen: sync::Chosen,
+    /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
+    /// MainDevice wrote, and whether the process-data configuration changed since the last
+    /// [`SubDevice::refresh_process_data`] (taken into `pd_stale` after each message).
+    writes: Writes,
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -281,7 +283,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 sync: SyncType::SmSynchronous,
                 chosen: false,
             }),
-            chosen: sync::Chosen::default(),
+            writes: Writes::default(),
         }
     }
 
@@ -343,7 +345,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             clock: match self.sync() {
-                Ok(SyncType::FreeRun) => Clock::FreeRun(self.chosen.free_run_cycle(self.config)),
+                Ok(SyncType::FreeRun) => {
+                    Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config))
+                }
                 Ok(SyncType::DcSync0) => Clock::Sync0(self.dc.sync0_cycle()),
                 _ => Clock::Event(self.process_data_trigger()),
             },
@@ -367,10 +371,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// Takes the AL event register value the driver saw (with the bits its own access cleared
     /// removed, see [`Access::clears`]). Bits the state machine does not handle are ignored.
+    #[inline]
     pub fn handle_al_event(&mut self, event: AlEvent) {
-        if event.is_empty() {
-            return;
+        // Inline: most accesses bring no news.
+        if !event.is_empty() {
+            self.handle_news(event);
         }
+    }
+
+    /// [`SubDevice::handle_al_event`] with at least one bit set.
+    fn handle_news(&mut self, event: AlEvent) {
         if event.intersects(ESM_EVENTS | AlEvent::WATCHDOG_PROCESS_DATA) {
             self.stale.insert(Stale::READS);
         }
@@ -1021,7 +1031,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // DC activated on a device without DC (conformance.md "Distributed clocks").
             return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
         }
-        sync::check_cycle(sync, self.chosen.cycle_ns(), self.dc, self.config)?;
+        sync::check_cycle(sync, self.writes.chosen.cycle_ns(), self.dc, self.config)?;
         let one_buffer =
             self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;
         if sync == SyncType::FreeRun && sizes.outputs > 0 && one_buffer {
@@ -1071,7 +1081,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;
-            self.chosen = sync::Chosen::default();
+            self.writes = Writes::default();
             let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
             self.mailbox.start(self.active_mailbox(), repeat);
         }
@@ -1093,8 +1103,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// Serves the mailbox: the request read from SM0, or the next SDO Information fragment or
-    /// emergency. Call it after the accesses are done; it may queue an SM1 write. Returns whether
-    /// it built a message. Bounded: at most one message per call.
+    /// emergency. Call it after the accesses are done, and until it returns `false`, with the
+    /// accesses it makes due after each `true` (an SM1 write, or after a request dropped without
+    /// an answer, the event mask that re-arms SM0). Bounded: at most one message per call.
     #[inline]
     pub fn service_mailbox<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
@@ -1111,13 +1122,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             hooks,
             state: self.state,
             now,
-            writes: Writes::default(),
+            writes: &mut self.writes,
         };
+        // Nothing due: nothing changed.
         let Some(built) = self.mailbox.service(&mut cx) else {
             return false;
         };
-        self.chosen.merge(cx.writes.chosen);
-        self.pd_stale |= cx.writes.configured;
+        self.pd_stale |= core::mem::take(&mut self.writes.configured);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.
@@ -1126,7 +1137,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         } else {
             self.stale.insert(Stale::MAILBOX_QUEUE);
         }
-        built
+        true
     }
 
     /// Recomputes the process-image sizes from the PDO assignment and mapping objects of `od`
@@ -1140,12 +1151,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// fills what the stack knows into 0x1C32 and 0x1C33 ([`sync::fill`]): the supported types
     /// (SI4), the minimum cycle (SI5), the cycle time (SI2, free-run and DC) and 0x1C33's sync
     /// type (SI1).
+    #[inline]
     pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
-        if !core::mem::take(&mut self.pd_stale) {
-            return;
+        // Inline: it is called after every AL event and rarely has anything to do.
+        if core::mem::take(&mut self.pd_stale) {
+            self.refresh(od);
         }
+    }
+
+    /// [`SubDevice::refresh_process_data`] when the configuration may have changed.
+    fn refresh<D: ObjectDictionary>(&mut self, od: &mut D) {
         self.targets_changed();
-        self.sync = sync::requested(od, self.config, self.chosen);
+        self.sync = sync::requested(od, self.config, self.writes.chosen);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match PdoLayout::of(od, direction) {
             Ok(Some(layout)) => Ok(layout.bytes()),
@@ -1159,7 +1176,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             })
         });
         let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
-        let (active, chosen_cycle) = (self.sync().ok(), self.chosen.cycle_ns());
+        let (active, chosen_cycle) = (self.sync().ok(), self.writes.chosen.cycle_ns());
         sync::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
     }
 

@@ -307,12 +307,6 @@ impl Chosen {
         }
     }
 
-    /// The later notes `other` added to these.
-    pub fn merge(&mut self, other: Chosen) {
-        self.sync_type |= other.sync_type;
-        self.cycle_time = other.cycle_time.or(self.cycle_time);
-    }
-
     /// The cycle time the MainDevice chose, if any.
     pub fn cycle_ns(self) -> Option<u32> {
         self.cycle_time.filter(|&ns| ns != 0)
@@ -545,10 +539,7 @@ mod tests {
         let mut chosen = Chosen::default();
         chosen.note(OUTPUT_PARAMETERS, 2, &500u32.to_le_bytes());
         assert_eq!(chosen.cycle_ns(), Some(500));
-        chosen.merge(Chosen {
-            sync_type: false,
-            cycle_time: Some(0),
-        });
+        chosen.note(OUTPUT_PARAMETERS, 2, &0u32.to_le_bytes());
         assert_eq!((chosen.sync_type, chosen.cycle_ns()), (false, None));
     }
 

@@ -559,7 +559,7 @@ fn serve(server: &mut SdoServer<64>, od: &mut Od, state: AlState, request: &[u8]
         hooks: &mut (),
         state,
         now: Instant::from_micros(0),
-        writes: Writes::default(),
+        writes: &mut Writes::default(),
     };
     let mut out = [0u8; 58];
     let n = server.request(&mut cx, request, &mut out);

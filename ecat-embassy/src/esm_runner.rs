@@ -60,12 +60,10 @@ where
         od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
         absorb(esc, sub);
         sync(esc, sub).await?;
+        // Each message served (or request dropped) makes its accesses due.
         while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
             sync(esc, sub).await?;
         }
-        // Serving without an answer (a client abort, a repeated counter) still changes what the
-        // core wants written, e.g. the event mask that re-arms SM0.
-        sync(esc, sub).await?;
         let mut events = false;
         while let Some(event) = sub.poll_event() {
             events = true;

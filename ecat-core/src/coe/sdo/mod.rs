@@ -30,6 +30,8 @@ use crate::time::{Duration, Instant};
 
 /// Bytes of an SDO message up to its data: command, index, subindex, 4 data/size bytes.
 const SDO_HEADER: usize = 8;
+/// Bytes of a response up to its data: the CoE header and the SDO header.
+const RESPONSE_HEADER: usize = CoeHeader::SIZE + SDO_HEADER;
 /// Bytes of a segment up to its data: the command.
 const SEGMENT_HEADER: usize = 1;
 /// A segment carries at least 7 data bytes (padding included).
@@ -75,8 +77,8 @@ pub struct Context<'a, D, H> {
     pub state: AlState,
     /// Now.
     pub now: Instant,
-    /// What this service's writes changed of the process-data configuration.
-    pub writes: Writes,
+    /// Where successful writes are noted: what they changed of the process-data configuration.
+    pub writes: &'a mut Writes,
 }
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
@@ -196,10 +198,9 @@ impl<const N: usize> SdoServer<N> {
         self.timed_out = false;
         let (object, target) = resolve(target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
-        let body = body_of(out);
         // The value is read once, straight into the answer's data area; its size then says
         // expedited or normal.
-        let data = body.get_mut(SDO_HEADER..).unwrap_or_default();
+        let (head, data) = split_response(out)?;
         let (size, sent) = if target.domain || target.complete {
             (
                 value_size(cx, object, target)?,
@@ -209,32 +210,27 @@ impl<const N: usize> SdoServer<N> {
             let read = (object.read)(cx.od, target.sub, 0, data)?;
             (read.size, read.copied)
         };
-        let len = if (1..=4).contains(&size) && !target.domain {
+        if (1..=4).contains(&size) && !target.domain {
             // Expedited: the data moves into the header (ETG.1000.6 Table 37).
-            let value = match body.get(SDO_HEADER..SDO_HEADER + 4) {
+            let value = match data.first_chunk::<4>() {
                 // The four bytes after the header, of which the value's `size` count.
-                Some(&[a, b, c, d]) if sent == size => {
-                    let bits = u32::from_le_bytes([a, b, c, d]) & (u32::MAX >> (32 - 8 * size));
-                    bits.to_le_bytes()
+                Some(&bytes) if sent == size => {
+                    (u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))).to_le_bytes()
                 }
                 // A mailbox too small for four bytes behind the header.
-                _ => {
-                    let mut value = [0u8; 4];
-                    fetch(cx, object, target, 0, &mut value)?;
-                    value
-                }
+                _ => fetch_expedited(cx, object, target)?,
             };
             let command = response::upload_expedited(size, target.complete);
-            write_sdo(body, command, target, value)
-        } else {
-            let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-            let command = response::upload_normal(target.complete);
-            if sent < size {
-                self.begin(cx, Kind::Upload, target, size, sent);
-            }
-            write_sdo(body, command, target, size_bytes) + sent
-        };
-        Ok(finish(out, Service::SdoResponse, len))
+            *head = header(Service::SdoResponse, command, target, value);
+            return Ok(RESPONSE_HEADER);
+        }
+        let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
+        let command = response::upload_normal(target.complete);
+        if sent < size {
+            self.begin(cx, Kind::Upload, target, size, sent);
+        }
+        *head = header(Service::SdoResponse, command, target, size_bytes);
+        Ok(RESPONSE_HEADER + sent)
     }
 
     fn upload_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -752,35 +748,57 @@ fn segment_data(request: &[u8], unused: u8) -> &[u8] {
     }
 }
 
-/// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
-fn download_response(out: &mut [u8], target: Target) -> usize {
-    let len = write_sdo(
-        body_of(out),
-        response::download(target.complete),
-        target,
-        [0; 4],
-    );
-    finish(out, Service::SdoResponse, len)
+/// The value of an expedited upload read on its own: for a send mailbox without room for four
+/// bytes behind the header (the 16 bytes of the smallest). Out of line: the rare way.
+#[inline(never)]
+fn fetch_expedited<D: ObjectDictionary, H: ObjectHooks<D>>(
+    cx: &mut Context<'_, D, H>,
+    object: &Object<D>,
+    target: Target,
+) -> Result<[u8; 4], AbortCode> {
+    let mut value = [0u8; 4];
+    fetch(cx, object, target, 0, &mut value)?;
+    Ok(value)
 }
 
-/// Writes command, index, subindex and four data bytes; returns 8.
-#[inline]
-fn write_sdo(body: &mut [u8], command: u8, target: Target, data: [u8; 4]) -> usize {
+/// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
+fn download_response(out: &mut [u8], target: Target) -> usize {
+    let command = response::download(target.complete);
+    respond(out, Service::SdoResponse, command, target, [0; 4])
+}
+
+/// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header of `service`, the
+/// command, index, subindex and four data bytes.
+fn header(service: Service, command: u8, target: Target, data: [u8; 4]) -> [u8; RESPONSE_HEADER] {
+    let [c0, c1] = CoeHeader::new(service).to_bytes();
     let [i0, i1] = target.index.to_le_bytes();
-    let bytes = [
-        command, i0, i1, target.sub, data[0], data[1], data[2], data[3],
-    ];
-    if let Some(dst) = body.get_mut(..SDO_HEADER) {
-        dst.copy_from_slice(&bytes);
+    let [d0, d1, d2, d3] = data;
+    [c0, c1, command, i0, i1, target.sub, d0, d1, d2, d3]
+}
+
+/// `out` as the fixed part of a response and the data area behind it; too short (a send
+/// mailbox below the 16 bytes a device configuration needs) to answer at all: 0x05040005.
+fn split_response(out: &mut [u8]) -> Result<(&mut [u8; RESPONSE_HEADER], &mut [u8]), AbortCode> {
+    out.split_first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)
+}
+
+/// Writes the fixed part of a response into `out` ([`header`]); returns its length, 0 when
+/// `out` is too short.
+fn respond(out: &mut [u8], service: Service, command: u8, target: Target, data: [u8; 4]) -> usize {
+    match out.first_chunk_mut() {
+        Some(head) => {
+            *head = header(service, command, target, data);
+            RESPONSE_HEADER
+        }
+        None => 0,
     }
-    SDO_HEADER
 }
 
 /// The SDO abort message for `index:sub` with `code`.
 pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
     let target = Target::new(index, sub, false);
-    let len = write_sdo(body_of(out), response::ABORT, target, code.0.to_le_bytes());
-    finish(out, Service::SdoRequest, len)
+    let code = code.0.to_le_bytes();
+    respond(out, Service::SdoRequest, response::ABORT, target, code)
 }
 
 /// Writes the CoE header of `service` in front of a body of `len` bytes; returns the total.
@@ -839,7 +857,7 @@ mod tests {
                 hooks: &mut (),
                 state: AlState::PreOp,
                 now: Instant::from_micros(0),
-                writes: Writes::default(),
+                writes: &mut Writes::default(),
             };
             let [i0, i1] = u16::to_le_bytes(index);
             let mut out = [0xAA; 40];
