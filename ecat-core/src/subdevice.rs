@@ -476,6 +476,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// Reports that the access returned by [`SubDevice::poll_access`] was performed, with the AL
     /// event register value the driver saw during it.
+    #[inline]
     pub fn access_done(&mut self, now: Instant, event: AlEvent) {
         let Some((op, value)) = self.in_flight.take() else {
             return;
@@ -790,7 +791,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The SM0 read or SM1 write of `op`.
-    #[inline(never)]
+    #[inline]
     fn prepare_mailbox(&mut self, op: MailboxOp) -> Access<'_> {
         let clears = Op::Mailbox(op).clears();
         match op {

@@ -38,6 +38,28 @@ use crate::time::Instant;
 /// state-machine runner, so both queues are the same type (one copy of its code).
 pub const EMERGENCY_QUEUE: usize = 4;
 
+/// The bits of [`Mailbox`]'s state: one byte, so that each question the flow control asks
+/// (may a request be read, is a write due, is there work) is one test.
+mod flag {
+    /// SM0 holds a message the SubDevice has not read yet.
+    pub const RX_WAITING: u8 = 1 << 0;
+    /// The receive buffer holds a request not yet served.
+    pub const RX_PENDING: u8 = 1 << 1;
+    /// The send buffer holds a message not yet written to SM1.
+    pub const TX_PENDING: u8 = 1 << 2;
+    /// SM1 holds a message the MainDevice has not read yet.
+    pub const SEND_BUSY: u8 = 1 << 3;
+    /// SM1's repeat request differs from the acknowledge: the last message is written again,
+    /// then the acknowledge follows the request.
+    pub const REPEAT_PENDING: u8 = 1 << 4;
+    /// The repeat acknowledge bit as last written to SM1's PDI control.
+    pub const REPEAT_ACK: u8 = 1 << 5;
+    /// What keeps a request in SM0: its answer could not be written at once.
+    pub const BLOCKING: u8 = RX_PENDING | TX_PENDING | SEND_BUSY | REPEAT_PENDING;
+    /// What keeps SM1 from taking a new message.
+    pub const SM1_TAKEN: u8 = TX_PENDING | SEND_BUSY | REPEAT_PENDING;
+}
+
 /// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes.
 #[derive(Debug)]
 pub struct Mailbox<const N: usize> {
@@ -49,22 +71,13 @@ pub struct Mailbox<const N: usize> {
     receive: Area,
     /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
     send: Area,
-    /// SM0 holds a message the SubDevice has not read yet.
-    rx_waiting: bool,
-    /// `rx` holds a message not yet served.
-    rx_pending: bool,
-    /// `tx` holds a message not yet written to SM1.
-    tx_pending: bool,
-    /// SM1 holds a message the MainDevice has not read yet.
-    send_busy: bool,
+    /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
+    /// ([`flag`]).
+    flags: u8,
     /// The counter of the last message received (0: none).
     rx_counter: u8,
     /// The counter of the last message sent (0: none).
     tx_counter: u8,
-    /// The repeat acknowledge bit as last written to SM1's PDI control.
-    repeat_ack: bool,
-    /// The repeat request bit as last read from SM1's activate register.
-    repeat_request: bool,
     sdo: SdoServer<N>,
     sdo_info: SdoInfo,
     emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
@@ -85,14 +98,9 @@ impl<const N: usize> Mailbox<N> {
             tx_len: 0,
             receive: Area::new(0, 0),
             send: Area::new(0, 0),
-            rx_waiting: false,
-            rx_pending: false,
-            tx_pending: false,
-            send_busy: false,
+            flags: 0,
             rx_counter: 0,
             tx_counter: 0,
-            repeat_ack: false,
-            repeat_request: false,
             sdo: SdoServer::new(),
             sdo_info: SdoInfo::new(),
             emergencies: Ring::new(Emergency::NONE),
@@ -109,8 +117,9 @@ impl<const N: usize> Mailbox<N> {
         };
         self.receive = clamp(config.receive);
         self.send = clamp(config.send);
-        self.repeat_request = repeat_request;
-        self.repeat_ack = repeat_request;
+        if repeat_request {
+            self.flags = flag::REPEAT_ACK;
+        }
     }
 
     /// Stops the mailbox: everything in flight is dropped, queued emergencies too.
@@ -120,21 +129,26 @@ impl<const N: usize> Mailbox<N> {
 
     /// The MainDevice filled SM0 (AL event bit 8).
     pub fn receive_event(&mut self) {
-        self.rx_waiting = true;
+        self.flags |= flag::RX_WAITING;
     }
 
     /// The MainDevice read SM1 (AL event bit 9).
     pub fn send_event(&mut self) {
-        self.send_busy = false;
+        self.flags &= !flag::SEND_BUSY;
     }
 
     /// SM1's activate register as last read: a toggled repeat request asks for the last message
     /// again.
     pub fn repeat_request(&mut self, request: bool) {
-        self.repeat_request = request;
-        if self.tx_len == 0 {
+        let acknowledged = self.repeat_ack() == request;
+        self.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
+        if acknowledged || self.tx_len == 0 {
             // Nothing was ever sent: nothing to repeat, acknowledge at once.
-            self.repeat_ack = request;
+            if request {
+                self.flags |= flag::REPEAT_ACK;
+            }
+        } else {
+            self.flags |= flag::REPEAT_PENDING | if request { 0 } else { flag::REPEAT_ACK };
         }
     }
 
@@ -153,18 +167,18 @@ impl<const N: usize> Mailbox<N> {
 
     /// Whether SM0 may be read now: its answer could be sent at once.
     pub fn can_receive(&self) -> bool {
-        !self.rx_pending && !self.tx_pending && !self.send_busy && !self.repeat_pending()
+        self.flags & flag::BLOCKING == 0
     }
 
     /// Whether a repeat request waits for the last message to be written again.
     pub fn repeat_pending(&self) -> bool {
-        self.repeat_request != self.repeat_ack
+        self.flags & flag::REPEAT_PENDING != 0
     }
 
     /// Whether the SM0 event belongs in the AL event mask: always, except while a request
     /// already waits in SM0 that cannot be read yet (its event would hold the IRQ line).
     pub fn wants_receive_event(&self) -> bool {
-        !self.rx_waiting || self.can_receive()
+        self.flags & flag::RX_WAITING == 0 || self.can_receive()
     }
 
     /// Whether the SM1 event belongs in the AL event mask: only while SM1 holds an unread message
@@ -172,16 +186,15 @@ impl<const N: usize> Mailbox<N> {
     /// request/answer rhythm the MainDevice reads SM1 before it writes the next request, and the
     /// SM1 bit, still latched in the AL event register, arrives with the SM0 event.
     pub fn wants_send_event(&self) -> bool {
-        let more = self.tx_pending
-            || self.rx_waiting
+        let more = self.flags & (flag::TX_PENDING | flag::RX_WAITING) != 0
             || self.sdo_info.is_pending()
             || !self.emergencies.is_empty();
-        self.send_busy && more
+        self.flags & flag::SEND_BUSY != 0 && more
     }
 
     /// Whether SM0 should be read now.
     pub fn read_due(&self) -> bool {
-        self.rx_waiting && self.can_receive()
+        self.flags & (flag::RX_WAITING | flag::BLOCKING) == flag::RX_WAITING
     }
 
     /// SM0's address and the receive buffer for reading it (SM0's length).
@@ -199,18 +212,18 @@ impl<const N: usize> Mailbox<N> {
 
     /// Whether a request read from SM0 waits to be served.
     pub fn request_pending(&self) -> bool {
-        self.rx_pending
+        self.flags & flag::RX_PENDING != 0
     }
 
     /// SM0 was read into the receive buffer.
     pub fn received(&mut self) {
-        self.rx_waiting = false;
-        self.rx_pending = true;
+        self.flags = (self.flags & !flag::RX_WAITING) | flag::RX_PENDING;
     }
 
     /// Whether a message must be written to SM1 now: the next message, or the last one again.
     pub fn write_due(&self) -> bool {
-        (self.tx_pending && !self.send_busy) || self.repeat_pending()
+        self.flags & (flag::TX_PENDING | flag::SEND_BUSY) == flag::TX_PENDING
+            || self.repeat_pending()
     }
 
     /// What writing the message into SM1 takes: SM1's address, the message (the last one built)
@@ -232,14 +245,20 @@ impl<const N: usize> Mailbox<N> {
 
     /// The message ([`Mailbox::message`]) is now in SM1.
     pub fn written(&mut self) {
-        self.tx_pending = false;
-        self.send_busy = true;
-        self.repeat_ack = self.repeat_request;
+        // The acknowledge follows the request: it toggles if a repeat was pending.
+        let toggle = if self.repeat_pending() {
+            flag::REPEAT_ACK
+        } else {
+            0
+        };
+        self.flags ^= toggle;
+        self.flags &= !(flag::TX_PENDING | flag::REPEAT_PENDING);
+        self.flags |= flag::SEND_BUSY;
     }
 
     /// The repeat acknowledge bit for SM1's PDI control.
     pub fn repeat_ack(&self) -> bool {
-        self.repeat_ack
+        self.flags & flag::REPEAT_ACK != 0
     }
 
     /// Queues an emergency; when the queue is full the oldest is dropped (see
@@ -266,8 +285,10 @@ impl<const N: usize> Mailbox<N> {
     /// Whether [`Mailbox::service`] has anything to do: SM1 is free and a request, an SDO
     /// Information fragment or an emergency waits for it.
     fn has_work(&self) -> bool {
-        let free = !self.tx_pending && !self.send_busy && !self.repeat_pending();
-        free && (self.rx_pending || self.sdo_info.is_pending() || !self.emergencies.is_empty())
+        let free = self.flags & flag::SM1_TAKEN == 0;
+        free && (self.request_pending()
+            || self.sdo_info.is_pending()
+            || !self.emergencies.is_empty())
     }
 
     /// Serves what is due: the received message, or else the next fragment or emergency when SM1
@@ -290,7 +311,8 @@ impl<const N: usize> Mailbox<N> {
         &mut self,
         cx: &mut Context<'_, D, H>,
     ) -> Option<bool> {
-        if core::mem::take(&mut self.rx_pending) {
+        if self.request_pending() {
+            self.flags &= !flag::RX_PENDING;
             return Some(self.serve_request(cx));
         }
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
@@ -393,7 +415,7 @@ impl<const N: usize> Mailbox<N> {
         }
         let end = (MailboxHeader::SIZE + len).min(N);
         self.tx_len = end;
-        self.tx_pending = true;
+        self.flags |= flag::TX_PENDING;
         true
     }
 }

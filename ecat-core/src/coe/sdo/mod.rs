@@ -122,9 +122,13 @@ impl<const N: usize> SdoServer<N> {
         request: &[u8],
         out: &mut [u8],
     ) -> usize {
-        let index = u16::from_le_bytes([byte(request, 1), byte(request, 2)]);
-        let sub = byte(request, 3);
-        let result = match Request::from_byte(byte(request, 0)) {
+        // The mailbox hands over at least the 8 bytes of an SDO header; anything shorter is no
+        // request a server knows.
+        let &[command, i0, i1, sub, ..] = request else {
+            return abort(out, 0, 0, AbortCode::COMMAND_SPECIFIER);
+        };
+        let index = u16::from_le_bytes([i0, i1]);
+        let result = match Request::from_byte(command) {
             Request::Upload { complete } => self.upload(cx, Target::new(index, sub, complete), out),
             Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
             Request::Download {
