@@ -192,6 +192,7 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
 }
 
 /// Writes `data` into the register file `mem` at `address`.
+#[inline]
 fn put(mem: &mut [u8], address: u16, data: &[u8]) {
     let a = usize::from(address);
     mem[a..a + data.len()].copy_from_slice(data);

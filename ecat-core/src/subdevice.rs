@@ -382,8 +382,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`SubDevice::handle_al_event`] with at least one bit set.
     fn handle_news(&mut self, event: AlEvent) {
         if event.intersects(ESM_EVENTS | AlEvent::WATCHDOG_PROCESS_DATA) {
-            self.stale.insert(Stale::READS);
+            self.handle_register_events(event);
         }
+        if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
+            self.handle_mailbox_events(event);
+        }
+    }
+
+    /// The events that ask for register reads: AL control, SM change, the watchdog. Out of
+    /// line, away from the mailbox's events.
+    #[inline(never)]
+    fn handle_register_events(&mut self, event: AlEvent) {
+        self.stale.insert(Stale::READS);
         // The SyncManagers are read once per AL control event, before AL control: a stale
         // AL control bit seen while that read is still scheduled must not schedule it again.
         let al_control = event.contains(AlEvent::AL_CONTROL) && !self.read_due(read::AL_CONTROL);
@@ -402,21 +412,23 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {
             self.reads |= read::WATCHDOG_STATUS;
         }
-        if self.state.has_mailbox() && event.intersects(MAILBOX_EVENTS) {
-            if event.contains(AlEvent::sync_manager(0)) {
-                self.mailbox.receive_event();
-            }
-            if event.contains(AlEvent::sync_manager(1)) {
-                self.mailbox.send_event();
-            }
-            if !self.mailbox_mask_holds() {
-                self.stale.insert(Stale::MAILBOX_QUEUE);
-            } else if event.contains(AlEvent::sync_manager(0)) {
-                // The request can be read (the mask holds because it can).
-                self.mailbox_due(MailboxOp::Read);
-            } else {
-                self.stale.insert(Stale::MAILBOX);
-            }
+    }
+
+    /// SM0 written or SM1 read by the MainDevice, in a state with a mailbox.
+    fn handle_mailbox_events(&mut self, event: AlEvent) {
+        if event.contains(AlEvent::sync_manager(0)) {
+            self.mailbox.receive_event();
+        }
+        if event.contains(AlEvent::sync_manager(1)) {
+            self.mailbox.send_event();
+        }
+        if !self.mailbox_mask_holds() {
+            self.stale.insert(Stale::MAILBOX_QUEUE);
+        } else if event.contains(AlEvent::sync_manager(0)) {
+            // The request can be read (the mask holds because it can).
+            self.mailbox_due(MailboxOp::Read);
+        } else {
+            self.stale.insert(Stale::MAILBOX);
         }
     }
 
@@ -1114,7 +1126,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
-        if !self.state.has_mailbox() {
+        if !self.state.has_mailbox() || !self.mailbox.has_work() {
+            // Nothing due: nothing changed.
             return false;
         }
         let request = self.mailbox.request_pending();
@@ -1125,10 +1138,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             now,
             writes: &mut self.writes,
         };
-        // Nothing due: nothing changed.
-        let Some(built) = self.mailbox.service(&mut cx) else {
-            return false;
-        };
+        let built = self.mailbox.serve(&mut cx);
         self.pd_stale |= core::mem::take(&mut self.writes.configured);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the

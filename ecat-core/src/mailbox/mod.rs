@@ -282,38 +282,25 @@ impl<const N: usize> Mailbox<N> {
         self.sdo.handle_timeout(now);
     }
 
-    /// Whether [`Mailbox::service`] has anything to do: SM1 is free and a request, an SDO
+    /// Whether [`Mailbox::serve`] has anything to do: SM1 is free and a request, an SDO
     /// Information fragment or an emergency waits for it.
-    fn has_work(&self) -> bool {
+    pub fn has_work(&self) -> bool {
         let free = self.flags & flag::SM1_TAKEN == 0;
         free && (self.request_pending()
             || self.sdo_info.is_pending()
             || !self.emergencies.is_empty())
     }
 
-    /// Serves what is due: the received message, or else the next fragment or emergency when SM1
-    /// is free. Returns `None` when nothing was due, else whether a message was built (a request
-    /// may be dropped without one). Bounded: one message per call.
-    #[inline]
-    pub fn service<D: ObjectDictionary, H: ObjectHooks<D>>(
+    /// Serves what is due, once [`Mailbox::has_work`] says there is something: the received
+    /// message, or else the next fragment or emergency (SM1 is free then). Returns whether a
+    /// message was built (a request may be dropped without one). Bounded: one message per call.
+    pub(crate) fn serve<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
-    ) -> Option<bool> {
-        // Inline: the caller's loop asks once more after each message, and SM1 is busy then.
-        if !self.has_work() {
-            return None;
-        }
-        self.serve(cx)
-    }
-
-    /// [`Mailbox::service`] once it has work.
-    fn serve<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-    ) -> Option<bool> {
+    ) -> bool {
         if self.request_pending() {
             self.flags &= !flag::RX_PENDING;
-            return Some(self.serve_request(cx));
+            return self.serve_request(cx);
         }
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self
@@ -321,10 +308,12 @@ impl<const N: usize> Mailbox<N> {
             .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
             .unwrap_or_default();
         if let Some(len) = self.sdo_info.next_fragment::<D>(out) {
-            return Some(self.build(MailboxType::Coe, len));
+            return self.build(MailboxType::Coe, len);
         }
-        let emergency = self.emergencies.pop()?;
-        Some(self.build_emergency(emergency))
+        match self.emergencies.pop() {
+            Some(emergency) => self.build_emergency(emergency),
+            None => false,
+        }
     }
 
     fn serve_request<D: ObjectDictionary, H: ObjectHooks<D>>(
