@@ -5,7 +5,7 @@ use core::cell::RefCell;
 use core::pin::pin;
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{Access, Event, SubDevice, Transition};
+use ecat_core::{Access, AlEvent, Event, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -109,33 +109,44 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
 }
 
 /// Performs every register access the core asks for, then publishes the process-data layout.
-async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
-    esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_, MBX>,
-) -> Result<(), P::Error> {
-    while let Some(access) = sub.poll_access() {
-        let clears = access.clears();
-        let (address, data, last) = match access {
-            Access::Read { address, buf, .. } => (address, Data::Read(buf), None),
-            Access::Write { address, data, .. } => (address, Data::Write(data), None),
-            Access::Send {
-                address,
-                data,
-                last,
-                ..
-            } => (address, Data::Write(data), last),
-        };
-        let mut event = esc.access(Runner::Esm, address, data, clears).await?;
-        if let Some(last) = last {
-            // The message is shorter than SM1: its last byte hands SM1 to the MainDevice.
-            event = esc
-                .access(Runner::Esm, last, Data::Write(&[0]), clears)
-                .await?;
+/// An `async` block, which keeps no copy of its arguments beside them (as an `async fn` would).
+#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+fn sync<'a, M: RawMutex, P: Pdi, const MBX: usize>(
+    esc: &'a SharedEsc<M, P>,
+    sub: &'a mut SubDevice<'_, MBX>,
+) -> impl Future<Output = Result<(), P::Error>> + 'a {
+    async move {
+        while let Some(access) = sub.poll_access() {
+            let (address, data, last, clears) = pdi_access(access);
+            let mut event = esc.access(Runner::Esm, address, data, clears).await?;
+            if let Some(last) = last {
+                // The message is shorter than SM1: its last byte hands SM1 to the MainDevice.
+                event = esc
+                    .access(Runner::Esm, last, Data::Write(&[0]), clears)
+                    .await?;
+            }
+            sub.access_done(now(), event);
+            esc.publish(sub.process_data(), sub.event_mask());
         }
-        sub.access_done(now(), event);
-        esc.publish(sub.process_data(), sub.event_mask());
+        Ok(())
     }
-    Ok(())
+}
+
+/// An access of the core as the PDI performs it: address, data, the address of a last byte to
+/// write after the data ([`Access::Send`]), the AL event bits it clears. Taken apart here so
+/// that the runner's future keeps the parts, not the access.
+fn pdi_access(access: Access<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
+    let clears = access.clears();
+    match access {
+        Access::Read { address, buf, .. } => (address, Data::Read(buf), None, clears),
+        Access::Write { address, data, .. } => (address, Data::Write(data), None, clears),
+        Access::Send {
+            address,
+            data,
+            last,
+            ..
+        } => (address, Data::Write(data), last, clears),
+    }
 }
 
 /// Asks the application about `t` while still serving AL events: a new request from the
