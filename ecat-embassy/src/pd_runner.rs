@@ -430,24 +430,25 @@ impl<E: embedded_hal::digital::Error> embedded_hal::digital::ErrorType for NoSyn
     type Error = E;
 }
 
+/// Each wait is a future that never completes, without a state machine of its own.
 impl<E: embedded_hal::digital::Error> Wait for NoSync0<E> {
-    async fn wait_for_high(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_high(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_low(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_low(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_rising_edge(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_rising_edge(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_falling_edge(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_falling_edge(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_any_edge(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_any_edge(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 }
