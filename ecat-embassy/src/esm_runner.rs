@@ -38,43 +38,37 @@ where
     A: Application + ObjectHooks<D>,
     D: ObjectDictionary,
 {
-    match drive(esc, sub, app, od).await {
-        Ok(never) => match never {},
-        Err(e) => e,
-    }
-}
-
-async fn drive<M, P, A, D, const MBX: usize>(
-    esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_, MBX>,
-    app: &mut A,
-    od: &SharedDictionary<M, D>,
-) -> Result<core::convert::Infallible, P::Error>
-where
-    M: RawMutex,
-    P: Pdi,
-    A: Application + ObjectHooks<D>,
-    D: ObjectDictionary,
-{
     loop {
         od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
         absorb(esc, sub);
-        sync(esc, sub).await?;
+        if let Err(e) = sync(esc, sub).await {
+            return e;
+        }
         while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
-            sync(esc, sub).await?;
+            if let Err(e) = sync(esc, sub).await {
+                return e;
+            }
         }
         // Serving without an answer (a client abort, a repeated counter) still changes what the
         // core wants written, e.g. the event mask that re-arms SM0.
-        sync(esc, sub).await?;
+        if let Err(e) = sync(esc, sub).await {
+            return e;
+        }
         let mut events = false;
         while let Some(event) = sub.poll_event() {
             events = true;
             match event {
-                Event::TransitionRequested(t) => answer(esc, sub, app, t).await?,
+                Event::TransitionRequested(t) => {
+                    if let Err(e) = answer(esc, sub, app, t).await {
+                        return e;
+                    }
+                }
                 Event::StateChanged(t) => app.on_state_change(t),
                 Event::TransitionAborted(_) => {}
             }
-            sync(esc, sub).await?;
+            if let Err(e) = sync(esc, sub).await {
+                return e;
+            }
         }
         if events {
             // What the events led to (a new state, emergencies absorbed while answering) may
