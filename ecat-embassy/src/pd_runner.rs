@@ -82,6 +82,8 @@ where
     // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
     // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
     let mut tick: Option<Instant> = None;
+    // Receives the AL event register when a plan reads it.
+    let mut register = [0; 4];
     loop {
         // What woke the runner and what follows; the news and its copy of the layout end here,
         // so only `current` lives on across the exchange.
@@ -121,10 +123,35 @@ where
                 }
             }
         };
-        if let Some(plan) = plan
-            && let Err(e) = exchange.perform(plan, &current).await
-        {
-            return e;
+        let Some(plan) = plan else { continue };
+        // The plan's read, then the cycle when the read confirms it, then the write of the
+        // inputs: the only two accesses of an exchange, awaited here rather than in a future
+        // of their own.
+        let event = match exchange.read(plan.read, &mut register) {
+            Ok(Some((address, buf))) => {
+                match esc
+                    .access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
+                    .await
+                {
+                    Ok(event) => event,
+                    Err(e) => return Error::Pdi(e),
+                }
+            }
+            Ok(None) => AlEvent::NONE,
+            Err(e) => return e,
+        };
+        match exchange.after_read(plan.then, event, &current) {
+            Ok(Some((address, inputs))) => {
+                let clears = AlEvent::sync_manager(3);
+                if let Err(e) = esc
+                    .access(Runner::ProcessData, address, Data::Write(inputs), clears)
+                    .await
+                {
+                    return Error::Pdi(e);
+                }
+            }
+            Ok(None) => {}
+            Err(e) => return e,
         }
     }
 }
@@ -168,6 +195,9 @@ struct Images<D: ObjectDictionary> {
 /// The write an exchange ends with: the input area's address and the input image, if the
 /// device has inputs.
 type InputWrite<'b> = Option<(u16, &'b [u8])>;
+
+/// The read an exchange starts with: the address and where the bytes go, if it reads at all.
+type PlanRead<'b> = Option<(u16, &'b mut [u8])>;
 
 /// What one exchange needs.
 struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
@@ -276,35 +306,36 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
     }
 
-    /// Performs `plan`: its read, then the cycle when the read confirms it, then the write of
-    /// the inputs. The only two awaits of an exchange, both on [`SharedEsc::access`].
-    async fn perform<I>(
+    /// Where the read of a plan goes: the output area into the output buffer, the AL event
+    /// register into `register`; `None` when the plan reads nothing.
+    fn read<'r, I>(
+        &'r mut self,
+        read: Option<Read>,
+        register: &'r mut [u8; 4],
+    ) -> Result<PlanRead<'r>, Error<P::Error, I>> {
+        Ok(match read {
+            Some(Read::Outputs(area)) => Some((
+                area.start,
+                self.buffers
+                    .outputs
+                    .get_mut(..usize::from(area.length))
+                    .ok_or(Error::BufferTooSmall)?,
+            )),
+            Some(Read::AlEvent) => Some((AL_EVENT_REQUEST, &mut register[..])),
+            None => None,
+        })
+    }
+
+    /// What follows a plan's read, which saw `event`: the cycle when the read confirms it.
+    /// Returns the write of the inputs, if any.
+    fn after_read<I>(
         &mut self,
-        plan: Plan,
+        then: Then,
+        event: AlEvent,
         layout: &Option<Layout>,
-    ) -> Result<(), Error<P::Error, I>> {
-        let esc = self.esc;
-        let event = match plan.read {
-            Some(read) => {
-                let mut register = [0; 4];
-                let (address, buf) = match read {
-                    Read::Outputs(area) => (
-                        area.start,
-                        self.buffers
-                            .outputs
-                            .get_mut(..usize::from(area.length))
-                            .ok_or(Error::BufferTooSmall)?,
-                    ),
-                    Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
-                };
-                esc.access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
-                    .await
-                    .map_err(Error::Pdi)?
-            }
-            None => AlEvent::NONE,
-        };
-        let (layout, apply_outputs, new_outputs) = match (plan.then, layout) {
-            (Then::Nothing, _) | (_, None) => return Ok(()),
+    ) -> Result<InputWrite<'_>, Error<P::Error, I>> {
+        let (layout, apply_outputs, new_outputs) = match (then, layout) {
+            (Then::Nothing, _) | (_, None) => return Ok(None),
             (Then::FirstCycle, Some(layout)) => (layout, false, None),
             (Then::Clocked, Some(layout)) => {
                 let new_outputs = event.intersects(AlEvent::sync_manager(2));
@@ -319,7 +350,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                     || event.intersects(layout.trigger())
                     || !self.esc.take_pd_events().is_empty();
                 if !triggered {
-                    return Ok(());
+                    return Ok(None);
                 }
                 let new_outputs = layout.outputs.is_some();
                 if new_outputs {
@@ -332,17 +363,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 )
             }
         };
-        if let Some((address, inputs)) = self.cycle(layout, apply_outputs, new_outputs)? {
-            esc.access(
-                Runner::ProcessData,
-                address,
-                Data::Write(inputs),
-                AlEvent::sync_manager(3),
-            )
-            .await
-            .map_err(Error::Pdi)?;
-        }
-        Ok(())
+        self.cycle(layout, apply_outputs, new_outputs)
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
