@@ -5,7 +5,7 @@ use core::cell::RefCell;
 use core::pin::pin;
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{Event, SubDevice, Transition};
+use ecat_core::{AlEvent, AlStatusCode, Event, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -59,8 +59,20 @@ where
             events = true;
             match event {
                 Event::TransitionRequested(t) => {
-                    if let Err(e) = answer(esc, sub, app, t).await {
-                        return e;
+                    // The application is asked while AL events are still served: a new request
+                    // from the MainDevice or the deadline ends the wait and drops its future.
+                    // Once it accepted, a SAFEOP→OP transition may still wait for the first
+                    // outputs.
+                    let mut decision = pin!(app.on_transition(t));
+                    while sub.pending_transition() == Some(t) {
+                        // The application's decision only while the core waits for it.
+                        let pending = Maybe(sub.awaits_application().then_some(decision.as_mut()));
+                        let timeout = until(sub.poll_timeout());
+                        let outcome = select3(pending, timeout, esc.esm_events()).await;
+                        answer(esc, sub, t, outcome);
+                        if let Err(e) = sync(esc, sub).await {
+                            return e;
+                        }
                     }
                 }
                 Event::StateChanged(t) => app.on_state_change(t),
@@ -122,35 +134,27 @@ async fn sync<M: RawMutex, P: Pdi, const MBX: usize>(
     Ok(())
 }
 
-/// Asks the application about `t` while still serving AL events: a new request from the
-/// MainDevice or the deadline ends the wait and drops the application's future. Once the
-/// application accepted, a SAFEOP→OP transition may still wait for the first outputs.
-async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
+/// Hands the core what ended a wait for the application's answer to `t`: the answer, the
+/// deadline, or an AL event (with whatever the rest of the firmware told the runner meanwhile).
+fn answer<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
-    app: &mut A,
     t: Transition,
-) -> Result<(), P::Error> {
-    let mut decision = pin!(app.on_transition(t));
-    while sub.pending_transition() == Some(t) {
-        // The application's decision only while the core waits for it.
-        let pending = Maybe(sub.awaits_application().then_some(decision.as_mut()));
-        let event = match select3(pending, until(sub.poll_timeout()), esc.esm_events()).await {
-            Either3::First(result) => {
-                sub.complete_transition(t, result);
-                None
-            }
-            Either3::Second(()) => {
-                sub.handle_timeout(now());
-                None
-            }
-            Either3::Third(event) => Some(event),
-        };
-        absorb(esc, sub);
-        if let Some(event) = event {
-            sub.handle_al_event(event);
+    outcome: Either3<Result<(), AlStatusCode>, (), AlEvent>,
+) {
+    let event = match outcome {
+        Either3::First(result) => {
+            sub.complete_transition(t, result);
+            None
         }
-        sync(esc, sub).await?;
+        Either3::Second(()) => {
+            sub.handle_timeout(now());
+            None
+        }
+        Either3::Third(event) => Some(event),
+    };
+    absorb(esc, sub);
+    if let Some(event) = event {
+        sub.handle_al_event(event);
     }
-    Ok(())
 }
