@@ -26,70 +26,77 @@ pub type SharedDictionary<M, D> = BlockingMutex<M, RefCell<D>>;
 /// Woken only by AL events the process-data runner routes to it, by emergencies the application
 /// raises and by the core's deadlines; never polls the ESC. Each mailbox message costs one PDI
 /// read of SM0 and one or two writes of SM1, each a single bounded transaction.
-pub async fn run_esm<M, P, A, D, const MBX: usize>(
+///
+/// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
+/// the ones the loop works on.
+#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+pub fn run_esm<M, P, A, D, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
     app: &mut A,
     od: &SharedDictionary<M, D>,
-) -> P::Error
+) -> impl Future<Output = P::Error>
 where
     M: RawMutex,
     P: Pdi,
     A: Application + ObjectHooks<D>,
     D: ObjectDictionary,
 {
-    loop {
-        od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
-        absorb(esc, sub);
-        if let Err(e) = sync(esc, sub).await {
-            return e;
-        }
-        while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
+    async move {
+        loop {
+            od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
+            absorb(esc, sub);
             if let Err(e) = sync(esc, sub).await {
                 return e;
             }
-        }
-        // Serving without an answer (a client abort, a repeated counter) still changes what the
-        // core wants written, e.g. the event mask that re-arms SM0.
-        if let Err(e) = sync(esc, sub).await {
-            return e;
-        }
-        let mut events = false;
-        while let Some(event) = sub.poll_event() {
-            events = true;
-            match event {
-                Event::TransitionRequested(t) => {
-                    // The application is asked while AL events are still served: a new request
-                    // from the MainDevice or the deadline ends the wait and drops its future.
-                    // Once it accepted, a SAFEOP→OP transition may still wait for the first
-                    // outputs.
-                    let mut decision = pin!(app.on_transition(t));
-                    while sub.pending_transition() == Some(t) {
-                        // The application's decision only while the core waits for it.
-                        let pending = Maybe(sub.awaits_application().then_some(decision.as_mut()));
-                        let timeout = until(sub.poll_timeout());
-                        let outcome = select3(pending, timeout, esc.esm_events()).await;
-                        answer(esc, sub, t, outcome);
-                        if let Err(e) = sync(esc, sub).await {
-                            return e;
+            while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
+                if let Err(e) = sync(esc, sub).await {
+                    return e;
+                }
+            }
+            // Serving without an answer (a client abort, a repeated counter) still changes what the
+            // core wants written, e.g. the event mask that re-arms SM0.
+            if let Err(e) = sync(esc, sub).await {
+                return e;
+            }
+            let mut events = false;
+            while let Some(event) = sub.poll_event() {
+                events = true;
+                match event {
+                    Event::TransitionRequested(t) => {
+                        // The application is asked while AL events are still served: a new request
+                        // from the MainDevice or the deadline ends the wait and drops its future.
+                        // Once it accepted, a SAFEOP→OP transition may still wait for the first
+                        // outputs.
+                        let mut decision = pin!(app.on_transition(t));
+                        while sub.pending_transition() == Some(t) {
+                            // The application's decision only while the core waits for it.
+                            let pending =
+                                Maybe(sub.awaits_application().then_some(decision.as_mut()));
+                            let timeout = until(sub.poll_timeout());
+                            let outcome = select3(pending, timeout, esc.esm_events()).await;
+                            answer(esc, sub, t, outcome);
+                            if let Err(e) = sync(esc, sub).await {
+                                return e;
+                            }
                         }
                     }
+                    Event::StateChanged(t) => app.on_state_change(t),
+                    Event::TransitionAborted(_) => {}
                 }
-                Event::StateChanged(t) => app.on_state_change(t),
-                Event::TransitionAborted(_) => {}
+                if let Err(e) = sync(esc, sub).await {
+                    return e;
+                }
             }
-            if let Err(e) = sync(esc, sub).await {
-                return e;
+            if events {
+                // What the events led to (a new state, emergencies absorbed while answering) may
+                // have given the mailbox work: one more pass before waiting.
+                continue;
             }
-        }
-        if events {
-            // What the events led to (a new state, emergencies absorbed while answering) may
-            // have given the mailbox work: one more pass before waiting.
-            continue;
-        }
-        match select(esc.esm_events(), until(sub.poll_timeout())).await {
-            Either::First(event) => sub.handle_al_event(event),
-            Either::Second(()) => sub.handle_timeout(now()),
+            match select(esc.esm_events(), until(sub.poll_timeout())).await {
+                Either::First(event) => sub.handle_al_event(event),
+                Either::Second(()) => sub.handle_timeout(now()),
+            }
         }
     }
 }

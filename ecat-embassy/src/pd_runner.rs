@@ -53,14 +53,18 @@ pub struct Buffers<'b> {
 ///
 /// `sync0` is the ESC's SYNC0 output (a pulse per DC cycle; its rising edge starts a cycle when
 /// the MainDevice chose DC SYNC0 mode). A device without DC passes [`NoSync0`].
-pub async fn run_process_data<M, P, I, S, C, D>(
+///
+/// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
+/// the ones the loop works on.
+#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+pub fn run_process_data<M, P, I, S, C, D>(
     esc: &SharedEsc<M, P>,
     irq: &mut I,
     sync0: &mut S,
     app: &mut C,
     od: &SharedDictionary<M, D>,
     buffers: Buffers<'_>,
-) -> Error<P::Error, I::Error>
+) -> impl Future<Output = Error<P::Error, I::Error>>
 where
     M: RawMutex,
     P: Pdi,
@@ -69,89 +73,91 @@ where
     C: CycleHandler<D>,
     D: ObjectDictionary,
 {
-    let mut exchange = Exchange {
-        esc,
-        app,
-        od,
-        buffers,
-        images: None,
-        monitor: CycleMonitor::default(),
-        reported: Reported::default(),
-    };
-    let mut current: Option<Layout> = None;
-    // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
-    // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
-    let mut tick: Option<Instant> = None;
-    // Receives the AL event register when a plan reads it.
-    let mut register = [0; 4];
-    loop {
-        // What woke the runner and what follows; the news and its copy of the layout end here,
-        // so only `current` lives on across the exchange.
-        let plan = {
-            let news = esc.pd_news(current);
-            let layout = news.layout;
-            if layout != current {
-                let was_active = current.is_some_and(|l| l.outputs_active);
-                current = layout;
-                if was_active && !layout.is_some_and(|l| l.outputs_active) {
-                    exchange.safe_state();
-                }
-                tick = layout.and_then(first_deadline);
-                exchange.on_new_layout(layout)
-            } else if !news.pd_events.is_empty() {
-                Some(exchange.on_trigger(layout, true))
-            } else {
-                let sync0_on = layout.is_some_and(|l| l.sync0());
-                let mut irq_low = pin!(irq.wait_for_low());
-                let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
-                match select4(
-                    Maybe(news.irq_free.then_some(irq_low.as_mut())),
-                    esc.pd_news_since(news.generation),
-                    until(tick),
-                    Maybe(sync0_on.then_some(sync0_edge.as_mut())),
-                )
-                .await
-                {
-                    Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
-                    Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
-                    Either4::Second(()) => None,
-                    Either4::Third(()) => exchange.on_tick(layout, &mut tick),
-                    Either4::Fourth(Ok(())) => {
-                        tick = layout.and_then(first_deadline);
-                        exchange.on_sync0(layout)
+    async move {
+        let mut exchange = Exchange {
+            esc,
+            app,
+            od,
+            buffers,
+            images: None,
+            monitor: CycleMonitor::default(),
+            reported: Reported::default(),
+        };
+        let mut current: Option<Layout> = None;
+        // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
+        // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
+        let mut tick: Option<Instant> = None;
+        // Receives the AL event register when a plan reads it.
+        let mut register = [0; 4];
+        loop {
+            // What woke the runner and what follows; the news and its copy of the layout end here,
+            // so only `current` lives on across the exchange.
+            let plan = {
+                let news = esc.pd_news(current);
+                let layout = news.layout;
+                if layout != current {
+                    let was_active = current.is_some_and(|l| l.outputs_active);
+                    current = layout;
+                    if was_active && !layout.is_some_and(|l| l.outputs_active) {
+                        exchange.safe_state();
+                    }
+                    tick = layout.and_then(first_deadline);
+                    exchange.on_new_layout(layout)
+                } else if !news.pd_events.is_empty() {
+                    Some(exchange.on_trigger(layout, true))
+                } else {
+                    let sync0_on = layout.is_some_and(|l| l.sync0());
+                    let mut irq_low = pin!(irq.wait_for_low());
+                    let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
+                    match select4(
+                        Maybe(news.irq_free.then_some(irq_low.as_mut())),
+                        esc.pd_news_since(news.generation),
+                        until(tick),
+                        Maybe(sync0_on.then_some(sync0_edge.as_mut())),
+                    )
+                    .await
+                    {
+                        Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
+                        Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
+                        Either4::Second(()) => None,
+                        Either4::Third(()) => exchange.on_tick(layout, &mut tick),
+                        Either4::Fourth(Ok(())) => {
+                            tick = layout.and_then(first_deadline);
+                            exchange.on_sync0(layout)
+                        }
                     }
                 }
-            }
-        };
-        let Some(plan) = plan else { continue };
-        // The plan's read, then the cycle when the read confirms it, then the write of the
-        // inputs: the only two accesses of an exchange, awaited here rather than in a future
-        // of their own.
-        let event = match exchange.read(plan.read, &mut register) {
-            Ok(Some((address, buf))) => {
-                match esc
-                    .access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
-                    .await
-                {
-                    Ok(event) => event,
-                    Err(e) => return Error::Pdi(e),
+            };
+            let Some(plan) = plan else { continue };
+            // The plan's read, then the cycle when the read confirms it, then the write of the
+            // inputs: the only two accesses of an exchange, awaited here rather than in a future
+            // of their own.
+            let event = match exchange.read(plan.read, &mut register) {
+                Ok(Some((address, buf))) => {
+                    match esc
+                        .access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
+                        .await
+                    {
+                        Ok(event) => event,
+                        Err(e) => return Error::Pdi(e),
+                    }
                 }
-            }
-            Ok(None) => AlEvent::NONE,
-            Err(e) => return e,
-        };
-        match exchange.after_read(plan.then, event, &current) {
-            Ok(Some((address, inputs))) => {
-                let clears = AlEvent::sync_manager(3);
-                if let Err(e) = esc
-                    .access(Runner::ProcessData, address, Data::Write(inputs), clears)
-                    .await
-                {
-                    return Error::Pdi(e);
+                Ok(None) => AlEvent::NONE,
+                Err(e) => return e,
+            };
+            match exchange.after_read(plan.then, event, &current) {
+                Ok(Some((address, inputs))) => {
+                    let clears = AlEvent::sync_manager(3);
+                    if let Err(e) = esc
+                        .access(Runner::ProcessData, address, Data::Write(inputs), clears)
+                        .await
+                    {
+                        return Error::Pdi(e);
+                    }
                 }
+                Ok(None) => {}
+                Err(e) => return e,
             }
-            Ok(None) => {}
-            Err(e) => return e,
         }
     }
 }
