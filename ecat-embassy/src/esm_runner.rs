@@ -43,31 +43,31 @@ where
     D: ObjectDictionary,
 {
     async move {
+        catch_up(esc, sub, od);
+        let mut step = Step::Serve;
         loop {
-            od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
-            absorb(esc, sub);
+            // Every step is followed by the accesses it asks for: the only place they are made,
+            // but for those of a pending transition.
             if let Err(e) = sync(esc, sub).await {
                 return e;
             }
-            while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
-                if let Err(e) = sync(esc, sub).await {
-                    return e;
+            step = match step {
+                // Serving without an answer (a client abort, a repeated counter) still changes
+                // what the core wants written, e.g. the event mask that re-arms SM0: the serve
+                // that built nothing is followed by the accesses too.
+                Step::Serve => {
+                    if od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
+                        Step::Serve
+                    } else {
+                        Step::Events { any: false }
+                    }
                 }
-            }
-            // Serving without an answer (a client abort, a repeated counter) still changes what the
-            // core wants written, e.g. the event mask that re-arms SM0.
-            if let Err(e) = sync(esc, sub).await {
-                return e;
-            }
-            let mut events = false;
-            while let Some(event) = sub.poll_event() {
-                events = true;
-                match event {
-                    Event::TransitionRequested(t) => {
-                        // The application is asked while AL events are still served: a new request
-                        // from the MainDevice or the deadline ends the wait and drops its future.
-                        // Once it accepted, a SAFEOP→OP transition may still wait for the first
-                        // outputs.
+                Step::Events { any } => match sub.poll_event() {
+                    Some(Event::TransitionRequested(t)) => {
+                        // The application is asked while AL events are still served: a new
+                        // request from the MainDevice or the deadline ends the wait and drops
+                        // its future. Once it accepted, a SAFEOP→OP transition may still wait
+                        // for the first outputs.
                         let mut decision = pin!(app.on_transition(t));
                         while sub.pending_transition() == Some(t) {
                             // The application's decision only while the core waits for it.
@@ -80,25 +80,52 @@ where
                                 return e;
                             }
                         }
+                        Step::Events { any: true }
                     }
-                    Event::StateChanged(t) => app.on_state_change(t),
-                    Event::TransitionAborted(_) => {}
-                }
-                if let Err(e) = sync(esc, sub).await {
-                    return e;
-                }
-            }
-            if events {
-                // What the events led to (a new state, emergencies absorbed while answering) may
-                // have given the mailbox work: one more pass before waiting.
-                continue;
-            }
-            match select(esc.esm_events(), until(sub.poll_timeout())).await {
-                Either::First(event) => sub.handle_al_event(event),
-                Either::Second(()) => sub.handle_timeout(now()),
-            }
+                    Some(Event::StateChanged(t)) => {
+                        app.on_state_change(t);
+                        Step::Events { any: true }
+                    }
+                    Some(Event::TransitionAborted(_)) => Step::Events { any: true },
+                    None => {
+                        // What events led to (a new state, emergencies absorbed while
+                        // answering) may have given the mailbox work: one more pass before
+                        // waiting.
+                        if !any {
+                            match select(esc.esm_events(), until(sub.poll_timeout())).await {
+                                Either::First(event) => sub.handle_al_event(event),
+                                Either::Second(()) => sub.handle_timeout(now()),
+                            }
+                        }
+                        catch_up(esc, sub, od);
+                        Step::Serve
+                    }
+                },
+            };
         }
     }
+}
+
+/// What the state-machine runner does after its accesses.
+#[derive(Clone, Copy)]
+enum Step {
+    /// Serve the mailbox, one message at a time.
+    Serve,
+    /// Hand the application the core's events, one at a time; `any`: some were handed since
+    /// the mailbox was served. With none left, the runner waits for news (unless there were
+    /// any) and serves again.
+    Events { any: bool },
+}
+
+/// Takes what changed outside the core before it is served: the process-data configuration the
+/// dictionary holds, and what the rest of the firmware told the runner ([`absorb`]).
+fn catch_up<M: RawMutex, P: Pdi, D: ObjectDictionary, const MBX: usize>(
+    esc: &SharedEsc<M, P>,
+    sub: &mut SubDevice<'_, MBX>,
+    od: &SharedDictionary<M, D>,
+) {
+    od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
+    absorb(esc, sub);
 }
 
 /// Hands the core what the rest of the firmware told the runner: emergencies the application
