@@ -130,33 +130,26 @@ where
             };
             let Some(plan) = plan else { continue };
             // The plan's read, then the cycle when the read confirms it, then the write of the
-            // inputs: the only two accesses of an exchange, awaited here rather than in a future
-            // of their own.
-            let event = match exchange.read(plan.read, &mut register) {
-                Ok(Some((address, buf))) => {
-                    match esc
-                        .access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
-                        .await
-                    {
-                        Ok(event) => event,
+            // inputs: the two accesses of an exchange, awaited at one place rather than in a
+            // future of their own.
+            let mut access = match exchange.read(plan.read, &mut register) {
+                Ok(access) => access,
+                Err(e) => return e,
+            };
+            let mut then = Some(plan.then);
+            loop {
+                let mut event = AlEvent::NONE;
+                if let Some((address, data, clears)) = access {
+                    match esc.access(Runner::ProcessData, address, data, clears).await {
+                        Ok(seen) => event = seen,
                         Err(e) => return Error::Pdi(e),
                     }
                 }
-                Ok(None) => AlEvent::NONE,
-                Err(e) => return e,
-            };
-            match exchange.after_read(plan.then, event, &current) {
-                Ok(Some((address, inputs))) => {
-                    let clears = AlEvent::sync_manager(3);
-                    if let Err(e) = esc
-                        .access(Runner::ProcessData, address, Data::Write(inputs), clears)
-                        .await
-                    {
-                        return Error::Pdi(e);
-                    }
-                }
-                Ok(None) => {}
-                Err(e) => return e,
+                let Some(then) = then.take() else { break };
+                access = match exchange.after_read(then, event, &current) {
+                    Ok(access) => access,
+                    Err(e) => return e,
+                };
             }
         }
     }
@@ -164,7 +157,7 @@ where
 
 /// What a wake-up of the runner leads to: at most one read, then maybe a cycle (whose input
 /// write is the only other access). The decisions are synchronous, so the runner's future holds
-/// one read and one write, whatever woke it.
+/// one access at a time, whatever woke it.
 struct Plan {
     /// Read first: the output area (SM2), or the AL event register, which routes the IRQ's cause.
     read: Option<Read>,
@@ -202,8 +195,9 @@ struct Images<D: ObjectDictionary> {
 /// device has inputs.
 type InputWrite<'b> = Option<(u16, &'b [u8])>;
 
-/// The read an exchange starts with: the address and where the bytes go, if it reads at all.
-type PlanRead<'b> = Option<(u16, &'b mut [u8])>;
+/// One of the two accesses of an exchange, if it makes it: the address, the data and the AL
+/// event bits it clears.
+type ExchangeAccess<'b> = Option<(u16, Data<'b>, AlEvent)>;
 
 /// What one exchange needs.
 struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
@@ -312,34 +306,35 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
     }
 
-    /// Where the read of a plan goes: the output area into the output buffer, the AL event
-    /// register into `register`; `None` when the plan reads nothing.
+    /// The read of a plan: the output area into the output buffer, the AL event register into
+    /// `register`; `None` when the plan reads nothing.
     fn read<'r, I>(
         &'r mut self,
         read: Option<Read>,
         register: &'r mut [u8; 4],
-    ) -> Result<PlanRead<'r>, Error<P::Error, I>> {
-        Ok(match read {
-            Some(Read::Outputs(area)) => Some((
+    ) -> Result<ExchangeAccess<'r>, Error<P::Error, I>> {
+        let (address, buf) = match read {
+            Some(Read::Outputs(area)) => (
                 area.start,
                 self.buffers
                     .outputs
                     .get_mut(..usize::from(area.length))
                     .ok_or(Error::BufferTooSmall)?,
-            )),
-            Some(Read::AlEvent) => Some((AL_EVENT_REQUEST, &mut register[..])),
-            None => None,
-        })
+            ),
+            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut register[..]),
+            None => return Ok(None),
+        };
+        Ok(Some((address, Data::Read(buf), AlEvent::NONE)))
     }
 
     /// What follows a plan's read, which saw `event`: the cycle when the read confirms it.
-    /// Returns the write of the inputs, if any.
+    /// Returns the write of the inputs, if any (it clears the SM3 event).
     fn after_read<I>(
         &mut self,
         then: Then,
         event: AlEvent,
         layout: &Option<Layout>,
-    ) -> Result<InputWrite<'_>, Error<P::Error, I>> {
+    ) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
         let (layout, apply_outputs, new_outputs) = match (then, layout) {
             (Then::Nothing, _) | (_, None) => return Ok(None),
             (Then::FirstCycle, Some(layout)) => (layout, false, None),
@@ -369,7 +364,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 )
             }
         };
-        self.cycle(layout, apply_outputs, new_outputs)
+        let write = self.cycle(layout, apply_outputs, new_outputs)?;
+        Ok(write.map(|(address, inputs)| (address, Data::Write(inputs), AlEvent::sync_manager(3))))
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
