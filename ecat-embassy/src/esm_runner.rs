@@ -20,6 +20,15 @@ use crate::{Application, Pdi, SharedEsc};
 /// the CPU work of one mailbox message (no `.await` inside).
 pub type SharedDictionary<M, D> = BlockingMutex<M, RefCell<D>>;
 
+/// Runs `f` on the dictionary, locked: the one place the runners borrow it (one borrow check
+/// and one panic location for all of them; the lock makes the borrow always free).
+pub(crate) fn with_dictionary<M: RawMutex, D, R>(
+    od: &SharedDictionary<M, D>,
+    f: impl FnOnce(&mut D) -> R,
+) -> R {
+    od.lock(|cell| f(&mut cell.borrow_mut()))
+}
+
 /// Runs the state machine and the mailbox of `sub` on `esc` until the PDI fails; returns the PDI
 /// error. SDO requests are served from `od`, with `app` as the [`ObjectHooks`].
 ///
@@ -56,7 +65,7 @@ where
                 // what the core wants written, e.g. the event mask that re-arms SM0: the serve
                 // that built nothing is followed by the accesses too.
                 Step::Serve => {
-                    if od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
+                    if with_dictionary(od, |od| sub.service_mailbox(now(), od, app)) {
                         Step::Serve
                     } else {
                         Step::Events { any: false }
@@ -124,7 +133,7 @@ fn catch_up<M: RawMutex, P: Pdi, D: ObjectDictionary, const MBX: usize>(
     sub: &mut SubDevice<'_, MBX>,
     od: &SharedDictionary<M, D>,
 ) {
-    od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
+    with_dictionary(od, |od| sub.refresh_process_data(od));
     absorb(esc, sub);
 }
 

@@ -17,6 +17,7 @@ use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
+use crate::esm_runner::with_dictionary;
 use crate::maybe::Maybe;
 use crate::pdi::Data;
 use crate::shared::{Notes, Runner};
@@ -231,7 +232,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
         let app = &mut *self.app;
-        self.od.lock(|od| app.safe_state(&mut od.borrow_mut()));
+        with_dictionary(self.od, |od| app.safe_state(od));
     }
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
@@ -245,8 +246,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         if self.images.is_none() {
             self.monitor.reset();
         }
-        self.images = self.od.lock(|od| {
-            let od = od.borrow();
+        self.images = with_dictionary(self.od, |od| {
             Some(Images {
                 outputs: PdoLayout::of(&*od, Direction::Rx).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
@@ -397,8 +397,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
-        self.od.lock(|od| {
-            let od = &mut *od.borrow_mut();
+        with_dictionary(self.od, |od| {
             if let Some(report) = report {
                 monitor.cycle(od, report);
             }
