@@ -82,14 +82,13 @@ where
             buffers,
             images: None,
             monitor: CycleMonitor::default(),
+            al_event: [0; 4],
             reported: Reported::default(),
         };
         let mut current: Option<Layout> = None;
         // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
         // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
         let mut tick: Option<Instant> = None;
-        // Receives the AL event register when a plan reads it.
-        let mut register = [0; 4];
         loop {
             // What woke the runner and what follows; the news and its copy of the layout end here,
             // so only `current` lives on across the exchange.
@@ -133,7 +132,7 @@ where
             // The plan's read, then the cycle when the read confirms it, then the write of the
             // inputs: the two accesses of an exchange, awaited at one place rather than in a
             // future of their own.
-            let mut access = match exchange.read(plan.read, &mut register) {
+            let mut access = match exchange.read(plan.read) {
                 Ok(access) => access,
                 Err(e) => return e,
             };
@@ -209,6 +208,8 @@ struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
     monitor: CycleMonitor,
+    /// Receives the AL event register when a plan reads it.
+    al_event: [u8; 4],
     /// What the state-machine runner was told since the layout changed: it needs the first
     /// outputs and the first SYNC0 cycle after entering SAFEOP (for SAFEOP→OP), not every one.
     reported: Reported,
@@ -307,12 +308,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     }
 
     /// The read of a plan: the output area into the output buffer, the AL event register into
-    /// `register`; `None` when the plan reads nothing.
-    fn read<'r, I>(
-        &'r mut self,
-        read: Option<Read>,
-        register: &'r mut [u8; 4],
-    ) -> Result<ExchangeAccess<'r>, Error<P::Error, I>> {
+    /// its own; `None` when the plan reads nothing.
+    fn read<I>(&mut self, read: Option<Read>) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
         let (address, buf) = match read {
             Some(Read::Outputs(area)) => (
                 area.start,
@@ -321,7 +318,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                     .get_mut(..usize::from(area.length))
                     .ok_or(Error::BufferTooSmall)?,
             ),
-            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut register[..]),
+            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut self.al_event[..]),
             None => return Ok(None),
         };
         Ok(Some((address, Data::Read(buf), AlEvent::NONE)))
