@@ -2,7 +2,7 @@
 //! element and counts it.
 
 /// A FIFO of at most `N` elements.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Copy)]
 pub struct Ring<T: Copy, const N: usize> {
     /// The elements, `len` of them from `head` on (wrapping); the other slots hold stale values
     /// or the filler, never returned (no `Option` per slot: its tag is what `len` says).

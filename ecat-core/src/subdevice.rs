@@ -760,14 +760,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// before requesting it.
     #[inline(never)]
     fn next_read(&self) -> Option<Op> {
-        let reads = [
-            (self.sm_unread > 0, Op::ReadSyncManagers),
-            (self.read_due(read::WATCHDOG), Op::ReadWatchdog),
-            (self.read_due(read::WATCHDOG_STATUS), Op::ReadWatchdogStatus),
-            (self.read_due(read::DC), Op::ReadDc),
-            (self.read_due(read::AL_CONTROL), Op::ReadAlControl),
-        ];
-        reads.into_iter().find_map(|(due, op)| due.then_some(op))
+        if self.sm_unread > 0 {
+            Some(Op::ReadSyncManagers)
+        } else if self.read_due(read::WATCHDOG) {
+            Some(Op::ReadWatchdog)
+        } else if self.read_due(read::WATCHDOG_STATUS) {
+            Some(Op::ReadWatchdogStatus)
+        } else if self.read_due(read::DC) {
+            Some(Op::ReadDc)
+        } else if self.read_due(read::AL_CONTROL) {
+            Some(Op::ReadAlControl)
+        } else {
+            None
+        }
     }
 
     /// Whether the register read `read` ([`read`]) is due.

@@ -8,17 +8,22 @@
 use ecat_core::{AlStatusCode, Transition};
 
 /// State-machine hooks, called by [`run_esm`](crate::run_esm).
-#[allow(async_fn_in_trait)]
 pub trait Application {
     /// An upward transition (INIT→PREOP, PREOP→SAFEOP, SAFEOP→OP, INIT→BOOT) passed the
     /// SyncManager checks. Return `Ok` to accept, `Err(code)` to refuse with that AL status code.
     ///
     /// The future may take time (the transition is "pending" meanwhile): if it is not done within
     /// the device's `transition_timeout`, the MainDevice gets 0x0001 and the future is dropped. It is
-    /// also dropped when the MainDevice replaces the request.
-    async fn on_transition(&mut self, transition: Transition) -> Result<(), AlStatusCode> {
+    /// also dropped when the MainDevice replaces the request. Implement it as an `async fn`.
+    ///
+    /// The default accepts at once, with a future that has no state machine of its own and no
+    /// panic path (`core::future::ready` panics with a message when polled again).
+    fn on_transition(
+        &mut self,
+        transition: Transition,
+    ) -> impl Future<Output = Result<(), AlStatusCode>> {
         let _ = transition;
-        Ok(())
+        core::future::poll_fn(|_| core::task::Poll::Ready(Ok(())))
     }
 
     /// The state changed (accepted upward, downward, or a fall back after an error).

@@ -5,7 +5,7 @@ use core::cell::RefCell;
 use core::pin::pin;
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{Access, AlEvent, Event, SubDevice, Transition};
+use ecat_core::{Access, AlEvent, AlStatusCode, Event, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -20,70 +20,120 @@ use crate::{Application, Pdi, SharedEsc};
 /// the CPU work of one mailbox message (no `.await` inside).
 pub type SharedDictionary<M, D> = BlockingMutex<M, RefCell<D>>;
 
+/// Runs `f` on the dictionary, locked: the one place the runners borrow it (one borrow check
+/// and one panic location for all of them; the lock makes the borrow always free).
+pub(crate) fn with_dictionary<M: RawMutex, D, R>(
+    od: &SharedDictionary<M, D>,
+    f: impl FnOnce(&mut D) -> R,
+) -> R {
+    od.lock(|cell| f(&mut cell.borrow_mut()))
+}
+
 /// Runs the state machine and the mailbox of `sub` on `esc` until the PDI fails; returns the PDI
 /// error. SDO requests are served from `od`, with `app` as the [`ObjectHooks`].
 ///
 /// Woken only by AL events the process-data runner routes to it, by emergencies the application
 /// raises and by the core's deadlines; never polls the ESC. Each mailbox message costs one PDI
 /// read of SM0 and one or two writes of SM1, each a single bounded transaction.
-pub async fn run_esm<M, P, A, D, const MBX: usize>(
+///
+/// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
+/// the ones the loop works on.
+#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+pub fn run_esm<M, P, A, D, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
     app: &mut A,
     od: &SharedDictionary<M, D>,
-) -> P::Error
+) -> impl Future<Output = P::Error>
 where
     M: RawMutex,
     P: Pdi,
     A: Application + ObjectHooks<D>,
     D: ObjectDictionary,
 {
-    match drive(esc, sub, app, od).await {
-        Ok(never) => match never {},
-        Err(e) => e,
+    async move {
+        catch_up(esc, sub, od);
+        let mut step = Step::Serve;
+        loop {
+            // Every step is followed by the accesses it asks for: the only place they are made,
+            // but for those of a pending transition.
+            if let Err(e) = sync(esc, sub).await {
+                return e;
+            }
+            step = match step {
+                // Each message served, or request dropped (which re-arms SM0), makes its
+                // accesses due; the serve that finds nothing to do changed nothing.
+                Step::Serve => {
+                    if with_dictionary(od, |od| sub.service_mailbox(now(), od, app)) {
+                        Step::Serve
+                    } else {
+                        Step::Events { any: false }
+                    }
+                }
+                Step::Events { any } => match sub.poll_event() {
+                    Some(Event::TransitionRequested(t)) => {
+                        // The application is asked while AL events are still served: a new
+                        // request from the MainDevice or the deadline ends the wait and drops
+                        // its future. Once it accepted, a SAFEOP→OP transition may still wait
+                        // for the first outputs.
+                        let mut decision = pin!(app.on_transition(t));
+                        while sub.pending_transition() == Some(t) {
+                            // The application's decision only while the core waits for it.
+                            let pending =
+                                Maybe(sub.awaits_application().then_some(decision.as_mut()));
+                            let timeout = until(sub.poll_timeout());
+                            let outcome = select3(pending, timeout, esc.esm_events()).await;
+                            answer(esc, sub, t, outcome);
+                            if let Err(e) = sync(esc, sub).await {
+                                return e;
+                            }
+                        }
+                        Step::Events { any: true }
+                    }
+                    Some(Event::StateChanged(t)) => {
+                        app.on_state_change(t);
+                        Step::Events { any: true }
+                    }
+                    Some(Event::TransitionAborted(_)) => Step::Events { any: true },
+                    None => {
+                        // What events led to (a new state, emergencies absorbed while
+                        // answering) may have given the mailbox work: one more pass before
+                        // waiting.
+                        if !any {
+                            match select(esc.esm_events(), until(sub.poll_timeout())).await {
+                                Either::First(event) => sub.handle_al_event(event),
+                                Either::Second(()) => sub.handle_timeout(now()),
+                            }
+                        }
+                        catch_up(esc, sub, od);
+                        Step::Serve
+                    }
+                },
+            };
+        }
     }
 }
 
-async fn drive<M, P, A, D, const MBX: usize>(
+/// What the state-machine runner does after its accesses.
+#[derive(Clone, Copy)]
+enum Step {
+    /// Serve the mailbox, one message at a time.
+    Serve,
+    /// Hand the application the core's events, one at a time; `any`: some were handed since
+    /// the mailbox was served. With none left, the runner waits for news (unless there were
+    /// any) and serves again.
+    Events { any: bool },
+}
+
+/// Takes what changed outside the core before it is served: the process-data configuration the
+/// dictionary holds, and what the rest of the firmware told the runner ([`absorb`]).
+fn catch_up<M: RawMutex, P: Pdi, D: ObjectDictionary, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
-    app: &mut A,
     od: &SharedDictionary<M, D>,
-) -> Result<core::convert::Infallible, P::Error>
-where
-    M: RawMutex,
-    P: Pdi,
-    A: Application + ObjectHooks<D>,
-    D: ObjectDictionary,
-{
-    loop {
-        od.lock(|od| sub.refresh_process_data(&mut *od.borrow_mut()));
-        absorb(esc, sub);
-        sync(esc, sub).await?;
-        // Each message served (or request dropped) makes its accesses due.
-        while od.lock(|od| sub.service_mailbox(now(), &mut *od.borrow_mut(), app)) {
-            sync(esc, sub).await?;
-        }
-        let mut events = false;
-        while let Some(event) = sub.poll_event() {
-            events = true;
-            match event {
-                Event::TransitionRequested(t) => answer(esc, sub, app, t).await?,
-                Event::StateChanged(t) => app.on_state_change(t),
-                Event::TransitionAborted(_) => {}
-            }
-            sync(esc, sub).await?;
-        }
-        if events {
-            // What the events led to (a new state, emergencies absorbed while answering) may
-            // have given the mailbox work: one more pass before waiting.
-            continue;
-        }
-        match select(esc.esm_events(), until(sub.poll_timeout())).await {
-            Either::First(event) => sub.handle_al_event(event),
-            Either::Second(()) => sub.handle_timeout(now()),
-        }
-    }
+) {
+    with_dictionary(od, |od| sub.refresh_process_data(od));
+    absorb(esc, sub);
 }
 
 /// Hands the core what the rest of the firmware told the runner: emergencies the application
@@ -149,35 +199,27 @@ fn pdi_access(access: Access<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
     }
 }
 
-/// Asks the application about `t` while still serving AL events: a new request from the
-/// MainDevice or the deadline ends the wait and drops the application's future. Once the
-/// application accepted, a SAFEOP→OP transition may still wait for the first outputs.
-async fn answer<M: RawMutex, P: Pdi, A: Application, const MBX: usize>(
+/// Hands the core what ended a wait for the application's answer to `t`: the answer, the
+/// deadline, or an AL event (with whatever the rest of the firmware told the runner meanwhile).
+fn answer<M: RawMutex, P: Pdi, const MBX: usize>(
     esc: &SharedEsc<M, P>,
     sub: &mut SubDevice<'_, MBX>,
-    app: &mut A,
     t: Transition,
-) -> Result<(), P::Error> {
-    let mut decision = pin!(app.on_transition(t));
-    while sub.pending_transition() == Some(t) {
-        // The application's decision only while the core waits for it.
-        let pending = Maybe(sub.awaits_application().then_some(decision.as_mut()));
-        let event = match select3(pending, until(sub.poll_timeout()), esc.esm_events()).await {
-            Either3::First(result) => {
-                sub.complete_transition(t, result);
-                None
-            }
-            Either3::Second(()) => {
-                sub.handle_timeout(now());
-                None
-            }
-            Either3::Third(event) => Some(event),
-        };
-        absorb(esc, sub);
-        if let Some(event) = event {
-            sub.handle_al_event(event);
+    outcome: Either3<Result<(), AlStatusCode>, (), AlEvent>,
+) {
+    let event = match outcome {
+        Either3::First(result) => {
+            sub.complete_transition(t, result);
+            None
         }
-        sync(esc, sub).await?;
+        Either3::Second(()) => {
+            sub.handle_timeout(now());
+            None
+        }
+        Either3::Third(event) => Some(event),
+    };
+    absorb(esc, sub);
+    if let Some(event) = event {
+        sub.handle_al_event(event);
     }
-    Ok(())
 }

@@ -17,6 +17,7 @@ use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
+use crate::esm_runner::with_dictionary;
 use crate::maybe::Maybe;
 use crate::pdi::Data;
 use crate::shared::{Notes, Runner};
@@ -53,14 +54,18 @@ pub struct Buffers<'b> {
 ///
 /// `sync0` is the ESC's SYNC0 output (a pulse per DC cycle; its rising edge starts a cycle when
 /// the MainDevice chose DC SYNC0 mode). A device without DC passes [`NoSync0`].
-pub async fn run_process_data<M, P, I, S, C, D>(
+///
+/// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
+/// the ones the loop works on.
+#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+pub fn run_process_data<M, P, I, S, C, D>(
     esc: &SharedEsc<M, P>,
     irq: &mut I,
     sync0: &mut S,
     app: &mut C,
     od: &SharedDictionary<M, D>,
     buffers: Buffers<'_>,
-) -> Error<P::Error, I::Error>
+) -> impl Future<Output = Error<P::Error, I::Error>>
 where
     M: RawMutex,
     P: Pdi,
@@ -69,69 +74,90 @@ where
     C: CycleHandler<D>,
     D: ObjectDictionary,
 {
-    let mut exchange = Exchange {
-        esc,
-        app,
-        od,
-        buffers,
-        images: None,
-        monitor: CycleMonitor::default(),
-        reported: Reported::default(),
-    };
-    let mut current: Option<Layout> = None;
-    // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
-    // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
-    let mut tick: Option<Instant> = None;
-    loop {
-        // What woke the runner and what follows; the news and its copy of the layout end here,
-        // so only `current` lives on across the exchange.
-        let plan = {
-            let news = esc.pd_news(current);
-            let layout = news.layout;
-            if layout != current {
-                let was_active = current.is_some_and(|l| l.outputs_active);
-                current = layout;
-                if was_active && !layout.is_some_and(|l| l.outputs_active) {
-                    exchange.safe_state();
-                }
-                tick = layout.and_then(first_deadline);
-                exchange.on_new_layout(layout)
-            } else if !news.pd_events.is_empty() {
-                Some(exchange.on_trigger(layout, true))
-            } else {
-                let sync0_on = layout.is_some_and(|l| l.sync0());
-                let mut irq_low = pin!(irq.wait_for_low());
-                let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
-                match select4(
-                    Maybe(news.irq_free.then_some(irq_low.as_mut())),
-                    esc.pd_news_since(news.generation),
-                    until(tick),
-                    Maybe(sync0_on.then_some(sync0_edge.as_mut())),
-                )
-                .await
-                {
-                    Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
-                    Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
-                    Either4::Second(()) => None,
-                    Either4::Third(()) => exchange.on_tick(layout, &mut tick),
-                    Either4::Fourth(Ok(())) => {
-                        tick = layout.and_then(first_deadline);
-                        exchange.on_sync0(layout)
+    async move {
+        let mut exchange = Exchange {
+            esc,
+            app,
+            od,
+            buffers,
+            images: None,
+            monitor: CycleMonitor::default(),
+            al_event: [0; 4],
+            reported: Reported::default(),
+        };
+        let mut current: Option<Layout> = None;
+        // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
+        // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
+        let mut tick: Option<Instant> = None;
+        loop {
+            // What woke the runner and what follows; the news and its copy of the layout end here,
+            // so only `current` lives on across the exchange.
+            let plan = {
+                let news = esc.pd_news(current);
+                let layout = news.layout;
+                if layout != current {
+                    let was_active = current.is_some_and(|l| l.outputs_active);
+                    current = layout;
+                    if was_active && !layout.is_some_and(|l| l.outputs_active) {
+                        exchange.safe_state();
+                    }
+                    tick = layout.and_then(first_deadline);
+                    exchange.on_new_layout(layout)
+                } else if !news.pd_events.is_empty() {
+                    Some(exchange.on_trigger(layout, true))
+                } else {
+                    let sync0_on = layout.is_some_and(|l| l.sync0());
+                    let mut irq_low = pin!(irq.wait_for_low());
+                    let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
+                    match select4(
+                        Maybe(news.irq_free.then_some(irq_low.as_mut())),
+                        esc.pd_news_since(news.generation),
+                        until(tick),
+                        Maybe(sync0_on.then_some(sync0_edge.as_mut())),
+                    )
+                    .await
+                    {
+                        Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
+                        Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
+                        Either4::Second(()) => None,
+                        Either4::Third(()) => exchange.on_tick(layout, &mut tick),
+                        Either4::Fourth(Ok(())) => {
+                            tick = layout.and_then(first_deadline);
+                            exchange.on_sync0(layout)
+                        }
                     }
                 }
+            };
+            let Some(plan) = plan else { continue };
+            // The plan's read, then the cycle when the read confirms it, then the write of the
+            // inputs: the two accesses of an exchange, awaited at one place rather than in a
+            // future of their own.
+            let mut access = match exchange.read(plan.read) {
+                Ok(access) => access,
+                Err(e) => return e,
+            };
+            let mut then = Some(plan.then);
+            loop {
+                let mut event = AlEvent::NONE;
+                if let Some((address, data, clears)) = access {
+                    match esc.access(Runner::ProcessData, address, data, clears).await {
+                        Ok(seen) => event = seen,
+                        Err(e) => return Error::Pdi(e),
+                    }
+                }
+                let Some(then) = then.take() else { break };
+                access = match exchange.after_read(then, event, &current) {
+                    Ok(access) => access,
+                    Err(e) => return e,
+                };
             }
-        };
-        if let Some(plan) = plan
-            && let Err(e) = exchange.perform(plan, &current).await
-        {
-            return e;
         }
     }
 }
 
 /// What a wake-up of the runner leads to: at most one read, then maybe a cycle (whose input
 /// write is the only other access). The decisions are synchronous, so the runner's future holds
-/// one read and one write, whatever woke it.
+/// one access at a time, whatever woke it.
 struct Plan {
     /// Read first: the output area (SM2), or the AL event register, which routes the IRQ's cause.
     read: Option<Read>,
@@ -169,6 +195,10 @@ struct Images<D: ObjectDictionary> {
 /// device has inputs.
 type InputWrite<'b> = Option<(u16, &'b [u8])>;
 
+/// One of the two accesses of an exchange, if it makes it: the address, the data and the AL
+/// event bits it clears.
+type ExchangeAccess<'b> = Option<(u16, Data<'b>, AlEvent)>;
+
 /// What one exchange needs.
 struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
     esc: &'a SharedEsc<M, P>,
@@ -178,6 +208,8 @@ struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
     monitor: CycleMonitor,
+    /// Receives the AL event register when a plan reads it.
+    al_event: [u8; 4],
     /// What the state-machine runner was told since the layout changed: it needs the first
     /// outputs and the first SYNC0 cycle after entering SAFEOP (for SAFEOP→OP), not every one.
     reported: Reported,
@@ -201,7 +233,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
         let app = &mut *self.app;
-        self.od.lock(|od| app.safe_state(&mut od.borrow_mut()));
+        with_dictionary(self.od, |od| app.safe_state(od));
     }
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
@@ -215,8 +247,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         if self.images.is_none() {
             self.monitor.reset();
         }
-        self.images = self.od.lock(|od| {
-            let od = od.borrow();
+        self.images = with_dictionary(self.od, |od| {
             Some(Images {
                 outputs: PdoLayout::of(&*od, Direction::Rx).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
@@ -276,35 +307,33 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
     }
 
-    /// Performs `plan`: its read, then the cycle when the read confirms it, then the write of
-    /// the inputs. The only two awaits of an exchange, both on [`SharedEsc::access`].
-    async fn perform<I>(
-        &mut self,
-        plan: Plan,
-        layout: &Option<Layout>,
-    ) -> Result<(), Error<P::Error, I>> {
-        let esc = self.esc;
-        let event = match plan.read {
-            Some(read) => {
-                let mut register = [0; 4];
-                let (address, buf) = match read {
-                    Read::Outputs(area) => (
-                        area.start,
-                        self.buffers
-                            .outputs
-                            .get_mut(..usize::from(area.length))
-                            .ok_or(Error::BufferTooSmall)?,
-                    ),
-                    Read::AlEvent => (AL_EVENT_REQUEST, &mut register[..]),
-                };
-                esc.access(Runner::ProcessData, address, Data::Read(buf), AlEvent::NONE)
-                    .await
-                    .map_err(Error::Pdi)?
-            }
-            None => AlEvent::NONE,
+    /// The read of a plan: the output area into the output buffer, the AL event register into
+    /// its own; `None` when the plan reads nothing.
+    fn read<I>(&mut self, read: Option<Read>) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
+        let (address, buf) = match read {
+            Some(Read::Outputs(area)) => (
+                area.start,
+                self.buffers
+                    .outputs
+                    .get_mut(..usize::from(area.length))
+                    .ok_or(Error::BufferTooSmall)?,
+            ),
+            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut self.al_event[..]),
+            None => return Ok(None),
         };
-        let (layout, apply_outputs, new_outputs) = match (plan.then, layout) {
-            (Then::Nothing, _) | (_, None) => return Ok(()),
+        Ok(Some((address, Data::Read(buf), AlEvent::NONE)))
+    }
+
+    /// What follows a plan's read, which saw `event`: the cycle when the read confirms it.
+    /// Returns the write of the inputs, if any (it clears the SM3 event).
+    fn after_read<I>(
+        &mut self,
+        then: Then,
+        event: AlEvent,
+        layout: &Option<Layout>,
+    ) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
+        let (layout, apply_outputs, new_outputs) = match (then, layout) {
+            (Then::Nothing, _) | (_, None) => return Ok(None),
             (Then::FirstCycle, Some(layout)) => (layout, false, None),
             (Then::Clocked, Some(layout)) => {
                 let new_outputs = event.intersects(AlEvent::sync_manager(2));
@@ -319,7 +348,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                     || event.intersects(layout.trigger())
                     || !self.esc.take_pd_events().is_empty();
                 if !triggered {
-                    return Ok(());
+                    return Ok(None);
                 }
                 let new_outputs = layout.outputs.is_some();
                 if new_outputs {
@@ -332,17 +361,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 )
             }
         };
-        if let Some((address, inputs)) = self.cycle(layout, apply_outputs, new_outputs)? {
-            esc.access(
-                Runner::ProcessData,
-                address,
-                Data::Write(inputs),
-                AlEvent::sync_manager(3),
-            )
-            .await
-            .map_err(Error::Pdi)?;
-        }
-        Ok(())
+        let write = self.cycle(layout, apply_outputs, new_outputs)?;
+        Ok(write.map(|(address, inputs)| (address, Data::Write(inputs), AlEvent::sync_manager(3))))
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
@@ -374,8 +394,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
-        self.od.lock(|od| {
-            let od = &mut *od.borrow_mut();
+        with_dictionary(self.od, |od| {
             if let Some(report) = report {
                 monitor.cycle(od, report);
             }
@@ -430,24 +449,25 @@ impl<E: embedded_hal::digital::Error> embedded_hal::digital::ErrorType for NoSyn
     type Error = E;
 }
 
+/// Each wait is a future that never completes, without a state machine of its own.
 impl<E: embedded_hal::digital::Error> Wait for NoSync0<E> {
-    async fn wait_for_high(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_high(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_low(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_low(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_rising_edge(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_rising_edge(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_falling_edge(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_falling_edge(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 
-    async fn wait_for_any_edge(&mut self) -> Result<(), E> {
-        core::future::pending().await
+    fn wait_for_any_edge(&mut self) -> impl Future<Output = Result<(), E>> {
+        core::future::pending()
     }
 }

@@ -1,9 +1,9 @@
 //! The ESC as both runners share it: the PDI behind an async mutex, and the routing of the AL
 //! events every access reports.
 
-use core::cell::RefCell;
+use core::cell::Cell;
 use core::future::{Future, poll_fn};
-use core::task::Poll;
+use core::task::{Poll, Waker};
 
 use ecat_core::AlEvent;
 use ecat_core::coe::Emergency;
@@ -26,61 +26,87 @@ pub(crate) enum Runner {
     ProcessData,
 }
 
-/// What the runners know about each other, behind a short critical section.
+/// What the runners know about each other, behind a short critical section. Every field is a
+/// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
+/// flag or carries its panic path.
 struct Routing {
     /// State-machine events seen by the process-data runner and not yet taken.
-    esm_events: AlEvent,
+    esm_events: Cell<AlEvent>,
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
     /// may hold the IRQ line asserted.
-    esm_holds_irq: bool,
+    esm_holds_irq: Cell<bool>,
     /// Process-data trigger events seen and not yet taken.
-    pd_events: AlEvent,
+    pd_events: Cell<AlEvent>,
     /// The process-data layout published by the state-machine runner.
-    layout: Option<Layout>,
+    layout: Cell<Option<Layout>>,
     /// The AL event mask in the ESC, published by the state-machine runner: the events that can
     /// hold the IRQ line. The process-data trigger belongs to the process-data runner, every other
     /// masked event to the state-machine runner.
-    mask: AlEvent,
+    mask: Cell<AlEvent>,
     /// The AL event seen by the last access of either runner.
-    last_event: AlEvent,
+    last_event: Cell<AlEvent>,
     /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
     /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
-    esm_started: bool,
+    esm_started: Cell<bool>,
     /// Bumped whenever something changes for the process-data runner.
-    pd_news: u32,
+    pd_news: Cell<u32>,
     /// Emergencies raised by the application, waiting for the state-machine runner.
-    emergencies: Ring<Emergency, EMERGENCIES>,
+    emergencies: Cell<Ring<Emergency, EMERGENCIES>>,
     /// What the process-data runner noted and the state-machine runner has not heard of.
-    notes: Notes,
-    esm_waker: WakerRegistration,
-    pd_waker: WakerRegistration,
+    notes: Cell<Notes>,
+    esm_waker: WakerCell,
+    pd_waker: WakerCell,
 }
 
 impl Routing {
     /// The process-data runner's trigger.
     fn trigger(&self) -> AlEvent {
-        self.layout.map_or(AlEvent::NONE, |l| l.trigger())
+        self.layout.get().map_or(AlEvent::NONE, |l| l.trigger())
     }
 
     /// The masked events of `event` that belong to the state-machine runner.
     fn esm_share(&self, event: AlEvent) -> AlEvent {
-        event.intersection(self.mask).difference(self.trigger())
+        event
+            .intersection(self.mask.get())
+            .difference(self.trigger())
     }
 
     /// Re-judges whether state-machine events hold the IRQ line, from the last AL event seen
     /// and the current mask; tells the process-data runner when the line is free again.
-    fn judge_irq(&mut self) {
-        let was_holding = self.esm_holds_irq;
-        self.esm_holds_irq =
-            !self.esm_share(self.last_event).is_empty() || !self.esm_events.is_empty();
-        if was_holding && !self.esm_holds_irq {
+    fn judge_irq(&self) {
+        let holds =
+            !self.esm_share(self.last_event.get()).is_empty() || !self.esm_events.get().is_empty();
+        let was_holding = self.esm_holds_irq.replace(holds);
+        if was_holding && !holds {
             self.notify_pd();
         }
     }
 
-    fn notify_pd(&mut self) {
-        self.pd_news = self.pd_news.wrapping_add(1);
+    fn notify_pd(&self) {
+        self.pd_news.set(self.pd_news.get().wrapping_add(1));
         self.pd_waker.wake();
+    }
+}
+
+/// A [`WakerRegistration`] in a `Cell`: taken out for each call and put back.
+struct WakerCell(Cell<WakerRegistration>);
+
+impl WakerCell {
+    /// No waker registered.
+    const fn new() -> Self {
+        Self(Cell::new(WakerRegistration::new()))
+    }
+
+    /// [`WakerRegistration::register`].
+    fn register(&self, waker: &Waker) {
+        let mut registration = self.0.take();
+        registration.register(waker);
+        self.0.set(registration);
+    }
+
+    /// [`WakerRegistration::wake`], which leaves it empty: as taking it out does.
+    fn wake(&self) {
+        self.0.take().wake();
     }
 }
 
@@ -128,7 +154,7 @@ const EMERGENCIES: usize = ecat_core::mailbox::EMERGENCY_QUEUE;
 /// runners live in different executors.
 pub struct SharedEsc<M: RawMutex, P> {
     pdi: Mutex<M, P>,
-    routing: BlockingMutex<M, RefCell<Routing>>,
+    routing: BlockingMutex<M, Routing>,
 }
 
 impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
@@ -136,20 +162,20 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     pub const fn new(pdi: P) -> Self {
         Self {
             pdi: Mutex::new(pdi),
-            routing: BlockingMutex::new(RefCell::new(Routing {
-                esm_events: AlEvent::NONE,
-                esm_holds_irq: false,
-                pd_events: AlEvent::NONE,
-                layout: None,
-                mask: AlEvent::NONE,
-                last_event: AlEvent::NONE,
-                esm_started: false,
-                pd_news: 0,
-                emergencies: Ring::new(Emergency::NONE),
-                notes: Notes::NONE,
-                esm_waker: WakerRegistration::new(),
-                pd_waker: WakerRegistration::new(),
-            })),
+            routing: BlockingMutex::new(Routing {
+                esm_events: Cell::new(AlEvent::NONE),
+                esm_holds_irq: Cell::new(false),
+                pd_events: Cell::new(AlEvent::NONE),
+                layout: Cell::new(None),
+                mask: Cell::new(AlEvent::NONE),
+                last_event: Cell::new(AlEvent::NONE),
+                esm_started: Cell::new(false),
+                pd_news: Cell::new(0),
+                emergencies: Cell::new(Ring::new(Emergency::NONE)),
+                notes: Cell::new(Notes::NONE),
+                esm_waker: WakerCell::new(),
+                pd_waker: WakerCell::new(),
+            }),
         }
     }
 
@@ -183,17 +209,17 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// process-data trigger to the process-data runner.
     fn observe(&self, runner: Runner, event: AlEvent) {
         self.with(|r| {
-            r.last_event = event;
+            r.last_event.set(event);
             let esm = r.esm_share(event);
             if runner == Runner::Esm {
-                r.esm_events = AlEvent::NONE;
+                r.esm_events.set(AlEvent::NONE);
             } else if !esm.is_empty() {
-                r.esm_events |= esm;
+                r.esm_events.set(r.esm_events.get() | esm);
                 r.esm_waker.wake();
             }
             let pd = event.intersection(r.trigger());
             if !pd.is_empty() && runner == Runner::Esm {
-                r.pd_events |= pd;
+                r.pd_events.set(r.pd_events.get() | pd);
                 r.notify_pd();
             }
             r.judge_irq();
@@ -205,11 +231,15 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     pub(crate) fn esm_events(&self) -> impl Future<Output = AlEvent> + '_ {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.esm_events.is_empty() && r.emergencies.is_empty() && r.notes == Notes::NONE {
+                let emergencies = r.emergencies.get();
+                if r.esm_events.get().is_empty()
+                    && emergencies.is_empty()
+                    && r.notes.get() == Notes::NONE
+                {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
                 } else {
-                    Poll::Ready(core::mem::take(&mut r.esm_events))
+                    Poll::Ready(r.esm_events.take())
                 }
             })
         })
@@ -221,7 +251,10 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// beyond that the oldest is dropped.
     pub fn raise_emergency(&self, emergency: Emergency) {
         self.with(|r| {
-            r.emergencies.push(emergency);
+            r.emergencies.update(|mut queue| {
+                queue.push(emergency);
+                queue
+            });
             r.esm_waker.wake();
         });
     }
@@ -229,20 +262,25 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// The process-data runner tells the state-machine runner `notes`.
     pub(crate) fn note(&self, notes: Notes) {
         self.with(|r| {
-            r.notes = r.notes.union(notes);
+            r.notes.set(r.notes.get().union(notes));
             r.esm_waker.wake();
         });
     }
 
     /// Takes what the process-data runner noted.
     pub(crate) fn take_notes(&self) -> Notes {
-        self.with(|r| core::mem::replace(&mut r.notes, Notes::NONE))
+        self.with(|r| r.notes.replace(Notes::NONE))
     }
 
     /// Takes the oldest emergency the application raised. One at a time, so the queue is
     /// never copied out of the critical section.
     pub(crate) fn take_emergency(&self) -> Option<Emergency> {
-        self.with(|r| r.emergencies.pop())
+        self.with(|r| {
+            let mut queue = r.emergencies.get();
+            let emergency = queue.pop();
+            r.emergencies.set(queue);
+            emergency
+        })
     }
 
     /// Publishes the process-data layout of the current state and the AL event mask in the ESC.
@@ -250,10 +288,10 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// masked event is one a runner clears.
     pub(crate) fn publish(&self, layout: Option<Layout>, mask: AlEvent) {
         self.with(|r| {
-            r.mask = mask;
-            if r.layout != layout || !r.esm_started {
-                r.layout = layout;
-                r.esm_started = true;
+            r.mask.set(mask);
+            if r.layout.get() != layout || !r.esm_started.get() {
+                r.layout.set(layout);
+                r.esm_started.set(true);
                 r.notify_pd();
             }
             r.judge_irq();
@@ -266,21 +304,21 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// token for [`SharedEsc::pd_news_since`].
     pub(crate) fn pd_news(&self, current: Option<Layout>) -> PdNews {
         self.with(|r| PdNews {
-            generation: r.pd_news,
-            layout: r.layout,
-            pd_events: if r.layout == current {
-                core::mem::take(&mut r.pd_events)
+            generation: r.pd_news.get(),
+            layout: r.layout.get(),
+            pd_events: if r.layout.get() == current {
+                r.pd_events.take()
             } else {
                 AlEvent::NONE
             },
             // Before the state-machine runner set up the ESC, its reset mask may hold the line.
-            irq_free: r.esm_started && !r.esm_holds_irq,
+            irq_free: r.esm_started.get() && !r.esm_holds_irq.get(),
         })
     }
 
     /// Takes the process-data trigger events seen by the state-machine runner.
     pub(crate) fn take_pd_events(&self) -> AlEvent {
-        self.with(|r| core::mem::take(&mut r.pd_events))
+        self.with(|r| r.pd_events.take())
     }
 
     /// Waits until something changed for the process-data runner since `seen` was taken: its
@@ -288,7 +326,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     pub(crate) fn pd_news_since(&self, seen: u32) -> impl Future<Output = ()> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                if r.pd_news != seen {
+                if r.pd_news.get() != seen {
                     Poll::Ready(())
                 } else {
                     r.pd_waker.register(cx.waker());
@@ -298,7 +336,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         })
     }
 
-    fn with<R>(&self, f: impl FnOnce(&mut Routing) -> R) -> R {
-        self.routing.lock(|cell| f(&mut cell.borrow_mut()))
+    fn with<R>(&self, f: impl FnOnce(&Routing) -> R) -> R {
+        self.routing.lock(f)
     }
 }

@@ -138,16 +138,24 @@ impl Written {
     /// SM1, SM0. Then the other changes (activations, SM1's repeat acknowledge) in SM order, so
     /// that on the way up the mailbox is active before the process data.
     pub(super) fn pdi_control_due(&self, desired: [u8; 4]) -> Option<(u8, u8)> {
-        let due = |n: u8| {
+        // Each SyncManager with whether only its deactivation counts: deactivations in stop
+        // order first, then every change in SM order.
+        const ORDER: [(u8, bool); 8] = [
+            (2, true),
+            (3, true),
+            (1, true),
+            (0, true),
+            (0, false),
+            (1, false),
+            (2, false),
+            (3, false),
+        ];
+        ORDER.into_iter().find_map(|(n, deactivation)| {
             let i = usize::from(n);
             let (d, w) = (*desired.get(i)?, *self.pdi_control.get(i)?);
-            (d != w).then_some((n, d))
-        };
-        let stop = [2, 3, 1, 0]
-            .into_iter()
-            .filter_map(due)
-            .find(|&(_, d)| d & Channel::PDI_DEACTIVATE != 0);
-        stop.or_else(|| (0..4).find_map(due))
+            let counts = !deactivation || d & Channel::PDI_DEACTIVATE != 0;
+            (d != w && counts).then_some((n, d))
+        })
     }
 
     /// Whether SM0 and SM1 were last written active.

@@ -10,6 +10,15 @@ pub mod esc;
 pub mod io;
 pub mod mem;
 
+/// Parks the calling task for good: what a firmware task does once its runner stopped (after
+/// logging why). A task that never completes is never dropped, so the executor carries no drop
+/// code for its future: the runners' nested futures, the SPI transfers, the board's pins.
+pub async fn park() -> ! {
+    loop {
+        core::future::pending::<()>().await;
+    }
+}
+
 /// The two executors every firmware of this board runs (priorities: README.md): defines the
 /// statics, the UART4 handler (UART4 is unused on this board, its vector runs the interrupt
 /// executor) and `run_executors(init)`, which starts the interrupt executor at priority 6 and

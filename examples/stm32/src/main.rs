@@ -20,8 +20,8 @@ use ecat_core::{DeviceConfig, SubDevice, Transition};
 use ecat_embassy::pd_runner::{Buffers, NoSync0};
 use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_process_data};
 use ecat_stm32::board::Board;
-use ecat_stm32::esc;
 use ecat_stm32::io::{self, DigitalIo};
+use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use embassy_stm32::exti::ExtiInput;
 
@@ -76,7 +76,7 @@ impl ObjectHooks<()> for Hooks {}
 /// process-data runner and the SYNC0 task in the interrupt executor, then runs the state machine
 /// and the mailbox. One task, so the start-up's state shares the task's storage with the runner.
 #[embassy_executor::task]
-async fn state_machine(high: SendSpawner, board: Board) {
+async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
         spi,
         irq,
@@ -84,7 +84,7 @@ async fn state_machine(high: SendSpawner, board: Board) {
         io,
     } = board;
     let Some(pdi) = esc::start_logged(spi).await else {
-        return;
+        park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     high.spawn(unwrap!(process_data(esc, irq, io)));
@@ -92,11 +92,16 @@ async fn state_machine(high: SendSpawner, board: Board) {
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut Hooks, &DICTIONARY).await;
     error!("PDI failed: {}", error);
+    park().await
 }
 
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line.
 #[embassy_executor::task]
-async fn process_data(esc: &'static Esc, mut irq: ExtiInput<'static, Async>, mut io: DigitalIo) {
+async fn process_data(
+    esc: &'static Esc,
+    mut irq: ExtiInput<'static, Async>,
+    mut io: DigitalIo,
+) -> ! {
     let (mut outputs, mut inputs) = ([0; 1], [0; 1]);
     let buffers = Buffers {
         outputs: &mut outputs,
@@ -108,6 +113,7 @@ async fn process_data(esc: &'static Esc, mut irq: ExtiInput<'static, Async>, mut
     let error = run_process_data(esc, &mut irq, &mut no_sync0, &mut io, &DICTIONARY, buffers).await;
     io.apply(0);
     error!("process data stopped: {}", error);
+    park().await
 }
 
 /// SYNC0 from the ESC's distributed clock: samples the inputs (in the interrupt executor, so the

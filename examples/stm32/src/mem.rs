@@ -1,15 +1,32 @@
-//! The word-aligned ARM EABI memory helpers as tail calls to the byte-aligned ones.
+//! The ARM EABI memory helpers ecat's zeroing and moves call, made small: the word-aligned ones as
+//! tail calls to the byte-aligned ones, and `__aeabi_memclr` as a byte loop.
 //!
 //! LLVM calls `__aeabi_memclr4`/`8` and `__aeabi_memcpy4`/`8` when it knows a destination is
 //! aligned (zeroing or moving a struct that holds a `u32` or `u64`). `compiler_builtins` gives each
 //! of the four its own copy of the loop (156 to 174 bytes each, weak symbols); `__aeabi_memclr`
-//! and `__aeabi_memcpy`, which every firmware of this board links anyway, take any alignment. The
-//! aligned entry points are hints the callee may ignore (ARM EABI run-time ABI, §4.3.4), so these
-//! definitions only trade a few cycles per call for 0.6 KB of flash.
+//! and `__aeabi_memcpy` take any alignment. The aligned entry points are hints the callee may
+//! ignore (ARM EABI run-time ABI, §4.3.4), so these definitions only trade a few cycles per call
+//! for 0.6 KB of flash. `__aeabi_memcpy` stays `compiler_builtins`' (every firmware of this board
+//! links it anyway); `__aeabi_memclr` is replaced (below).
 
 unsafe extern "aapcs" {
-    fn __aeabi_memclr(dest: *mut u8, n: usize);
     fn __aeabi_memcpy(dest: *mut u8, src: *const u8, n: usize);
+}
+
+/// Zeroes `n` bytes at `dest`, a byte at a time: `compiler_builtins`' version is a word-wise
+/// `memset` of 208 bytes that only ecat's zeroing calls (`SubDevice` and `Mailbox` at start-up
+/// and on a state change, the read buffers the Beckhoff driver fills with 0x00, the input
+/// image), none of it longer than a mailbox (128 bytes). The stores are volatile so that LLVM
+/// does not recognise the loop and turn it back into a call to this very function.
+///
+/// # Safety
+/// `dest` is valid for `n` bytes of writes.
+#[unsafe(no_mangle)]
+pub unsafe extern "aapcs" fn __aeabi_memclr(dest: *mut u8, n: usize) {
+    for i in 0..n {
+        // SAFETY: `i < n`, and the caller guarantees `dest` is valid for `n` bytes of writes.
+        unsafe { dest.add(i).write_volatile(0) }
+    }
 }
 
 /// `__aeabi_memclr` for a 4-byte aligned `dest`.

@@ -17,7 +17,7 @@ use ecat_core::{DeviceConfig, SubDevice};
 use ecat_embassy::pd_runner::Buffers;
 use ecat_embassy::{SharedDictionary, SharedEsc, run_esm, run_process_data};
 use ecat_stm32::board::Board;
-use ecat_stm32::esc;
+use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use embassy_stm32::exti::ExtiInput;
 
@@ -49,12 +49,12 @@ fn main() -> ! {
 /// executor, then runs the state machine and the mailbox. One task, so the start-up's state
 /// shares the task's storage with the runner. The board's digital I/O stays unused.
 #[embassy_executor::task]
-async fn state_machine(high: SendSpawner, board: Board) {
+async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
         spi, irq, sync0, ..
     } = board;
     let Some(pdi) = esc::start_logged(spi).await else {
-        return;
+        park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::default())));
@@ -62,6 +62,7 @@ async fn state_machine(high: SendSpawner, board: Board) {
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut AxisApp, od).await;
     error!("PDI failed: {}", error);
+    park().await
 }
 
 /// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines.
@@ -71,7 +72,7 @@ async fn process_data(
     od: &'static Dictionary,
     mut irq: ExtiInput<'static, Async>,
     mut sync0: ExtiInput<'static, Async>,
-) {
+) -> ! {
     let (mut outputs, mut inputs) = ([0; 32], [0; 32]);
     let buffers = Buffers {
         outputs: &mut outputs,
@@ -80,4 +81,5 @@ async fn process_data(
     let mut axis = Axis::new();
     let error = run_process_data(esc, &mut irq, &mut sync0, &mut axis, od, buffers).await;
     error!("process data stopped: {}", error);
+    park().await
 }
