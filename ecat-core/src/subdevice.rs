@@ -1092,6 +1092,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.state = t.to;
         if t.from.has_mailbox() && !t.to.has_mailbox() {
             self.mailbox.stop();
+            // An SM0 read or SM1 write made due by an event or a service (`mailbox_due`) before
+            // a call that stopped the mailbox is moot.
+            if let Some((Op::Mailbox(_), _)) = self.in_flight {
+                self.in_flight = None;
+            }
         }
         if t.to == AlState::SafeOp {
             self.outputs_received = false;

@@ -580,6 +580,86 @@ fn a_request_in_the_rhythm_is_read_and_answered_without_mask_writes() {
     );
 }
 
+/// The MainDevice's upload of 0x1018:01 (which the empty dictionary refuses) in SM0, with
+/// mailbox counter `counter`.
+fn put_request(regs: &mut Regs, counter: u8) {
+    let coe = (counter << 4) | 3;
+    regs.put(
+        common::MAILBOX.receive.start,
+        &[
+            10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
+        ],
+    );
+}
+
+#[test]
+fn a_request_waiting_in_sm0_is_read_before_an_emergency_takes_sm1() {
+    // The SM0 event makes the read due at once; an emergency raised and the mailbox served
+    // before the driver polls must not take SM1 from the request's answer ("a request is read
+    // only when its answer can be written at once"): the request is read and answered first.
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    let (receive, send) = (common::MAILBOX.receive, common::MAILBOX.send);
+    put_request(&mut regs, 1);
+    sub.handle_al_event(AlEvent::sync_manager(0));
+    assert!(sub.emergency(Emergency::default()));
+    assert!(
+        !sub.service_mailbox(T0, &mut (), &mut ()),
+        "the request first"
+    );
+    assert_eq!(
+        regs.drive(&mut sub, T0),
+        [Op::Read(receive.start, usize::from(receive.length))]
+    );
+    assert!(sub.service_mailbox(T0, &mut (), &mut ()));
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(log.first(), Some(&Op::Write(send.start, abort_answer(1))));
+    // The emergency waits behind the answer: the MainDevice's read of SM1 is in the mask.
+    assert_eq!(sub.event_mask(), AlEvent(0x0311));
+    sub.handle_al_event(AlEvent::sync_manager(1));
+    regs.drive(&mut sub, T0);
+    assert!(sub.service_mailbox(T0, &mut (), &mut ()));
+    let log = regs.drive(&mut sub, T0);
+    let Some(Op::Write(address, emergency)) = log.first() else {
+        panic!("the emergency is written: {log:x?}");
+    };
+    assert_eq!(
+        (*address, emergency[5] & 0x0F, emergency[7] >> 4),
+        (send.start, 3, 1)
+    );
+}
+
+#[test]
+fn a_mailbox_stopped_before_the_poll_drops_the_read_made_due() {
+    // PREOP→SAFEOP waits for the application; SM1's length changes without an SM-change event
+    // and the same request comes again (the SyncManagers are read, the transition stays
+    // pending); a request arrives; the application accepts before the driver polls, the
+    // mailbox check fails (0x0016) and the SubDevice falls back to INIT: the SM0 read the
+    // request's event made due is not made on the stopped mailbox.
+    let mut regs = Regs::new();
+    let mut sub = started(&mut regs);
+    configure_all(&mut regs);
+    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    request(&mut regs, &mut sub, 4);
+    assert!(sub.pending_transition().is_some());
+    let sm1 = register::sync_manager(1);
+    regs.put(sm1 + 2, &64u16.to_le_bytes());
+    request(&mut regs, &mut sub, 4);
+    put_request(&mut regs, 1);
+    sub.handle_al_event(AlEvent::sync_manager(0));
+    sub.complete_transition(up(AlState::PreOp, AlState::SafeOp), Ok(()));
+    assert_eq!((sub.state(), sub.al_status_code().0), (AlState::Init, 0x16));
+    let log = regs.drive(&mut sub, T0);
+    let receive = common::MAILBOX.receive.start;
+    assert!(
+        !log.iter()
+            .any(|op| matches!(op, Op::Read(a, _) if *a == receive || *a == 0)),
+        "an access of the stopped mailbox: {log:x?}"
+    );
+}
+
 /// A SubDevice walked up to OP, its outputs received.
 fn in_op(regs: &mut Regs) -> SubDevice<'static> {
     let mut sub = started(regs);

@@ -283,12 +283,14 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// Whether [`Mailbox::serve`] has anything to do: SM1 is free and a request, an SDO
-    /// Information fragment or an emergency waits for it.
+    /// Information fragment or an emergency waits for it. A fragment or an emergency also waits
+    /// while a request waits in SM0 to be read: the request is read first, so that its answer
+    /// finds SM1 free ("a request is read only when its answer can be written at once").
     pub fn has_work(&self) -> bool {
         let free = self.flags & flag::SM1_TAKEN == 0;
         free && (self.request_pending()
-            || self.sdo_info.is_pending()
-            || !self.emergencies.is_empty())
+            || (self.flags & flag::RX_WAITING == 0
+                && (self.sdo_info.is_pending() || !self.emergencies.is_empty())))
     }
 
     /// Serves what is due, once [`Mailbox::has_work`] says there is something: the received
