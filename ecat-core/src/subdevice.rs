@@ -925,13 +925,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     // A chunk beyond SM3: read for its activation bytes only.
                     return;
                 }
-                if let Some(channels) = self
-                    .buf
-                    .get(..Channels::SIZE)
-                    .and_then(Channels::from_bytes)
-                {
-                    self.channels = channels;
-                    let repeat = channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+                if let Some(bytes) = self.buf.first_chunk() {
+                    self.channels = Channels::from_bytes(bytes);
+                    let repeat =
+                        self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
                     self.mailbox.repeat_request(repeat);
                 }
                 if !self.read_due(read::AL_CONTROL) {

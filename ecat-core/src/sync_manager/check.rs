@@ -24,18 +24,14 @@ impl Channels {
     /// Bytes of register space the four channels occupy (0x0800..0x0820).
     pub const SIZE: usize = 4 * Channel::SIZE;
 
-    /// Parses the registers of SM0..SM3 (32 bytes from 0x0800). Returns `None` for a slice of
-    /// another length.
-    pub fn from_bytes(bytes: &[u8]) -> Option<Self> {
+    /// Parses the registers of SM0..SM3 (32 bytes from 0x0800).
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        let (channels, _) = bytes.as_chunks::<{ Channel::SIZE }>();
         let mut out = [Channel::default(); 4];
-        if bytes.len() != Self::SIZE {
-            return None;
-        }
-        for (channel, chunk) in out.iter_mut().zip(bytes.chunks_exact(Channel::SIZE)) {
-            let regs: [u8; 8] = chunk.try_into().ok()?;
+        for (channel, &regs) in out.iter_mut().zip(channels) {
             *channel = Channel::from_bytes(regs);
         }
-        Some(Self(out))
+        Self(out)
     }
 
     /// The receive mailbox, SM0.
