@@ -93,27 +93,36 @@ pub fn process_data(
     sizes: ProcessDataSizes,
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
-    let outputs = channels.outputs();
-    let inputs = channels.inputs();
-    if !is_process_data(outputs, sizes.outputs, Direction::MainDeviceWrites, device) {
+    let (outputs, inputs) = (channels.outputs(), channels.inputs());
+    let (out_span, in_span) = (span(outputs), span(inputs));
+    if !is_process_data(
+        outputs,
+        out_span,
+        sizes.outputs,
+        Direction::MainDeviceWrites,
+        device,
+    ) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
-    if !is_process_data(inputs, sizes.inputs, Direction::MainDeviceReads, device) {
+    if !is_process_data(
+        inputs,
+        in_span,
+        sizes.inputs,
+        Direction::MainDeviceReads,
+        device,
+    ) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
-    let mailboxes = [device.mailbox.receive, device.mailbox.send];
-    let out_area = occupied(outputs);
-    let in_area = occupied(inputs);
-    if overlaps_any(out_area, &mailboxes) {
+    let [receive, send] = [device.mailbox.receive, device.mailbox.send]
+        .map(|area| (u32::from(area.start), area.end()));
+    if overlaps(out_span, receive) || overlaps(out_span, send) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
-    if overlaps_any(in_area, &mailboxes) || overlaps_any(in_area, &[out_area.unwrap_or(EMPTY)]) {
+    if overlaps(in_span, receive) || overlaps(in_span, send) || overlaps(in_span, out_span) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
     Ok(())
 }
-
-const EMPTY: Area = Area::new(0, 0);
 
 /// Checks that SM2's watchdog trigger bit and the process-data watchdog time (0x0420) agree:
 /// a trigger with time 0, or a time without the trigger, is 0x001F (conformance.md "Watchdogs").
@@ -133,8 +142,12 @@ pub fn watchdog(
     }
 }
 
+/// A process-data channel as the image of `size` bytes needs it: disabled without data, else
+/// enabled with exactly that length, the right direction, a buffer mode and its `span` inside
+/// process RAM.
 fn is_process_data(
     channel: &Channel,
+    (start, end): (u32, u32),
     size: u16,
     direction: Direction,
     device: &DeviceConfig,
@@ -143,12 +156,7 @@ fn is_process_data(
         return !channel.enabled();
     }
     let mode_ok = matches!(channel.control.mode(), Mode::Buffered | Mode::Mailbox);
-    let fits = match channel.occupied() {
-        Some((start, end)) => {
-            start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end
-        }
-        None => false,
-    };
+    let fits = start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end;
     channel.enabled()
         && channel.length == size
         && channel.control.direction() == direction
@@ -156,19 +164,16 @@ fn is_process_data(
         && fits
 }
 
-/// The area an enabled process-data channel occupies (all three buffers in 3-buffer mode).
-fn occupied(channel: &Channel) -> Option<Area> {
-    if !channel.enabled() {
-        return None;
+/// The bytes an enabled process-data channel occupies (all three buffers in 3-buffer mode), from
+/// its first to one past its last; none (an empty span) for a disabled channel.
+fn span(channel: &Channel) -> (u32, u32) {
+    match channel.occupied() {
+        Some(span) if channel.enabled() => span,
+        _ => (0, 0),
     }
-    let (start, end) = channel.occupied()?;
-    let length = u16::try_from(end.saturating_sub(start)).unwrap_or(u16::MAX);
-    Some(Area::new(channel.start, length))
 }
 
-fn overlaps_any(area: Option<Area>, others: &[Area]) -> bool {
-    match area {
-        Some(a) => others.iter().any(|o| a.overlaps(*o)),
-        None => false,
-    }
+/// Whether two spans (first byte, one past the last) share a byte.
+fn overlaps(a: (u32, u32), b: (u32, u32)) -> bool {
+    a.0 < b.1 && b.0 < a.1
 }
