@@ -12,7 +12,7 @@
 //! The control byte is checked in its mode and direction bits; the event and watchdog bits are
 //! the MainDevice's choice (the watchdog bit is checked with the watchdog configuration).
 
-use super::{Channel, Direction, Mode};
+use super::{Channel, Control, Direction, Mode};
 use crate::AlStatusCode;
 use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes};
 
@@ -61,29 +61,35 @@ pub fn mailbox(
     mailbox: &MailboxConfig,
     code: AlStatusCode,
 ) -> Result<(), AlStatusCode> {
-    let rx = is_mailbox(
-        channels.mailbox_receive(),
-        mailbox.receive,
-        Direction::MainDeviceWrites,
-    );
-    let tx = is_mailbox(
-        channels.mailbox_send(),
-        mailbox.send,
-        Direction::MainDeviceReads,
-    );
+    let rx = is_mailbox(channels.mailbox_receive(), mailbox.receive, RECEIVE_CONTROL);
+    let tx = is_mailbox(channels.mailbox_send(), mailbox.send, SEND_CONTROL);
     if rx && tx { Ok(()) } else { Err(code) }
 }
 
-/// A mailbox channel as the SII describes it (control 0x26 / 0x22): mode, direction and the PDI
-/// event, without which the SubDevice would never see a mailbox event. The ECAT event bit is the
-/// MainDevice's choice.
-fn is_mailbox(channel: &Channel, area: Area, direction: Direction) -> bool {
+/// The control bits the mailbox check compares: mode (1:0), direction (3:2), PDI event (5).
+const MAILBOX_CONTROL_BITS: u8 = 0x2F;
+/// SM0's control in those bits, as the SII describes it: mailbox mode, written by the
+/// MainDevice, PDI event.
+const RECEIVE_CONTROL: u8 = 0x26;
+/// SM1's: mailbox mode, read by the MainDevice, PDI event.
+const SEND_CONTROL: u8 = 0x22;
+const _: () = {
+    let (receive, send) = (Control(RECEIVE_CONTROL), Control(SEND_CONTROL));
+    assert!(matches!(receive.mode(), Mode::Mailbox) && matches!(send.mode(), Mode::Mailbox));
+    assert!(matches!(receive.direction(), Direction::MainDeviceWrites));
+    assert!(matches!(send.direction(), Direction::MainDeviceReads));
+    assert!(receive.pdi_event() && send.pdi_event());
+    assert!(MAILBOX_CONTROL_BITS == 0b1111 | Control::PDI_EVENT);
+};
+
+/// A mailbox channel at `area` with `control` in [`MAILBOX_CONTROL_BITS`]: mode, direction and
+/// the PDI event, without which the SubDevice would never see a mailbox event. The ECAT event
+/// bit is the MainDevice's choice.
+fn is_mailbox(channel: &Channel, area: Area, control: u8) -> bool {
     channel.enabled()
         && channel.start == area.start
         && channel.length == area.length
-        && channel.control.mode() == Mode::Mailbox
-        && channel.control.direction() == direction
-        && channel.control.pdi_event()
+        && channel.control.0 & MAILBOX_CONTROL_BITS == control
 }
 
 /// Checks SM2/SM3 against the process-data `sizes`, and that no enabled channel overlaps
