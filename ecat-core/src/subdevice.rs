@@ -43,6 +43,8 @@ use targets::{Stale, Targets, Written};
 
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+// Every AL event mask the core writes carries them: 0 can stand for "not written yet".
+const _: () = assert!(!ESM_EVENTS.is_empty());
 
 /// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
 const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
@@ -325,7 +327,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The AL event mask as last written to the ESC: the events that may assert the IRQ line.
     pub fn event_mask(&self) -> AlEvent {
-        AlEvent(self.written.event_mask.unwrap_or(0))
+        AlEvent(self.written.event_mask)
     }
 
     /// The SyncManager registers as last read.
@@ -448,7 +450,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// the request can be read, so the mailbox wants the SM0 event and not the SM1 event — what
     /// the mask had while it waited for the request.
     fn mailbox_mask_holds(&self) -> bool {
-        let written = self.written.event_mask.unwrap_or(0) & MAILBOX_EVENTS.bits();
+        let written = self.written.event_mask & MAILBOX_EVENTS.bits();
         written == AlEvent::sync_manager(0).bits() && self.mailbox.can_receive()
     }
 
@@ -667,7 +669,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn next_op(&mut self) -> Option<(Op, u32)> {
         if self.stale.contains(Stale::EVENT_MASK) {
             let mask = self.targets().event_mask(&self.mailbox);
-            if self.written.event_mask != Some(mask) {
+            if self.written.event_mask != mask {
                 return Some((Op::WriteEventMask, mask));
             }
             self.stale.remove(Stale::EVENT_MASK);
@@ -724,9 +726,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[inline(never)]
     fn next_status(&mut self) -> Option<(Op, u32)> {
         let targets = self.targets();
-        if self.written.status_code != Some(targets.status_code) {
+        if self.written.status_code != u32::from(targets.status_code) {
             Some((Op::WriteStatusCode, u32::from(targets.status_code)))
-        } else if self.written.status != Some(targets.status) {
+        } else if self.written.status != u32::from(targets.status) {
             Some((Op::WriteStatus, u32::from(targets.status)))
         } else {
             None
@@ -883,14 +885,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn complete_register(&mut self, now: Instant, op: Op, value: u32) {
         match op {
             Op::Mailbox(_) => {}
-            Op::WriteEventMask => self.written.event_mask = Some(value),
+            Op::WriteEventMask => self.written.event_mask = value,
             Op::WritePdiControl(n) => {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
                     *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
                 }
             }
-            Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
-            Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
+            Op::WriteStatusCode => self.written.status_code = value,
+            Op::WriteStatus => self.written.status = value,
             Op::ReadWatchdog => {
                 self.reads &= !read::WATCHDOG;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);

@@ -109,26 +109,28 @@ impl Targets {
 /// What the core last wrote to the ESC, so that it writes only what changed.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Written {
-    /// AL event mask.
-    pub(super) event_mask: Option<u32>,
+    /// AL event mask; 0 until written (the state machine's events are always in it).
+    pub(super) event_mask: u32,
     /// PDI control of SM0..SM3; [`Written::UNKNOWN`] until written.
     pub(super) pdi_control: [u8; 4],
-    /// AL status code.
-    pub(super) status_code: Option<u16>,
-    /// AL status.
-    pub(super) status: Option<u16>,
+    /// AL status code; [`Written::NO_CODE`] until written.
+    pub(super) status_code: u32,
+    /// AL status; 0 until written (a state code is always in it).
+    pub(super) status: u32,
 }
 
 impl Written {
     /// A PDI control value never wanted (and with the deactivate bit set): not written yet.
     pub(super) const UNKNOWN: u8 = 0xFF;
+    /// An AL status code never wanted (codes are 16 bits): not written yet.
+    pub(super) const NO_CODE: u32 = u32::MAX;
 
     pub(super) const fn new() -> Self {
         Self {
-            event_mask: None,
+            event_mask: 0,
             pdi_control: [Self::UNKNOWN; 4],
-            status_code: None,
-            status: None,
+            status_code: Self::NO_CODE,
+            status: 0,
         }
     }
 
