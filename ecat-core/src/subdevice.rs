@@ -471,7 +471,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The mailbox part of the plan alone ([`SubDevice::next_op`] when nothing else is stale).
-    #[inline(never)]
     fn mailbox_access(&mut self) -> Option<Access<'_>> {
         self.stale = Stale::NONE;
         let op = self.next_mailbox_op()?;
@@ -713,9 +712,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         None
     }
 
-    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]). Out of
-    /// line, as the other rarely stale parts.
-    #[inline(never)]
+    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]).
     fn next_pdi_control(&mut self) -> Option<(Op, u32)> {
         let desired = self.targets().pdi_control(&self.mailbox);
         let (n, value) = self.written.pdi_control_due(desired)?;
@@ -723,7 +720,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The AL status code write due, or else the AL status write.
-    #[inline(never)]
     fn next_status(&mut self) -> Option<(Op, u32)> {
         let targets = self.targets();
         if self.written.status_code != u32::from(targets.status_code) {
@@ -760,7 +756,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The next register read: the SyncManagers, the watchdog registers and the DC registers
     /// before AL control, so that a transition is checked against what the MainDevice wrote
     /// before requesting it.
-    #[inline(never)]
     fn next_read(&self) -> Option<Op> {
         if self.sm_unread > 0 {
             Some(Op::ReadSyncManagers)
@@ -790,7 +785,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// What the ESM state asks for in the registers ([`Targets::derive`]).
-    #[inline(never)]
     fn derive_targets(&self) -> Targets {
         let mut process_data = AlEvent::NONE;
         if self.state.has_process_data() {
