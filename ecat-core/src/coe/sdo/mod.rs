@@ -349,6 +349,7 @@ impl<const N: usize> SdoServer<N> {
             done: received,
             ..
         } = self.next_segment(Kind::Download, toggle)?;
+        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
         if total > size {
             return Err(AbortCode::LENGTH_TOO_HIGH);
@@ -356,7 +357,6 @@ impl<const N: usize> SdoServer<N> {
         if last && total < size {
             return Err(AbortCode::LENGTH_TOO_LOW);
         }
-        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         if self.checked_in != cx.state {
             // The rights of the initiate's state do not carry over (a download started in PREOP
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
