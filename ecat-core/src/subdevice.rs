@@ -666,14 +666,23 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// AL status code, AL status. Only the stale parts are looked at; a part found satisfied is
     /// no longer stale.
     fn next_op(&mut self) -> Option<(Op, u32)> {
-        if self.stale.contains(Stale::EVENT_MASK) {
+        let mut stale = self.stale;
+        let next = self.next_op_in(&mut stale);
+        self.stale = stale;
+        next
+    }
+
+    /// [`SubDevice::next_op`] on a copy of the stale parts, stored back once (none of the parts'
+    /// questions looks at them).
+    fn next_op_in(&mut self, stale: &mut Stale) -> Option<(Op, u32)> {
+        if stale.contains(Stale::EVENT_MASK) {
             let mask = self.targets().event_mask(&self.mailbox);
             if self.written.event_mask != mask {
                 return Some((Op::WriteEventMask, mask));
             }
-            self.stale.remove(Stale::EVENT_MASK);
+            stale.remove(Stale::EVENT_MASK);
         }
-        if self.stale.contains(Stale::READS) {
+        if stale.contains(Stale::READS) {
             if let Some(read) = self.next_read() {
                 // A SyncManager read carries its chunk (start and end), fixed at the poll: an
                 // SM-change event handled before it completes starts the reads over.
@@ -687,27 +696,27 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     },
                 ));
             }
-            self.stale.remove(Stale::READS);
+            stale.remove(Stale::READS);
         }
-        if self.stale.contains(Stale::PDI_CONTROL) {
+        if stale.contains(Stale::PDI_CONTROL) {
             if let Some(write) = self.next_pdi_control() {
                 return Some(write);
             }
-            self.stale.remove(Stale::PDI_CONTROL);
+            stale.remove(Stale::PDI_CONTROL);
         }
-        if self.stale.contains(Stale::MAILBOX) {
+        if stale.contains(Stale::MAILBOX) {
             // Satisfied once its access is under way: the access's completion marks what it
             // makes due (see `access_done`).
-            self.stale.remove(Stale::MAILBOX);
+            stale.remove(Stale::MAILBOX);
             if let Some(op) = self.next_mailbox_op() {
                 return Some((Op::Mailbox(op), 0));
             }
         }
-        if self.stale.contains(Stale::STATUS) {
+        if stale.contains(Stale::STATUS) {
             if let Some(write) = self.next_status() {
                 return Some(write);
             }
-            self.stale.remove(Stale::STATUS);
+            stale.remove(Stale::STATUS);
         }
         None
     }
