@@ -233,8 +233,11 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     mailbox: Mailbox<MBX>,
     /// The parts of the register plan that may not be satisfied: what the next poll looks at.
     stale: Stale,
-    /// The process-image sizes of the current PDO configuration, or why it is unusable.
-    pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
+    /// The process-image sizes of the current PDO configuration (none when it is unusable).
+    pd_sizes: ProcessDataSizes,
+    /// Why the current PDO configuration is unusable (0x0024, 0x0025); [`AlStatusCode::NO_ERROR`]
+    /// when it is usable.
+    pd_unusable: AlStatusCode,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
     pd_stale: bool,
     /// Valid outputs arrived since SAFEOP was entered.
@@ -277,7 +280,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             buf: [0; BUF_LEN],
             mailbox: Mailbox::new(),
             stale: Stale::ALL,
-            pd_sizes: Ok(config.process_data),
+            pd_sizes: config.process_data,
+            pd_unusable: AlStatusCode::NO_ERROR,
             pd_stale: true,
             outputs_received: false,
             sync_received: false,
@@ -340,7 +344,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_process_data() {
             return None;
         }
-        let sizes = self.pd_sizes.unwrap_or_default();
+        let sizes = self.pd_sizes;
         let area =
             |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
         Some(Layout {
@@ -359,7 +363,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
-        let sizes = self.pd_sizes.unwrap_or_default();
+        let sizes = self.pd_sizes;
         if matches!(self.sync(), Ok(SyncType::FreeRun | SyncType::DcSync0)) {
             AlEvent::NONE
         } else if sizes.outputs > 0 {
@@ -799,7 +803,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if self.state.has_process_data() {
             process_data |= self.process_data_trigger();
         }
-        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
+        if self.state == AlState::Op && self.pd_sizes.outputs > 0 {
             process_data |= AlEvent::WATCHDOG_PROCESS_DATA;
         }
         Targets::derive(self.al_status(), self.al_status_code(), process_data)
@@ -1002,7 +1006,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         let deadline = now.saturating_add(self.config.transition_timeout);
-        let outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
+        let outputs = self.pd_sizes.outputs > 0;
         self.pending = Some(Pending {
             transition: t,
             deadline,
@@ -1030,7 +1034,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
         }
         if state.has_process_data() {
-            let sizes = self.pd_sizes.map_err(|c| (c, AlState::PreOp))?;
+            if self.pd_unusable != AlStatusCode::NO_ERROR {
+                return Err((self.pd_unusable, AlState::PreOp));
+            }
+            let sizes = self.pd_sizes;
             check::process_data(&self.channels, sizes, self.config)
                 .map_err(|c| (c, AlState::PreOp))?;
             self.check_sync(sizes).map_err(|c| (c, AlState::PreOp))?;
@@ -1187,13 +1194,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Ok(None) => Ok(fixed),
             Err(code) => Err(code),
         };
-        self.pd_sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
+        let sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
             Ok(ProcessDataSizes {
                 outputs,
                 inputs: size(Direction::Tx, fixed.inputs)?,
             })
         });
-        let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
+        (self.pd_sizes, self.pd_unusable) = match sizes {
+            Ok(sizes) => (sizes, AlStatusCode::NO_ERROR),
+            Err(code) => (ProcessDataSizes::default(), code),
+        };
+        let has_outputs = self.pd_sizes.outputs > 0;
         let (active, chosen_cycle) = (self.sync().ok(), self.writes.chosen.cycle_ns());
         sync::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
     }
