@@ -39,7 +39,7 @@ use crate::time::Instant;
 
 mod targets;
 
-use targets::{Stale, Targets, Written};
+use targets::{Stale, Written};
 
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
@@ -222,9 +222,6 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// The DC registers as last read.
     dc: DcSettings,
     sm_changed: bool,
-    /// What the ESM state asks for in the registers; `None` after one of its inputs changed (state,
-    /// error, code, device ID, process-data configuration), derived again on the next poll.
-    targets: Option<Targets>,
     written: Written,
     in_flight: Option<(Op, u32)>,
     pending: Option<Pending>,
@@ -269,7 +266,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             watchdog_time: 0,
             dc: DcSettings::default(),
             sm_changed: false,
-            targets: None,
             written: Written::new(),
             in_flight: None,
             pending: None,
@@ -680,7 +676,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// questions looks at them).
     fn next_op_in(&mut self, stale: &mut Stale) -> Option<(Op, u32)> {
         if stale.contains(Stale::EVENT_MASK) {
-            let mask = self.targets().event_mask(&self.mailbox);
+            let mask = self.desired_event_mask();
             if self.written.event_mask != mask {
                 return Some((Op::WriteEventMask, mask));
             }
@@ -726,29 +722,21 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]).
-    fn next_pdi_control(&mut self) -> Option<(Op, u32)> {
-        let desired = self.targets().pdi_control(&self.mailbox);
-        let (n, value) = self.written.pdi_control_due(desired)?;
+    fn next_pdi_control(&self) -> Option<(Op, u32)> {
+        let (n, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
         Some((Op::WritePdiControl(n), u32::from(value)))
     }
 
     /// The AL status code write due, or else the AL status write.
-    fn next_status(&mut self) -> Option<(Op, u32)> {
-        let targets = self.targets();
-        if self.written.status_code != u32::from(targets.status_code) {
-            Some((Op::WriteStatusCode, u32::from(targets.status_code)))
-        } else if self.written.status != u32::from(targets.status) {
-            Some((Op::WriteStatus, u32::from(targets.status)))
+    fn next_status(&self) -> Option<(Op, u32)> {
+        let code = u32::from(self.al_status_code().0);
+        let status = u32::from(self.al_status().bits());
+        if self.written.status_code != code {
+            Some((Op::WriteStatusCode, code))
+        } else if self.written.status != status {
+            Some((Op::WriteStatus, status))
         } else {
             None
-        }
-    }
-
-    /// The register targets, derived if an input changed since.
-    fn targets(&mut self) -> Targets {
-        match self.targets {
-            Some(targets) => targets,
-            None => *self.targets.insert(self.derive_targets()),
         }
     }
 
@@ -791,22 +779,41 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// An input of the register targets changed (state, error, code, device ID, process-data
-    /// configuration): they are derived again on the next poll.
+    /// configuration): the next poll looks at every part of the plan.
     fn targets_changed(&mut self) {
-        self.targets = None;
         self.stale = Stale::ALL;
     }
 
-    /// What the ESM state asks for in the registers ([`Targets::derive`]).
-    fn derive_targets(&self) -> Targets {
-        let mut process_data = AlEvent::NONE;
+    /// The AL event mask the plan wants: the state machine's events, the process-data events
+    /// the state waits for (the SM2/SM3 trigger; the watchdog in OP with outputs) and, in a
+    /// state with a mailbox, the SM0/SM1 events the mailbox waits for.
+    fn desired_event_mask(&self) -> u32 {
+        let mut mask = ESM_EVENTS;
         if self.state.has_process_data() {
-            process_data |= self.process_data_trigger();
+            mask |= self.process_data_trigger();
         }
         if self.state == AlState::Op && self.pd_sizes.outputs > 0 {
-            process_data |= AlEvent::WATCHDOG_PROCESS_DATA;
+            mask |= AlEvent::WATCHDOG_PROCESS_DATA;
         }
-        Targets::derive(self.al_status(), self.al_status_code(), process_data)
+        if self.state.has_mailbox() {
+            mask |= self.mailbox.event_mask();
+        }
+        mask.bits()
+    }
+
+    /// PDI control of SM0..SM3 as the state asks: the mailbox channels active from PREOP (and
+    /// in BOOT), SM1 with the mailbox's repeat acknowledge; the process-data channels active in
+    /// SAFEOP and OP.
+    fn desired_pdi_control(&self) -> [u8; 4] {
+        let active = |on: bool| if on { 0 } else { Channel::PDI_DEACTIVATE };
+        let mailbox = active(self.state.has_mailbox());
+        let process = active(self.state.has_process_data());
+        let ack = if self.state.has_mailbox() && self.mailbox.repeat_ack() {
+            Channel::PDI_REPEAT_ACK
+        } else {
+            0
+        };
+        [mailbox, mailbox | ack, process, process]
     }
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
