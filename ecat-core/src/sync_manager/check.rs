@@ -119,8 +119,11 @@ pub fn process_data(
     ) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
-    let [receive, send] = [device.mailbox.receive, device.mailbox.send]
-        .map(|area| (u32::from(area.start), area.end()));
+    let area_span = |area: Area| (u32::from(area.start), area.end());
+    let (receive, send) = (
+        area_span(device.mailbox.receive),
+        area_span(device.mailbox.send),
+    );
     if overlaps(out_span, receive) || overlaps(out_span, send) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
