@@ -203,50 +203,56 @@ struct Pending {
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
 /// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
 #[derive(Debug)]
+// `repr(C)`: the fields stay in this order, the small ones the state machine reads and writes
+// most first (bytes, then halfwords, then words, without padding), the mailbox and the buffers
+// last, so that Thumb's 16-bit loads and stores reach them from the start of the struct (bytes
+// within 32, halfwords within 64, words within 128 bytes); the compiler's own order put the
+// mailbox, and its buffers, first.
+#[repr(C)]
 pub struct SubDevice<'c, const MBX: usize = 128> {
-    config: &'c DeviceConfig,
     state: AlState,
     error: bool,
-    code: AlStatusCode,
     id_requested: bool,
-    device_id: u16,
-    channels: Channels,
     /// The bytes of SyncManager registers still to read, from 0x0800 on: read in chunks of
     /// [`SM_CHUNK`] from the end, the channels beyond SM3 first and SM0..SM3 last; 0 when no read
     /// is due.
     sm_unread: u8,
     /// The other register reads due, a bit each ([`read`]).
     reads: u8,
-    /// 0x0420 as last read.
-    watchdog_time: u16,
-    /// The DC registers as last read.
-    dc: DcSettings,
     sm_changed: bool,
-    written: Written,
-    in_flight: Option<(Op, u32)>,
-    pending: Option<Pending>,
-    events: Ring<Event, 8>,
-    buf: [u8; BUF_LEN],
-    mailbox: Mailbox<MBX>,
     /// The parts of the register plan that may not be satisfied: what the next poll looks at.
     stale: Stale,
-    /// The process-image sizes of the current PDO configuration (none when it is unusable).
-    pd_sizes: ProcessDataSizes,
-    /// Why the current PDO configuration is unusable (0x0024, 0x0025); [`AlStatusCode::NO_ERROR`]
-    /// when it is usable.
-    pd_unusable: AlStatusCode,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
     pd_stale: bool,
     /// Valid outputs arrived since SAFEOP was entered.
     outputs_received: bool,
     /// A SYNC0-triggered cycle ran since SAFEOP was entered (DC mode).
     sync_received: bool,
+    code: AlStatusCode,
+    device_id: u16,
+    /// 0x0420 as last read.
+    watchdog_time: u16,
+    /// Why the current PDO configuration is unusable (0x0024, 0x0025); [`AlStatusCode::NO_ERROR`]
+    /// when it is usable.
+    pd_unusable: AlStatusCode,
+    /// The process-image sizes of the current PDO configuration (none when it is unusable).
+    pd_sizes: ProcessDataSizes,
     /// The sync type the dictionary asks for, or why it cannot be.
     sync: Result<sync::Requested, AlStatusCode>,
+    config: &'c DeviceConfig,
+    written: Written,
+    in_flight: Option<(Op, u32)>,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
     /// MainDevice wrote, and whether the process-data configuration changed since the last
     /// [`SubDevice::refresh_process_data`] (taken into `pd_stale` after each message).
     writes: Writes,
+    mailbox: Mailbox<MBX>,
+    pending: Option<Pending>,
+    events: Ring<Event, 8>,
+    channels: Channels,
+    /// The DC registers as last read.
+    dc: DcSettings,
+    buf: [u8; BUF_LEN],
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {

@@ -62,15 +62,9 @@ mod flag {
 
 /// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes.
 #[derive(Debug)]
+// `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
+#[repr(C)]
 pub struct Mailbox<const N: usize> {
-    rx: [u8; N],
-    tx: [u8; N],
-    /// Length of the last message built in `tx` (header included).
-    tx_len: usize,
-    /// SM0, its length clamped to `N`.
-    receive: Area,
-    /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
-    send: Area,
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
@@ -78,9 +72,17 @@ pub struct Mailbox<const N: usize> {
     rx_counter: u8,
     /// The counter of the last message sent (0: none).
     tx_counter: u8,
-    sdo: SdoServer<N>,
-    sdo_info: SdoInfo,
+    /// SM0, its length clamped to `N`.
+    receive: Area,
+    /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
+    send: Area,
+    /// Length of the last message built in `tx` (header included).
+    tx_len: usize,
     emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
+    sdo_info: SdoInfo,
+    sdo: SdoServer<N>,
+    rx: [u8; N],
+    tx: [u8; N],
 }
 
 impl<const N: usize> Default for Mailbox<N> {

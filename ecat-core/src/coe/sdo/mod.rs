@@ -83,13 +83,15 @@ pub struct Context<'a, D, H> {
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
 #[derive(Debug)]
+// `repr(C)`: the small fields first, the buffer last (see `SubDevice`).
+#[repr(C)]
 pub struct SdoServer<const N: usize> {
-    transfer: Option<Segmented>,
     /// The ESM state the transfer's rights were checked in: a download whose state changed
     /// meanwhile is checked again before it stores (access rights, RxPDO-mapped entries). Here
     /// rather than in [`Segmented`], where it would cost 8 bytes of alignment.
     checked_in: AlState,
     timed_out: bool,
+    transfer: Option<Segmented>,
     buf: [u8; N],
 }
 
