@@ -155,12 +155,15 @@ impl AddressPhase {
 }
 
 /// A [`Pdi`] over the Beckhoff ESC SPI protocol.
+// `repr(C)`: the configuration and the address phase before the SPI device, within reach of
+// Thumb's 16-bit loads and stores.
+#[repr(C)]
 pub struct BeckhoffSpi<S> {
-    spi: S,
     config: Config,
     /// The address phase of the transaction in flight: kept here, once, rather than in the
     /// access future each runner holds.
     phase: AddressPhase,
+    spi: S,
 }
 
 impl<S: SpiDevice> BeckhoffSpi<S> {
