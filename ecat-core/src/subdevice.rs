@@ -204,12 +204,13 @@ struct Pending {
 /// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
 #[derive(Debug)]
 // `repr(C)`: the fields stay in this order, the small ones the state machine reads and writes
-// most first (bytes, then halfwords, then words, without padding), the mailbox and the buffers
-// last, so that Thumb's 16-bit loads and stores reach them from the start of the struct (bytes
-// within 32, halfwords within 64, words within 128 bytes); the compiler's own order put the
-// mailbox, and its buffers, first.
+// most first (the pending transition, the flags and bytes, then halfwords, then words, without
+// padding), the mailbox and the buffers last, so that Thumb's 16-bit loads and stores reach them
+// from the start of the struct (bytes within 32, halfwords within 64, words within 128 bytes);
+// the compiler's own order put the mailbox, and its buffers, first.
 #[repr(C)]
 pub struct SubDevice<'c, const MBX: usize = 128> {
+    pending: Option<Pending>,
     state: AlState,
     error: bool,
     id_requested: bool,
@@ -246,12 +247,11 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// MainDevice wrote, and whether the process-data configuration changed since the last
     /// [`SubDevice::refresh_process_data`] (taken into `pd_stale` after each message).
     writes: Writes,
-    mailbox: Mailbox<MBX>,
-    pending: Option<Pending>,
-    events: Ring<Event, 8>,
-    channels: Channels,
     /// The DC registers as last read.
     dc: DcSettings,
+    mailbox: Mailbox<MBX>,
+    events: Ring<Event, 8>,
+    channels: Channels,
     buf: [u8; BUF_LEN],
 }
 
