@@ -204,27 +204,29 @@ struct Pending {
 /// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
 #[derive(Debug)]
 // `repr(C)`: the fields stay in this order, the small ones the state machine reads and writes
-// most first (the pending transition, the flags and bytes, then halfwords, then words, without
-// padding), the mailbox and the buffers last, so that Thumb's 16-bit loads and stores reach them
-// from the start of the struct (bytes within 32, halfwords within 64, words within 128 bytes);
-// the compiler's own order put the mailbox, and its buffers, first.
+// most first (the pending transition, the access in flight, the flags and bytes, then
+// halfwords, then words, without padding), the mailbox and the buffers last, so that Thumb's
+// 16-bit loads and stores reach them from the start of the struct (bytes within 32, halfwords
+// within 64, words within 128 bytes); the compiler's own order put the mailbox, and its
+// buffers, first.
 #[repr(C)]
 pub struct SubDevice<'c, const MBX: usize = 128> {
     pending: Option<Pending>,
+    in_flight: Option<(Op, u32)>,
     state: AlState,
-    error: bool,
-    id_requested: bool,
+    /// The parts of the register plan that may not be satisfied: what the next poll looks at.
+    stale: Stale,
+    /// The other register reads due, a bit each ([`read`]).
+    reads: u8,
     /// The bytes of SyncManager registers still to read, from 0x0800 on: read in chunks of
     /// [`SM_CHUNK`] from the end, the channels beyond SM3 first and SM0..SM3 last; 0 when no read
     /// is due.
     sm_unread: u8,
-    /// The other register reads due, a bit each ([`read`]).
-    reads: u8,
-    sm_changed: bool,
-    /// The parts of the register plan that may not be satisfied: what the next poll looks at.
-    stale: Stale,
+    error: bool,
+    id_requested: bool,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
     pd_stale: bool,
+    sm_changed: bool,
     /// Valid outputs arrived since SAFEOP was entered.
     outputs_received: bool,
     /// A SYNC0-triggered cycle ran since SAFEOP was entered (DC mode).
@@ -242,7 +244,6 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     sync: Result<sync::Requested, AlStatusCode>,
     config: &'c DeviceConfig,
     written: Written,
-    in_flight: Option<(Op, u32)>,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
     /// MainDevice wrote, and whether the process-data configuration changed since the last
     /// [`SubDevice::refresh_process_data`] (taken into `pd_stale` after each message).
