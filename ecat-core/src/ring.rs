@@ -3,12 +3,14 @@
 
 /// A FIFO of at most `N` elements.
 #[derive(Debug, Clone, Copy)]
+// `repr(C)`: the cursor first, within reach of 16-bit byte loads whatever the slots' size.
+#[repr(C)]
 pub struct Ring<T: Copy, const N: usize> {
+    cursor: Cursor,
     /// The elements, as many as the cursor says from its head on (wrapping); the other slots
     /// hold stale values or the filler, never returned (no `Option` per slot: its tag is what
     /// the cursor says).
     slots: [T; N],
-    cursor: Cursor,
 }
 
 /// Where a ring's elements are: the part of a [`Ring`] that does not depend on the element
