@@ -162,10 +162,11 @@ impl<const N: usize> SdoServer<N> {
         match result {
             Ok(len) => len,
             Err(code) => {
+                // The abort names the transfer's entry, if one was under way: it ends here.
                 let (index, sub) = self
-                    .current_target()
-                    .map_or((index, sub), |t| (t.index, t.sub));
-                self.transfer = None;
+                    .transfer
+                    .take()
+                    .map_or((index, sub), |t| (t.target.index, t.target.sub));
                 abort(out, index, sub, code)
             }
         }
@@ -188,10 +189,6 @@ impl<const N: usize> SdoServer<N> {
     pub fn reset(&mut self) {
         self.transfer = None;
         self.timed_out = false;
-    }
-
-    fn current_target(&self) -> Option<Target> {
-        self.transfer.map(|t| t.target)
     }
 
     fn upload<D: ObjectDictionary, H: ObjectHooks<D>>(
