@@ -190,19 +190,20 @@ impl InfoRequest {
 
 /// Which indices a Get OD List request asks for (ETG.1000.6 §5.6.3, Get OD List request).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u16)]
 pub enum ListType {
     /// 0: the lengths of lists 1..=5, five u16 counts.
-    Lengths,
+    Lengths = 0,
     /// 1: every object.
-    All,
+    All = 1,
     /// 2: objects with an RxPDO-mappable entry.
-    RxPdo,
+    RxPdo = 2,
     /// 3: objects with a TxPDO-mappable entry.
-    TxPdo,
+    TxPdo = 3,
     /// 4: objects with an entry in the backup.
-    Backup,
+    Backup = 4,
     /// 5: objects with a settings entry.
-    Settings,
+    Settings = 5,
 }
 
 /// The lists whose lengths list type 0 reports, in order.
@@ -230,14 +231,7 @@ impl ListType {
 
     /// The code on the wire.
     pub const fn code(self) -> u16 {
-        match self {
-            Self::Lengths => 0,
-            Self::All => 1,
-            Self::RxPdo => 2,
-            Self::TxPdo => 3,
-            Self::Backup => 4,
-            Self::Settings => 5,
-        }
+        self as u16
     }
 
     /// Whether `object` is in this list: any of its entries carries the list's access flag.
