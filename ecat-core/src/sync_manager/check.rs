@@ -101,22 +101,10 @@ pub fn process_data(
 ) -> Result<(), AlStatusCode> {
     let (outputs, inputs) = (channels.outputs(), channels.inputs());
     let (out_span, in_span) = (span(outputs), span(inputs));
-    if !is_process_data(
-        outputs,
-        out_span,
-        sizes.outputs,
-        Direction::MainDeviceWrites,
-        device,
-    ) {
+    if !is_process_data(outputs, out_span, sizes.outputs, OUTPUTS_CONTROL, device) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
-    if !is_process_data(
-        inputs,
-        in_span,
-        sizes.inputs,
-        Direction::MainDeviceReads,
-        device,
-    ) {
+    if !is_process_data(inputs, in_span, sizes.inputs, INPUTS_CONTROL, device) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
     let area_span = |area: Area| (u32::from(area.start), area.end());
@@ -151,25 +139,40 @@ pub fn watchdog(
     }
 }
 
+/// The control bits the process-data check compares: the direction (3:2) and bit 0 of the
+/// mode (1:0), which is 0 in both modes a process-data channel may use (3-buffer 0b00, mailbox
+/// 0b10).
+const PROCESS_DATA_CONTROL_BITS: u8 = 0b1101;
+/// SM2's control in those bits: written by the MainDevice.
+const OUTPUTS_CONTROL: u8 = 0b0100;
+/// SM3's: read by the MainDevice.
+const INPUTS_CONTROL: u8 = 0b0000;
+const _: () = {
+    let (outputs, inputs) = (Control(OUTPUTS_CONTROL), Control(INPUTS_CONTROL));
+    assert!(matches!(outputs.direction(), Direction::MainDeviceWrites));
+    assert!(matches!(inputs.direction(), Direction::MainDeviceReads));
+    assert!(matches!(Control(0b10).mode(), Mode::Mailbox));
+    assert!(matches!(Control(0b00).mode(), Mode::Buffered));
+    assert!(0b10 & PROCESS_DATA_CONTROL_BITS == 0 && 0b01 & PROCESS_DATA_CONTROL_BITS != 0);
+};
+
 /// A process-data channel as the image of `size` bytes needs it: disabled without data, else
-/// enabled with exactly that length, the right direction, a buffer mode and its `span` inside
-/// process RAM.
+/// enabled with exactly that length, `control` in [`PROCESS_DATA_CONTROL_BITS`] (the direction,
+/// a buffer mode) and its `span` inside process RAM.
 fn is_process_data(
     channel: &Channel,
     (start, end): (u32, u32),
     size: u16,
-    direction: Direction,
+    control: u8,
     device: &DeviceConfig,
 ) -> bool {
     if size == 0 {
         return !channel.enabled();
     }
-    let mode_ok = matches!(channel.control.mode(), Mode::Buffered | Mode::Mailbox);
     let fits = start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end;
     channel.enabled()
         && channel.length == size
-        && channel.control.direction() == direction
-        && mode_ok
+        && channel.control.0 & PROCESS_DATA_CONTROL_BITS == control
         && fits
 }
 
