@@ -1095,14 +1095,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Sets the error indication with `code` and falls back to `state` when it is lower.
     fn fail(&mut self, code: AlStatusCode, state: AlState) {
         self.abort_pending();
+        // A lower rank is another state.
         if state.rank() < self.state.rank() {
-            let t = Transition {
+            self.change_state(Transition {
                 from: self.state,
                 to: state,
-            };
-            if t.from != t.to {
-                self.change_state(t);
-            }
+            });
         }
         self.targets_changed();
         self.error = true;
