@@ -46,6 +46,10 @@ pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 // Every AL event mask the core writes carries them: 0 can stand for "not written yet".
 const _: () = assert!(!ESM_EVENTS.is_empty());
 
+/// What [`SubDevice::sync`] says when the dictionary's sync type cannot be: an unknown type, which
+/// no device supports (so `sync::requested` never yields it) and no mode of the stack matches.
+const UNUSABLE_SYNC: SyncType = SyncType::Unknown(u16::MAX);
+
 /// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
 const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
 
@@ -354,10 +358,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             clock: match self.sync() {
-                Ok(SyncType::FreeRun) => {
-                    Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config))
-                }
-                Ok(SyncType::DcSync0) => Clock::Sync0(self.dc.sync0_cycle()),
+                SyncType::FreeRun => Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config)),
+                SyncType::DcSync0 => Clock::Sync0(self.dc.sync0_cycle()),
                 _ => Clock::Event(self.process_data_trigger()),
             },
             outputs_active: self.state == AlState::Op,
@@ -367,7 +369,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
         let sizes = self.pd_sizes;
-        if matches!(self.sync(), Ok(SyncType::FreeRun | SyncType::DcSync0)) {
+        if matches!(self.sync(), SyncType::FreeRun | SyncType::DcSync0) {
             AlEvent::NONE
         } else if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
@@ -608,9 +610,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The sync type in effect: what 0x1C32:01 asks for, or DC SYNC0 when the MainDevice did
-    /// not choose and activated SYNC0 ([`sync::Requested::effective`]).
-    fn sync(&self) -> Result<SyncType, AlStatusCode> {
-        self.sync.map(|r| r.effective(self.dc, self.config))
+    /// not choose and activated SYNC0 ([`sync::Requested::effective`]); [`UNUSABLE_SYNC`] when
+    /// the dictionary's cannot be.
+    fn sync(&self) -> SyncType {
+        match self.sync {
+            Ok(requested) => requested.effective(self.dc, self.config),
+            Err(_) => UNUSABLE_SYNC,
+        }
     }
 
     /// The bytes of SyncManager registers the ESC has: 8 per channel
@@ -639,7 +645,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The process-data side saw SYNC0 stop (DC mode): in OP the SubDevice falls back to SAFEOP
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync_lost(&mut self) {
-        if self.state == AlState::Op && self.sync() == Ok(SyncType::DcSync0) {
+        if self.state == AlState::Op && self.sync() == SyncType::DcSync0 {
             self.stale = Stale::ALL;
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
@@ -1027,7 +1033,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             accepted: false,
             needs_outputs: t.to == AlState::Op && outputs && !self.outputs_received,
             needs_sync: t.to == AlState::Op
-                && self.sync() == Ok(SyncType::DcSync0)
+                && self.sync() == SyncType::DcSync0
                 && !self.sync_received,
         });
         self.events.push(Event::TransitionRequested(t));
@@ -1065,7 +1071,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// DC-capable device checks the DC SYNC unit ([`sync::check_dc`]); a cycle time the
     /// MainDevice wrote must suit the sync type ([`sync::check_cycle`]).
     fn check_sync(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
-        let sync = self.sync()?;
+        self.sync?;
+        let sync = self.sync();
         if self.config.sync.dc() {
             sync::check_dc(sync, self.dc, self.config)?;
         } else if self.dc.activation.0 != 0 {
@@ -1217,7 +1224,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Err(code) => (ProcessDataSizes::default(), code),
         };
         let has_outputs = self.pd_sizes.outputs > 0;
-        let (active, chosen_cycle) = (self.sync().ok(), self.writes.chosen.cycle_ns());
+        let active = self.sync.is_ok().then(|| self.sync());
+        let chosen_cycle = self.writes.chosen.cycle_ns();
         sync::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
     }
 
