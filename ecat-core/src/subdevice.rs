@@ -1118,12 +1118,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.abort_pending();
         self.targets_changed();
         self.state = t.to;
-        if t.from.has_mailbox() && !t.to.has_mailbox() {
-            self.mailbox.stop();
-        }
         if t.to == AlState::SafeOp {
             self.outputs_received = false;
             self.sync_received = false;
+        }
+        if t.from.has_mailbox() != t.to.has_mailbox() {
+            // The mailbox starts or stops: either way from nothing in flight (`Mailbox::start`
+            // takes a stopped one).
+            self.mailbox.stop();
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;

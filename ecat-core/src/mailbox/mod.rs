@@ -109,10 +109,10 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// Starts the mailbox on SM0/SM1 of `config`; the repeat acknowledge starts equal to the
-    /// request bit ("copy the request bit into the ack bit at mailbox start").
+    /// Starts a new or stopped ([`Mailbox::stop`]) mailbox on SM0/SM1 of `config`; the repeat
+    /// acknowledge starts equal to the request bit ("copy the request bit into the ack bit at
+    /// mailbox start").
     pub fn start(&mut self, config: MailboxConfig, repeat_request: bool) {
-        *self = Self::new();
         let clamp = |area: Area| {
             let length = usize::from(area.length).min(N);
             Area::new(area.start, u16::try_from(length).unwrap_or(area.length))
