@@ -102,31 +102,34 @@ pub enum ConfigError {
 
 /// The static description of a device that the state machine checks the MainDevice against.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// `repr(C)`: the byte and the halfwords first, within reach of 16-bit loads through the
+// SubDevice's reference; the durations (8-aligned) last.
+#[repr(C)]
 pub struct DeviceConfig {
-    /// Standard mailbox (PREOP and above).
-    pub mailbox: MailboxConfig,
-    /// Bootstrap mailbox; `None` when the device does not support BOOT (INIT→BOOT is answered with
-    /// 0x0013).
-    pub bootstrap_mailbox: Option<MailboxConfig>,
-    /// Process-data image sizes.
-    pub process_data: ProcessDataSizes,
-    /// One past the last byte of process RAM (0x3000 for the 8 KiB of an ET1100, 0x2000 for the
-    /// 4 KiB of a LAN9252).
-    pub process_ram_end: u32,
     /// Number of SyncManager channels the ESC has (8 on ET1100/AX58100, 4 on LAN9252). The
     /// SubDevice reads all their activation registers on an SM-change event, which is what clears
     /// the event in the ESC.
     pub sync_manager_count: u8,
     /// The sync types the device supports (0x1C32:04). Default: free-run and SM-synchronous.
     pub sync: SupportedSync,
-    /// The cycle of free-run mode. Default: 1 ms.
-    pub free_run_cycle: Duration,
-    /// The shortest cycle the device keeps up with (0x1C32:05); a DC SYNC0 cycle below it is
-    /// refused at PREOP→SAFEOP with 0x0036. Default: 250 µs.
-    pub min_cycle_time: Duration,
+    /// Process-data image sizes.
+    pub process_data: ProcessDataSizes,
+    /// Standard mailbox (PREOP and above).
+    pub mailbox: MailboxConfig,
+    /// Bootstrap mailbox; `None` when the device does not support BOOT (INIT→BOOT is answered with
+    /// 0x0013).
+    pub bootstrap_mailbox: Option<MailboxConfig>,
+    /// One past the last byte of process RAM (0x3000 for the 8 KiB of an ET1100, 0x2000 for the
+    /// 4 KiB of a LAN9252).
+    pub process_ram_end: u32,
     /// How long the application may leave an upward transition pending before the SubDevice
     /// answers it with [`AlStatusCode::UNSPECIFIED_ERROR`]. Well below the 5 s MainDevices wait.
     pub transition_timeout: Duration,
+    /// The shortest cycle the device keeps up with (0x1C32:05); a DC SYNC0 cycle below it is
+    /// refused at PREOP→SAFEOP with 0x0036. Default: 250 µs.
+    pub min_cycle_time: Duration,
+    /// The cycle of free-run mode. Default: 1 ms.
+    pub free_run_cycle: Duration,
 }
 
 impl DeviceConfig {

@@ -72,16 +72,60 @@ pub fn decide(status: AlStatus, control: AlControl, boot_supported: bool) -> Dec
         from: status.state,
         to,
     };
-    use AlState::*;
-    match (t.from, t.to) {
-        (a, b) if a == b => Decision::Stay,
-        (Init, Boot) if !boot_supported => Decision::Refuse(AlStatusCode::BOOTSTRAP_NOT_SUPPORTED),
-        (Init, PreOp) | (PreOp, SafeOp) | (SafeOp, Op) | (Init, Boot) => Decision::Up(t),
-        (PreOp | SafeOp | Op | Boot, Init) | (SafeOp | Op, PreOp) | (Op, SafeOp) => {
-            Decision::Down(t)
+    // Table 17 as two sets of (from, to) pairs.
+    let pair = 1 << pair_bit(t);
+    if t.from == t.to {
+        Decision::Stay
+    } else if pair & UPWARD != 0 {
+        if t.to == AlState::Boot && !boot_supported {
+            Decision::Refuse(AlStatusCode::BOOTSTRAP_NOT_SUPPORTED)
+        } else {
+            Decision::Up(t)
         }
-        _ => Decision::Refuse(AlStatusCode::INVALID_STATE_CHANGE),
+    } else if pair & DOWNWARD != 0 {
+        Decision::Down(t)
+    } else {
+        Decision::Refuse(AlStatusCode::INVALID_STATE_CHANGE)
     }
+}
+
+/// The valid upward transitions, a bit each ([`pair_bit`]).
+const UPWARD: u32 = pairs(&[
+    (AlState::Init, AlState::PreOp),
+    (AlState::PreOp, AlState::SafeOp),
+    (AlState::SafeOp, AlState::Op),
+    (AlState::Init, AlState::Boot),
+]);
+
+/// The valid downward transitions, a bit each ([`pair_bit`]).
+const DOWNWARD: u32 = pairs(&[
+    (AlState::PreOp, AlState::Init),
+    (AlState::SafeOp, AlState::Init),
+    (AlState::Op, AlState::Init),
+    (AlState::Boot, AlState::Init),
+    (AlState::SafeOp, AlState::PreOp),
+    (AlState::Op, AlState::PreOp),
+    (AlState::Op, AlState::SafeOp),
+]);
+
+/// The bit of a pair of states in a set of transitions: the state codes 1, 2, 3, 4, 8 modulo 8
+/// are five distinct numbers below 5, so a pair is one of 25 bits.
+const fn pair_bit(t: Transition) -> u32 {
+    (t.from.bits() % 8) as u32 * 5 + (t.to.bits() % 8) as u32
+}
+
+/// The set of the transitions in `list`.
+const fn pairs(mut list: &[(AlState, AlState)]) -> u32 {
+    let mut set = 0;
+    while let [(from, to), rest @ ..] = list {
+        set |= 1
+            << pair_bit(Transition {
+                from: *from,
+                to: *to,
+            });
+        list = rest;
+    }
+    set
 }
 
 #[cfg(test)]
@@ -121,6 +165,32 @@ mod tests {
                 Decision::Refuse(AlStatusCode::INVALID_STATE_CHANGE),
                 "{from}->{to}"
             );
+        }
+    }
+
+    #[test]
+    fn every_pair_of_states_decides_as_table_17() {
+        use AlState::*;
+        for from in AlState::ALL {
+            for to in AlState::ALL {
+                let t = Transition { from, to };
+                let expected = match (from, to) {
+                    (a, b) if a == b => Decision::Stay,
+                    (Init, PreOp) | (PreOp, SafeOp) | (SafeOp, Op) | (Init, Boot) => {
+                        Decision::Up(t)
+                    }
+                    (PreOp | SafeOp | Op | Boot, Init) | (SafeOp | Op, PreOp) | (Op, SafeOp) => {
+                        Decision::Down(t)
+                    }
+                    _ => Decision::Refuse(AlStatusCode::INVALID_STATE_CHANGE),
+                };
+                let control = AlControl::from_bits(to.bits().into());
+                assert_eq!(
+                    decide(status(from, false), control, true),
+                    expected,
+                    "{from}->{to}"
+                );
+            }
         }
     }
 

@@ -41,16 +41,18 @@ pub enum Clock {
 
 /// The process-data areas as the MainDevice configured SM2 and SM3, valid in SAFEOP and OP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// `repr(C)`: the flag and the areas first, the clock (8-aligned) last.
+#[repr(C)]
 pub struct Layout {
+    /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
+    /// moving, but never handed to the application.
+    pub outputs_active: bool,
     /// The output buffer (SM2), `None` for an input-only device.
     pub outputs: Option<Area>,
     /// The input buffer (SM3), `None` for an output-only device.
     pub inputs: Option<Area>,
     /// What starts a cycle.
     pub clock: Clock,
-    /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
-    /// moving, but never handed to the application.
-    pub outputs_active: bool,
 }
 
 impl Layout {

@@ -3,16 +3,55 @@
 
 /// A FIFO of at most `N` elements.
 #[derive(Debug, Clone, Copy)]
+// `repr(C)`: the cursor first, within reach of 16-bit byte loads whatever the slots' size.
+#[repr(C)]
 pub struct Ring<T: Copy, const N: usize> {
-    /// The elements, `len` of them from `head` on (wrapping); the other slots hold stale values
-    /// or the filler, never returned (no `Option` per slot: its tag is what `len` says).
+    cursor: Cursor,
+    /// The elements, as many as the cursor says from its head on (wrapping); the other slots
+    /// hold stale values or the filler, never returned (no `Option` per slot: its tag is what
+    /// the cursor says).
     slots: [T; N],
-    /// The oldest element's slot and the element count: bytes, as `N` < 128 (checked in `new`),
-    /// so that their sum fits.
+}
+
+/// Where a ring's elements are: the part of a [`Ring`] that does not depend on the element
+/// type or the capacity, so every ring shares its code.
+#[derive(Debug, Clone, Copy)]
+struct Cursor {
+    /// The oldest element's slot and the element count: bytes, as the capacity is below 128
+    /// (checked in [`Ring::new`]), so that their sum fits.
     head: u8,
     len: u8,
     /// Saturating: a diagnostic count, 16 bits like the other counters of the SubDevice.
     dropped: u16,
+}
+
+impl Cursor {
+    /// The slot a new element goes to in a ring of `capacity` slots; when the ring is full the
+    /// oldest element is dropped and counted. `None` (counted as dropped) without slots.
+    #[inline(never)]
+    fn push(&mut self, capacity: u8) -> Option<usize> {
+        if self.len == capacity {
+            self.dropped = self.dropped.saturating_add(1);
+            if capacity == 0 {
+                return None;
+            }
+            self.pop(capacity);
+        }
+        self.len += 1;
+        Some(usize::from((self.head + self.len - 1) % capacity))
+    }
+
+    /// The oldest element's slot, which it leaves.
+    #[inline(never)]
+    fn pop(&mut self, capacity: u8) -> Option<usize> {
+        if self.len == 0 {
+            return None;
+        }
+        let head = self.head;
+        self.head = (head + 1) % capacity;
+        self.len -= 1;
+        Some(usize::from(head))
+    }
 }
 
 impl<T: Copy, const N: usize> Ring<T, N> {
@@ -21,53 +60,44 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         const { assert!(N < 128, "a Ring holds fewer than 128 elements") };
         Self {
             slots: [fill; N],
-            head: 0,
-            len: 0,
-            dropped: 0,
+            cursor: Cursor {
+                head: 0,
+                len: 0,
+                dropped: 0,
+            },
         }
     }
 
     /// Appends `value`; when the queue is full the oldest element is dropped and counted.
     pub fn push(&mut self, value: T) {
-        if N == 0 {
-            self.dropped = self.dropped.saturating_add(1);
-            return;
-        }
-        if self.len == N as u8 {
-            self.pop();
-            self.dropped = self.dropped.saturating_add(1);
-        }
-        let tail = usize::from((self.head + self.len) % N as u8);
-        if let Some(slot) = self.slots.get_mut(tail) {
+        let slot = self
+            .cursor
+            .push(N as u8)
+            .and_then(|i| self.slots.get_mut(i));
+        if let Some(slot) = slot {
             *slot = value;
-            self.len += 1;
         }
     }
 
     /// Removes and returns the oldest element.
     pub fn pop(&mut self) -> Option<T> {
-        if self.len == 0 {
-            return None;
-        }
-        let value = self.slots.get(usize::from(self.head)).copied();
-        self.head = (self.head + 1) % N as u8;
-        self.len -= 1;
-        value
+        let i = self.cursor.pop(N as u8)?;
+        self.slots.get(i).copied()
     }
 
     /// Number of queued elements.
     pub const fn len(&self) -> usize {
-        self.len as usize
+        self.cursor.len as usize
     }
 
     /// Whether nothing is queued.
     pub const fn is_empty(&self) -> bool {
-        self.len == 0
+        self.cursor.len == 0
     }
 
     /// How many elements were dropped because the queue was full (saturating at 65 535).
     pub const fn dropped(&self) -> u16 {
-        self.dropped
+        self.cursor.dropped
     }
 }
 

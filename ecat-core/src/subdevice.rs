@@ -39,10 +39,16 @@ use crate::time::Instant;
 
 mod targets;
 
-use targets::{Stale, Targets, Written};
+use targets::{Stale, Written};
 
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
 pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+// Every AL event mask the core writes carries them: 0 can stand for "not written yet".
+const _: () = assert!(!ESM_EVENTS.is_empty());
+
+/// What [`SubDevice::sync`] says when the dictionary's sync type cannot be: an unknown type, which
+/// no device supports (so `sync::requested` never yields it) and no mode of the stack matches.
+const UNUSABLE_SYNC: SyncType = SyncType::Unknown(u16::MAX);
 
 /// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
 const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
@@ -201,50 +207,57 @@ struct Pending {
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
 /// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
 #[derive(Debug)]
+// `repr(C)`: the fields stay in this order, the small ones the state machine reads and writes
+// most first (the pending transition, the access in flight, the flags and bytes, then
+// halfwords, then words, without padding), the mailbox and the buffers last, so that Thumb's
+// 16-bit loads and stores reach them from the start of the struct (bytes within 32, halfwords
+// within 64, words within 128 bytes); the compiler's own order put the mailbox, and its
+// buffers, first.
+#[repr(C)]
 pub struct SubDevice<'c, const MBX: usize = 128> {
-    config: &'c DeviceConfig,
+    pending: Option<Pending>,
+    in_flight: Option<(Op, u32)>,
     state: AlState,
-    error: bool,
-    code: AlStatusCode,
-    id_requested: bool,
-    device_id: u16,
-    channels: Channels,
+    /// The parts of the register plan that may not be satisfied: what the next poll looks at.
+    stale: Stale,
+    /// The other register reads due, a bit each ([`read`]).
+    reads: u8,
     /// The bytes of SyncManager registers still to read, from 0x0800 on: read in chunks of
     /// [`SM_CHUNK`] from the end, the channels beyond SM3 first and SM0..SM3 last; 0 when no read
     /// is due.
     sm_unread: u8,
-    /// The other register reads due, a bit each ([`read`]).
-    reads: u8,
-    /// 0x0420 as last read.
-    watchdog_time: u16,
-    /// The DC registers as last read.
-    dc: DcSettings,
-    sm_changed: bool,
-    /// What the ESM state asks for in the registers; `None` after one of its inputs changed (state,
-    /// error, code, device ID, process-data configuration), derived again on the next poll.
-    targets: Option<Targets>,
-    written: Written,
-    in_flight: Option<(Op, u32)>,
-    pending: Option<Pending>,
-    events: Ring<Event, 8>,
-    buf: [u8; BUF_LEN],
-    mailbox: Mailbox<MBX>,
-    /// The parts of the register plan that may not be satisfied: what the next poll looks at.
-    stale: Stale,
-    /// The process-image sizes of the current PDO configuration, or why it is unusable.
-    pd_sizes: Result<ProcessDataSizes, AlStatusCode>,
+    error: bool,
+    id_requested: bool,
     /// The PDO configuration may have changed since `pd_sizes` was computed.
     pd_stale: bool,
+    sm_changed: bool,
     /// Valid outputs arrived since SAFEOP was entered.
     outputs_received: bool,
     /// A SYNC0-triggered cycle ran since SAFEOP was entered (DC mode).
     sync_received: bool,
+    code: AlStatusCode,
+    device_id: u16,
+    /// 0x0420 as last read.
+    watchdog_time: u16,
+    /// Why the current PDO configuration is unusable (0x0024, 0x0025); [`AlStatusCode::NO_ERROR`]
+    /// when it is usable.
+    pd_unusable: AlStatusCode,
+    /// The process-image sizes of the current PDO configuration (none when it is unusable).
+    pd_sizes: ProcessDataSizes,
     /// The sync type the dictionary asks for, or why it cannot be.
     sync: Result<sync::Requested, AlStatusCode>,
+    config: &'c DeviceConfig,
+    written: Written,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
     /// MainDevice wrote, and whether the process-data configuration changed since the last
     /// [`SubDevice::refresh_process_data`] (taken into `pd_stale` after each message).
     writes: Writes,
+    /// The DC registers as last read.
+    dc: DcSettings,
+    mailbox: Mailbox<MBX>,
+    events: Ring<Event, 8>,
+    channels: Channels,
+    buf: [u8; BUF_LEN],
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -264,7 +277,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             watchdog_time: 0,
             dc: DcSettings::default(),
             sm_changed: false,
-            targets: None,
             written: Written::new(),
             in_flight: None,
             pending: None,
@@ -275,7 +287,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             buf: [0; BUF_LEN],
             mailbox: Mailbox::new(),
             stale: Stale::ALL,
-            pd_sizes: Ok(config.process_data),
+            pd_sizes: config.process_data,
+            pd_unusable: AlStatusCode::NO_ERROR,
             pd_stale: true,
             outputs_received: false,
             sync_received: false,
@@ -325,7 +338,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The AL event mask as last written to the ESC: the events that may assert the IRQ line.
     pub fn event_mask(&self) -> AlEvent {
-        AlEvent(self.written.event_mask.unwrap_or(0))
+        AlEvent(self.written.event_mask)
     }
 
     /// The SyncManager registers as last read.
@@ -338,17 +351,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.state.has_process_data() {
             return None;
         }
-        let sizes = self.pd_sizes.unwrap_or_default();
+        let sizes = self.pd_sizes;
         let area =
             |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
         Some(Layout {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             clock: match self.sync() {
-                Ok(SyncType::FreeRun) => {
-                    Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config))
-                }
-                Ok(SyncType::DcSync0) => Clock::Sync0(self.dc.sync0_cycle()),
+                SyncType::FreeRun => Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config)),
+                SyncType::DcSync0 => Clock::Sync0(self.dc.sync0_cycle()),
                 _ => Clock::Event(self.process_data_trigger()),
             },
             outputs_active: self.state == AlState::Op,
@@ -357,8 +368,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     fn process_data_trigger(&self) -> AlEvent {
-        let sizes = self.pd_sizes.unwrap_or_default();
-        if matches!(self.sync(), Ok(SyncType::FreeRun | SyncType::DcSync0)) {
+        let sizes = self.pd_sizes;
+        if matches!(self.sync(), SyncType::FreeRun | SyncType::DcSync0) {
             AlEvent::NONE
         } else if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
@@ -448,7 +459,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// the request can be read, so the mailbox wants the SM0 event and not the SM1 event — what
     /// the mask had while it waited for the request.
     fn mailbox_mask_holds(&self) -> bool {
-        let written = self.written.event_mask.unwrap_or(0) & MAILBOX_EVENTS.bits();
+        let written = self.written.event_mask & MAILBOX_EVENTS.bits();
         written == AlEvent::sync_manager(0).bits() && self.mailbox.can_receive()
     }
 
@@ -469,7 +480,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The mailbox part of the plan alone ([`SubDevice::next_op`] when nothing else is stale).
-    #[inline(never)]
     fn mailbox_access(&mut self) -> Option<Access<'_>> {
         self.stale = Stale::NONE;
         let op = self.next_mailbox_op()?;
@@ -600,9 +610,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The sync type in effect: what 0x1C32:01 asks for, or DC SYNC0 when the MainDevice did
-    /// not choose and activated SYNC0 ([`sync::Requested::effective`]).
-    fn sync(&self) -> Result<SyncType, AlStatusCode> {
-        self.sync.map(|r| r.effective(self.dc, self.config))
+    /// not choose and activated SYNC0 ([`sync::Requested::effective`]); [`UNUSABLE_SYNC`] when
+    /// the dictionary's cannot be.
+    fn sync(&self) -> SyncType {
+        match self.sync {
+            Ok(requested) => requested.effective(self.dc, self.config),
+            Err(_) => UNUSABLE_SYNC,
+        }
     }
 
     /// The bytes of SyncManager registers the ESC has: 8 per channel
@@ -631,7 +645,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The process-data side saw SYNC0 stop (DC mode): in OP the SubDevice falls back to SAFEOP
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync_lost(&mut self) {
-        if self.state == AlState::Op && self.sync() == Ok(SyncType::DcSync0) {
+        if self.state == AlState::Op && self.sync() == SyncType::DcSync0 {
             self.stale = Stale::ALL;
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
@@ -665,14 +679,23 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// AL status code, AL status. Only the stale parts are looked at; a part found satisfied is
     /// no longer stale.
     fn next_op(&mut self) -> Option<(Op, u32)> {
-        if self.stale.contains(Stale::EVENT_MASK) {
-            let mask = self.targets().event_mask(&self.mailbox);
-            if self.written.event_mask != Some(mask) {
+        let mut stale = self.stale;
+        let next = self.next_op_in(&mut stale);
+        self.stale = stale;
+        next
+    }
+
+    /// [`SubDevice::next_op`] on a copy of the stale parts, stored back once (none of the parts'
+    /// questions looks at them).
+    fn next_op_in(&mut self, stale: &mut Stale) -> Option<(Op, u32)> {
+        if stale.contains(Stale::EVENT_MASK) {
+            let mask = self.desired_event_mask();
+            if self.written.event_mask != mask {
                 return Some((Op::WriteEventMask, mask));
             }
-            self.stale.remove(Stale::EVENT_MASK);
+            stale.remove(Stale::EVENT_MASK);
         }
-        if self.stale.contains(Stale::READS) {
+        if stale.contains(Stale::READS) {
             if let Some(read) = self.next_read() {
                 // A SyncManager read carries its chunk (start and end), fixed at the poll: an
                 // SM-change event handled before it completes starts the reads over.
@@ -686,58 +709,47 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     },
                 ));
             }
-            self.stale.remove(Stale::READS);
+            stale.remove(Stale::READS);
         }
-        if self.stale.contains(Stale::PDI_CONTROL) {
+        if stale.contains(Stale::PDI_CONTROL) {
             if let Some(write) = self.next_pdi_control() {
                 return Some(write);
             }
-            self.stale.remove(Stale::PDI_CONTROL);
+            stale.remove(Stale::PDI_CONTROL);
         }
-        if self.stale.contains(Stale::MAILBOX) {
+        if stale.contains(Stale::MAILBOX) {
             // Satisfied once its access is under way: the access's completion marks what it
             // makes due (see `access_done`).
-            self.stale.remove(Stale::MAILBOX);
+            stale.remove(Stale::MAILBOX);
             if let Some(op) = self.next_mailbox_op() {
                 return Some((Op::Mailbox(op), 0));
             }
         }
-        if self.stale.contains(Stale::STATUS) {
+        if stale.contains(Stale::STATUS) {
             if let Some(write) = self.next_status() {
                 return Some(write);
             }
-            self.stale.remove(Stale::STATUS);
+            stale.remove(Stale::STATUS);
         }
         None
     }
 
-    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]). Out of
-    /// line, as the other rarely stale parts.
-    #[inline(never)]
-    fn next_pdi_control(&mut self) -> Option<(Op, u32)> {
-        let desired = self.targets().pdi_control(&self.mailbox);
-        let (n, value) = self.written.pdi_control_due(desired)?;
+    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]).
+    fn next_pdi_control(&self) -> Option<(Op, u32)> {
+        let (n, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
         Some((Op::WritePdiControl(n), u32::from(value)))
     }
 
     /// The AL status code write due, or else the AL status write.
-    #[inline(never)]
-    fn next_status(&mut self) -> Option<(Op, u32)> {
-        let targets = self.targets();
-        if self.written.status_code != Some(targets.status_code) {
-            Some((Op::WriteStatusCode, u32::from(targets.status_code)))
-        } else if self.written.status != Some(targets.status) {
-            Some((Op::WriteStatus, u32::from(targets.status)))
+    fn next_status(&self) -> Option<(Op, u32)> {
+        let code = u32::from(self.al_status_code().0);
+        let status = u32::from(self.al_status().bits());
+        if self.written.status_code != code {
+            Some((Op::WriteStatusCode, code))
+        } else if self.written.status != status {
+            Some((Op::WriteStatus, status))
         } else {
             None
-        }
-    }
-
-    /// The register targets, derived if an input changed since.
-    fn targets(&mut self) -> Targets {
-        match self.targets {
-            Some(targets) => targets,
-            None => *self.targets.insert(self.derive_targets()),
         }
     }
 
@@ -758,7 +770,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The next register read: the SyncManagers, the watchdog registers and the DC registers
     /// before AL control, so that a transition is checked against what the MainDevice wrote
     /// before requesting it.
-    #[inline(never)]
     fn next_read(&self) -> Option<Op> {
         if self.sm_unread > 0 {
             Some(Op::ReadSyncManagers)
@@ -781,23 +792,41 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// An input of the register targets changed (state, error, code, device ID, process-data
-    /// configuration): they are derived again on the next poll.
+    /// configuration): the next poll looks at every part of the plan.
     fn targets_changed(&mut self) {
-        self.targets = None;
         self.stale = Stale::ALL;
     }
 
-    /// What the ESM state asks for in the registers ([`Targets::derive`]).
-    #[inline(never)]
-    fn derive_targets(&self) -> Targets {
-        let mut process_data = AlEvent::NONE;
+    /// The AL event mask the plan wants: the state machine's events, the process-data events
+    /// the state waits for (the SM2/SM3 trigger; the watchdog in OP with outputs) and, in a
+    /// state with a mailbox, the SM0/SM1 events the mailbox waits for.
+    fn desired_event_mask(&self) -> u32 {
+        let mut mask = ESM_EVENTS;
         if self.state.has_process_data() {
-            process_data |= self.process_data_trigger();
+            mask |= self.process_data_trigger();
         }
-        if self.state == AlState::Op && self.pd_sizes.is_ok_and(|s| s.outputs > 0) {
-            process_data |= AlEvent::WATCHDOG_PROCESS_DATA;
+        if self.state == AlState::Op && self.pd_sizes.outputs > 0 {
+            mask |= AlEvent::WATCHDOG_PROCESS_DATA;
         }
-        Targets::derive(self.al_status(), self.al_status_code(), process_data)
+        if self.state.has_mailbox() {
+            mask |= self.mailbox.event_mask();
+        }
+        mask.bits()
+    }
+
+    /// PDI control of SM0..SM3 as the state asks: the mailbox channels active from PREOP (and
+    /// in BOOT), SM1 with the mailbox's repeat acknowledge; the process-data channels active in
+    /// SAFEOP and OP.
+    fn desired_pdi_control(&self) -> [u8; 4] {
+        let active = |on: bool| if on { 0 } else { Channel::PDI_DEACTIVATE };
+        let mailbox = active(self.state.has_mailbox());
+        let process = active(self.state.has_process_data());
+        let ack = if self.state.has_mailbox() && self.mailbox.repeat_ack() {
+            Channel::PDI_REPEAT_ACK
+        } else {
+            0
+        };
+        [mailbox, mailbox | ack, process, process]
     }
 
     fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
@@ -883,14 +912,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn complete_register(&mut self, now: Instant, op: Op, value: u32) {
         match op {
             Op::Mailbox(_) => {}
-            Op::WriteEventMask => self.written.event_mask = Some(value),
+            Op::WriteEventMask => self.written.event_mask = value,
             Op::WritePdiControl(n) => {
                 if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
                     *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
                 }
             }
-            Op::WriteStatusCode => self.written.status_code = u16::try_from(value).ok(),
-            Op::WriteStatus => self.written.status = u16::try_from(value).ok(),
+            Op::WriteStatusCode => self.written.status_code = value,
+            Op::WriteStatus => self.written.status = value,
             Op::ReadWatchdog => {
                 self.reads &= !read::WATCHDOG;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
@@ -925,13 +954,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     // A chunk beyond SM3: read for its activation bytes only.
                     return;
                 }
-                if let Some(channels) = self
-                    .buf
-                    .get(..Channels::SIZE)
-                    .and_then(Channels::from_bytes)
-                {
-                    self.channels = channels;
-                    let repeat = channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+                if let Some(bytes) = self.buf.first_chunk() {
+                    self.channels = Channels::from_bytes(bytes);
+                    let repeat =
+                        self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
                     self.mailbox.repeat_request(repeat);
                 }
                 if !self.read_due(read::AL_CONTROL) {
@@ -1000,14 +1026,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         let deadline = now.saturating_add(self.config.transition_timeout);
-        let outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
+        let outputs = self.pd_sizes.outputs > 0;
         self.pending = Some(Pending {
             transition: t,
             deadline,
             accepted: false,
             needs_outputs: t.to == AlState::Op && outputs && !self.outputs_received,
             needs_sync: t.to == AlState::Op
-                && self.sync() == Ok(SyncType::DcSync0)
+                && self.sync() == SyncType::DcSync0
                 && !self.sync_received,
         });
         self.events.push(Event::TransitionRequested(t));
@@ -1028,7 +1054,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
         }
         if state.has_process_data() {
-            let sizes = self.pd_sizes.map_err(|c| (c, AlState::PreOp))?;
+            if self.pd_unusable != AlStatusCode::NO_ERROR {
+                return Err((self.pd_unusable, AlState::PreOp));
+            }
+            let sizes = self.pd_sizes;
             check::process_data(&self.channels, sizes, self.config)
                 .map_err(|c| (c, AlState::PreOp))?;
             self.check_sync(sizes).map_err(|c| (c, AlState::PreOp))?;
@@ -1042,7 +1071,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// DC-capable device checks the DC SYNC unit ([`sync::check_dc`]); a cycle time the
     /// MainDevice wrote must suit the sync type ([`sync::check_cycle`]).
     fn check_sync(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
-        let sync = self.sync()?;
+        self.sync?;
+        let sync = self.sync();
         if self.config.sync.dc() {
             sync::check_dc(sync, self.dc, self.config)?;
         } else if self.dc.activation.0 != 0 {
@@ -1072,14 +1102,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Sets the error indication with `code` and falls back to `state` when it is lower.
     fn fail(&mut self, code: AlStatusCode, state: AlState) {
         self.abort_pending();
+        // A lower rank is another state.
         if state.rank() < self.state.rank() {
-            let t = Transition {
+            self.change_state(Transition {
                 from: self.state,
                 to: state,
-            };
-            if t.from != t.to {
-                self.change_state(t);
-            }
+            });
         }
         self.targets_changed();
         self.error = true;
@@ -1090,17 +1118,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.abort_pending();
         self.targets_changed();
         self.state = t.to;
-        if t.from.has_mailbox() && !t.to.has_mailbox() {
-            self.mailbox.stop();
-            // An SM0 read or SM1 write made due by an event or a service (`mailbox_due`) before
-            // a call that stopped the mailbox is moot.
-            if let Some((Op::Mailbox(_), _)) = self.in_flight {
-                self.in_flight = None;
-            }
-        }
         if t.to == AlState::SafeOp {
             self.outputs_received = false;
             self.sync_received = false;
+        }
+        if t.from.has_mailbox() != t.to.has_mailbox() {
+            // The mailbox starts or stops: either way from nothing in flight (`Mailbox::start`
+            // takes a stopped one). An SM0 read or SM1 write made due by an event or a service
+            // (`mailbox_due`) before a call that stopped the mailbox is moot.
+            self.mailbox.stop();
+            if let Some((Op::Mailbox(_), _)) = self.in_flight {
+                self.in_flight = None;
+            }
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
             self.pd_stale = true;
@@ -1136,8 +1165,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
-        if !self.state.has_mailbox() || !self.mailbox.has_work() {
-            // Nothing due: nothing changed.
+        // Nothing due, nothing changed. Nothing is served either while an access is in flight:
+        // an SM0 read the request's event made due (`mailbox_due`) goes first, so that the
+        // request's answer finds SM1 free.
+        if !self.state.has_mailbox() || self.in_flight.is_some() || !self.mailbox.has_work() {
             return false;
         }
         let request = self.mailbox.request_pending();
@@ -1190,14 +1221,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Ok(None) => Ok(fixed),
             Err(code) => Err(code),
         };
-        self.pd_sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
+        let sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
             Ok(ProcessDataSizes {
                 outputs,
                 inputs: size(Direction::Tx, fixed.inputs)?,
             })
         });
-        let has_outputs = self.pd_sizes.is_ok_and(|s| s.outputs > 0);
-        let (active, chosen_cycle) = (self.sync().ok(), self.writes.chosen.cycle_ns());
+        (self.pd_sizes, self.pd_unusable) = match sizes {
+            Ok(sizes) => (sizes, AlStatusCode::NO_ERROR),
+            Err(code) => (ProcessDataSizes::default(), code),
+        };
+        let has_outputs = self.pd_sizes.outputs > 0;
+        let active = self.sync.is_ok().then(|| self.sync());
+        let chosen_cycle = self.writes.chosen.cycle_ns();
         sync::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
     }
 

@@ -197,11 +197,17 @@ pub fn check_dc(sync: SyncType, dc: DcSettings, device: &DeviceConfig) -> Result
     if without_sync0 || wanted != dc.activation.sync0() {
         return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
     }
-    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
-    if wanted && (dc.sync0_cycle_ns == 0 || u64::from(dc.sync0_cycle_ns) < min_ns) {
+    if wanted && (dc.sync0_cycle_ns == 0 || below_min_cycle(dc.sync0_cycle_ns, device)) {
         return Err(AlStatusCode::DC_SYNC0_CYCLE_TIME);
     }
     Ok(())
+}
+
+/// Whether a cycle of `ns` nanoseconds is shorter than the device's minimum cycle (SI5, whole
+/// microseconds): `ns < min · 1000` exactly when `⌊ns / 1000⌋ < min`, which needs no 64-bit
+/// product.
+fn below_min_cycle(ns: u32, device: &DeviceConfig) -> bool {
+    u64::from(ns / 1_000) < device.min_cycle_time.as_micros()
 }
 
 /// The output sync manager parameter object.
@@ -390,8 +396,7 @@ pub fn check_cycle(
     dc: DcSettings,
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
-    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
-    let below_min = |ns: u32| u64::from(ns) < min_ns;
+    let below_min = |ns: u32| below_min_cycle(ns, device);
     match (sync, cycle_ns) {
         (SyncType::DcSync0, Some(ns)) if ns != dc.sync0_cycle_ns => {
             Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME)
@@ -522,6 +527,28 @@ fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The comparison in whole microseconds is the comparison in nanoseconds.
+    #[test]
+    fn below_min_cycle_compares_as_nanoseconds() {
+        use crate::device::{MailboxConfig, ProcessDataSizes};
+        let mut device = DeviceConfig::new(
+            MailboxConfig::contiguous(0x1000, 128),
+            ProcessDataSizes::default(),
+        );
+        for min in [0, 1, 250, 1_000, 4_294_967, 4_294_968, u64::MAX] {
+            device.min_cycle_time = Duration::from_micros(min);
+            let at = min.saturating_mul(1_000).min(u64::from(u32::MAX));
+            for ns in [0, 1, 999, 1_000, 249_999, 250_000, u32::MAX] {
+                for ns in [ns, u32::try_from(at).unwrap_or(u32::MAX)] {
+                    for ns in [ns.saturating_sub(1), ns, ns.saturating_add(1)] {
+                        let expected = u64::from(ns) < min.saturating_mul(1_000);
+                        assert_eq!(below_min_cycle(ns, &device), expected, "{ns} ns, {min} µs");
+                    }
+                }
+            }
+        }
+    }
 
     /// A free-run cycle the local timer cannot count (under 1 µs) is refused even on a device
     /// without a minimum cycle; a written 0 takes the choice back.

@@ -104,7 +104,7 @@ proptest! {
             }
 
             let a = usize::from(register::SM_BASE);
-            let channels = Channels::from_bytes(&regs.mem[a..a + Channels::SIZE]).unwrap();
+            let channels = Channels::from_bytes(regs.mem[a..a + Channels::SIZE].try_into().unwrap());
             if status.state == AlState::PreOp || status.state.has_process_data() {
                 prop_assert!(check::mailbox(&channels, &DEVICE.mailbox, AlStatusCode::INVALID_MAILBOX_CONFIG).is_ok(),
                     "{:?} with invalid mailbox SyncManagers", status.state);

@@ -167,14 +167,16 @@ fn sync<'a, M: RawMutex, P: Pdi, const MBX: usize>(
 ) -> impl Future<Output = Result<(), P::Error>> + 'a {
     async move {
         while let Some(access) = sub.poll_access() {
-            let (address, data, last, clears) = pdi_access(access);
-            let mut event = esc.access(Runner::Esm, address, data, clears).await?;
-            if let Some(last) = last {
-                // The message is shorter than SM1: its last byte hands SM1 to the MainDevice.
-                event = esc
-                    .access(Runner::Esm, last, Data::Write(&[0]), clears)
-                    .await?;
-            }
+            let (mut address, mut data, mut last, clears) = pdi_access(access);
+            // The access, then, when the message is shorter than SM1, its last byte, which
+            // hands SM1 to the MainDevice: awaited at one place.
+            let event = loop {
+                let event = esc.access(Runner::Esm, address, data, clears).await?;
+                match last.take() {
+                    Some(byte) => (address, data) = (byte, Data::Write(&[0])),
+                    None => break event,
+                }
+            };
             sub.access_done(now(), event);
             esc.publish(sub.process_data(), sub.event_mask());
         }

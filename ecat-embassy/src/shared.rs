@@ -29,33 +29,36 @@ pub(crate) enum Runner {
 /// What the runners know about each other, behind a short critical section. Every field is a
 /// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
 /// flag or carries its panic path.
+// `repr(C)`: the flags first, then the words, the queue and the layout last, so that Thumb's
+// 16-bit loads and stores reach the fields every access asks about.
+#[repr(C)]
 struct Routing {
-    /// State-machine events seen by the process-data runner and not yet taken.
-    esm_events: Cell<AlEvent>,
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
     /// may hold the IRQ line asserted.
     esm_holds_irq: Cell<bool>,
+    /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
+    /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
+    esm_started: Cell<bool>,
+    /// What the process-data runner noted and the state-machine runner has not heard of.
+    notes: Cell<Notes>,
+    /// State-machine events seen by the process-data runner and not yet taken.
+    esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
     pd_events: Cell<AlEvent>,
-    /// The process-data layout published by the state-machine runner.
-    layout: Cell<Option<Layout>>,
     /// The AL event mask in the ESC, published by the state-machine runner: the events that can
     /// hold the IRQ line. The process-data trigger belongs to the process-data runner, every other
     /// masked event to the state-machine runner.
     mask: Cell<AlEvent>,
     /// The AL event seen by the last access of either runner.
     last_event: Cell<AlEvent>,
-    /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
-    /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
-    esm_started: Cell<bool>,
     /// Bumped whenever something changes for the process-data runner.
     pd_news: Cell<u32>,
-    /// Emergencies raised by the application, waiting for the state-machine runner.
-    emergencies: Cell<Ring<Emergency, EMERGENCIES>>,
-    /// What the process-data runner noted and the state-machine runner has not heard of.
-    notes: Cell<Notes>,
     esm_waker: WakerCell,
     pd_waker: WakerCell,
+    /// Emergencies raised by the application, waiting for the state-machine runner.
+    emergencies: Cell<Ring<Emergency, EMERGENCIES>>,
+    /// The process-data layout published by the state-machine runner.
+    layout: Cell<Option<Layout>>,
 }
 
 impl Routing {

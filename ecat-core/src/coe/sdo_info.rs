@@ -131,9 +131,15 @@ impl InfoHeader {
 
     /// The four bytes on the wire (reserved byte 0).
     pub const fn to_bytes(self) -> [u8; 4] {
-        let incomplete = if self.incomplete { 0x80 } else { 0 };
-        let [lo, hi] = self.fragments_left.to_le_bytes();
-        [self.opcode.code() | incomplete, 0, lo, hi]
+        Self::bytes(self.opcode.code(), self.incomplete, self.fragments_left)
+    }
+
+    /// The four bytes of a header whose opcode has the code `code` (bits 0..6): the responses
+    /// take their opcode's code where the opcode is a constant, so no match turns it into one.
+    const fn bytes(code: u8, incomplete: bool, fragments_left: u16) -> [u8; 4] {
+        let incomplete = if incomplete { 0x80 } else { 0 };
+        let [lo, hi] = fragments_left.to_le_bytes();
+        [code | incomplete, 0, lo, hi]
     }
 }
 
@@ -184,19 +190,20 @@ impl InfoRequest {
 
 /// Which indices a Get OD List request asks for (ETG.1000.6 §5.6.3, Get OD List request).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[repr(u16)]
 pub enum ListType {
     /// 0: the lengths of lists 1..=5, five u16 counts.
-    Lengths,
+    Lengths = 0,
     /// 1: every object.
-    All,
+    All = 1,
     /// 2: objects with an RxPDO-mappable entry.
-    RxPdo,
+    RxPdo = 2,
     /// 3: objects with a TxPDO-mappable entry.
-    TxPdo,
+    TxPdo = 3,
     /// 4: objects with an entry in the backup.
-    Backup,
+    Backup = 4,
     /// 5: objects with a settings entry.
-    Settings,
+    Settings = 5,
 }
 
 /// The lists whose lengths list type 0 reports, in order.
@@ -224,14 +231,7 @@ impl ListType {
 
     /// The code on the wire.
     pub const fn code(self) -> u16 {
-        match self {
-            Self::Lengths => 0,
-            Self::All => 1,
-            Self::RxPdo => 2,
-            Self::TxPdo => 3,
-            Self::Backup => 4,
-            Self::Settings => 5,
-        }
+        self as u16
     }
 
     /// Whether `object` is in this list: any of its entries carries the list's access flag.
@@ -382,7 +382,8 @@ impl SdoInfo {
 /// What the headers of a response say, and how much service data follows them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Response {
-    opcode: Opcode,
+    /// The opcode's code ([`Opcode::code`], taken where the opcode is a constant).
+    code: u8,
     fragments_left: u16,
     len: usize,
 }
@@ -391,7 +392,7 @@ impl Response {
     /// An unfragmented response of `len` bytes.
     const fn whole(opcode: Opcode, len: usize) -> Self {
         Self {
-            opcode,
+            code: opcode.code(),
             fragments_left: 0,
             len,
         }
@@ -402,12 +403,11 @@ impl Response {
 /// `out[HEADERS..]`; returns the message length. The one writer of both headers.
 fn finish(out: &mut [u8], response: Response) -> usize {
     let coe = CoeHeader::new(Service::SdoInformation).to_bytes();
-    let info = InfoHeader {
-        opcode: response.opcode,
-        incomplete: response.fragments_left > 0,
-        fragments_left: response.fragments_left,
-    }
-    .to_bytes();
+    let info = InfoHeader::bytes(
+        response.code,
+        response.fragments_left > 0,
+        response.fragments_left,
+    );
     let mut w = Writer::new(out);
     match w.put(&coe) && w.put(&info) {
         true => HEADERS + response.len,
@@ -534,7 +534,7 @@ impl ListTransfer {
         }
         let fragments_left = self.left.div_ceil(words_per_fragment);
         Response {
-            opcode: Opcode::GetOdListResponse,
+            code: Opcode::GetOdListResponse.code(),
             fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),
             len: w.len,
         }

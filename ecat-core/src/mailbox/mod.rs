@@ -62,15 +62,9 @@ mod flag {
 
 /// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes.
 #[derive(Debug)]
+// `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
+#[repr(C)]
 pub struct Mailbox<const N: usize> {
-    rx: [u8; N],
-    tx: [u8; N],
-    /// Length of the last message built in `tx` (header included).
-    tx_len: usize,
-    /// SM0, its length clamped to `N`.
-    receive: Area,
-    /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
-    send: Area,
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
@@ -78,9 +72,17 @@ pub struct Mailbox<const N: usize> {
     rx_counter: u8,
     /// The counter of the last message sent (0: none).
     tx_counter: u8,
-    sdo: SdoServer<N>,
-    sdo_info: SdoInfo,
+    /// SM0, its length clamped to `N`.
+    receive: Area,
+    /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
+    send: Area,
+    /// Length of the last message built in `tx` (header included).
+    tx_len: usize,
     emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
+    sdo_info: SdoInfo,
+    sdo: SdoServer<N>,
+    rx: [u8; N],
+    tx: [u8; N],
 }
 
 impl<const N: usize> Default for Mailbox<N> {
@@ -107,10 +109,10 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// Starts the mailbox on SM0/SM1 of `config`; the repeat acknowledge starts equal to the
-    /// request bit ("copy the request bit into the ack bit at mailbox start").
+    /// Starts a new or stopped ([`Mailbox::stop`]) mailbox on SM0/SM1 of `config`; the repeat
+    /// acknowledge starts equal to the request bit ("copy the request bit into the ack bit at
+    /// mailbox start").
     pub fn start(&mut self, config: MailboxConfig, repeat_request: bool) {
-        *self = Self::new();
         let clamp = |area: Area| {
             let length = usize::from(area.length).min(N);
             Area::new(area.start, u16::try_from(length).unwrap_or(area.length))
@@ -282,15 +284,13 @@ impl<const N: usize> Mailbox<N> {
         self.sdo.handle_timeout(now);
     }
 
-    /// Whether [`Mailbox::serve`] has anything to do: SM1 is free and a request, an SDO
-    /// Information fragment or an emergency waits for it. A fragment or an emergency also waits
-    /// while a request waits in SM0 to be read: the request is read first, so that its answer
-    /// finds SM1 free ("a request is read only when its answer can be written at once").
+    /// Whether the mailbox has anything to serve: SM1 is free and a request, an SDO Information
+    /// fragment or an emergency waits for it.
     pub fn has_work(&self) -> bool {
         let free = self.flags & flag::SM1_TAKEN == 0;
         free && (self.request_pending()
-            || (self.flags & flag::RX_WAITING == 0
-                && (self.sdo_info.is_pending() || !self.emergencies.is_empty())))
+            || self.sdo_info.is_pending()
+            || !self.emergencies.is_empty())
     }
 
     /// Serves what is due, once [`Mailbox::has_work`] says there is something: the received

@@ -2,14 +2,10 @@
 //! SM0..SM3 (0x0807 + 8·n, ETG.1000.4 Table 58), AL status code (0x0134) and AL status (0x0130,
 //! ETG.1000.6 Tables 11 and 12), and what the core last wrote there.
 //!
-//! What the ESM state asks for is derived once per change of an input — state, error, code,
-//! device ID, process-data configuration — by [`Targets::derive`], not on every poll. The
-//! mailbox's own bits (the SM0/SM1 events, SM1's repeat acknowledge) change with every message
-//! and are added when compared, from the mailbox's flags.
+//! What the ESM state asks for is computed when a poll looks at a stale part of the plan (the
+//! `desired_*` functions of the SubDevice), from the state, the error, the code, the device ID,
+//! the process-data configuration and the mailbox's flags.
 
-use super::ESM_EVENTS;
-use crate::al::{AlEvent, AlStatus, AlStatusCode};
-use crate::mailbox::Mailbox;
 use crate::sync_manager::Channel;
 
 /// The parts of the register plan that may not be satisfied since a poll last found them so: a
@@ -53,82 +49,31 @@ impl Stale {
     }
 }
 
-/// The register values the ESM state asks for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) struct Targets {
-    /// The AL event mask without the mailbox's SM0/SM1 bits.
-    event_mask: AlEvent,
-    /// PDI control of SM0..SM3 without SM1's repeat acknowledge.
-    pdi_control: [u8; 4],
-    /// AL status code.
-    pub(super) status_code: u16,
-    /// AL status.
-    pub(super) status: u16,
-    /// The state has a mailbox: its events and repeat acknowledge count.
-    mailbox: bool,
-}
-
-impl Targets {
-    /// The targets of `status` presenting `code`, with `process_data` the process-data events
-    /// the state waits for (the SM2/SM3 trigger, the watchdog). Mailbox channels are active from
-    /// PREOP (and in BOOT), process-data channels in SAFEOP and OP, deactivated otherwise.
-    pub(super) fn derive(status: AlStatus, code: AlStatusCode, process_data: AlEvent) -> Self {
-        let active = |on: bool| if on { 0 } else { Channel::PDI_DEACTIVATE };
-        let mailbox = active(status.state.has_mailbox());
-        let process = active(status.state.has_process_data());
-        Self {
-            event_mask: ESM_EVENTS | process_data,
-            pdi_control: [mailbox, mailbox, process, process],
-            status_code: code.0,
-            status: status.bits(),
-            mailbox: status.state.has_mailbox(),
-        }
-    }
-
-    /// The AL event mask with the SM0/SM1 events `mailbox` waits for.
-    pub(super) fn event_mask<const N: usize>(&self, mailbox: &Mailbox<N>) -> u32 {
-        if self.mailbox {
-            self.event_mask.union(mailbox.event_mask()).bits()
-        } else {
-            self.event_mask.bits()
-        }
-    }
-
-    /// PDI control of SM0..SM3, SM1 carrying `mailbox`'s repeat acknowledge.
-    pub(super) fn pdi_control<const N: usize>(&self, mailbox: &Mailbox<N>) -> [u8; 4] {
-        let [receive, send, outputs, inputs] = self.pdi_control;
-        let ack = if self.mailbox && mailbox.repeat_ack() {
-            Channel::PDI_REPEAT_ACK
-        } else {
-            0
-        };
-        [receive, send | ack, outputs, inputs]
-    }
-}
-
 /// What the core last wrote to the ESC, so that it writes only what changed.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Written {
-    /// AL event mask.
-    pub(super) event_mask: Option<u32>,
+    /// AL event mask; 0 until written (the state machine's events are always in it).
+    pub(super) event_mask: u32,
     /// PDI control of SM0..SM3; [`Written::UNKNOWN`] until written.
     pub(super) pdi_control: [u8; 4],
-    /// AL status code.
-    pub(super) status_code: Option<u16>,
-    /// AL status.
-    pub(super) status: Option<u16>,
+    /// AL status code; [`Written::NO_CODE`] until written.
+    pub(super) status_code: u32,
+    /// AL status; 0 until written (a state code is always in it).
+    pub(super) status: u32,
 }
 
 impl Written {
     /// A PDI control value never wanted (and with the deactivate bit set): not written yet.
     pub(super) const UNKNOWN: u8 = 0xFF;
+    /// An AL status code never wanted (codes are 16 bits): not written yet.
+    pub(super) const NO_CODE: u32 = u32::MAX;
 
     pub(super) const fn new() -> Self {
         Self {
-            event_mask: None,
+            event_mask: 0,
             pdi_control: [Self::UNKNOWN; 4],
-            status_code: None,
-            status: None,
+            status_code: Self::NO_CODE,
+            status: 0,
         }
     }
 

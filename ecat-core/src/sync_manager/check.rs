@@ -12,7 +12,7 @@
 //! The control byte is checked in its mode and direction bits; the event and watchdog bits are
 //! the MainDevice's choice (the watchdog bit is checked with the watchdog configuration).
 
-use super::{Channel, Direction, Mode};
+use super::{Channel, Control, Direction, Mode};
 use crate::AlStatusCode;
 use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes};
 
@@ -24,18 +24,14 @@ impl Channels {
     /// Bytes of register space the four channels occupy (0x0800..0x0820).
     pub const SIZE: usize = 4 * Channel::SIZE;
 
-    /// Parses the registers of SM0..SM3 (32 bytes from 0x0800). Returns `None` for a slice of
-    /// another length.
-    pub fn from_bytes(bytes: &[u8]) -> Option<Self> {
+    /// Parses the registers of SM0..SM3 (32 bytes from 0x0800).
+    pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        let (channels, _) = bytes.as_chunks::<{ Channel::SIZE }>();
         let mut out = [Channel::default(); 4];
-        if bytes.len() != Self::SIZE {
-            return None;
-        }
-        for (channel, chunk) in out.iter_mut().zip(bytes.chunks_exact(Channel::SIZE)) {
-            let regs: [u8; 8] = chunk.try_into().ok()?;
+        for (channel, &regs) in out.iter_mut().zip(channels) {
             *channel = Channel::from_bytes(regs);
         }
-        Some(Self(out))
+        Self(out)
     }
 
     /// The receive mailbox, SM0.
@@ -65,29 +61,35 @@ pub fn mailbox(
     mailbox: &MailboxConfig,
     code: AlStatusCode,
 ) -> Result<(), AlStatusCode> {
-    let rx = is_mailbox(
-        channels.mailbox_receive(),
-        mailbox.receive,
-        Direction::MainDeviceWrites,
-    );
-    let tx = is_mailbox(
-        channels.mailbox_send(),
-        mailbox.send,
-        Direction::MainDeviceReads,
-    );
+    let rx = is_mailbox(channels.mailbox_receive(), mailbox.receive, RECEIVE_CONTROL);
+    let tx = is_mailbox(channels.mailbox_send(), mailbox.send, SEND_CONTROL);
     if rx && tx { Ok(()) } else { Err(code) }
 }
 
-/// A mailbox channel as the SII describes it (control 0x26 / 0x22): mode, direction and the PDI
-/// event, without which the SubDevice would never see a mailbox event. The ECAT event bit is the
-/// MainDevice's choice.
-fn is_mailbox(channel: &Channel, area: Area, direction: Direction) -> bool {
+/// The control bits the mailbox check compares: mode (1:0), direction (3:2), PDI event (5).
+const MAILBOX_CONTROL_BITS: u8 = 0x2F;
+/// SM0's control in those bits, as the SII describes it: mailbox mode, written by the
+/// MainDevice, PDI event.
+const RECEIVE_CONTROL: u8 = 0x26;
+/// SM1's: mailbox mode, read by the MainDevice, PDI event.
+const SEND_CONTROL: u8 = 0x22;
+const _: () = {
+    let (receive, send) = (Control(RECEIVE_CONTROL), Control(SEND_CONTROL));
+    assert!(matches!(receive.mode(), Mode::Mailbox) && matches!(send.mode(), Mode::Mailbox));
+    assert!(matches!(receive.direction(), Direction::MainDeviceWrites));
+    assert!(matches!(send.direction(), Direction::MainDeviceReads));
+    assert!(receive.pdi_event() && send.pdi_event());
+    assert!(MAILBOX_CONTROL_BITS == 0b1111 | Control::PDI_EVENT);
+};
+
+/// A mailbox channel at `area` with `control` in [`MAILBOX_CONTROL_BITS`]: mode, direction and
+/// the PDI event, without which the SubDevice would never see a mailbox event. The ECAT event
+/// bit is the MainDevice's choice.
+fn is_mailbox(channel: &Channel, area: Area, control: u8) -> bool {
     channel.enabled()
         && channel.start == area.start
         && channel.length == area.length
-        && channel.control.mode() == Mode::Mailbox
-        && channel.control.direction() == direction
-        && channel.control.pdi_event()
+        && channel.control.0 & MAILBOX_CONTROL_BITS == control
 }
 
 /// Checks SM2/SM3 against the process-data `sizes`, and that no enabled channel overlaps
@@ -97,27 +99,27 @@ pub fn process_data(
     sizes: ProcessDataSizes,
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
-    let outputs = channels.outputs();
-    let inputs = channels.inputs();
-    if !is_process_data(outputs, sizes.outputs, Direction::MainDeviceWrites, device) {
+    let (outputs, inputs) = (channels.outputs(), channels.inputs());
+    let (out_span, in_span) = (span(outputs), span(inputs));
+    if !is_process_data(outputs, out_span, sizes.outputs, OUTPUTS_CONTROL, device) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
-    if !is_process_data(inputs, sizes.inputs, Direction::MainDeviceReads, device) {
+    if !is_process_data(inputs, in_span, sizes.inputs, INPUTS_CONTROL, device) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
-    let mailboxes = [device.mailbox.receive, device.mailbox.send];
-    let out_area = occupied(outputs);
-    let in_area = occupied(inputs);
-    if overlaps_any(out_area, &mailboxes) {
+    let area_span = |area: Area| (u32::from(area.start), area.end());
+    let (receive, send) = (
+        area_span(device.mailbox.receive),
+        area_span(device.mailbox.send),
+    );
+    if overlaps(out_span, receive) || overlaps(out_span, send) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
-    if overlaps_any(in_area, &mailboxes) || overlaps_any(in_area, &[out_area.unwrap_or(EMPTY)]) {
+    if overlaps(in_span, receive) || overlaps(in_span, send) || overlaps(in_span, out_span) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
     Ok(())
 }
-
-const EMPTY: Area = Area::new(0, 0);
 
 /// Checks that SM2's watchdog trigger bit and the process-data watchdog time (0x0420) agree:
 /// a trigger with time 0, or a time without the trigger, is 0x001F (conformance.md "Watchdogs").
@@ -137,42 +139,53 @@ pub fn watchdog(
     }
 }
 
+/// The control bits the process-data check compares: the direction (3:2) and bit 0 of the
+/// mode (1:0), which is 0 in both modes a process-data channel may use (3-buffer 0b00, mailbox
+/// 0b10).
+const PROCESS_DATA_CONTROL_BITS: u8 = 0b1101;
+/// SM2's control in those bits: written by the MainDevice.
+const OUTPUTS_CONTROL: u8 = 0b0100;
+/// SM3's: read by the MainDevice.
+const INPUTS_CONTROL: u8 = 0b0000;
+const _: () = {
+    let (outputs, inputs) = (Control(OUTPUTS_CONTROL), Control(INPUTS_CONTROL));
+    assert!(matches!(outputs.direction(), Direction::MainDeviceWrites));
+    assert!(matches!(inputs.direction(), Direction::MainDeviceReads));
+    assert!(matches!(Control(0b10).mode(), Mode::Mailbox));
+    assert!(matches!(Control(0b00).mode(), Mode::Buffered));
+    assert!(0b10 & PROCESS_DATA_CONTROL_BITS == 0 && 0b01 & PROCESS_DATA_CONTROL_BITS != 0);
+};
+
+/// A process-data channel as the image of `size` bytes needs it: disabled without data, else
+/// enabled with exactly that length, `control` in [`PROCESS_DATA_CONTROL_BITS`] (the direction,
+/// a buffer mode) and its `span` inside process RAM.
 fn is_process_data(
     channel: &Channel,
+    (start, end): (u32, u32),
     size: u16,
-    direction: Direction,
+    control: u8,
     device: &DeviceConfig,
 ) -> bool {
     if size == 0 {
         return !channel.enabled();
     }
-    let mode_ok = matches!(channel.control.mode(), Mode::Buffered | Mode::Mailbox);
-    let fits = match channel.occupied() {
-        Some((start, end)) => {
-            start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end
-        }
-        None => false,
-    };
+    let fits = start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end;
     channel.enabled()
         && channel.length == size
-        && channel.control.direction() == direction
-        && mode_ok
+        && channel.control.0 & PROCESS_DATA_CONTROL_BITS == control
         && fits
 }
 
-/// The area an enabled process-data channel occupies (all three buffers in 3-buffer mode).
-fn occupied(channel: &Channel) -> Option<Area> {
-    if !channel.enabled() {
-        return None;
+/// The bytes an enabled process-data channel occupies (all three buffers in 3-buffer mode), from
+/// its first to one past its last; none (an empty span) for a disabled channel.
+fn span(channel: &Channel) -> (u32, u32) {
+    match channel.occupied() {
+        Some(span) if channel.enabled() => span,
+        _ => (0, 0),
     }
-    let (start, end) = channel.occupied()?;
-    let length = u16::try_from(end.saturating_sub(start)).unwrap_or(u16::MAX);
-    Some(Area::new(channel.start, length))
 }
 
-fn overlaps_any(area: Option<Area>, others: &[Area]) -> bool {
-    match area {
-        Some(a) => others.iter().any(|o| a.overlaps(*o)),
-        None => false,
-    }
+/// Whether two spans (first byte, one past the last) share a byte.
+fn overlaps(a: (u32, u32), b: (u32, u32)) -> bool {
+    a.0 < b.1 && b.0 < a.1
 }

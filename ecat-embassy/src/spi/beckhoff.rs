@@ -155,12 +155,15 @@ impl AddressPhase {
 }
 
 /// A [`Pdi`] over the Beckhoff ESC SPI protocol.
+// `repr(C)`: the configuration and the address phase before the SPI device, within reach of
+// Thumb's 16-bit loads and stores.
+#[repr(C)]
 pub struct BeckhoffSpi<S> {
-    spi: S,
     config: Config,
     /// The address phase of the transaction in flight: kept here, once, rather than in the
     /// access future each runner holds.
     phase: AddressPhase,
+    spi: S,
 }
 
 impl<S: SpiDevice> BeckhoffSpi<S> {
@@ -200,7 +203,7 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
         mut rest: Data<'_>,
     ) -> impl Future<Output = Result<AlEvent, S::Error>> {
         async move {
-            let mut first = None;
+            let (mut event, mut first) = (AlEvent::NONE, true);
             while !rest.is_empty() {
                 let piece_len = match self.config.transactions {
                     Transactions::Burst => rest.len(),
@@ -225,9 +228,11 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                 self.phase = AddressPhase::new(at, command);
                 let phase = Operation::TransferInPlace(self.phase.as_mut_slice());
                 self.spi.transaction(&mut [phase, data]).await?;
-                first.get_or_insert(self.phase.al_event());
+                if core::mem::take(&mut first) {
+                    event = self.phase.al_event();
+                }
             }
-            Ok(first.unwrap_or(AlEvent::NONE))
+            Ok(event)
         }
     }
 }

@@ -198,11 +198,14 @@ pub enum Error<E> {
 }
 
 /// A [`Pdi`] for the LAN9252 in SPI mode.
+// `repr(C)`: the events and the configuration before the SPI device, within reach of Thumb's
+// 16-bit loads and stores.
+#[repr(C)]
 pub struct Lan9252<S> {
-    spi: S,
-    config: Config,
     /// State-machine events of the last AL event value read, less those cleared since.
     known: AlEvent,
+    config: Config,
+    spi: S,
 }
 
 impl<S: SpiDevice> Lan9252<S> {

@@ -83,13 +83,15 @@ pub struct Context<'a, D, H> {
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
 #[derive(Debug)]
+// `repr(C)`: the small fields first, the buffer last (see `SubDevice`).
+#[repr(C)]
 pub struct SdoServer<const N: usize> {
-    transfer: Option<Segmented>,
     /// The ESM state the transfer's rights were checked in: a download whose state changed
     /// meanwhile is checked again before it stores (access rights, RxPDO-mapped entries). Here
     /// rather than in [`Segmented`], where it would cost 8 bytes of alignment.
     checked_in: AlState,
     timed_out: bool,
+    transfer: Option<Segmented>,
     buf: [u8; N],
 }
 
@@ -160,10 +162,11 @@ impl<const N: usize> SdoServer<N> {
         match result {
             Ok(len) => len,
             Err(code) => {
+                // The abort names the transfer's entry, if one was under way: it ends here.
                 let (index, sub) = self
-                    .current_target()
-                    .map_or((index, sub), |t| (t.index, t.sub));
-                self.transfer = None;
+                    .transfer
+                    .take()
+                    .map_or((index, sub), |t| (t.target.index, t.target.sub));
                 abort(out, index, sub, code)
             }
         }
@@ -186,10 +189,6 @@ impl<const N: usize> SdoServer<N> {
     pub fn reset(&mut self) {
         self.transfer = None;
         self.timed_out = false;
-    }
-
-    fn current_target(&self) -> Option<Target> {
-        self.transfer.map(|t| t.target)
     }
 
     fn upload<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -349,6 +348,7 @@ impl<const N: usize> SdoServer<N> {
             done: received,
             ..
         } = self.next_segment(Kind::Download, toggle)?;
+        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
         if total > size {
             return Err(AbortCode::LENGTH_TOO_HIGH);
@@ -356,7 +356,6 @@ impl<const N: usize> SdoServer<N> {
         if last && total < size {
             return Err(AbortCode::LENGTH_TOO_LOW);
         }
-        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         if self.checked_in != cx.state {
             // The rights of the initiate's state do not carry over (a download started in PREOP
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
