@@ -109,10 +109,11 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// Starts a new or stopped ([`Mailbox::stop`]) mailbox on SM0/SM1 of `config`; the repeat
-    /// acknowledge starts equal to the request bit ("copy the request bit into the ack bit at
-    /// mailbox start").
-    pub fn start(&mut self, config: MailboxConfig, repeat_request: bool) {
+    /// Starts a new or stopped ([`Mailbox::stop`]) mailbox on SM0/SM1 of `config` (it keeps
+    /// what a running one holds: only the SubDevice, which stops it first, starts it); the
+    /// repeat acknowledge starts equal to the request bit ("copy the request bit into the ack bit
+    /// at mailbox start").
+    pub(crate) fn start(&mut self, config: MailboxConfig, repeat_request: bool) {
         let clamp = |area: Area| {
             let length = usize::from(area.length).min(N);
             Area::new(area.start, u16::try_from(length).unwrap_or(area.length))
