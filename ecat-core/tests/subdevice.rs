@@ -439,19 +439,34 @@ fn presented(regs: &Regs) -> (u16, u16, u32, [u8; 4]) {
     )
 }
 
-/// The MainDevice sends an upload the empty dictionary refuses (`counter` 1..=7) and the
-/// SubDevice answers; the answer stays unread in SM1.
-fn mailbox_request(regs: &mut Regs, sub: &mut SubDevice<'_>, counter: u8) {
+/// The MainDevice's upload of 0x1018:01 (which the empty dictionary refuses) in SM0, with
+/// mailbox counter `counter`.
+fn put_request(regs: &mut Regs, counter: u8) {
     let coe = (counter << 4) | 3;
-    let request = [
-        10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
-    ];
-    regs.put(common::MAILBOX.receive.start, &request);
-    sub.handle_al_event(AlEvent::sync_manager(0));
+    regs.put(
+        common::MAILBOX.receive.start,
+        &[
+            10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
+        ],
+    );
+}
+
+/// What the state-machine runner does with `event`: the accesses it asks for, the mailbox
+/// served until it has nothing more, the accesses after each message. Returns the accesses.
+fn serve(regs: &mut Regs, sub: &mut SubDevice<'_>, event: AlEvent) -> Vec<Op> {
+    sub.handle_al_event(event);
     let mut log = regs.drive(sub, T0);
     while sub.service_mailbox(T0, &mut (), &mut ()) {
         log.extend(regs.drive(sub, T0));
     }
+    log
+}
+
+/// The MainDevice sends an upload the empty dictionary refuses (`counter` 1..=7) and the
+/// SubDevice answers; the answer stays unread in SM1.
+fn mailbox_request(regs: &mut Regs, sub: &mut SubDevice<'_>, counter: u8) {
+    put_request(regs, counter);
+    let log = serve(regs, sub, AlEvent::sync_manager(0));
     let send = common::MAILBOX.send.start;
     assert!(
         log.iter()
@@ -462,11 +477,15 @@ fn mailbox_request(regs: &mut Regs, sub: &mut SubDevice<'_>, counter: u8) {
 
 /// The MainDevice reads SM1; whatever waited for it is sent.
 fn answer_read(regs: &mut Regs, sub: &mut SubDevice<'_>) {
-    sub.handle_al_event(AlEvent::sync_manager(1));
-    regs.drive(sub, T0);
-    while sub.service_mailbox(T0, &mut (), &mut ()) {
-        regs.drive(sub, T0);
-    }
+    serve(regs, sub, AlEvent::sync_manager(1));
+}
+
+/// A SubDevice in PREOP, all four SyncManagers configured.
+fn in_preop(regs: &mut Regs) -> SubDevice<'static> {
+    let mut sub = started(regs);
+    configure_all(regs);
+    step_up(regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    sub
 }
 
 #[test]
@@ -523,28 +542,9 @@ fn abort_answer(counter: u8) -> Vec<u8> {
 #[test]
 fn a_request_in_the_rhythm_is_read_and_answered_without_mask_writes() {
     let mut regs = Regs::new();
-    let mut sub = started(&mut regs);
-    configure_all(&mut regs);
-    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    let mut sub = in_preop(&mut regs);
     let (receive, send) = (common::MAILBOX.receive, common::MAILBOX.send);
     let last = send.start + send.length - 1;
-    let serve = |regs: &mut Regs, sub: &mut SubDevice<'_>, event: AlEvent| {
-        sub.handle_al_event(event);
-        let mut log = regs.drive(sub, T0);
-        while sub.service_mailbox(T0, &mut (), &mut ()) {
-            log.extend(regs.drive(sub, T0));
-        }
-        log
-    };
-    let request = |regs: &mut Regs, counter: u8| {
-        let coe = (counter << 4) | 3;
-        regs.put(
-            receive.start,
-            &[
-                10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
-            ],
-        );
-    };
     let answered = |counter| {
         vec![
             Op::Read(receive.start, usize::from(receive.length)),
@@ -555,18 +555,18 @@ fn a_request_in_the_rhythm_is_read_and_answered_without_mask_writes() {
 
     // The first request, and the next after the MainDevice read the answer (SM1's event
     // latched beside SM0's): the SM0 read and the answer, with SM1's last byte, and nothing else.
-    request(&mut regs, 1);
+    put_request(&mut regs, 1);
     assert_eq!(
         serve(&mut regs, &mut sub, AlEvent::sync_manager(0)),
         answered(1)
     );
-    request(&mut regs, 2);
+    put_request(&mut regs, 2);
     let both = AlEvent::sync_manager(0) | AlEvent::sync_manager(1);
     assert_eq!(serve(&mut regs, &mut sub, both), answered(2));
 
     // A request while the answer is still unread cannot be read: the SM0 event leaves the mask
     // (it would hold the IRQ line) and the SM1 event joins it.
-    request(&mut regs, 3);
+    put_request(&mut regs, 3);
     assert_eq!(
         serve(&mut regs, &mut sub, AlEvent::sync_manager(0)),
         [Op::Write(0x0204, vec![0x11, 0x02, 0, 0])]
@@ -580,27 +580,13 @@ fn a_request_in_the_rhythm_is_read_and_answered_without_mask_writes() {
     );
 }
 
-/// The MainDevice's upload of 0x1018:01 (which the empty dictionary refuses) in SM0, with
-/// mailbox counter `counter`.
-fn put_request(regs: &mut Regs, counter: u8) {
-    let coe = (counter << 4) | 3;
-    regs.put(
-        common::MAILBOX.receive.start,
-        &[
-            10, 0, 0, 0, 0, coe, 0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0,
-        ],
-    );
-}
-
 #[test]
 fn a_request_waiting_in_sm0_is_read_before_an_emergency_takes_sm1() {
     // The SM0 event makes the read due at once; an emergency raised and the mailbox served
     // before the driver polls must not take SM1 from the request's answer ("a request is read
     // only when its answer can be written at once"): the request is read and answered first.
     let mut regs = Regs::new();
-    let mut sub = started(&mut regs);
-    configure_all(&mut regs);
-    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    let mut sub = in_preop(&mut regs);
     let (receive, send) = (common::MAILBOX.receive, common::MAILBOX.send);
     put_request(&mut regs, 1);
     sub.handle_al_event(AlEvent::sync_manager(0));
@@ -639,9 +625,7 @@ fn a_mailbox_stopped_before_the_poll_drops_the_read_made_due() {
     // mailbox check fails (0x0016) and the SubDevice falls back to INIT: the SM0 read the
     // request's event made due is not made on the stopped mailbox.
     let mut regs = Regs::new();
-    let mut sub = started(&mut regs);
-    configure_all(&mut regs);
-    step_up(&mut regs, &mut sub, 2, AlState::Init, AlState::PreOp);
+    let mut sub = in_preop(&mut regs);
     request(&mut regs, &mut sub, 4);
     assert!(sub.pending_transition().is_some());
     let sm1 = register::sync_manager(1);
