@@ -98,15 +98,17 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
             let [l0, l1] = mailbox.to_le_bytes();
             [s0, s1, l0, l1, control, 0, 1, 0]
         };
-        bench.put(
+        put(
+            &mut bench.mem,
             register::sync_manager(0),
             &sm(config.mailbox.receive.start, 0x26),
         );
-        bench.put(
+        put(
+            &mut bench.mem,
             register::sync_manager(1),
             &sm(config.mailbox.send.start, 0x22),
         );
-        bench.put(register::AL_CONTROL, &[2, 0]);
+        put(&mut bench.mem, register::AL_CONTROL, &[2, 0]);
         bench.sub.handle_al_event(AlEvent(0x11));
         bench.drive();
         bench.sub.complete_transition(
@@ -119,10 +121,6 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         bench.drive();
         assert_eq!(bench.sub.state(), AlState::PreOp);
         bench
-    }
-
-    fn put(&mut self, address: u16, data: &[u8]) {
-        put(&mut self.mem, address, data);
     }
 
     /// Performs every access the core asks for.
@@ -163,8 +161,12 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         self.counter = self.counter % 7 + 1;
         let len = payload.len() as u16;
         let [l0, l1] = len.to_le_bytes();
-        self.put(0x1000, &[l0, l1, 0, 0, 0, (self.counter << 4) | 3]);
-        self.put(0x1006, payload);
+        put(
+            &mut self.mem,
+            0x1000,
+            &[l0, l1, 0, 0, 0, (self.counter << 4) | 3],
+        );
+        put(&mut self.mem, 0x1006, payload);
         self.serve(od, hooks);
         let send = 0x1000 + usize::from(self.mailbox);
         let length = usize::from(u16::from_le_bytes([self.mem[send], self.mem[send + 1]]));

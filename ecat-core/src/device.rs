@@ -29,10 +29,21 @@ impl Area {
         self.start as u32 + self.length as u32
     }
 
+    /// The area's bytes as a span: the first, and one past the last.
+    pub const fn span(self) -> (u32, u32) {
+        (self.start as u32, self.end())
+    }
+
     /// Whether the two areas share a byte.
     pub const fn overlaps(self, other: Area) -> bool {
-        (self.start as u32) < other.end() && (other.start as u32) < self.end()
+        spans_overlap(self.span(), other.span())
     }
+}
+
+/// Whether two spans of bytes (the first, one past the last) share a byte; an empty span shares
+/// none.
+pub const fn spans_overlap(a: (u32, u32), b: (u32, u32)) -> bool {
+    a.0 < b.1 && b.0 < a.1
 }
 
 /// The mailbox SyncManagers a device expects (SII words 0x0018..0x001B for the standard mailbox,

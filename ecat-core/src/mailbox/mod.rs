@@ -143,15 +143,16 @@ impl<const N: usize> Mailbox<N> {
     /// SM1's activate register as last read: a toggled repeat request asks for the last message
     /// again.
     pub fn repeat_request(&mut self, request: bool) {
-        let acknowledged = self.repeat_ack() == request;
-        self.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
-        if acknowledged || self.tx_len == 0 {
-            // Nothing was ever sent: nothing to repeat, acknowledge at once.
+        if request != self.repeat_ack() && self.tx_len != 0 {
+            // The acknowledge stays until the last message is written again.
+            self.flags |= flag::REPEAT_PENDING;
+        } else {
+            // Acknowledged already (or toggled back), or nothing was ever sent: nothing to
+            // repeat, the acknowledge follows at once.
+            self.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
             if request {
                 self.flags |= flag::REPEAT_ACK;
             }
-        } else {
-            self.flags |= flag::REPEAT_PENDING | if request { 0 } else { flag::REPEAT_ACK };
         }
     }
 

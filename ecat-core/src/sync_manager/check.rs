@@ -14,7 +14,7 @@
 
 use super::{Channel, Control, Direction, Mode};
 use crate::AlStatusCode;
-use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes};
+use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes, spans_overlap};
 
 /// SyncManagers 0..=3 as the PDI read them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -107,15 +107,12 @@ pub fn process_data(
     if !is_process_data(inputs, in_span, sizes.inputs, INPUTS_CONTROL, device) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
-    let area_span = |area: Area| (u32::from(area.start), area.end());
-    let (receive, send) = (
-        area_span(device.mailbox.receive),
-        area_span(device.mailbox.send),
-    );
-    if overlaps(out_span, receive) || overlaps(out_span, send) {
+    let (receive, send) = (device.mailbox.receive.span(), device.mailbox.send.span());
+    if spans_overlap(out_span, receive) || spans_overlap(out_span, send) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
     }
-    if overlaps(in_span, receive) || overlaps(in_span, send) || overlaps(in_span, out_span) {
+    let into = |span| spans_overlap(in_span, span);
+    if into(receive) || into(send) || into(out_span) {
         return Err(AlStatusCode::INVALID_INPUT_CONFIG);
     }
     Ok(())
@@ -183,9 +180,4 @@ fn span(channel: &Channel) -> (u32, u32) {
         Some(span) if channel.enabled() => span,
         _ => (0, 0),
     }
-}
-
-/// Whether two spans (first byte, one past the last) share a byte.
-fn overlaps(a: (u32, u32), b: (u32, u32)) -> bool {
-    a.0 < b.1 && b.0 < a.1
 }
