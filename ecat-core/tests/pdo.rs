@@ -623,3 +623,95 @@ fn a_segmented_download_is_checked_for_the_state_it_ends_in() {
     );
     assert_eq!((od.rx_assign.count, od.rx_assign.items), (1, [0x1600, 0]));
 }
+
+/// A complete-access upload of an ARRAY carries SI0 and the entries SI0 counts: the object's
+/// current size, not every slot of its capacity (SSC 5.12 sizes an ARRAY's complete access by
+/// SI0's value, `objdef.c` `OBJ_GetObjectLength`). 0x1600 (capacity 8) with two entries: 2 + 8
+/// bytes, where every slot gave 2 + 32.
+#[test]
+fn a_complete_access_upload_of_a_mapping_carries_the_entries_si0_counts() {
+    let mut od = Od {
+        rx1: PdoMapping::mapping(&RX[..2]),
+        ..Od::default()
+    };
+    let mut server = SdoServer::<64>::new();
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x00, 0, 0, 0, 0]
+        ),
+        [
+            0x00, 0x30, 0x51, 0x00, 0x16, 0x00, 10, 0, 0,
+            0, // normal, complete access, 10 bytes
+            2, 0, // SI0 and its pad byte
+            0x10, 0x00, 0x40, 0x60, 0x20, 0x00, 0x7A, 0x60, // 0x6040:00 16, 0x607A:00 32
+        ]
+    );
+    // From SI1: the two entries only.
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x01, 0, 0, 0, 0]
+        ),
+        [
+            0x00, 0x30, 0x51, 0x00, 0x16, 0x01, 8, 0, 0, 0, //
+            0x10, 0x00, 0x40, 0x60, 0x20, 0x00, 0x7A, 0x60,
+        ]
+    );
+    // Emptied (SI0 = 0): SI0 and its pad from SI0, nothing from SI1.
+    od.rx1.count = 0;
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x00, 0, 0, 0, 0]
+        ),
+        [0x00, 0x30, 0x5B, 0x00, 0x16, 0x00, 0, 0, 0, 0],
+        "expedited, 2 bytes"
+    );
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x01, 0, 0, 0, 0]
+        ),
+        [0x00, 0x30, 0x51, 0x00, 0x16, 0x01, 0, 0, 0, 0],
+        "normal, 0 bytes"
+    );
+}
+
+/// The same for an assignment: 0x1C12 (capacity 2) assigning one PDO is SI0, its pad and one
+/// index, 4 bytes: an expedited answer, where every slot gave a normal one of 6 bytes.
+#[test]
+fn a_complete_access_upload_of_an_assignment_carries_the_pdos_si0_counts() {
+    let mut od = Od::default();
+    let mut server = SdoServer::<64>::new();
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x12, 0x1C, 0x00, 0, 0, 0, 0]
+        ),
+        [0x00, 0x30, 0x53, 0x12, 0x1C, 0x00, 1, 0, 0x00, 0x16]
+    );
+    od.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1600]);
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x12, 0x1C, 0x00, 0, 0, 0, 0]
+        ),
+        [
+            0x00, 0x30, 0x51, 0x12, 0x1C, 0x00, 6, 0, 0, 0, 2, 0, 0x00, 0x16, 0x00, 0x16
+        ],
+        "full: every slot"
+    );
+}
