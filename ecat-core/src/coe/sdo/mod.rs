@@ -23,6 +23,7 @@ use command::{Request, response};
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
+use crate::device::DeviceConfig;
 use crate::dictionary::{
     DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
@@ -81,6 +82,11 @@ pub struct Context<'a, D, H> {
     pub now: Instant,
     /// Where successful writes are noted: what they changed of the process-data configuration.
     pub writes: &'a mut Writes,
+    /// The device, for what its process RAM can take ([`pdo::process_ram`]): an SI0 written
+    /// into a PDO configuration object that makes its image longer than three buffers of it can
+    /// hold is refused with 0x06040042 ([`pdo::check_length`]). `None`: no such limit (an image
+    /// over 65 535 bits is refused all the same).
+    pub device: Option<&'a DeviceConfig>,
 }
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
@@ -632,9 +638,41 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
             .domain_write(target.index, target.sub, offset, data, last);
     }
     if !target.complete {
+        if target.sub == 0 {
+            check_pdo_length(cx, object, data)?;
+        }
         return store_entry(cx, object, target.sub, data);
     }
     store_complete(cx, object, target.sub, data)
+}
+
+/// The bytes of process RAM the images can occupy, `u32::MAX` without a device.
+fn process_ram(device: Option<&DeviceConfig>) -> u32 {
+    device.map_or(u32::MAX, pdo::process_ram)
+}
+
+/// SI0 := `data` of a PDO mapping or assignment object, by a single access: the image of its
+/// direction with the entries the dictionary holds must fit the device ([`pdo::check_length`],
+/// 0x06040042). SI0 0 empties, and a count above the capacity or of the wrong size is the
+/// object's own write to refuse (0x06090031, 0x0607001x). Out of line: downloads of SI0 only.
+#[inline(never)]
+fn check_pdo_length<D: ObjectDictionary, H>(
+    cx: &Context<'_, D, H>,
+    object: &Object<D>,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    let (&[n], index) = (data, object.info.index) else {
+        return Ok(());
+    };
+    if n == 0 || n > object.info.max_sub || !pdo::configures_process_data(index) {
+        return Ok(());
+    }
+    let od = &*cx.od;
+    let entry = |sub| match pdo::Direction::of_assignment(index) {
+        Some(_) => pdo::layout::read_u16(od, object, sub).map(u32::from),
+        None => pdo::layout::read_u32(od, object, sub),
+    };
+    pdo::check_length(od, process_ram(cx.device), index, n, entry)
 }
 
 /// A complete-access download (ETG.1000.6 §5.6.2.1.2). With a writable SI0 (PDO configuration
@@ -667,7 +705,8 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         Some(n) if writable => {
             // Checked before anything is stored: a refused configuration leaves the object as
             // it was (the sequence below empties it first).
-            check_configuration::<D>(object, from, data, n)?;
+            let room = process_ram(cx.device);
+            check_configuration(&*cx.od, room, object, from, data, n)?;
             store_entry(cx, object, 0, &[0])?;
             last = n;
         }
@@ -695,8 +734,11 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
 /// The entries a complete access to a configuration object (writable SI0) counts with `n`,
 /// judged by the PDO configuration rules before anything is stored: SI0 within the capacity
 /// ([`pdo::check_counted_write`]), each a valid mapping or assignment entry
-/// ([`pdo::check_entry`]).
+/// ([`pdo::check_entry`]), the image they make within what the device can take
+/// ([`pdo::check_length`], 0x06040042).
 fn check_configuration<D: ObjectDictionary>(
+    od: &D,
+    process_ram: u32,
     object: &Object<D>,
     from: u8,
     data: &[u8],
@@ -708,7 +750,15 @@ fn check_configuration<D: ObjectDictionary>(
             .ok_or(AbortCode::LENGTH_MISMATCH)?;
         pdo::check_entry::<D>(object.info.index, value.get(..len).unwrap_or_default())?;
     }
-    Ok(())
+    let entry = |sub| {
+        let (value, len) = complete_access::entry_value(data, &object.info, from, sub)?;
+        let mut bytes = [0u8; 4];
+        bytes
+            .get_mut(..len.min(4))?
+            .copy_from_slice(value.get(..len.min(4))?);
+        Some(u32::from_le_bytes(bytes))
+    };
+    pdo::check_length(od, process_ram, object.info.index, n, entry)
 }
 
 /// A complete-access image of `len` bytes from `from` must be the whole object, or, when the
@@ -873,6 +923,7 @@ mod tests {
             state: AlState::PreOp,
             now: Instant::from_micros(0),
             writes: &mut Writes::default(),
+            device: None,
         };
         let mut out = [0u8; 40];
         let n = SdoServer::<16>::new().request(&mut cx, request, &mut out);
@@ -944,6 +995,7 @@ mod tests {
                 state: AlState::PreOp,
                 now: Instant::from_micros(0),
                 writes: &mut Writes::default(),
+                device: None,
             };
             let [i0, i1] = u16::to_le_bytes(index);
             let mut out = [0xAA; 40];
