@@ -345,7 +345,7 @@ impl<const N: usize> Mailbox<N> {
         }
         self.rx_counter = header.counter;
         if header.channel != 0 {
-            return self.build_error(MailboxError::INVALID_CHANNEL);
+            return self.refuse_channel();
         }
         match header.kind {
             MailboxType::Coe if cx.state != AlState::Boot => self.serve_coe(cx, length),
@@ -381,6 +381,14 @@ impl<const N: usize> Mailbox<N> {
             _ => sdo::abort(out, 0, 0, AbortCode::UNSUPPORTED_ACCESS),
         };
         len > 0 && self.build(MailboxType::Coe, len)
+    }
+
+    /// The reply to a message on a channel other than 0: out of line, away from the requests'
+    /// way.
+    #[cold]
+    #[inline(never)]
+    fn refuse_channel(&mut self) -> bool {
+        self.build_error(MailboxError::INVALID_CHANNEL)
     }
 
     fn build_error(&mut self, error: MailboxError) -> bool {
