@@ -125,7 +125,7 @@ fn malformed_messages_get_the_exact_error_reply() {
     run(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
-        let cases: [(&str, [u8; 6], &[u8], u8); 6] = [
+        let cases: [(&str, [u8; 6], &[u8], u8); 8] = [
             ("length 0", [0x00, 0x00, 0, 0, 0, 0x13], &[], 0x05),
             (
                 "length beyond SM0 - 6",
@@ -157,11 +157,34 @@ fn malformed_messages_get_the_exact_error_reply() {
                 &[0x00, 0x20, 0x40, 0x00, 0x10, 0x00, 0x00],
                 0x08,
             ),
+            // The channel (byte 4, bits 0..5) is reserved, 0 (ETG.1000.4 Table 29): 0x0003
+            // "invalid channel" (Table 30) for an otherwise valid SDO upload.
+            (
+                "channel 1",
+                [0x0A, 0x00, 0, 0, 0x01, 0x73],
+                &upload_1001(0).1,
+                0x03,
+            ),
+            (
+                "channel 0x3F, priority 3",
+                [0x0A, 0x00, 0, 0, 0xFF, 0x13],
+                &upload_1001(0).1,
+                0x03,
+            ),
         ];
         for (n, (what, header, payload, detail)) in cases.into_iter().enumerate() {
             let answer = c.exchange_raw(&header, payload).await;
-            assert_eq!(answer, Some(error_reply(n as u8 + 1, detail)), "{what}");
+            assert_eq!(answer, Some(error_reply(n as u8 % 7 + 1, detail)), "{what}");
         }
+        // The priority bits (6..7) are not judged: channel 0, priority 3 is served.
+        let (mut header, request) = upload_1001(2);
+        header[4] = 0xC0;
+        let answer = c.exchange_raw(&header, &request).await.expect("an answer");
+        assert_eq!(answer[5] & 0x0F, 0x03, "CoE, not a mailbox error");
+        assert_eq!(
+            answer[6..16],
+            [0x00, 0x30, 0x4F, 0x01, 0x10, 0x00, 0, 0, 0, 0]
+        );
     });
 }
 
