@@ -30,6 +30,12 @@ use crate::master::TestMaster;
 /// Serialises scenarios: the mock time driver is one per process.
 static SERIAL: Mutex<()> = Mutex::new(());
 
+/// Holds the mock time driver for the caller alone until dropped: for tests that move the
+/// clock outside a scenario.
+pub fn exclusive() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
 /// A scenario still running after this much wall-clock time is hung (a task spinning without
 /// yielding): the test process aborts with a message instead of hanging CI. Scenarios take
 /// milliseconds; all their waiting is in virtual time.
