@@ -247,7 +247,7 @@ impl Emulator {
 /// Adds `waker` to `waiters` unless a waker of the same task is already there: a task polled
 /// again before the line changed (woken by a timer or another future it selects on) must not
 /// add a copy per poll.
-fn register(waiters: &RefCell<Vec<Waker>>, waker: &Waker) {
+pub(crate) fn register(waiters: &RefCell<Vec<Waker>>, waker: &Waker) {
     let mut waiters = waiters.borrow_mut();
     if !waiters.iter().any(|w| w.will_wake(waker)) {
         waiters.push(waker.clone());
