@@ -25,7 +25,7 @@ const FMMU_WRITE: u8 = 2;
 /// own timers (a transition left pending, an SDO segment timeout, free-run cycles on a silent
 /// line) are served at most this late. embassy-time's mock driver, the clock of the whole host
 /// workspace, does not tell when its next alarm is due; the ESCs' deadlines are met exactly.
-pub const HEARTBEAT: Duration = Duration::from_millis(10);
+pub const HEARTBEAT: Duration = Duration::from_millis(100);
 
 /// Yields in a row without a PDI access after which the runners count as idle.
 const QUIET_YIELDS: u32 = 2;

@@ -87,8 +87,11 @@ fn a_silent_maindevice_expires_the_sm_watchdog_on_the_hosts_clock() {
                 (0x08, 0),
                 "99 ms: still OP"
             );
-            let heartbeats: Vec<Duration> = (1..=9).map(|n| ms(10 * n)).collect();
-            assert_eq!(host.wakes, [heartbeats, vec![ms(99)]].concat());
+            assert_eq!(
+                host.wakes,
+                [ms(99)],
+                "the watchdog and the heartbeat at 100 ms"
+            );
             let mut host = Scripted::silent_for(ms(50));
             line.serve(&mut host).await;
             assert_eq!(
@@ -161,7 +164,7 @@ fn frames_are_answered_at_their_time() {
             host.frames = [(ms(3), request.clone()), (ms(3), request.clone())].into();
             let served = line.serve(&mut host).await;
             assert_eq!((served.frames, served.lost), (2, 0));
-            assert_eq!(host.wakes, [ms(3), ms(13), ms(20)]);
+            assert_eq!(host.wakes, [ms(3), ms(20)], "the frames, the end");
             let answers: Vec<_> = host
                 .sent
                 .iter()

@@ -4,7 +4,12 @@
 //!
 //! ```text
 //! ecat-scan --iface IFNAME [--cycles N] [--echo]
+//! ecat-scan --iface IFNAME --burst N [--fps F]
 //! ```
+//!
+//! `--burst N` instead sends N frames back to back (a BRD of the AL status and a numbered NOP
+//! each, on a raw socket of its own), F frames a second (default: as fast as the socket takes
+//! them), and counts the answers: every one must come back.
 //!
 //! `--echo` also checks that every SubDevice with as many input as output bytes returns its
 //! outputs as inputs (the loop-back wiring of the virtual slave's digital I/O module). Exits with
@@ -17,28 +22,45 @@ use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::subdevice_group::{Op, SubDeviceGroup};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
-const MAX_SUBDEVICES: usize = 16;
+const MAX_SUBDEVICES: usize = 64;
 const MAX_PDI: usize = 1024;
 static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
 
-const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo]";
+const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo]\n       ecat-scan --iface IFNAME --burst N [--fps F]";
 
 struct Args {
     iface: String,
     cycles: u32,
     echo: bool,
+    burst: Option<u32>,
+    fps: Option<u32>,
 }
 
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
-    let (mut iface, mut cycles, mut echo) = (None, 1000, false);
+    let (mut iface, mut cycles, mut echo, mut burst, mut fps) = (None, 1000, false, None, None);
     while let Some(flag) = args.next() {
         match flag.as_str() {
             "--iface" => iface = args.next(),
+            "--burst" => {
+                burst = Some(
+                    args.next()
+                        .and_then(|n| n.parse().ok())
+                        .ok_or("--burst takes a number")?,
+                )
+            }
             "--cycles" => {
                 cycles = args
                     .next()
                     .and_then(|n| n.parse().ok())
                     .ok_or("--cycles takes a number")?
+            }
+            "--fps" => {
+                fps = Some(
+                    args.next()
+                        .and_then(|n| n.parse().ok())
+                        .filter(|&n| n > 0)
+                        .ok_or("--fps takes a positive number")?,
+                )
             }
             "--echo" => echo = true,
             _ => return Err(USAGE.to_owned()),
@@ -48,12 +70,16 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
         iface: iface.ok_or(USAGE)?,
         cycles,
         echo,
+        burst,
+        fps,
     })
 }
 
 fn main() -> ExitCode {
-    let result = parse(std::env::args().skip(1))
-        .and_then(|args| futures_lite::future::block_on(run(args)).map_err(|e| e.to_string()));
+    let result = parse(std::env::args().skip(1)).and_then(|args| match args.burst {
+        Some(frames) => burst(&args.iface, frames, args.fps),
+        None => futures_lite::future::block_on(run(args)).map_err(|e| e.to_string()),
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -190,4 +216,70 @@ async fn check_echo(group: &Group, main: &MainDevice<'_>) -> Result<(), String> 
         );
     }
     Ok(())
+}
+
+/// Sends `frames` frames back to back, each a BRD of the AL status and a NOP with the frame's
+/// number, at `fps` frames a second if given, while a second thread counts the answers (source MAC marked by an
+/// ESC) until none came for a second. Fails unless every frame came back.
+fn burst(iface: &str, frames: u32, fps: Option<u32>) -> Result<(), String> {
+    use ecat_emu::frame::{self, Datagram};
+    let port = ecat_examples::net::open(iface).map_err(|e| e.to_string())?;
+    let (mut tx, mut rx) = (port.tx, port.rx);
+    let counter = std::thread::spawn(move || {
+        let mut answers = std::collections::BTreeSet::new();
+        let mut last = std::time::Instant::now();
+        while last.elapsed() < Duration::from_secs(1) {
+            match rx.next() {
+                Ok(f)
+                    if ecat_examples::net::is_ethercat(f)
+                        && ecat_examples::net::locally_administered(f) =>
+                {
+                    let number = frame::datagrams(f)
+                        .and_then(|d| d.get(1).and_then(|nop| nop.data.get(..4)?.try_into().ok()))
+                        .map(u32::from_le_bytes);
+                    if let Some(number) = number {
+                        answers.insert(number);
+                        last = std::time::Instant::now();
+                    }
+                }
+                _ => {}
+            }
+        }
+        answers.len()
+    });
+    let start = std::time::Instant::now();
+    for n in 0..frames {
+        if let Some(fps) = fps {
+            let due = start + Duration::from_secs_f64(f64::from(n) / f64::from(fps));
+            if let Some(wait) = due.checked_duration_since(std::time::Instant::now()) {
+                std::thread::sleep(wait);
+            }
+        }
+        // A BRD of the AL status (read-only, no side effect), then a NOP that carries the
+        // frame's number through the line untouched.
+        let brd = Datagram::physical(0x07, 0, 0x0130, &[0, 0]);
+        let nop = Datagram::physical(0x00, 0, 0, &n.to_le_bytes());
+        let request = frame::build(ecat_emu::line::MAIN_DEVICE_MAC, &[brd, nop]);
+        match tx.send_to(&request, None) {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(format!("send failed: {e}")),
+            None => return Err("send failed".to_owned()),
+        }
+    }
+    let sent_in = start.elapsed();
+    let answered = counter.join().map_err(|_| "the counting thread failed")?;
+    println!(
+        "burst: {frames} frames sent in {:.1} ms ({:.0} frames/s), {answered} answered",
+        sent_in.as_secs_f64() * 1e3,
+        f64::from(frames) / sent_in.as_secs_f64()
+    );
+    let expected = usize::try_from(frames).unwrap_or(usize::MAX);
+    if answered == expected {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} of {frames} frames not answered",
+            expected.saturating_sub(answered)
+        ))
+    }
 }
