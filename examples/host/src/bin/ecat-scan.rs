@@ -3,7 +3,7 @@
 //! checks every cycle's working counter. Used by CI against `ecat-virtual-slave` on a veth pair.
 //!
 //! ```text
-//! ecat-scan --iface IFNAME [--cycles N] [--echo]
+//! ecat-scan --iface IFNAME [--cycles N] [--echo] [--silence MS]
 //! ecat-scan --iface IFNAME --burst N [--fps F]
 //! ```
 //!
@@ -12,8 +12,10 @@
 //! them), and counts the answers: every one must come back.
 //!
 //! `--echo` also checks that every SubDevice with as many input as output bytes returns its
-//! outputs as inputs (the loop-back wiring of the virtual slave's digital I/O module). Exits with
-//! status 1 when a check fails.
+//! outputs as inputs (the loop-back wiring of the virtual slave's digital I/O module).
+//! `--silence MS` then stops sending for MS milliseconds of wall-clock time and checks that every
+//! SubDevice with outputs fell back to SAFEOP with the SM watchdog code 0x001B while the others
+//! stayed in OP (it leaves them there). Exits with status 1 when a check fails.
 
 use std::process::ExitCode;
 use std::time::Duration;
@@ -26,7 +28,7 @@ const MAX_SUBDEVICES: usize = 64;
 const MAX_PDI: usize = 1024;
 static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
 
-const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo]\n       ecat-scan --iface IFNAME --burst N [--fps F]";
+const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo] [--silence MS]\n       ecat-scan --iface IFNAME --burst N [--fps F]";
 
 struct Args {
     iface: String,
@@ -34,10 +36,12 @@ struct Args {
     echo: bool,
     burst: Option<u32>,
     fps: Option<u32>,
+    silence: Option<u64>,
 }
 
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
-    let (mut iface, mut cycles, mut echo, mut burst, mut fps) = (None, 1000, false, None, None);
+    let (mut iface, mut cycles, mut echo, mut burst, mut fps, mut silence) =
+        (None, 1000, false, None, None, None);
     while let Some(flag) = args.next() {
         match flag.as_str() {
             "--iface" => iface = args.next(),
@@ -62,6 +66,13 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
                         .ok_or("--fps takes a positive number")?,
                 )
             }
+            "--silence" => {
+                silence = Some(
+                    args.next()
+                        .and_then(|n| n.parse().ok())
+                        .ok_or("--silence takes milliseconds")?,
+                )
+            }
             "--echo" => echo = true,
             _ => return Err(USAGE.to_owned()),
         }
@@ -72,6 +83,7 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
         echo,
         burst,
         fps,
+        silence,
     })
 }
 
@@ -156,6 +168,9 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         "{} cycles, working counter {expected} every cycle",
         args.cycles
     );
+    if let Some(ms) = args.silence {
+        return check_silence(&group, &main, ms).await;
+    }
     group
         .into_safe_op(&main)
         .await?
@@ -177,6 +192,37 @@ fn expected_wkc(group: &Group, main: &MainDevice<'_>) -> u16 {
             u16::from(!io.inputs().is_empty()) + 2 * u16::from(!io.outputs().is_empty())
         })
         .sum()
+}
+
+/// Sends nothing for `ms` milliseconds, then reads every SubDevice's AL status: those with
+/// outputs must have fallen back to SAFEOP + ERROR with 0x001B (their SM watchdog expired), the
+/// others must still be in OP.
+async fn check_silence(
+    group: &Group,
+    main: &MainDevice<'_>,
+    ms: u64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    std::thread::sleep(Duration::from_millis(ms));
+    let mut wrong = 0;
+    for sub in group.iter(main) {
+        // AL status and AL status code, raw: ethercrab's status() reports the error bit as an
+        // error.
+        let status: u16 = sub.register_read(0x0130u16).await?;
+        let code: u16 = sub.register_read(0x0134u16).await?;
+        let outputs = !sub.io_raw().outputs().is_empty();
+        let expected = if outputs { (0x14, 0x001B) } else { (0x08, 0) };
+        let right = (status, code) == expected;
+        println!(
+            "  {:#06x} after {ms} ms of silence: AL status {status:#04x}, code {code:#06x} ({})",
+            sub.configured_address(),
+            if right { "as expected" } else { "WRONG" }
+        );
+        wrong += usize::from(!right);
+    }
+    if wrong > 0 {
+        return Err(format!("{wrong} SubDevices in the wrong state after the silence").into());
+    }
+    Ok(())
 }
 
 /// Fills every SubDevice's outputs with a pattern of the cycle number.
