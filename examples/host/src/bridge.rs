@@ -48,6 +48,8 @@ pub struct Summary {
     pub waited: u64,
     /// Replies the socket refused to send.
     pub send_failures: u64,
+    /// The longest a frame waited between the receiving thread and the line.
+    pub longest_wait: Duration,
 }
 
 /// Frames that may wait for the line: about 6 MB of full-size frames, far more than a
@@ -114,6 +116,7 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
         pcap,
         la_requests,
         send_failures: 0,
+        longest_wait: Duration::ZERO,
     };
     let outcome = Rc::new(RefCell::new(None));
     let result = outcome.clone();
@@ -127,6 +130,7 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
         inbox,
         mut pcap,
         send_failures,
+        longest_wait,
         ..
     } = host;
     if let Some(pcap) = &mut pcap
@@ -143,10 +147,16 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
         served,
         waited,
         send_failures,
+        longest_wait,
     };
     println!(
-        "stopped after {} frames ({} lost on the line, {} waited for a full queue, {} not sent)",
-        summary.served.frames, summary.served.lost, summary.waited, summary.send_failures
+        "stopped after {} frames ({} lost on the line, {} waited for a full queue, {} not sent; \
+         longest wait for the line {:.1} ms)",
+        summary.served.frames,
+        summary.served.lost,
+        summary.waited,
+        summary.send_failures,
+        summary.longest_wait.as_secs_f64() * 1e3
     );
     match FAILURE
         .lock()
@@ -184,14 +194,14 @@ pub fn is_request(frame: &[u8], la_requests: bool) -> bool {
 /// waited. An error of the interface stops everything.
 fn receive(
     mut rx: Box<dyn pnet_datalink::DataLinkReceiver>,
-    queue: &SyncSender<Vec<u8>>,
+    queue: &SyncSender<(Instant, Vec<u8>)>,
     la_requests: bool,
 ) -> u64 {
     let mut waited = 0;
     while !STOP.load(Ordering::SeqCst) {
         match rx.next() {
             Ok(frame) if is_request(frame, la_requests) => {
-                let frame = frame.to_vec();
+                let frame = (Instant::now(), frame.to_vec());
                 let queued = match queue.try_send(frame) {
                     Err(TrySendError::Full(frame)) => {
                         waited += 1;
@@ -245,11 +255,12 @@ fn alarm_clock() {
 /// The network interface and the wall clock, as the line sees them.
 struct NetHost {
     start: Instant,
-    inbox: Receiver<Vec<u8>>,
+    inbox: Receiver<(Instant, Vec<u8>)>,
     tx: Box<dyn pnet_datalink::DataLinkSender>,
     pcap: Option<Capture>,
     la_requests: bool,
     send_failures: u64,
+    longest_wait: Duration,
 }
 
 impl Host for NetHost {
@@ -259,7 +270,8 @@ impl Host for NetHost {
     }
 
     fn receive(&mut self) -> Option<Vec<u8>> {
-        let frame = self.inbox.try_recv().ok()?;
+        let (arrived, frame) = self.inbox.try_recv().ok()?;
+        self.longest_wait = self.longest_wait.max(arrived.elapsed());
         capture(&mut self.pcap, &frame);
         Some(frame)
     }
