@@ -131,17 +131,11 @@ impl Line {
         let origin = Instant::now();
         let mut served = Served::default();
         loop {
-            let target = origin + host.elapsed();
-            let now = Instant::now();
-            if target > now {
-                MockDriver::get().advance(target - now);
-            }
-            for emu in &self.escs {
-                emu.tick();
-                emu.script_ran();
-            }
+            self.catch_up(origin + host.elapsed());
             self.settle().await;
             while let Some(mut frame) = host.receive() {
+                // A long burst keeps the clock going too.
+                self.catch_up(origin + host.elapsed());
                 match self.process(&mut frame) {
                     Some(len) => {
                         host.send(frame.get(..len).unwrap_or_default());
@@ -161,6 +155,18 @@ impl Line {
                 return served;
             }
             served.wakeups += 1;
+        }
+    }
+
+    /// Brings the runners' clock up to `target` and lets the ESCs see the time.
+    fn catch_up(&self, target: Instant) {
+        let now = Instant::now();
+        if target > now {
+            MockDriver::get().advance(target - now);
+        }
+        for emu in &self.escs {
+            emu.tick();
+            emu.script_ran();
         }
     }
 
