@@ -26,6 +26,8 @@ struct Scripted {
     sent: Vec<Vec<u8>>,
     /// The host times the line woke at.
     wakes: Vec<Duration>,
+    /// How far the host's clock moves while the line takes a frame (a frame takes that long).
+    per_frame: Duration,
 }
 
 impl Scripted {
@@ -44,6 +46,7 @@ impl Host for Scripted {
 
     fn receive(&mut self) -> Option<Vec<u8>> {
         if self.frames.front()?.0 <= self.clock {
+            self.clock += self.per_frame;
             self.frames.pop_front().map(|(_, frame)| frame)
         } else {
             None
@@ -171,6 +174,37 @@ fn frames_are_answered_at_their_time() {
                 .map(|f| frame::datagrams(f).expect("datagrams")[0].wkc)
                 .collect();
             assert_eq!(answers, [1, 1], "each BRD counted by the one ESC");
+        },
+    );
+}
+
+/// Time goes on through a burst: 150 frames waiting at once, each taking the line 1 ms, and the
+/// watchdog (100 ms after the last outputs) expires at the 100th. Each frame reads the AL status:
+/// the first 100 see OP, the 50 after them SAFEOP + ERROR (the runner answered the expiry between
+/// two frames).
+#[test]
+fn the_watchdog_expires_in_the_middle_of_a_burst() {
+    harness::run(
+        Device::new(common::drive(), AcceptAll, Loopback),
+        |master| async move {
+            walk_to(&master, AlState::Op).await;
+            send_outputs(&master).await;
+            let line = Line::new(vec![master.emulator().clone()]);
+            let brd = Datagram::physical(0x07, 0, register::AL_STATUS, &[0, 0]);
+            let request = frame::build(MAIN_DEVICE_MAC, &[brd]);
+            let mut host = Scripted::silent_for(ms(200));
+            host.per_frame = ms(1);
+            host.frames = (0..150).map(|_| (ms(0), request.clone())).collect();
+            line.serve(&mut host).await;
+            let mut seen = std::collections::BTreeMap::<u8, u32>::new();
+            for answer in &host.sent {
+                let status = frame::datagrams(answer).expect("datagrams")[0].data[0];
+                *seen.entry(status).or_default() += 1;
+            }
+            assert_eq!(
+                seen.into_iter().collect::<Vec<_>>(),
+                [(0x08, 100), (0x14, 50)]
+            );
         },
     );
 }
