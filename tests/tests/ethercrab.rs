@@ -278,3 +278,43 @@ fn ethercrab_dc_sync0_drives_the_cycle() {
         "one sensor cycle per SYNC0 pulse, none without"
     );
 }
+
+/// A SubDevice that falls back to PREOP deactivates SM2 and SM3 over its PDI (0x0807 + 8n bit
+/// 0); its ESC then keeps the MainDevice out of their buffers and counts no LRW access to them
+/// (ESC datasheet section I, "SyncManager deactivation by the PDI"): the working counter drops
+/// by the drive's 3 (read + write) from 7 to 4, which is how a MainDevice detects the fallback.
+#[test]
+fn a_subdevice_back_in_preop_drops_out_of_the_lrw_working_counter() {
+    let counters = run_on_line(three(), timeouts(), async move |main, masters| {
+        let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
+            .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
+            .await
+            .expect("discovery");
+        let group = to_op(main, group, &masters).await;
+        let mut counters = std::collections::BTreeMap::<(&str, u16), u32>::new();
+        for _ in 0..100 {
+            let response = group.tx_rx(main).await.expect("cycle");
+            *counters
+                .entry(("OP", response.working_counter))
+                .or_default() += 1;
+            next_cycle(&masters).await;
+        }
+        // The drive alone goes back to PREOP (a local fallback, or a request for it alone).
+        masters[0].write_al_control(0x02);
+        masters[0].settle().await;
+        assert_eq!(masters[0].al_status(), 0x02, "the drive in PREOP");
+        for _ in 0..200 {
+            let response = group.tx_rx(main).await.expect("cycle");
+            *counters
+                .entry(("PREOP", response.working_counter))
+                .or_default() += 1;
+            next_cycle(&masters).await;
+        }
+        counters.into_iter().collect::<Vec<_>>()
+    });
+    assert_eq!(
+        counters,
+        vec![(("OP", 3 + 3 + 1), 100), (("PREOP", 3 + 1), 200)],
+        "(state of the drive, LRW working counter) → cycles"
+    );
+}

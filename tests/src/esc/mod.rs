@@ -272,10 +272,17 @@ impl Esc {
     /// The areas as the SyncManager registers define them now.
     fn area_map(&self) -> AreaMap {
         let mut buffers = [None; MAX_CHANNELS];
-        for (buffer, n) in buffers.iter_mut().zip(0..self.config.sync_managers) {
-            *buffer = Buffer::effective(self.memory.channel(n));
+        let mut locked = [const { None }; MAX_CHANNELS];
+        for ((buffer, lock), n) in buffers
+            .iter_mut()
+            .zip(&mut locked)
+            .zip(0..self.config.sync_managers)
+        {
+            let channel = self.memory.channel(n);
+            *buffer = Buffer::effective(channel);
+            *lock = Buffer::locked(channel);
         }
-        AreaMap::new(self.config.ram_end(), buffers)
+        AreaMap::new(self.config.ram_end(), buffers, locked)
     }
 
     /// The part of an access that falls into one area, at the addresses `range`.
@@ -310,13 +317,15 @@ impl Esc {
                     state.access(&buffer, side, &offsets, access, &mut self.memory)
                 })
             }
-            (Area::Ram | Area::Absent, Access::Read(buf)) => {
+            // Closed to the MainDevice: nothing read or written, not counted.
+            (Area::Locked, _) if side == Side::Ecat => false,
+            (Area::Ram | Area::Locked | Area::Absent, Access::Read(buf)) => {
                 self.memory.read(range.start, buf);
-                area == Area::Ram
+                area != Area::Absent
             }
-            (Area::Ram | Area::Absent, Access::Write(data)) => {
+            (Area::Ram | Area::Locked | Area::Absent, Access::Write(data)) => {
                 self.memory.write(range.start, data);
-                area == Area::Ram
+                area != Area::Absent
             }
         }
     }

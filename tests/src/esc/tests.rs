@@ -407,17 +407,28 @@ fn disabling_resets_the_mailbox() {
     assert_eq!(pdi_read(&mut esc, SM0, 2), [2, 3]);
 }
 
+/// ESC datasheet section I, "SyncManager deactivation by the PDI": the channel's state is reset
+/// and "the entire SyncManager buffer area is read/write protected" while deactivated; the
+/// MainDevice sees it in the working counter, which such an access does not increment.
 #[test]
-fn pdi_deactivation_resets_the_mailbox_and_leaves_plain_memory() {
+fn pdi_deactivation_resets_the_mailbox_and_closes_its_area_to_the_maindevice() {
     let mut esc = configured();
     esc.ecat_write(SM0, &pattern(1, MBX_LEN));
     esc.pdi_write(sync_manager(0) + 7, &[0x01]);
     assert_eq!(status(&mut esc, 0), 0);
     assert_eq!(esc.al_event(), AlEvent::NONE);
-    assert!(esc.ecat_write(SM0, &pattern(2, MBX_LEN)));
-    assert!(esc.ecat_write(SM0, &pattern(3, MBX_LEN)), "no full mailbox");
+    assert!(!esc.ecat_write(SM0, &pattern(2, MBX_LEN)), "not counted");
     esc.pdi_write(SM0, &[0xAB]);
-    assert_eq!(ecat_bytes(&mut esc, SM0, 3), [0xAB, 4, 5]);
+    assert_eq!(
+        ecat_read(&mut esc, SM0, 3),
+        (false, vec![UNTOUCHED; 3]),
+        "nothing read, not counted"
+    );
+    assert_eq!(
+        pdi_read(&mut esc, SM0, 3),
+        [0xAB, 2, 3],
+        "the write was refused; the PDI reads the memory"
+    );
     assert_eq!((status(&mut esc, 0), esc.al_event()), (0, AlEvent::NONE));
     esc.pdi_write(sync_manager(0) + 7, &[0]);
     assert!(esc.ecat_write(SM0, &pattern(4, MBX_LEN)));
@@ -425,6 +436,21 @@ fn pdi_deactivation_resets_the_mailbox_and_leaves_plain_memory() {
         !esc.ecat_write(SM0, &pattern(5, MBX_LEN)),
         "a mailbox again"
     );
+}
+
+/// A deactivated 3-buffer channel closes all three buffers of its area; a channel the
+/// MainDevice disabled leaves plain memory.
+#[test]
+fn a_deactivated_three_buffer_area_is_closed_and_a_disabled_one_is_plain_memory() {
+    let mut esc = configured();
+    esc.pdi_write(sync_manager(2) + 7, &[0x01]);
+    for offset in [0, PD_LEN, 3 * PD_LEN - 1] {
+        assert!(!esc.ecat_write(SM2 + offset, &[1]), "offset {offset}");
+    }
+    assert!(esc.ecat_write(SM2 + 3 * PD_LEN, &[1]), "after the area");
+    esc.ecat_write(sync_manager(2) + 6, &[0]);
+    assert!(esc.ecat_write(SM2, &[7]), "disabled: plain memory");
+    assert_eq!(ecat_bytes(&mut esc, SM2, 1), [7]);
 }
 
 #[test]
