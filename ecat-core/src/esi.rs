@@ -472,6 +472,10 @@ fn sub_item<D, W: Write>(
             None => values(x, object, sub)?,
         }
         x.close("Info")?;
+    } else {
+        // ETG.2000 `ObjectInfoType/SubItem`: `Name` and `Info` are both required; `Info`'s
+        // content is optional.
+        x.empty("Info", &[])?;
     }
     x.close("SubItem")?;
     Ok(())

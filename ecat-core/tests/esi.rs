@@ -217,6 +217,8 @@ fn record_type_with_complete_access_bit_offsets() {
         sub_item(3, "C", "UINT", 16, 24, rw_r),
     );
     has(&xml, &expected);
+    // The object's Info: ETG.2000 (`ObjectInfoType/SubItem`) requires `Info` in every SubItem,
+    // empty where nothing is declared (A, B).
     has(
         &xml,
         "<Index>#x6001</Index>
@@ -232,9 +234,11 @@ fn record_type_with_complete_access_bit_offsets() {
                   </SubItem>
                   <SubItem>
                     <Name>A</Name>
+                    <Info/>
                   </SubItem>
                   <SubItem>
                     <Name>B</Name>
+                    <Info/>
                   </SubItem>
                   <SubItem>
                     <Name>C</Name>

@@ -589,6 +589,13 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
         let subs: Vec<u8> = info.subindices().collect();
         assert_eq!(sub_items.len(), subs.len());
         for (sub, item) in subs.iter().zip(&sub_items) {
+            // ETG.2000 `ObjectInfoType/SubItem`: `Name` then `Info`, both required.
+            let elements: Vec<&str> = item
+                .children()
+                .filter(Node::is_element)
+                .map(|c| c.tag_name().name())
+                .collect();
+            assert_eq!(elements, ["Name", "Info"], "{:#06x}:{sub}", info.index);
             let values = item.children().find(|c| c.has_tag_name("Info"));
             if *sub == 0 {
                 let count = hex(&read(od, info.index, 0));
