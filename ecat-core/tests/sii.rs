@@ -3,6 +3,7 @@
 //! (its catalog devices have no BOOT).
 
 use ecat_core::DeviceConfig;
+use ecat_core::chip::Chip;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::{self, Names};
 
@@ -29,7 +30,7 @@ fn the_bootstrap_and_standard_mailbox_words() {
     );
     let words = |config: &DeviceConfig| {
         let mut image = [0u8; sii::MAX_SIZE];
-        let n = sii::write(&names, &IDENTITY, config, &(), &mut image).unwrap();
+        let n = sii::write(&names, &IDENTITY, config, &Chip::ET1100, &(), &mut image).unwrap();
         let word = |w: usize| u16::from_le_bytes([image[2 * w], image[2 * w + 1]]);
         assert!(n > 0x40 * 2);
         (0x14..=0x1C).map(word).collect::<Vec<_>>()

@@ -141,6 +141,7 @@ impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
             &self.names,
             &self.identity,
             &self.device.config,
+            &self.device.esc.chip,
             &self.device.od,
             &mut image,
         ) {

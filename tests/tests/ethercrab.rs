@@ -215,16 +215,17 @@ fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {
     );
 }
 
-/// A DC-capable drive and sensor (ESCs with 64-bit DC, devices supporting DC SYNC0).
+/// A DC-capable drive and sensor (ESCs with 64-bit DC, the emulated chip's default, devices
+/// supporting DC SYNC0). Their SII images are written for DC SYNC0: the configuration area turns
+/// the ESC's SYNC out unit on, without which no SYNC0 pulse would leave the ESC.
 fn dc_line() -> Vec<Box<dyn Spawn>> {
-    let mut drive = devices::drive().device;
-    let mut sensor = devices::sensor().device;
-    for config in [&mut drive.config, &mut sensor.config] {
+    let (mut drive, mut sensor) = (devices::drive(), devices::sensor());
+    for config in [&mut drive.device.config, &mut sensor.device.config] {
         config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
     }
-    drive.esc.dc_supported = true;
-    sensor.esc.dc_supported = true;
-    vec![Box::new(drive), Box::new(sensor)]
+    drive.device.eeprom = drive.eeprom();
+    sensor.device.eeprom = sensor.eeprom();
+    vec![Box::new(drive.device), Box::new(sensor.device)]
 }
 
 /// ethercrab configures DC SYNC0 the way it does for any DC SubDevice (the ESC's SYNC unit;

@@ -7,6 +7,7 @@ use embassy_stm32::rcc::{Pll, PllMul, PllPreDiv, PllRDiv, PllSource, Sysclk};
 use embassy_stm32::spi::{self, Spi};
 use embassy_stm32::time::Hertz;
 use embassy_stm32::{bind_interrupts, dma, interrupt, peripherals};
+use ecat_core::chip::SpiMode;
 use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
 use crate::io::DigitalIo;
@@ -24,6 +25,22 @@ pub type EscSpi = ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output
 /// SPI clock: the AX58100 and the LAN9252 (READ instruction) both take 20 MHz; SPI1's kernel clock
 /// (170 MHz) divided by 16 gives 10.6 MHz, the fastest rate not above it.
 const SPI_CLOCK: Hertz = Hertz(20_000_000);
+
+/// `mode` as embassy-stm32 spells it.
+const fn spi_mode(mode: SpiMode) -> spi::Mode {
+    spi::Mode {
+        polarity: if mode.idle_high() {
+            spi::Polarity::IdleHigh
+        } else {
+            spi::Polarity::IdleLow
+        },
+        phase: if mode.capture_on_second_edge() {
+            spi::Phase::CaptureOnSecondTransition
+        } else {
+            spi::Phase::CaptureOnFirstTransition
+        },
+    }
+}
 
 /// What the firmware gets from the board.
 pub struct Board {
@@ -54,8 +71,8 @@ impl Board {
         let p = embassy_stm32::init(config);
 
         let mut spi_config = spi::Config::default();
-        // Mode 3, the ESCs' usual PDI configuration (0x0150 = 0x03); the LAN9252 takes mode 0 or 3.
-        spi_config.mode = spi::MODE_3;
+        // The mode of the ESC's driver, which the SII image's configuration area sets in the ESC.
+        spi_config.mode = spi_mode(crate::esc::SPI_MODE);
         spi_config.frequency = SPI_CLOCK;
         let bus = Spi::new(
             p.SPI1, p.PB3, p.PB5, p.PB4, p.DMA1_CH1, p.DMA1_CH2, Irqs, spi_config,

@@ -9,6 +9,7 @@ compile_error!("choose one ESC: feature `ax58100` or `lan9252`");
 #[cfg(not(feature = "lan9252"))]
 mod chip {
     //! AX58100 (or ET1100/ET1200): the Beckhoff SPI protocol, whole regions per transaction.
+    pub use ecat_embassy::spi::beckhoff::SPI_MODE;
     use ecat_embassy::spi::beckhoff::{BeckhoffSpi, Config};
 
     use crate::board::EscSpi;
@@ -27,6 +28,7 @@ mod chip {
 #[cfg(feature = "lan9252")]
 mod chip {
     //! LAN9252: reset, byte-order test, ready check, IRQ output enabled.
+    pub use ecat_embassy::spi::lan9252::SPI_MODE;
     use ecat_embassy::spi::lan9252::{Config, Lan9252};
 
     use crate::board::EscSpi;
@@ -49,7 +51,7 @@ mod chip {
     }
 }
 
-pub use chip::{PROCESS_RAM_END, Pdi, SYNC_MANAGERS, start_logged};
+pub use chip::{PROCESS_RAM_END, Pdi, SPI_MODE, SYNC_MANAGERS, start_logged};
 
 /// `config` adjusted to this ESC's SyncManagers and process RAM.
 pub const fn fit(mut config: DeviceConfig) -> DeviceConfig {

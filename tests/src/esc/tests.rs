@@ -95,8 +95,10 @@ fn dl_information_reflects_the_configuration() {
         process_ram_end: 0x2000,
         esc_type: 0x42,
         dc_supported: true,
+        ..EscConfig::default()
     });
-    let info = [0x42, 0, 0, 0, 3, 4, 4, 0, 0x0C, 0x01]; // features: DC, 64-bit, enhanced SYNC
+    // Revision, port descriptor (ports 0 and 1 MII) and features from the chip (ET1100: 0x01FC).
+    let info = [0x42, 0, 0, 0, 3, 4, 4, 0x0F, 0xFC, 0x01];
     assert_eq!(ecat_bytes(&mut esc, register::DL_INFORMATION, 10), info);
     assert_eq!(ecat_bytes(&mut esc, register::DL_STATUS, 2), [0x11, 0x02]);
     assert_eq!(ecat_bytes(&mut esc, register::PDI_CONTROL, 1), [0x05]);
@@ -116,7 +118,7 @@ fn dl_information_reflects_the_configuration() {
     esc.ecat_write(register::DL_INFORMATION, &[0xFF; 10]);
     esc.pdi_write(register::DL_INFORMATION, &[0xFF; 10]);
     assert_eq!(pdi_read(&mut esc, register::DL_INFORMATION, 10), info);
-    assert_eq!(pdi_read(&mut esc, register::FEATURES, 2), [0x0C, 0x01]);
+    assert_eq!(pdi_read(&mut esc, register::FEATURES, 2), [0xFC, 0x01]);
 }
 
 #[test]

@@ -18,6 +18,7 @@ pub mod lan9252;
 use core::cell::RefCell;
 use std::rc::Rc;
 
+use ecat_core::chip::SpiMode;
 use embedded_hal_async::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
 
 /// What a logic analyser on the SPI bus counts.
@@ -80,7 +81,22 @@ pub trait Chip {
     /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
     /// chip shifted out, and report what the real chip would reject or misread.
     fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>);
+
+    /// Why the chip cannot talk on a bus in `mode` now (its PDI not selected, another SPI
+    /// mode configured, as its EEPROM's configuration area set them), or `None`. A refused
+    /// transaction reaches nothing and reads [`NOT_DRIVEN`].
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let _ = mode;
+        None
+    }
 }
+
+/// MISO of a chip that does not talk: the line is not driven (pulled up).
+pub const NOT_DRIVEN: u8 = 0xFF;
+
+/// The SPI mode [`FakeSpi::new`] runs the bus in: mode 3, what both PDI drivers ask the board
+/// for (`ecat_embassy::spi::beckhoff::SPI_MODE`, `ecat_embassy::spi::lan9252::SPI_MODE`).
+pub const BUS_MODE: SpiMode = SpiMode::Mode3;
 
 /// The error [`Probe::fail_next`] injects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,12 +112,19 @@ impl embedded_hal_async::spi::Error for BusError {
 pub struct FakeSpi<C> {
     chip: C,
     probe: Probe,
+    /// The SPI mode the bus (the microcontroller's SPI peripheral) is configured with.
+    mode: SpiMode,
 }
 
 impl<C: Chip> FakeSpi<C> {
-    /// `chip` on a bus watched by `probe`.
+    /// `chip` on a bus in [`BUS_MODE`] watched by `probe`.
     pub fn new(chip: C, probe: Probe) -> Self {
-        Self { chip, probe }
+        Self::with_mode(chip, probe, BUS_MODE)
+    }
+
+    /// `chip` on a bus in `mode` watched by `probe`.
+    pub fn with_mode(chip: C, probe: Probe, mode: SpiMode) -> Self {
+        Self { chip, probe, mode }
     }
 
     /// Flattens the operations into the byte stream on the wire, lets the chip answer and hands
@@ -127,8 +150,17 @@ impl<C: Chip> FakeSpi<C> {
             }
         }
         let mut miso = vec![0; mosi.len()];
-        self.chip
-            .transaction(&mosi, &mut miso, &mut record.violations);
+        match self.chip.refusal(self.mode) {
+            Some(why) => {
+                miso.fill(NOT_DRIVEN);
+                if record.violations.last() != Some(&why) {
+                    record.violations.push(why);
+                }
+            }
+            None => self
+                .chip
+                .transaction(&mosi, &mut miso, &mut record.violations),
+        }
         let mut incoming = miso.iter();
         for op in operations.iter_mut() {
             let (read, len): (&mut [u8], usize) = match op {
