@@ -397,3 +397,30 @@ proptest! {
         }
     }
 }
+
+/// A device with an explicit device ID says so in `Device/Info/IdentificationReg134` (ETG.2000,
+/// between `Name` and `GroupType`), as its SII General category's IdentALSts flag does; others
+/// have no `Info`.
+#[test]
+fn explicit_device_id_is_advertised_in_device_info() {
+    assert!(!sm_only().contains("<IdentificationReg134>"));
+    let mut config = config(SupportedSync::SM);
+    config.explicit_device_id = true;
+    let description = Description {
+        vendor: "v",
+        names: &NAMES,
+        identity: &IDENTITY,
+        config: &config,
+    };
+    let mut xml = String::new();
+    esi::write(&mut xml, &description, &Od::default(), &SII).unwrap();
+    has(
+        &xml,
+        "        <Name>Probe &quot;A&quot; &amp; &apos;B&apos;</Name>
+        <Info>
+          <IdentificationReg134>true</IdentificationReg134>
+        </Info>
+        <GroupType>Test &amp; measurement</GroupType>
+",
+    );
+}
