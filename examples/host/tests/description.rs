@@ -812,3 +812,26 @@ fn the_dc_category_follows_dc_support() {
         .unwrap();
     assert!(categories(&sensor.sii).iter().all(|(k, _)| *k != 60));
 }
+
+/// On another chip only the configuration area (words 0..7) and the ESI's ConfigData differ:
+/// the area is the chip's for the device's DC support, everything after it the same.
+#[test]
+fn on_each_chip_only_the_configuration_area_differs() {
+    use ecat_core::chip::{Chip, ConfigArea};
+    for name in catalog::NAMES {
+        let own = description::by_name(name).unwrap().unwrap();
+        let dc = own.sii[1] & 0x04 != 0;
+        for chip in Chip::ALL {
+            let files = description::on_chip(name, chip).unwrap().unwrap();
+            let area = ConfigArea::new(&chip, dc).bytes();
+            assert_eq!(files.sii[..16], area, "{name} on {}", chip.name);
+            assert_eq!(files.sii[16..], own.sii[16..], "{name} on {}", chip.name);
+            let config_data: String = area[..14].iter().map(|b| format!("{b:02x}")).collect();
+            assert!(
+                files
+                    .esi
+                    .contains(&format!("<ConfigData>{config_data}</ConfigData>"))
+            );
+        }
+    }
+}

@@ -1,5 +1,6 @@
 //! Clocks, pins and interrupts (pin assignment and priorities: README.md).
 
+use ecat_core::chip::SpiMode;
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
 use embassy_stm32::mode::Async;
@@ -7,7 +8,6 @@ use embassy_stm32::rcc::{Pll, PllMul, PllPreDiv, PllRDiv, PllSource, Sysclk};
 use embassy_stm32::spi::{self, Spi};
 use embassy_stm32::time::Hertz;
 use embassy_stm32::{bind_interrupts, dma, interrupt, peripherals};
-use ecat_core::chip::SpiMode;
 use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
 use crate::io::DigitalIo;
@@ -48,7 +48,9 @@ pub struct Board {
     pub spi: EscSpi,
     /// The ESC's PDI interrupt line (active low).
     pub irq: ExtiInput<'static, Async>,
-    /// The ESC's SYNC0 output (active low, from the distributed clock).
+    /// The ESC's SYNC0 output (from the distributed clock): push-pull, active high, as the SII
+    /// image's configuration area sets it (0x0151 = 0x06, `ecat_core::chip`); the process-data
+    /// runner waits for its rising edges.
     pub sync0: ExtiInput<'static, Async>,
     /// The application's pins.
     pub io: DigitalIo,
@@ -83,7 +85,9 @@ impl Board {
         Self {
             spi,
             irq: ExtiInput::new(p.PA10, p.EXTI10, Pull::Up, Irqs),
-            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Up, Irqs),
+            // Pulled to its idle level while the ESC's pin is still an input (before the EEPROM
+            // is loaded).
+            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Down, Irqs),
             io: DigitalIo::new(
                 [
                     Output::new(p.PA5, Level::Low, Speed::Low),
