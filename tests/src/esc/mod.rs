@@ -121,8 +121,9 @@ impl PdiStats {
 /// An emulated ESC with a PDI port and an EtherCAT port (ESC datasheet section I).
 ///
 /// Models the register access rights of both ports, the AL event request register and its PDI
-/// IRQ line, and the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58). FMMUs,
-/// the SII EEPROM, watchdogs and distributed clocks are plain registers.
+/// IRQ line, and the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58). The
+/// EEPROM's configuration area sets the PDI and SYNC registers at load; the frame-level port
+/// (`datagram`, `fmmu`, `sii`, `dc`) adds FMMUs, the SII interface and the DC unit.
 pub struct Esc {
     /// The configuration, limited to the register map.
     config: EscConfig,
