@@ -98,18 +98,16 @@ impl Emulator {
         self.0.watchdog_deadline.set(deadline);
     }
 
-    /// The DC SYNC unit (ESC datasheet section I, "SyncSignal generation"): with the SYNC out
-    /// unit on and SYNC0 an output (0x0141, 0x0151: [`Esc::sync0_output_enabled`]), cyclic
+    /// The DC SYNC unit (ESC datasheet section I, "SyncSignal generation"): with cyclic
     /// operation and SYNC0 activated (0x0981 bits 0 and 1), SYNC0 pulses at the start time
     /// (0x0990) and every SYNC0 cycle (0x09A0) after it, on the system time (virtual time in ns
     /// plus the offset the MainDevice set, `Esc::system_time`). Pulses due since the last tick merge into one edge, as a level-sampling input would
-    /// see them; a cycle of 0 gives a single pulse. In acknowledge mode (pulse length 0) a pulse
-    /// makes an edge only once the PDI read 0x098E since the last ([`Esc::sync0_pulse`]).
+    /// see them; a cycle of 0 gives a single pulse.
     fn tick_sync0(&self) {
         let local = embassy_time::Instant::now()
             .as_micros()
             .saturating_mul(1_000);
-        let (now, activation, start, cycle, output) = {
+        let (now, activation, start, cycle) = {
             let mut esc = self.0.esc.borrow_mut();
             esc.set_local_time(local);
             let mut activation = [0u8; 1];
@@ -123,10 +121,9 @@ impl Emulator {
                 DcActivation(activation[0]),
                 u64::from_le_bytes(start),
                 u64::from(u32::from_le_bytes(cycle)),
-                esc.sync0_output_enabled(),
             )
         };
-        if !activation.sync0() || !output {
+        if !activation.sync0() {
             self.0.sync0_last.set(None);
             return;
         }
@@ -139,6 +136,9 @@ impl Emulator {
         };
         if let Some(pulse) = due {
             self.0.sync0_last.set(Some(pulse));
+            // The pin shows an edge only as the EEPROM's configuration area lets it: the SYNC out
+            // unit on, SYNC0 an output, and in acknowledge mode only after the PDI read 0x098E
+            // (`Esc::sync0_pulse`).
             if !self.0.esc.borrow_mut().sync0_pulse() {
                 return;
             }

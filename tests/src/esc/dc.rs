@@ -56,11 +56,15 @@ impl Esc {
             && sync_config & SYNC0_OUTPUT != 0
     }
 
-    /// The SYNC unit generates a SYNC0 pulse: returns whether the pin shows a new edge. With a
-    /// pulse length (0x0982) the signal is a pulse of that length and every pulse is an edge; with
-    /// 0, acknowledge mode, the signal stays active until the PDI reads the SYNC0 status
-    /// (0x098E), so pulses before that read make no edge (ESC datasheet section II, 0x0982).
+    /// The SYNC unit generates a SYNC0 pulse: returns whether the pin shows a new edge. None
+    /// unless [`Esc::sync0_output_enabled`]. With a pulse length (0x0982) the signal is a pulse
+    /// of that length and every pulse is an edge; with 0, acknowledge mode, the signal stays
+    /// active until the PDI reads the SYNC0 status (0x098E), so pulses before that read make no
+    /// edge (ESC datasheet section II, 0x0982).
     pub fn sync0_pulse(&mut self) -> bool {
+        if !self.sync0_output_enabled() {
+            return false;
+        }
         let at = usize::from(register::DC_SYNC_PULSE_LENGTH);
         let length = u16::from_le_bytes([self.memory.byte(at), self.memory.byte(at + 1)]);
         if length != 0 {

@@ -80,27 +80,6 @@ impl Header {
 }
 
 impl Chip for BeckhoffEsc {
-    /// The SPI slave talks only when the EEPROM selected it (0x0140 = 0x05) and in the mode
-    /// its PDI configuration (0x0150 bits 1:0) sets: in another mode it samples MOSI and shifts
-    /// MISO on the wrong clock edges.
-    fn refusal(&self, mode: SpiMode) -> Option<String> {
-        let (pdi, configuration) = self
-            .emu
-            .with(|esc| (esc.register(PDI_CONTROL), esc.register(PDI_CONFIGURATION)));
-        if pdi != PDI_SPI_SLAVE {
-            return Some(format!(
-                "PDI control 0x0140 = {pdi:#04x}, not the SPI slave (0x05): the ESC does not answer"
-            ));
-        }
-        let configured = configuration & 0b11;
-        (configured != mode as u8).then(|| {
-            format!(
-                "bus in SPI mode {}, PDI configuration 0x0150 sets mode {configured}: the ESC does not understand the bus",
-                mode as u8
-            )
-        })
-    }
-
     fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>) {
         miso.fill(UNDEFINED);
         let event = self.emu.with(|esc| esc.al_event()).bits().to_le_bytes();
@@ -132,6 +111,27 @@ impl Chip for BeckhoffEsc {
             }
             reserved => violations.push(format!("reserved command {reserved:03b}")),
         }
+    }
+
+    /// The SPI slave talks only when the EEPROM selected it (0x0140 = 0x05) and in the mode
+    /// its PDI configuration (0x0150 bits 1:0) sets: in another mode it samples MOSI and shifts
+    /// MISO on the wrong clock edges.
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let (pdi, configuration) = self
+            .emu
+            .with(|esc| (esc.register(PDI_CONTROL), esc.register(PDI_CONFIGURATION)));
+        if pdi != PDI_SPI_SLAVE {
+            return Some(format!(
+                "PDI control 0x0140 = {pdi:#04x}, not the SPI slave (0x05): the ESC does not answer"
+            ));
+        }
+        let configured = configuration & 0b11;
+        (configured != mode as u8).then(|| {
+            format!(
+                "bus in SPI mode {}, PDI configuration 0x0150 sets mode {configured}: the ESC does not understand the bus",
+                mode as u8
+            )
+        })
     }
 }
 

@@ -390,6 +390,11 @@ fn pram_range(address_length: u32, violations: &mut Vec<String>) -> Option<(u16,
 const PDI_SPI: u8 = 0x80;
 
 impl Chip for Lan9252Chip {
+    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>) {
+        self.decode(mosi, miso, violations);
+        self.end_of_transaction(violations);
+    }
+
     /// The SPI host interface runs only when the EEPROM selected it (0x0140 = 0x80), and in SPI
     /// modes 0 and 3 only ("SPI/SQI Slave").
     fn refusal(&self, mode: SpiMode) -> Option<String> {
@@ -405,11 +410,6 @@ impl Chip for Lan9252Chip {
                 mode as u8
             )
         })
-    }
-
-    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>) {
-        self.decode(mosi, miso, violations);
-        self.end_of_transaction(violations);
     }
 }
 

@@ -78,10 +78,6 @@ impl Probe {
 
 /// A chip behind an SPI chip-select line.
 pub trait Chip {
-    /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
-    /// chip shifted out, and report what the real chip would reject or misread.
-    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>);
-
     /// Why the chip cannot talk on a bus in `mode` now (its PDI not selected, another SPI
     /// mode configured, as its EEPROM's configuration area set them), or `None`. A refused
     /// transaction reaches nothing and reads [`NOT_DRIVEN`].
@@ -89,6 +85,10 @@ pub trait Chip {
         let _ = mode;
         None
     }
+
+    /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
+    /// chip shifted out, and report what the real chip would reject or misread.
+    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>);
 }
 
 /// MISO of a chip that does not talk: the line is not driven (pulled up).
@@ -149,18 +149,25 @@ impl<C: Chip> FakeSpi<C> {
                 Operation::DelayNs(_) => {}
             }
         }
-        let mut miso = vec![0; mosi.len()];
-        match self.chip.refusal(self.mode) {
-            Some(why) => {
-                miso.fill(NOT_DRIVEN);
-                if record.violations.last() != Some(&why) {
-                    record.violations.push(why);
+        if let Some(why) = self.chip.refusal(self.mode) {
+            if record.violations.last() != Some(&why) {
+                record.violations.push(why);
+            }
+            record.stats.transactions += 1;
+            record.stats.bytes += mosi.len() as u64;
+            record.log.push(mosi);
+            for op in operations.iter_mut() {
+                match op {
+                    Operation::Read(buf) | Operation::TransferInPlace(buf) => buf.fill(NOT_DRIVEN),
+                    Operation::Transfer(read, _) => read.fill(NOT_DRIVEN),
+                    Operation::Write(_) | Operation::DelayNs(_) => {}
                 }
             }
-            None => self
-                .chip
-                .transaction(&mosi, &mut miso, &mut record.violations),
+            return Ok(());
         }
+        let mut miso = vec![0; mosi.len()];
+        self.chip
+            .transaction(&mosi, &mut miso, &mut record.violations);
         let mut incoming = miso.iter();
         for op in operations.iter_mut() {
             let (read, len): (&mut [u8], usize) = match op {
