@@ -52,7 +52,12 @@ struct Record {
     log: Vec<Vec<u8>>,
     violations: Vec<String>,
     fail_next: bool,
+    /// The transaction (counted from 0) and byte at which [`Probe::at`]'s action runs.
+    hook: Option<(u64, usize, Action)>,
 }
+
+/// Something the test does while a transaction is on the bus.
+type Action = Box<dyn FnOnce()>;
 
 impl Probe {
     /// Transactions and bytes so far.
@@ -74,6 +79,38 @@ impl Probe {
     pub fn fail_next(&self) {
         self.0.borrow_mut().fail_next = true;
     }
+
+    /// Runs `action` while transaction `transaction` (counted from 0, as
+    /// [`SpiStats::transactions`]) is on the bus, just before its byte `byte` is clocked: after
+    /// everything the chip does before that byte (see [`Progress`]), before the rest. An action
+    /// at a byte beyond the transaction runs when chip select rises. One action at a time; it
+    /// must not use this probe.
+    pub fn at(&self, transaction: u64, byte: usize, action: impl FnOnce() + 'static) {
+        self.0.borrow_mut().hook = Some((transaction, byte, Box::new(action)));
+    }
+
+    /// Whether the action of [`Probe::at`] is still waiting for its byte.
+    pub fn armed(&self) -> bool {
+        self.0.borrow().hook.is_some()
+    }
+}
+
+/// How far a chip has got in the transaction it decodes: before whatever the real chip does once
+/// `byte` bytes have been clocked (sample a register, start an access), it calls
+/// [`Progress::reach`]`(byte)`, which runs the test's action ([`Probe::at`]) if its byte has come.
+pub struct Progress {
+    action: Option<(usize, Action)>,
+}
+
+impl Progress {
+    /// `byte` bytes of the transaction have been clocked.
+    pub fn reach(&mut self, byte: usize) {
+        if self.action.as_ref().is_some_and(|(at, _)| *at <= byte)
+            && let Some((_, action)) = self.action.take()
+        {
+            action();
+        }
+    }
 }
 
 /// A chip behind an SPI chip-select line.
@@ -88,7 +125,14 @@ pub trait Chip {
 
     /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
     /// chip shifted out, and report what the real chip would reject or misread.
-    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>);
+    /// `progress` marks the points within the transaction where the chip acts (see [`Progress`]).
+    fn transaction(
+        &mut self,
+        mosi: &[u8],
+        miso: &mut [u8],
+        violations: &mut Vec<String>,
+        progress: &mut Progress,
+    );
 }
 
 /// MISO of a chip that does not talk: the line is not driven (pulled up).
@@ -166,8 +210,19 @@ impl<C: Chip> FakeSpi<C> {
             return Ok(());
         }
         let mut miso = vec![0; mosi.len()];
+        let index = record.stats.transactions;
+        let action = match record.hook.take() {
+            Some((transaction, byte, action)) if transaction == index => Some((byte, action)),
+            other => {
+                record.hook = other;
+                None
+            }
+        };
+        let mut progress = Progress { action };
         self.chip
-            .transaction(&mosi, &mut miso, &mut record.violations);
+            .transaction(&mosi, &mut miso, &mut record.violations, &mut progress);
+        // An action at a byte beyond the transaction: chip select rises.
+        progress.reach(usize::MAX);
         let mut incoming = miso.iter();
         for op in operations.iter_mut() {
             let (read, len): (&mut [u8], usize) = match op {
