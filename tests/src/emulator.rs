@@ -154,6 +154,12 @@ impl Emulator {
         };
         if let Some(pulse) = due {
             self.0.sync0_last.set(Some(pulse));
+            // The pin shows an edge only as the EEPROM's configuration area lets it: the SYNC out
+            // unit on, SYNC0 an output, and in acknowledge mode only after the PDI read 0x098E
+            // (`Esc::sync0_pulse`).
+            if !self.0.esc.borrow_mut().sync0_pulse() {
+                return;
+            }
             self.0.sync0_pulses.set(self.0.sync0_pulses.get() + 1);
             for waker in self.0.sync0_waiters.borrow_mut().drain(..) {
                 waker.wake();

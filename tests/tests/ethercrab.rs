@@ -215,16 +215,53 @@ fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {
     );
 }
 
-/// A DC-capable drive and sensor (ESCs with 64-bit DC, devices supporting DC SYNC0).
+/// A device with an explicit device ID advertises it in its SII General category (flag bit 3,
+/// IdentALSts, which ethercrab knows as `IDENT_AL_STATUS`): ethercrab reads the image as any
+/// other, and the ID request (AL control bit 5) shows the ID in 0x0134 with AL status bit 5.
+#[test]
+fn ethercrab_reads_an_image_advertising_an_explicit_device_id() {
+    let mut sample = devices::dio();
+    sample.device.config.explicit_device_id = true;
+    sample.device.device_id = 0x0A5C;
+    sample.device.eeprom = sample.eeprom();
+    let (status, code) = run_on_line(
+        vec![Box::new(sample.device)],
+        timeouts(),
+        async |main, masters| {
+            let _group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
+                .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
+                .await
+                .expect("discovery");
+            ethercrab::Command::fpwr(0x1000, 0x0120)
+                .send(main, 0x0022u16)
+                .await
+                .expect("AL control: PREOP, device ID requested");
+            let read = |register| ethercrab::Command::fprd(0x1000, register).receive::<u16>(main);
+            let mut status = 0;
+            for _ in 0..100 {
+                status = read(0x0130).await.expect("AL status");
+                if status & 0x20 != 0 {
+                    break;
+                }
+                next_cycle(&masters).await;
+            }
+            (status, read(0x0134).await.expect("AL status code"))
+        },
+    );
+    assert_eq!((status, code), (0x0022, 0x0A5C));
+}
+
+/// A DC-capable drive and sensor (ESCs with 64-bit DC, the emulated chip's default, devices
+/// supporting DC SYNC0). Their SII images are written for DC SYNC0: the configuration area turns
+/// the ESC's SYNC out unit on, without which no SYNC0 pulse would leave the ESC.
 fn dc_line() -> Vec<Box<dyn Spawn>> {
-    let mut drive = devices::drive().device;
-    let mut sensor = devices::sensor().device;
-    for config in [&mut drive.config, &mut sensor.config] {
+    let (mut drive, mut sensor) = (devices::drive(), devices::sensor());
+    for config in [&mut drive.device.config, &mut sensor.device.config] {
         config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
     }
-    drive.esc.dc_supported = true;
-    sensor.esc.dc_supported = true;
-    vec![Box::new(drive), Box::new(sensor)]
+    drive.device.eeprom = drive.eeprom();
+    sensor.device.eeprom = sensor.eeprom();
+    vec![Box::new(drive.device), Box::new(sensor.device)]
 }
 
 /// ethercrab configures DC SYNC0 the way it does for any DC SubDevice (the ESC's SYNC unit;

@@ -593,11 +593,13 @@ fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode()
     });
 }
 
-/// An input-only DC device: SAFEOP→OP waits for SYNC0 (there are no outputs to wait for).
+/// An input-only DC device: SAFEOP→OP waits for SYNC0 (there are no outputs to wait for). Its
+/// SII image is written for DC SYNC0: the ESC's SYNC out unit is on.
 fn input_only_dc(start_in: Duration, expected: (u16, u16)) {
-    let mut device = ecat_emu::devices::sensor().device;
-    device.config.sync = SupportedSync(device.config.sync.0 | SupportedSync::SYNC0);
-    harness::run(device, move |master| async move {
+    let mut sample = ecat_emu::devices::sensor();
+    sample.device.config.sync = SupportedSync(sample.device.config.sync.0 | SupportedSync::SYNC0);
+    sample.device.eeprom = sample.eeprom();
+    harness::run(sample.device, move |master| async move {
         master.configure_mailbox(&ecat_core::device::MailboxConfig::contiguous(0x1000, 128));
         assert_eq!(master.request(0x02).await, (0x02, 0));
         program_dc(&master, 0x03, 1_000_000, start_in);

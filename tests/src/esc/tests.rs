@@ -1,6 +1,7 @@
 //! Byte-exact tests of the emulated ESC against the register and SyncManager rules.
 
 use ecat_core::AlEvent;
+use ecat_core::chip::{Chip, ConfigArea};
 use ecat_core::register::{self, sync_manager};
 
 use super::{Esc, EscConfig, PdiStats};
@@ -95,8 +96,10 @@ fn dl_information_reflects_the_configuration() {
         process_ram_end: 0x2000,
         esc_type: 0x42,
         dc_supported: true,
+        ..EscConfig::default()
     });
-    let info = [0x42, 0, 0, 0, 3, 4, 4, 0, 0x0C, 0x01]; // features: DC, 64-bit, enhanced SYNC
+    // Revision, port descriptor (ports 0 and 1 MII) and features from the chip (ET1100: 0x01FC).
+    let info = [0x42, 0, 0, 0, 3, 4, 4, 0x0F, 0xFC, 0x01];
     assert_eq!(ecat_bytes(&mut esc, register::DL_INFORMATION, 10), info);
     assert_eq!(ecat_bytes(&mut esc, register::DL_STATUS, 2), [0x11, 0x02]);
     assert_eq!(ecat_bytes(&mut esc, register::PDI_CONTROL, 1), [0x05]);
@@ -116,7 +119,7 @@ fn dl_information_reflects_the_configuration() {
     esc.ecat_write(register::DL_INFORMATION, &[0xFF; 10]);
     esc.pdi_write(register::DL_INFORMATION, &[0xFF; 10]);
     assert_eq!(pdi_read(&mut esc, register::DL_INFORMATION, 10), info);
-    assert_eq!(pdi_read(&mut esc, register::FEATURES, 2), [0x0C, 0x01]);
+    assert_eq!(pdi_read(&mut esc, register::FEATURES, 2), [0xFC, 0x01]);
 }
 
 #[test]
@@ -683,5 +686,98 @@ fn lrw_through_a_read_write_fmmu_returns_the_memory_before_its_write() {
         ecat_bytes(&mut esc, 0x1200, 2),
         [0xAA, 0xBB],
         "then written"
+    );
+}
+
+// ---- the EEPROM configuration area ----
+
+/// At EEPROM load the ESC puts word 0 into 0x0140/0x0141, word 1 into 0x0150/0x0151, word 2
+/// into 0x0982, word 3 into 0x0152 and word 4 into 0x0012 (ESC datasheet section II, "EEPROM
+/// configuration area"); neither port writes them. Without an EEPROM PDI control stays 0.
+#[test]
+fn the_configuration_area_is_loaded_into_its_registers() {
+    let blank = Esc::new(EscConfig {
+        eeprom: None,
+        ..EscConfig::default()
+    });
+    assert_eq!(blank.register(register::PDI_CONTROL), 0x00, "no PDI");
+    let mut esc = esc();
+    let area = ConfigArea {
+        pdi_control: 0x05,
+        esc_configuration: 0x0C,
+        pdi_configuration: 0x03,
+        sync_latch_configuration: 0x44,
+        sync_pulse_length: 0x2710,
+        extended_pdi_configuration: 0x1234,
+        station_alias: 0xBEEF,
+        vendor_words: [0, 0],
+    };
+    esc.load_eeprom(area.bytes().to_vec());
+    assert_eq!(ecat_bytes(&mut esc, 0x0140, 2), [0x05, 0x0C]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0150, 4), [0x03, 0x44, 0x34, 0x12]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0982, 2), [0x10, 0x27]);
+    assert_eq!(
+        ecat_bytes(&mut esc, register::STATION_ALIAS, 2),
+        [0xEF, 0xBE]
+    );
+    esc.ecat_write(0x0140, &[0; 2]);
+    esc.pdi_write(0x0150, &[0; 4]);
+    esc.ecat_write(0x0982, &[0; 2]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0140, 2), [0x05, 0x0C], "read-only");
+    assert_eq!(ecat_bytes(&mut esc, 0x0150, 4), [0x03, 0x44, 0x34, 0x12]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0982, 2), [0x10, 0x27]);
+}
+
+/// 0x0141 bit 0, device emulation: the ESC itself copies AL control into AL status; the stack's
+/// area leaves it off, so AL status is the PDI's.
+#[test]
+fn device_emulation_copies_al_control_into_al_status() {
+    let mut esc = esc();
+    esc.ecat_write(register::AL_CONTROL, &[0x02, 0]);
+    assert_eq!(ecat_bytes(&mut esc, register::AL_STATUS, 2), [0x00, 0x00]);
+    let area = ConfigArea {
+        esc_configuration: 0x01,
+        ..ConfigArea::new(&Chip::ET1100, false)
+    };
+    esc.load_eeprom(area.bytes().to_vec());
+    esc.ecat_write(register::AL_CONTROL, &[0x02, 0]);
+    assert_eq!(ecat_bytes(&mut esc, register::AL_STATUS, 2), [0x02, 0x00]);
+}
+
+/// SYNC0 in acknowledge mode (0x0982 = 0): a pulse raises the signal (0x098E bit 0) and later
+/// pulses make no edge until the PDI reads 0x098E; with a pulse length every pulse is an edge.
+#[test]
+fn acknowledge_mode_holds_sync0_until_the_pdi_reads_its_status() {
+    let mut esc = esc();
+    assert!(
+        esc.sync0_output_enabled(),
+        "the stack's area for a DC device"
+    );
+    assert!(esc.sync0_pulse() && esc.sync0_pulse(), "1 µs pulses");
+    let area = ConfigArea {
+        sync_pulse_length: 0,
+        ..ConfigArea::new(&Chip::ET1100, true)
+    };
+    esc.load_eeprom(area.bytes().to_vec());
+    assert!(esc.sync0_pulse());
+    assert!(!esc.sync0_pulse(), "still active");
+    assert_eq!(
+        ecat_bytes(&mut esc, 0x098E, 1),
+        [0x01],
+        "an ECAT read leaves it"
+    );
+    assert!(!esc.sync0_pulse());
+    assert_eq!(pdi_read(&mut esc, 0x098E, 1), [0x01]);
+    assert_eq!(
+        pdi_read(&mut esc, 0x098E, 1),
+        [0x00],
+        "the PDI read acknowledged it"
+    );
+    assert!(esc.sync0_pulse());
+    let off = ConfigArea::new(&Chip::ET1100, false);
+    esc.load_eeprom(off.bytes().to_vec());
+    assert!(
+        !esc.sync0_output_enabled(),
+        "SYNC out unit off, SYNC0 a latch input"
     );
 }
