@@ -29,6 +29,7 @@
 //! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
+//! | [`indicator`] | the RUN and ERR indicators: patterns, AL state/code → pattern, next edge (ETG.1300 §4) |
 //! | [`cia402`] | the CiA 402 drive profile: PDS state machine, option codes, statusword, modes (IEC 61800-7-201 §6.2) |
 #![no_std]
 #![cfg_attr(
@@ -51,6 +52,7 @@ pub mod device;
 pub mod dictionary;
 pub mod esi;
 pub mod esm;
+pub mod indicator;
 pub mod mailbox;
 pub mod pdo;
 pub mod process_data;
