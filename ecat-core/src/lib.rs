@@ -27,6 +27,7 @@
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
 //! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
+//! | [`sync_error`] | sync error supervision: the SM/SYNC-event-missed counter against 0x10F1:02 → SAFEOP + 0x001A (ETG.1020 §6.3) |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
 //! | [`indicator`] | the RUN and ERR indicators: patterns, AL state/code → pattern, next edge (ETG.1300 §4) |
@@ -61,6 +62,7 @@ pub mod ring;
 pub mod sii;
 pub mod subdevice;
 pub mod sync;
+pub mod sync_error;
 pub mod sync_manager;
 pub mod time;
 

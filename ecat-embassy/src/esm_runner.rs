@@ -150,6 +150,9 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     if notes.contains(Notes::SYNC_LOST) {
         sub.sync_lost();
     }
+    if notes.contains(Notes::SYNC_ERROR) {
+        sub.sync_error();
+    }
     if notes.contains(Notes::OUTPUTS_RECEIVED) {
         sub.outputs_received();
     }

@@ -143,6 +143,8 @@ impl Notes {
     pub(crate) const SYNC_RECEIVED: Self = Self(2);
     /// No SYNC0 for too long in OP.
     pub(crate) const SYNC_LOST: Self = Self(4);
+    /// The sync error supervision tripped (0x10F1, too many missed SM/SYNC events).
+    pub(crate) const SYNC_ERROR: Self = Self(8);
 
     const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
