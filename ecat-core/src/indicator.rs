@@ -77,15 +77,15 @@ pub enum Pattern {
 pub const LED_OVERRIDE: u8 = 0x10;
 
 impl Pattern {
-    /// The phases in milliseconds, alternately on and off, the first on; empty for a steady
-    /// pattern.
-    const fn phases(self) -> &'static [u64] {
+    /// The phases in milliseconds: on, off, on, off (a second flash only in the double flash;
+    /// all 0 for a steady pattern).
+    const fn phases(self) -> [u32; 4] {
         match self {
-            Self::Off | Self::On => &[],
-            Self::Flickering => &[50, 50],
-            Self::Blinking => &[200, 200],
-            Self::SingleFlash => &[200, 1000],
-            Self::DoubleFlash => &[200, 200, 200, 1000],
+            Self::Off | Self::On => [0; 4],
+            Self::Flickering => [50, 50, 0, 0],
+            Self::Blinking => [200, 200, 0, 0],
+            Self::SingleFlash => [200, 1000, 0, 0],
+            Self::DoubleFlash => [200, 200, 200, 1000],
         }
     }
 
@@ -93,21 +93,23 @@ impl Pattern {
     /// ever). Phases are half-open: at an edge the level is already the new one.
     pub fn level_at(self, elapsed: Duration) -> (bool, Option<Duration>) {
         let phases = self.phases();
-        let period: u64 = phases.iter().sum::<u64>().saturating_mul(1_000);
+        let [a, b, c, d] = phases;
+        // At most 1.6 s: microseconds fit 32 bits (the Cortex-M4 divides those in hardware).
+        let period = (a + b + c + d) * 1_000;
         if period == 0 {
             return (self == Self::On, None);
         }
-        let mut at = elapsed.as_micros() % period;
+        let at = remainder(elapsed.as_micros(), u64::from(period)) as u32;
+        let mut end = 0;
         let mut on = true;
         for phase in phases {
-            let length = phase.saturating_mul(1_000);
-            if at < length {
-                return (on, Some(Duration::from_micros(length - at)));
+            end += phase * 1_000;
+            if at < end {
+                return (on, Some(Duration::from_micros(u64::from(end - at))));
             }
-            at -= length;
             on = !on;
         }
-        // Not reached: `at` is below the sum of the phases.
+        // Not reached: `at` is below the period, the last `end`.
         (false, None)
     }
 
@@ -128,6 +130,25 @@ impl Pattern {
     pub const fn override_register(self) -> u8 {
         LED_OVERRIDE | self.led_code()
     }
+}
+
+/// `x % m` for `m > 0` by shifts and subtractions (at most 64 steps): a 64-bit `%` would pull
+/// the 64-bit division routine (about 0.9 KB on a Cortex-M4, which divides 32 bits in hardware)
+/// into a firmware that has none otherwise.
+fn remainder(mut x: u64, m: u64) -> u64 {
+    if m == 0 || x < m {
+        return x;
+    }
+    // `x >= m > 0`, so `m`'s highest bit is at or below `x`'s: the shift keeps every bit of `m`.
+    let shift = m.leading_zeros() - x.leading_zeros();
+    let mut d = m << shift;
+    for _ in 0..=shift {
+        if x >= d {
+            x -= d;
+        }
+        d >>= 1;
+    }
+    x
 }
 
 /// RUN for an AL state (ETG.1300 §4.3).
@@ -325,5 +346,41 @@ impl Indicators {
             (Some(a), Some(b)) => Some(if a < b { a } else { b }),
             (a, b) => a.or(b),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::remainder;
+
+    #[test]
+    fn remainder_is_the_remainder() {
+        let moduli = [
+            1,
+            3,
+            100_000,
+            400_000,
+            1_200_000,
+            1_600_000,
+            u64::from(u32::MAX),
+            u64::MAX,
+        ];
+        let values = [
+            0,
+            1,
+            99_999,
+            100_000,
+            1_599_999,
+            1_600_001,
+            1 << 40,
+            u64::MAX - 1,
+            u64::MAX,
+        ];
+        for m in moduli {
+            for x in values {
+                assert_eq!(remainder(x, m), x % m, "{x} % {m}");
+            }
+        }
+        assert_eq!(remainder(7, 0), 7);
     }
 }
