@@ -1,7 +1,7 @@
 //! The RUN and ERR indicators of ETG.1300 (EtherCAT Indicator and Labeling Specification), sans-IO:
 //! the AL state and error in, the LED levels and the instant of the next edge out.
 //!
-//! ## Patterns (ETG.1300 §4, the indicator states it shares with CiA 303-3)
+//! ## Patterns (ETG.1300, the indicator states it shares with CiA 303-3)
 //!
 //! | pattern | timeline, repeated |
 //! |---|---|
@@ -16,11 +16,11 @@
 //! does not change keeps its phase. So a new state is visible at once (a SAFEOP single flash
 //! starts with its flash, not with up to a second of darkness), and RUN and ERR run independently.
 //!
-//! ## RUN (ETG.1300 §4.3, the EtherCAT state)
+//! ## RUN (ETG.1300, the EtherCAT state)
 //!
 //! INIT off, PREOP blinking, SAFEOP single flash, OP on, BOOT flickering ([`run_pattern`]).
 //!
-//! ## ERR (ETG.1300 §4.4, the error state)
+//! ## ERR (ETG.1300, the error state)
 //!
 //! With the AL status error indication (0x0130 bit 4) clear, ERR is off. With it set, the AL
 //! status code decides ([`err_pattern`]), as the EtherCAT Slave Stack Code (ET9300,
@@ -38,7 +38,7 @@
 //! code: flickering (booting error) and on (application controller failure, e.g. the PDI
 //! watchdog) are what the application reports with [`Indicators::set_fault`].
 //!
-//! ## One bicolour LED (ETG.1300 §4.5)
+//! ## One bicolour LED (ETG.1300)
 //!
 //! A device with one red/green LED shows both indicators on it ([`Levels::bicolour`]): red where
 //! ERR is on, green where RUN is on and ERR is off, dark otherwise: the error wins a conflict,
@@ -51,10 +51,25 @@
 //! ([`LED_OVERRIDE`]) set; a write of the AL status clears RUN's override enable.
 //! [`Pattern::override_register`] gives the byte to write.
 
+//!
+//! ## Sources
+//!
+//! The ETG.1300 text itself is for ETG members; what is implemented here was checked against
+//! public material that reproduces it: the timings and the RUN/ERR meanings in device manuals
+//! (Bronkhorst's EtherCAT manual: blinking 200/200 ms, single flash 200/1000 ms, double flash
+//! 200/200/200/1000 ms; Novanta's drive manual: flickering 50/50 ms; Stöber's: the RUN and ERR
+//! meanings), the ESC's own ERR LED
+//! states in Beckhoff's "EtherCAT Slave Controller Technology" (Section I, ERR LED: double flash
+//! for a process-data watchdog timeout in OP, single flash for the error indication set
+//! locally), the LED override registers 0x0138/0x0139 in the ESC register descriptions
+//! (Section II), and the code classes in SSC's `SetALStatus`. Two choices are this crate's, not
+//! found in those sources: a changed pattern restarts with its on phase, and the bicolour LED
+//! shows red whenever ERR is on (CiA 303-3's rule for its combined LED).
+
 use crate::al::{AlState, AlStatus, AlStatusCode};
 use crate::time::{Duration, Instant};
 
-/// An indicator's blink pattern (ETG.1300 §4.2).
+/// An indicator's blink pattern (ETG.1300).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Pattern {
     /// Constantly off.
@@ -151,7 +166,7 @@ fn remainder(mut x: u64, m: u64) -> u64 {
     x
 }
 
-/// RUN for an AL state (ETG.1300 §4.3).
+/// RUN for an AL state (ETG.1300).
 pub const fn run_pattern(state: AlState) -> Pattern {
     match state {
         AlState::Init => Pattern::Off,
@@ -163,7 +178,7 @@ pub const fn run_pattern(state: AlState) -> Pattern {
 }
 
 /// ERR for the AL status code shown with the error indication set, `None` when it is clear
-/// (ETG.1300 §4.4; the code classes as SSC's `SetALStatus` draws them, see the module docs).
+/// (ETG.1300; the code classes as SSC's `SetALStatus` draws them, see the module docs).
 pub const fn err_pattern(error: Option<AlStatusCode>) -> Pattern {
     match error {
         None => Pattern::Off,
@@ -175,7 +190,7 @@ pub const fn err_pattern(error: Option<AlStatusCode>) -> Pattern {
     }
 }
 
-/// An error the AL status code does not tell, which the application reports (ETG.1300 §4.4).
+/// An error the AL status code does not tell, which the application reports (ETG.1300).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Fault {
     /// Booting error (e.g. a firmware checksum error): ERR flickers.
@@ -205,7 +220,7 @@ pub enum Colour {
 }
 
 impl Levels {
-    /// Both indicators on one bicolour LED: ERR wins (ETG.1300 §4.5, see the module docs).
+    /// Both indicators on one bicolour LED: ERR wins (ETG.1300, see the module docs).
     pub const fn bicolour(self) -> Colour {
         if self.err {
             Colour::Red

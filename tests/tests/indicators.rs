@@ -1,7 +1,7 @@
 //! The indicator task (`ecat_embassy::run_indicators`) beside the real runners, in virtual time:
 //! the exact (ms, level) writes to the RUN and ERR pins as a MainDevice walks the SubDevice
 //! INIT → PREOP → SAFEOP → OP and then stops sending outputs (SM watchdog, 0x001B), and the same
-//! on one bicolour LED. Patterns and code classes: ETG.1300 §4 (`ecat_core::indicator`).
+//! on one bicolour LED. Patterns and code classes: ETG.1300 (`ecat_core::indicator`).
 
 mod common;
 
