@@ -288,10 +288,55 @@ mod sync_parameters_kind {
             assert_eq!(object.info.code, ObjectCode::Record);
             assert_eq!(object.info.name, name);
             let subs: Vec<u8> = object.info.subindices().collect();
-            assert_eq!(subs, [0, 1, 2, 3, 4, 5, 6, 9, 0x0B, 0x0C, 0x20]);
-            assert_eq!(object.info.entry(1).unwrap().access, si1);
-            assert_eq!(object.info.entry(2).unwrap().access, Access::RW_PREOP);
-            assert_eq!(object.info.entry(0x20).unwrap().access, Access::RO);
+            // SSC's record: SI 1..0x0D and 0x20, SI0 = 0x20 (ETG.1000.6 Table 74).
+            assert_eq!(
+                subs,
+                [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 0x0A, 0x0B, 0x0C, 0x0D, 0x20]
+            );
+            assert_eq!(object.info.max_sub, 0x20);
+            let described: Vec<_> = subs
+                .iter()
+                .map(|&s| {
+                    let e = object.info.entry(s).unwrap();
+                    (s, e.data_type.code(), e.bit_len, e.access.0)
+                })
+                .collect();
+            assert_eq!(
+                described,
+                [
+                    (0, 0x0005, 8, 0x0007),
+                    (1, 0x0006, 16, si1.0),
+                    (2, 0x0007, 32, 0x000F),
+                    (3, 0x0007, 32, 0x0007),
+                    (4, 0x0006, 16, 0x0007),
+                    (5, 0x0007, 32, 0x0007),
+                    (6, 0x0007, 32, 0x0007),
+                    (7, 0x0007, 32, 0x0007),
+                    (8, 0x0006, 16, 0x003F),
+                    (9, 0x0007, 32, 0x0007),
+                    (0x0A, 0x0007, 32, 0x0007),
+                    (0x0B, 0x0006, 16, 0x0007),
+                    (0x0C, 0x0006, 16, 0x0007),
+                    (0x0D, 0x0006, 16, 0x0007),
+                    (0x20, 0x0001, 1, 0x0007),
+                ]
+            );
+            assert_eq!(object.info.entry(0x0E), None, "the gap 0x0E..0x1F");
+            assert_eq!(object.info.entry(0x1F), None);
+            let mut od = Od::default();
+            let mut out = [0xAA; 4];
+            assert_eq!((object.read)(&od, 0, 0, &mut out).unwrap().copied, 1);
+            assert_eq!(out[0], 0x20, "SI0");
+            // SI8 (get cycle time) takes a command word and keeps it; 0 by default.
+            assert_eq!((object.read)(&od, 8, 0, &mut out).unwrap().size, 2);
+            assert_eq!(out[..2], [0, 0]);
+            (object.write)(&mut od, 8, &[0x01, 0x00]).unwrap();
+            (object.read)(&od, 8, 0, &mut out).unwrap();
+            assert_eq!(out[..2], [0x01, 0x00]);
+            assert_eq!(
+                (object.write)(&mut od, 0x0E, &[0, 0]),
+                Err(ecat_core::coe::AbortCode::NO_SUBINDEX)
+            );
             let mut out = [0u8; 2];
             assert_eq!(
                 (object.limit)(1, Limit::Default, &mut out),

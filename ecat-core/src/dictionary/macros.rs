@@ -26,7 +26,8 @@
 /// so a value a MainDevice writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is
 /// replaced by the type in effect when the configuration is next refreshed, and one that is no
 /// sync type is refused, [`sync::check_input_sync_write`](crate::sync::check_input_sync_write);
-/// SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C, 0x20 read-only).
+/// SI2 cycle time writable in PREOP; SI8 get cycle time writable in every state; SI3..SI7, SI9,
+/// SI 0x0A..0x0D, 0x20 read-only; SI0 = 0x20, as SSC).
 ///
 /// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
 /// declaring as defaults) the communication types of SM0..SM3, [`sii::SM_TYPES`](crate::sii::SM_TYPES):
@@ -121,11 +122,13 @@ macro_rules! dictionary {
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
 
+            #[allow(unused_variables)] // a dictionary without RxPDO-mappable entries
             fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(unpack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
             }
 
+            #[allow(unused_variables)] // a dictionary without TxPDO-mappable entries
             fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(pack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
@@ -283,11 +286,11 @@ macro_rules! __ecat_object {
         }
     };
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, outputs )) => {
-        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM output parameter", RW_PREOP, 1)
+        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM output parameter", output_limit)
     };
     ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {{
         const RECORD: $crate::dictionary::Object<$dict> =
-            $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RW_PREOP, 0x22);
+            $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", input_limit);
         $crate::dictionary::Object::<$dict> {
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
                 $crate::sync::check_input_sync_write(sub, data)?;
@@ -437,10 +440,10 @@ macro_rules! __ecat_default {
         $crate::sii::SM_TYPES
     };
     (sync_parameters ( $field:ident, outputs )) => {
-        $crate::sync::SyncParameters { sync_type: 1, ..$crate::sync::SyncParameters::DEFAULT }
+        $crate::sync::SyncParameters::OUTPUTS
     };
     (sync_parameters ( $field:ident, inputs )) => {
-        $crate::sync::SyncParameters { sync_type: 0x22, ..$crate::sync::SyncParameters::DEFAULT }
+        $crate::sync::SyncParameters::INPUTS
     };
     (record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
@@ -451,23 +454,27 @@ macro_rules! __ecat_default {
 }
 
 /// The record of a sync manager parameter object (0x1C32 outputs, 0x1C33 inputs; ETG.1000.6
-/// Table 74) with the entries the stack fills: SI1's access and default differ.
+/// Table 74): the standard entries ([`sync::PARAMETER_ENTRIES`](crate::sync::PARAMETER_ENTRIES)),
+/// read and written by the non-generic [`SyncParameters`](crate::sync::SyncParameters) methods
+/// every dictionary shares; `$limit` declares SI1's default.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_sync_parameters {
-    ($dict:ident, $index:literal, $field:ident, $name:literal, $sync_access:ident, $sync_default:literal) => {
-        $crate::__ecat_object!($dict, $index, record ( $field : SyncParameters, $name ) {
-            1 => sync_type, $sync_access, "Synchronization type", default = $sync_default;
-            2 => cycle_time, RW_PREOP, "Cycle time";
-            3 => shift_time, RO, "Shift time";
-            4 => supported, RO, "Synchronization types supported";
-            5 => min_cycle_time, RO, "Minimum cycle time";
-            6 => calc_copy_time, RO, "Calc and copy time";
-            9 => delay_time, RO, "Delay time";
-            0x0B => sm_event_missed, RO, "SM event missed counter";
-            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
-            0x20 => sync_error, RO, "Sync error";
-        })
+    ($dict:ident, $index:literal, $field:ident, $name:literal, $limit:ident) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Record,
+                name: $name,
+                max_sub: $crate::sync::SyncParameters::MAX_SUB,
+                entries: $crate::sync::PARAMETER_ENTRIES,
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                d.$field.read(sub, offset, out)
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| d.$field.write(sub, data),
+            limit: $crate::sync::$limit,
+        }
     };
 }
 
