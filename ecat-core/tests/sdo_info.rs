@@ -353,13 +353,19 @@ fn object_description_of_an_array_reports_the_element_type_and_count() {
 }
 
 #[test]
-fn object_description_of_a_record_reports_no_type_and_the_highest_subindex() {
+fn object_description_of_a_record_reports_its_standard_type_and_the_highest_subindex() {
+    // 0x1018: data type 0x0023 IDENTITY (SSC's DEFTYPE_IDENTITY), max sub 3, RECORD.
     assert_eq!(
         ask(&[0x03, 0x00, 0x00, 0x00, 0x18, 0x10]),
         message(
             0x04,
-            &[&[0x18, 0x10, 0x00, 0x00, 0x03, 0x09], b"Identity object"]
+            &[&[0x18, 0x10, 0x23, 0x00, 0x03, 0x09], b"Identity object"]
         )
+    );
+    // An application's record has no type of its own: 0x0000.
+    assert_eq!(
+        ask(&[0x03, 0x00, 0x00, 0x00, 0x00, 0x70]),
+        message(0x04, &[&[0x00, 0x70, 0x00, 0x00, 0x02, 0x09], b"Outputs"])
     );
 }
 

@@ -246,7 +246,7 @@ macro_rules! __ecat_object {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
-                code: $crate::dictionary::ObjectCode::Array,
+                code: $crate::dictionary::pdo_object_code($index),
                 name: $name,
                 max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field.items),
                 entries: &[

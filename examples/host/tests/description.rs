@@ -574,9 +574,14 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             assert_eq!(number(text(items[1], "BitOffs")), offsets[1] as u64);
             check_flags(child(items[1], "Flags"), element.access, info.name);
         } else {
-            assert_eq!(items.len(), info.entries.len());
-            for ((entry, item), offset) in info.entries.iter().zip(&items).zip(&offsets) {
-                assert_eq!(number(text(*item, "SubIdx")), u64::from(entry.sub));
+            // A uniform RECORD (a PDO mapping) lists every subindex with its one description.
+            let entries: Vec<_> = info
+                .subindices()
+                .filter_map(|s| Some((s, info.entry(s)?)))
+                .collect();
+            assert_eq!(items.len(), entries.len());
+            for (((sub, entry), item), offset) in entries.iter().zip(&items).zip(&offsets) {
+                assert_eq!(number(text(*item, "SubIdx")), u64::from(*sub));
                 assert_eq!(text(*item, "Name"), entry.name);
                 assert_eq!(text(*item, "Type"), type_name(entry));
                 assert_eq!(number(text(*item, "BitSize")), u64::from(entry.bit_len));
