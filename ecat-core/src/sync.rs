@@ -13,14 +13,10 @@
 //! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them ([`check_dc`];
 //! a device without DC refuses any activation with 0x0030).
 //!
-//! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard
-//! subindices (`dictionary!`'s `sync_parameters` kind writes them); the stack reads the sync type
-//! the MainDevice chose and fills the rest:
-//!
-//! ```text
-//! 0x1C32 => sync_parameters(sync_out, outputs);
-//! 0x1C33 => sync_parameters(sync_in, inputs);
-//! ```
+//! 0x1C32 and 0x1C33 are records of [`SyncParameters`] with SSC's subindices, part of the
+//! communication area every CoE dictionary gets from `dictionary!`'s `communication` item
+//! ([`crate::dictionary::communication`]); the stack reads the sync type the MainDevice chose
+//! and fills the rest.
 
 use crate::AlStatusCode;
 use crate::coe::AbortCode;
@@ -236,6 +232,15 @@ impl SyncParameters {
             0x20 => put(&mut self.sync_error, data),
             _ => Err(AbortCode::NO_SUBINDEX),
         }
+    }
+}
+
+impl SyncParameters {
+    /// [`SyncParameters::write`] of 0x1C33: SI1 must name a sync type of the inputs
+    /// ([`check_input_sync_write`]).
+    pub fn write_input(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+        check_input_sync_write(sub, data)?;
+        self.write(sub, data)
     }
 }
 
@@ -502,7 +507,7 @@ pub fn fill<D: ObjectDictionary>(
 
 /// Writes an entry the stack fills, in its encoding, through the object's typed `write` (the
 /// same decoding an SDO download gets; read-only is the MainDevice's restriction, not the
-/// stack's). The entries of `sync_parameters` have the sizes written here.
+/// stack's). The entries of [`PARAMETER_ENTRIES`] have the sizes written here.
 fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
     let _ = (object.write)(od, sub, bytes);
 }
@@ -793,14 +798,26 @@ mod tests {
     }
 
     struct Od {
-        outputs: SyncParameters,
-        inputs: SyncParameters,
+        area: crate::dictionary::Communication,
     }
 
+    const INFO: crate::dictionary::DeviceInfo = crate::dictionary::DeviceInfo {
+        device_type: 0,
+        name: "sync test",
+        hardware_version: "1",
+        software_version: "1",
+        identity: crate::device::Identity {
+            vendor_id: 1,
+            product_code: 1,
+            revision: 1,
+            serial: 1,
+        },
+    };
+
     crate::dictionary! {
-        Od {
-            0x1C32 => sync_parameters(outputs, outputs);
-            0x1C33 => sync_parameters(inputs, inputs);
+        // A test of 0x1C32/0x1C33 alone: no PDOs.
+        minimal Od {
+            communication(area, INFO);
         }
     }
 
@@ -819,10 +836,10 @@ mod tests {
         };
         let mut od = Od::default();
         fill(&mut od, &device, Some(SyncType::DcSync0), None, dc, true);
-        for p in [od.outputs, od.inputs] {
+        for p in [od.area.outputs, od.area.inputs] {
             assert_eq!((p.sync0_cycle_time, p.cycle_time), (1_000_000, 1_000_000));
         }
-        assert_eq!(od.inputs.sync_type, 2, "the inputs follow the outputs");
+        assert_eq!(od.area.inputs.sync_type, 2, "the inputs follow the outputs");
         fill(
             &mut od,
             &device,
@@ -831,10 +848,10 @@ mod tests {
             dc,
             true,
         );
-        for p in [od.outputs, od.inputs] {
+        for p in [od.area.outputs, od.area.inputs] {
             assert_eq!(p.sync0_cycle_time, 0);
         }
-        assert_eq!(od.inputs.sync_type, 0x22);
+        assert_eq!(od.area.inputs.sync_type, 0x22);
         fill(
             &mut od,
             &device,
@@ -844,7 +861,7 @@ mod tests {
             true,
         );
         assert_eq!(
-            od.outputs.sync0_cycle_time, 1_000_000,
+            od.area.outputs.sync0_cycle_time, 1_000_000,
             "not the written cycle"
         );
     }

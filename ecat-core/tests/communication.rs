@@ -4,21 +4,17 @@
 use ecat_core::DeviceConfig;
 use ecat_core::coe::sdo_info::{InfoRequest, SdoInfo};
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::ObjectDictionary;
+use ecat_core::dictionary::{Communication, DeviceInfo, ObjectDictionary};
 use ecat_core::esi::{self, Description};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::Names;
-use ecat_core::sync::SyncParameters;
 
 struct Od {
-    identity: Identity,
-    sm_types: [u8; 4],
+    area: Communication,
     rx: PdoMapping<2>,
     tx: PdoMapping<1>,
     rx_assign: PdoAssignment<1>,
     tx_assign: PdoAssignment<1>,
-    outputs_sync: SyncParameters,
-    inputs_sync: SyncParameters,
     outputs: [u8; 2],
     inputs: u16,
 }
@@ -30,6 +26,14 @@ const IDENTITY: Identity = Identity {
     serial: 1,
 };
 
+const INFO: DeviceInfo = DeviceInfo {
+    device_type: 5001,
+    name: "Probe",
+    hardware_version: "1",
+    software_version: "0.1.0",
+    identity: IDENTITY,
+};
+
 const RX: [MappingEntry; 2] = [
     MappingEntry::new(0x7000, 1, 8),
     MappingEntry::new(0x7000, 2, 8),
@@ -38,14 +42,11 @@ const TX: [MappingEntry; 1] = [MappingEntry::new(0x6000, 0, 16)];
 
 ecat_core::dictionary! {
     Od {
-        0x1018 => identity(identity, IDENTITY);
+        communication(area, INFO);
         0x1600 => pdo(rx, RW_PREOP, "RxPDO", "Mapped object", default = PdoMapping::mapping(&RX));
         0x1A00 => pdo(tx, RO, "TxPDO", "Mapped object", default = PdoMapping::mapping(&TX));
-        0x1C00 => sync_manager_types(sm_types);
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x1C32 => sync_parameters(outputs_sync, outputs);
-        0x1C33 => sync_parameters(inputs_sync, inputs);
         0x6000 => var(inputs, RO | TXPDO, "Inputs");
         0x7000 => array(outputs, RW | RXPDO, "Outputs", "Output");
     }

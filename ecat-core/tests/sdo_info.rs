@@ -28,7 +28,7 @@ struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
+    minimal Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
         0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
         0x1018 => record(identity: Identity, "Identity object") {
@@ -693,7 +693,7 @@ macro_rules! big_dictionary {
         }
 
         ecat_core::dictionary! {
-            Big {
+            minimal Big {
                 $($index => var($field, $access, "Object");)*
             }
         }

@@ -664,9 +664,10 @@ fn profile_and_pdo_flags_of_the_samples() {
     );
     assert!(sensor.contains("<TxPdo Sm=\"3\" Fixed=\"true\">\n"));
     assert!(!sensor.contains("<RxPdo"), "the sensor has no outputs");
+    // Every sample has the communication area: the drive's 0x1000 is a CiA 402 servo drive's.
     assert!(
-        !xml("drive").contains("<ProfileNo>"),
-        "the drive has no 0x1000"
+        xml("drive").contains("<ProfileNo>402</ProfileNo>\n"),
+        "0x1000 = 0x00020192"
     );
 }
 
