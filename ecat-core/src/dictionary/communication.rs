@@ -24,7 +24,7 @@
 //! whether a MainDevice may change them is the device's choice. A CoE device's dictionary must
 //! have both assignment objects (empty for a direction without data): `dictionary!` asserts it.
 
-use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read};
+use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read, read_value};
 use crate::coe::AbortCode;
 use crate::device::Identity;
 use crate::sii;
@@ -145,15 +145,13 @@ pub const SM_TYPES: ObjectInfo = ObjectInfo {
 
 /// Copies `bytes` from `offset` into `out`.
 fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
+    let size = bytes.len();
     let rest = bytes.get(offset..).unwrap_or_default();
     let copied = rest.len().min(out.len());
-    for (dst, src) in out.iter_mut().zip(rest) {
-        *dst = *src;
+    if let (Some(dst), Some(src)) = (out.get_mut(..copied), rest.get(..copied)) {
+        dst.copy_from_slice(src);
     }
-    Read {
-        copied,
-        size: bytes.len(),
-    }
+    Read { copied, size }
 }
 
 /// Reads a constant VAR: `bytes` at subindex 0.
@@ -170,6 +168,15 @@ pub fn read_constant(
     }
 }
 
+/// Reads the constant UNSIGNED32 VAR 0x1000.
+#[doc(hidden)]
+pub fn read_u32(value: u32, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
+    match sub {
+        0 => Ok(read_value(&value, offset, out)),
+        _ => Err(AbortCode::NO_SUBINDEX),
+    }
+}
+
 /// The declared default of a constant VAR: its value.
 #[doc(hidden)]
 pub fn constant_limit(bytes: &[u8], sub: u8, which: Limit, out: &mut [u8]) -> usize {
@@ -179,8 +186,9 @@ pub fn constant_limit(bytes: &[u8], sub: u8, which: Limit, out: &mut [u8]) -> us
     }
 }
 
-/// Reads 0x1018 from `identity`.
+/// Reads 0x1018 from `identity` (each entry a fixed-width copy, as a declared field's).
 #[doc(hidden)]
+#[inline]
 pub fn read_identity(
     identity: &Identity,
     sub: u8,
@@ -188,14 +196,14 @@ pub fn read_identity(
     out: &mut [u8],
 ) -> Result<Read, AbortCode> {
     let value = match sub {
-        0 => return Ok(copy(&[IDENTITY.max_sub], offset, out)),
+        0 => return Ok(read_value(&IDENTITY.max_sub, offset, out)),
         1 => identity.vendor_id,
         2 => identity.product_code,
         3 => identity.revision,
         4 => identity.serial,
         _ => return Err(AbortCode::NO_SUBINDEX),
     };
-    Ok(copy(&value.to_le_bytes(), offset, out))
+    Ok(read_value(&value, offset, out))
 }
 
 /// The declared defaults of 0x1018: the device's constant identity.
@@ -211,10 +219,10 @@ pub fn identity_limit(identity: &Identity, sub: u8, which: Limit, out: &mut [u8]
 #[doc(hidden)]
 pub fn read_sm_types(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
     match sub {
-        0 => Ok(copy(&[SM_TYPES.max_sub], offset, out)),
+        0 => Ok(read_value(&SM_TYPES.max_sub, offset, out)),
         n => sii::SM_TYPES
             .get(usize::from(n) - 1)
-            .map(|t| copy(&[*t], offset, out))
+            .map(|t| read_value(t, offset, out))
             .ok_or(AbortCode::NO_SUBINDEX),
     }
 }

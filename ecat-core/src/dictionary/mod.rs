@@ -137,7 +137,8 @@ pub trait ObjectDictionary: Sized + 'static {
     }
 }
 
-/// The empty dictionary, for a device without objects of its own.
+/// The empty dictionary: a device that is no CoE device (the state-machine tests). A CoE device's
+/// dictionary comes from [`dictionary!`](crate::dictionary!) with its communication area.
 impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
     type Offsets = [u16; 0];

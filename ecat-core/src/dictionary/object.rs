@@ -116,12 +116,13 @@ impl ObjectInfo {
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
         match self.code {
             ObjectCode::Var => self.entries.first().filter(|_| sub == 0),
-            _ if sub == 0 => self.entries.first(),
-            _ if self.is_uniform() => self.entries.get(1).filter(|_| sub <= self.max_sub),
+            ObjectCode::Array if sub == 0 => self.entries.first(),
+            ObjectCode::Array if sub <= self.max_sub => self.entries.get(1),
             ObjectCode::Array => None,
             // Most records are dense (subindex n at position n): a look there saves the search.
             ObjectCode::Record => match self.entries.get(usize::from(sub)) {
                 Some(entry) if entry.sub == sub => Some(entry),
+                _ if self.is_uniform() => self.entries.get(1).filter(|_| sub <= self.max_sub),
                 _ => {
                     let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
                     self.entries.get(i)
