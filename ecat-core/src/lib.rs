@@ -22,6 +22,7 @@
 //! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control (ETG.1000.4 §5.6) |
 //! | [`pdo`] | PDO mapping and assignment objects, the process-image layout, pack/unpack (ETG.1000.6 §5.6.7) |
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
+//! | [`chip`] | ESC chips (ET1100, AX58100, LAN9252): DL information, SPI PDI, the EEPROM configuration area (ETG.1000.6 §5.4) |
 //! | [`sii`] | the SII EEPROM image generated from the description (ETG.1000.6 §5.4, ETG.2010) |
 //! | [`esi`] | the ESI XML file generated from the same description (ETG.2000) |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
@@ -45,6 +46,7 @@
 )]
 
 pub mod al;
+pub mod chip;
 pub mod cia402;
 pub mod coe;
 pub mod device;

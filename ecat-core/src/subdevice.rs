@@ -1178,6 +1178,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             state: self.state,
             now,
             writes: &mut self.writes,
+            device: Some(self.config),
         };
         let built = self.mailbox.serve(&mut cx);
         self.pd_stale |= core::mem::take(&mut self.writes.configured);

@@ -405,9 +405,12 @@ impl DcSettings {
 }
 
 /// The DC configuration checks at PREOP→SAFEOP (conformance.md "Distributed clocks"): the SYNC
-/// unit activated without SYNC0, SYNC1 without SYNC0, DC SYNC0 requested without SYNC0
-/// running, or SYNC0 running while the device is told to run free or SM-synchronous: 0x0030;
-/// a SYNC0 cycle of 0 (single shot) or below the device's minimum cycle: 0x0036.
+/// unit activated without SYNC0, SYNC1 without SYNC0, SYNC1 activated on a device that does not
+/// support it (0x1C32:04 without 0x0008; 0x0981 = 0x07 on a SYNC0-only device), DC SYNC0
+/// requested without SYNC0 running, or SYNC0 running while the device is told to run free or
+/// SM-synchronous: 0x0030 (ETG.1000.6 Table 11 "invalid DC SYNC configuration"; SSC 5.12
+/// `ecatslv.c` `CheckDcSettings` refuses a SYNC signal the supported sync types lack with the
+/// same code); a SYNC0 cycle of 0 (single shot) or below the device's minimum cycle: 0x0036.
 pub fn check_dc(sync: SyncType, dc: DcSettings, device: &DeviceConfig) -> Result<(), AlStatusCode> {
     let bits = dc.activation.0;
     let cyclic = bits & DcActivation::CYCLIC_OPERATION != 0;
@@ -415,7 +418,8 @@ pub fn check_dc(sync: SyncType, dc: DcSettings, device: &DeviceConfig) -> Result
     let sync1 = bits & DcActivation::SYNC1 != 0;
     let wanted = sync == SyncType::DcSync0;
     let without_sync0 = (cyclic || sync1) && !sync0;
-    if without_sync0 || wanted != dc.activation.sync0() {
+    let unsupported_sync1 = sync1 && device.sync.0 & SupportedSync::SYNC1 == 0;
+    if without_sync0 || unsupported_sync1 || wanted != dc.activation.sync0() {
         return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
     }
     if wanted && (dc.sync0_cycle_ns == 0 || below_min_cycle(dc.sync0_cycle_ns, device)) {

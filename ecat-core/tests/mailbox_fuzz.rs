@@ -64,9 +64,11 @@ fn frame() -> impl Strategy<Value = Vec<u8>> {
         0u8..16,
         0u8..8,
         any::<u8>(),
+        // Header byte 4: channel 0 and priority 0 mostly, else any (channel ≠ 0 is 0x0003).
+        prop_oneof![7 => Just(0u8), 1 => any::<u8>()],
     )
         .prop_map(
-            |(command, index, sub, data, tail, service, counter, kind)| {
+            |(command, index, sub, data, tail, service, counter, kind, channel)| {
                 let [i0, i1] = index.to_le_bytes();
                 let mut payload = vec![0x00, service << 4, command, i0, i1, sub];
                 payload.extend_from_slice(&data);
@@ -76,6 +78,7 @@ fn frame() -> impl Strategy<Value = Vec<u8>> {
                     MailboxHeader::new(MailboxType::from_code(kind), payload.len() as u16, counter)
                         .to_bytes()
                         .to_vec();
+                f[4] = channel;
                 f.extend_from_slice(&payload);
                 f
             },

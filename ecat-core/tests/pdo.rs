@@ -3,6 +3,7 @@
 
 use ecat_core::coe::AbortCode;
 use ecat_core::coe::sdo::{Context, SdoServer};
+use ecat_core::device::{DeviceConfig, MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{Bits, ObjectDictionary};
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout;
@@ -554,16 +555,147 @@ fn an_image_over_65535_bits_is_0x0025() {
 
 /// One SDO request to `server` in `state`; the answer (CoE header on).
 fn serve(server: &mut SdoServer<64>, od: &mut Od, state: AlState, request: &[u8]) -> Vec<u8> {
+    serve_on(None, server, od, state, request)
+}
+
+/// One SDO request to `server` in `state` of a SubDevice described by `device`.
+fn serve_on<D: ObjectDictionary>(
+    device: Option<&DeviceConfig>,
+    server: &mut SdoServer<64>,
+    od: &mut D,
+    state: AlState,
+    request: &[u8],
+) -> Vec<u8> {
     let mut cx = Context {
         od,
         hooks: &mut (),
         state,
         now: Instant::from_micros(0),
         writes: &mut Writes::default(),
+        device,
     };
     let mut out = [0u8; 58];
     let n = server.request(&mut cx, request, &mut out);
     out[..n].to_vec()
+}
+
+/// The download response for `index:sub`.
+fn downloaded(index: u16, sub: u8) -> Vec<u8> {
+    let [i0, i1] = index.to_le_bytes();
+    vec![0x00, 0x30, 0x60, i0, i1, sub, 0, 0, 0, 0]
+}
+
+/// The abort 0x06040042 "the number and length of the objects to be mapped would exceed the
+/// PDO length" for `index:sub`.
+fn too_long(index: u16, sub: u8) -> Vec<u8> {
+    let [i0, i1] = index.to_le_bytes();
+    vec![0x00, 0x20, 0x80, i0, i1, sub, 0x42, 0x00, 0x04, 0x06]
+}
+
+/// An SI0 that makes the image of its direction longer than 65 535 bits (the image's bit
+/// offsets are 16-bit) is refused at the SDO write with 0x06040042 (ETG.1000.6 Table 41,
+/// conformance.md "CoE SDO"), where it was accepted and refused only at PREOP→SAFEOP (0x0025):
+/// assigning a second PDO of 65 025 bits, or growing an assigned mapping past the limit.
+#[test]
+fn an_si0_making_the_image_longer_than_65535_bits_is_0x06040042() {
+    let mut od = Big::default();
+    let mut server = SdoServer::<64>::new();
+    let mut sdo =
+        |od: &mut Big, request: &[u8]| serve_on(None, &mut server, od, AlState::PreOp, request);
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x12, 0x1C, 0x00, 0, 0, 0, 0]),
+        downloaded(0x1C12, 0)
+    );
+    let second = [0x2B, 0x12, 0x1C, 0x02, 0x01, 0x16, 0, 0];
+    assert_eq!(sdo(&mut od, &second), downloaded(0x1C12, 2));
+    let both = [0x2F, 0x12, 0x1C, 0x00, 2, 0, 0, 0];
+    assert_eq!(sdo(&mut od, &both), too_long(0x1C12, 0));
+    assert_eq!(od.rx_assign.count, 0, "refused before it is stored");
+    let one = [0x2F, 0x12, 0x1C, 0x00, 1, 0, 0, 0];
+    assert_eq!(sdo(&mut od, &one), downloaded(0x1C12, 0));
+    // Both assigned, the second emptied: 65 025 bits. Each entry of it adds a 255-bit gap:
+    // 65 280, 65 535 (the limit itself), then 65 790.
+    od.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1601]);
+    od.rx2.count = 0;
+    for (n, answer) in [(1, downloaded(0x1601, 0)), (2, downloaded(0x1601, 0))] {
+        od.rx2.count = 0;
+        assert_eq!(
+            sdo(&mut od, &[0x2F, 0x01, 0x16, 0x00, n, 0, 0, 0]),
+            answer,
+            "{n}"
+        );
+    }
+    od.rx2.count = 0;
+    let three = [0x2F, 0x01, 0x16, 0x00, 3, 0, 0, 0];
+    assert_eq!(sdo(&mut od, &three), too_long(0x1601, 0));
+    // Not assigned, a mapping makes no image: any count is taken.
+    od.rx_assign = PdoAssignment::assignment(&[0x1600]);
+    assert_eq!(sdo(&mut od, &three), downloaded(0x1601, 0));
+}
+
+/// A device whose process RAM after the mailboxes holds 40 bytes takes images of up to 13
+/// bytes (three buffers, 39 bytes): growing the RxPDO from 11 to 15 bytes is refused with
+/// 0x06040042, by a single access and by a complete access (which stores nothing then); the
+/// other direction is not counted.
+#[test]
+fn an_si0_making_the_image_longer_than_the_process_ram_takes_is_0x06040042() {
+    let mut device = DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, 128),
+        ProcessDataSizes::default(),
+    );
+    device.process_ram_end = 0x1100 + 40;
+    assert_eq!(ecat_core::pdo::process_ram(&device), 40);
+    let mut od = Od::default();
+    let mut server = SdoServer::<64>::new();
+    let mut sdo = |od: &mut Od, request: &[u8]| {
+        serve_on(Some(&device), &mut server, od, AlState::PreOp, request)
+    };
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x16, 0x00, 0, 0, 0, 0]),
+        downloaded(0x1600, 0)
+    );
+    // 0x1600:05 = 0x2005:00, 32 bits: 88 + 32 bits = 15 bytes.
+    let fifth = [0x23, 0x00, 0x16, 0x05, 0x20, 0x00, 0x05, 0x20];
+    assert_eq!(sdo(&mut od, &fifth), downloaded(0x1600, 5));
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x16, 0x00, 5, 0, 0, 0]),
+        too_long(0x1600, 0)
+    );
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x16, 0x00, 4, 0, 0, 0]),
+        downloaded(0x1600, 0)
+    );
+    // 0x2006:01 (16 bits) instead: 13 bytes, the most three buffers of 40 bytes hold.
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x16, 0x00, 0, 0, 0, 0]),
+        downloaded(0x1600, 0)
+    );
+    let word = [0x23, 0x00, 0x16, 0x05, 0x10, 0x01, 0x06, 0x20];
+    assert_eq!(sdo(&mut od, &word), downloaded(0x1600, 5));
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x16, 0x00, 5, 0, 0, 0]),
+        downloaded(0x1600, 0)
+    );
+    // A complete access with the 32-bit entry: refused, the mapping as it was.
+    let mut request = vec![0x31, 0x00, 0x16, 0x00, 22, 0, 0, 0, 5, 0];
+    for entry in RX.iter().chain([MappingEntry::new(0x2005, 0, 32)].iter()) {
+        request.extend_from_slice(&entry.0.to_le_bytes());
+    }
+    assert_eq!(sdo(&mut od, &request), too_long(0x1600, 0));
+    assert_eq!(od.rx1.count, 5);
+    assert_eq!(od.rx1.items[4], 0x2006_0110);
+    // The TxPDO grows on its own account: 11 + 4 bytes of inputs are refused, 11 + 2 taken,
+    // whatever the outputs take.
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x1A, 0x00, 0, 0, 0, 0]),
+        downloaded(0x1A00, 0)
+    );
+    let long = [0x23, 0x00, 0x1A, 0x05, 0x20, 0x00, 0x05, 0x20];
+    assert_eq!(sdo(&mut od, &long), downloaded(0x1A00, 5));
+    assert_eq!(
+        sdo(&mut od, &[0x2F, 0x00, 0x1A, 0x00, 5, 0, 0, 0]),
+        too_long(0x1A00, 0)
+    );
 }
 
 /// A segmented download started in PREOP into entries the RxPDO configuration maps is refused
@@ -622,4 +754,96 @@ fn a_segmented_download_is_checked_for_the_state_it_ends_in() {
         [0x00, 0x20, 0x80, 0x12, 0x1C, 0x00, 0x22, 0x00, 0x00, 0x08]
     );
     assert_eq!((od.rx_assign.count, od.rx_assign.items), (1, [0x1600, 0]));
+}
+
+/// A complete-access upload of an ARRAY carries SI0 and the entries SI0 counts: the object's
+/// current size, not every slot of its capacity (SSC 5.12 sizes an ARRAY's complete access by
+/// SI0's value, `objdef.c` `OBJ_GetObjectLength`). 0x1600 (capacity 8) with two entries: 2 + 8
+/// bytes, where every slot gave 2 + 32.
+#[test]
+fn a_complete_access_upload_of_a_mapping_carries_the_entries_si0_counts() {
+    let mut od = Od {
+        rx1: PdoMapping::mapping(&RX[..2]),
+        ..Od::default()
+    };
+    let mut server = SdoServer::<64>::new();
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x00, 0, 0, 0, 0]
+        ),
+        [
+            0x00, 0x30, 0x51, 0x00, 0x16, 0x00, 10, 0, 0,
+            0, // normal, complete access, 10 bytes
+            2, 0, // SI0 and its pad byte
+            0x10, 0x00, 0x40, 0x60, 0x20, 0x00, 0x7A, 0x60, // 0x6040:00 16, 0x607A:00 32
+        ]
+    );
+    // From SI1: the two entries only.
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x01, 0, 0, 0, 0]
+        ),
+        [
+            0x00, 0x30, 0x51, 0x00, 0x16, 0x01, 8, 0, 0, 0, //
+            0x10, 0x00, 0x40, 0x60, 0x20, 0x00, 0x7A, 0x60,
+        ]
+    );
+    // Emptied (SI0 = 0): SI0 and its pad from SI0, nothing from SI1.
+    od.rx1.count = 0;
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x00, 0, 0, 0, 0]
+        ),
+        [0x00, 0x30, 0x5B, 0x00, 0x16, 0x00, 0, 0, 0, 0],
+        "expedited, 2 bytes"
+    );
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x00, 0x16, 0x01, 0, 0, 0, 0]
+        ),
+        [0x00, 0x30, 0x51, 0x00, 0x16, 0x01, 0, 0, 0, 0],
+        "normal, 0 bytes"
+    );
+}
+
+/// The same for an assignment: 0x1C12 (capacity 2) assigning one PDO is SI0, its pad and one
+/// index, 4 bytes: an expedited answer, where every slot gave a normal one of 6 bytes.
+#[test]
+fn a_complete_access_upload_of_an_assignment_carries_the_pdos_si0_counts() {
+    let mut od = Od::default();
+    let mut server = SdoServer::<64>::new();
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x12, 0x1C, 0x00, 0, 0, 0, 0]
+        ),
+        [0x00, 0x30, 0x53, 0x12, 0x1C, 0x00, 1, 0, 0x00, 0x16]
+    );
+    od.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1600]);
+    assert_eq!(
+        serve(
+            &mut server,
+            &mut od,
+            AlState::PreOp,
+            &[0x50, 0x12, 0x1C, 0x00, 0, 0, 0, 0]
+        ),
+        [
+            0x00, 0x30, 0x51, 0x12, 0x1C, 0x00, 6, 0, 0, 0, 2, 0, 0x00, 0x16, 0x00, 0x16
+        ],
+        "full: every slot"
+    );
 }

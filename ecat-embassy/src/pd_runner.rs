@@ -47,10 +47,18 @@ pub struct Buffers<'b> {
 /// Runs the process-data exchange of `esc` until something fails.
 ///
 /// `irq` is the ESC's IRQ pin (active low, e.g. an `ExtiInput`). In SAFEOP and OP each trigger
-/// (SM2 written by the MainDevice, or SM3 read by it for an input-only device) costs one read of
-/// the output area — which brings the AL event along — and one write of the input area. Between
-/// the two, under one short lock of `od`: the outputs are unpacked into their mapped entries (in
-/// OP only), the application's cycle runs, the mapped input entries are packed.
+/// (SM2 written by the MainDevice, or SM3 read by it for an input-only device) costs a read of
+/// the AL event alone (an empty read), a read of the output area and a write of the input area.
+/// Between the last two, under one short lock of `od`: the outputs are unpacked into their
+/// mapped entries (in OP only), the application's cycle runs, the mapped input entries are
+/// packed.
+///
+/// The output area is read only after an AL event read showed the trigger (the runner's own on
+/// the IRQ, or an access of the other runner): reading it takes the newest SM2 buffer and clears
+/// the SM2 event, so a read made on the IRQ of another event (a mailbox's) would take a buffer
+/// that arrived after the AL event was sampled, with nothing left to report it: a lost cycle.
+/// Sampled first, a buffer that arrives later keeps its event, and the IRQ line, until the next
+/// wake-up.
 ///
 /// `sync0` is the ESC's SYNC0 output (a pulse per DC cycle; its rising edge starts a cycle when
 /// the MainDevice chose DC SYNC0 mode). A device without DC passes [`NoSync0`].
@@ -82,8 +90,8 @@ where
             buffers,
             images: None,
             monitor: CycleMonitor::default(),
-            al_event: [0; 4],
             reported: Reported::default(),
+            trigger_sampled: false,
         };
         let mut current: Option<Layout> = None;
         // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
@@ -95,6 +103,7 @@ where
             let plan = {
                 let news = esc.pd_news(current);
                 let layout = news.layout;
+                let sampled = core::mem::take(&mut exchange.trigger_sampled);
                 if layout != current {
                     let was_active = current.is_some_and(|l| l.outputs_active);
                     current = layout;
@@ -103,7 +112,7 @@ where
                     }
                     tick = layout.and_then(first_deadline);
                     exchange.on_new_layout(layout)
-                } else if !news.pd_events.is_empty() {
+                } else if sampled || !news.pd_events.is_empty() {
                     Some(exchange.on_trigger(layout, true))
                 } else {
                     let sync0_on = layout.is_some_and(|l| l.sync0());
@@ -157,9 +166,10 @@ where
 
 /// What a wake-up of the runner leads to: at most one read, then maybe a cycle (whose input
 /// write is the only other access). The decisions are synchronous, so the runner's future holds
-/// one access at a time, whatever woke it.
+/// one access at a time, whatever woke it. A read of the AL event alone that shows the trigger
+/// leads to a turn that reads the outputs.
 struct Plan {
-    /// Read first: the output area (SM2), or the AL event register, which routes the IRQ's cause.
+    /// Read first: the output area (SM2), or the AL event alone, which routes the IRQ's cause.
     read: Option<Read>,
     /// What follows the read.
     then: Then,
@@ -181,7 +191,9 @@ enum Then {
     /// tells whether the MainDevice sent outputs.
     Clocked,
     /// A cycle on the trigger event, unless the read shows it was not the trigger. `true`: the
-    /// other runner saw the trigger.
+    /// trigger was seen before the read (by the other runner, or by the AL event read before a
+    /// read of the outputs). `false`: the read was of the AL event alone; if it shows the trigger,
+    /// the outputs are read next turn.
     Triggered(bool),
 }
 
@@ -208,11 +220,11 @@ struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
     monitor: CycleMonitor,
-    /// Receives the AL event register when a plan reads it.
-    al_event: [u8; 4],
     /// What the state-machine runner was told since the layout changed: it needs the first
     /// outputs and the first SYNC0 cycle after entering SAFEOP (for SAFEOP→OP), not every one.
     reported: Reported,
+    /// The AL event read on the IRQ showed the trigger: the next turn reads the outputs.
+    trigger_sampled: bool,
 }
 
 /// News the process-data runner already passed on for the current layout.
@@ -292,10 +304,15 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     }
 
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
+    /// The outputs are read at once only when the trigger is known; on the IRQ the AL event is
+    /// read first.
     fn on_trigger(&mut self, layout: Option<Layout>, known: bool) -> Plan {
         match layout.filter(|l| l.period().is_none()) {
             Some(layout) => Plan {
-                read: Some(layout.outputs.map_or(Read::AlEvent, Read::Outputs)),
+                read: Some(match layout.outputs {
+                    Some(area) if known => Read::Outputs(area),
+                    _ => Read::AlEvent,
+                }),
                 then: Then::Triggered(known),
             },
             // Not exchanging process data on events (none, or free-run): the IRQ is for the state
@@ -307,8 +324,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         }
     }
 
-    /// The read of a plan: the output area into the output buffer, the AL event register into
-    /// its own; `None` when the plan reads nothing.
+    /// The read of a plan: the output area into the output buffer, or nothing at the AL event
+    /// register (an empty read: the AL event alone); `None` when the plan reads nothing.
     fn read<I>(&mut self, read: Option<Read>) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
         let (address, buf) = match read {
             Some(Read::Outputs(area)) => (
@@ -318,7 +335,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                     .get_mut(..usize::from(area.length))
                     .ok_or(Error::BufferTooSmall)?,
             ),
-            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut self.al_event[..]),
+            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut [][..]),
             None => return Ok(None),
         };
         Ok(Some((address, Data::Read(buf), AlEvent::NONE)))
@@ -344,10 +361,16 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
                 (layout, apply, Some(new_outputs))
             }
             (Then::Triggered(known), Some(layout)) => {
-                let triggered = known
-                    || event.intersects(layout.trigger())
-                    || !self.esc.take_pd_events().is_empty();
-                if !triggered {
+                // Taken whatever the read saw: a trigger the other runner saw before it is the
+                // one this read (or the read of the outputs it leads to) consumes, and must not
+                // start a second cycle.
+                let seen = !self.esc.take_pd_events().is_empty();
+                if !(known || seen || event.intersects(layout.trigger())) {
+                    return Ok(None);
+                }
+                if !known && layout.outputs.is_some() {
+                    // The AL event alone showed the trigger: the outputs are read next turn.
+                    self.trigger_sampled = true;
                     return Ok(None);
                 }
                 let new_outputs = layout.outputs.is_some();

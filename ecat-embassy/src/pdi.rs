@@ -49,6 +49,8 @@ impl<'a> Data<'a> {
 /// address phase of every transaction, so the runners learn about events without spending a
 /// transaction on it. A driver whose bus does not deliver it reads 0x0220 itself after the access.
 /// The value may be sampled before the access: callers discount the bits the access itself clears.
+/// An empty read moves no data and samples the AL event: the cheapest way to read it alone (a NOP
+/// on the Beckhoff SPI, one CSR read of 0x0220 on the LAN9252).
 ///
 /// Reads and writes are one method, so that the runners hold one access future each and the
 /// firmware carries one copy of the driver's access code.

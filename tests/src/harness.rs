@@ -8,6 +8,7 @@ use core::cell::{Cell, RefCell};
 use core::future::Future;
 use core::pin::Pin;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
@@ -20,7 +21,6 @@ use embassy_executor::Executor;
 use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
-use embassy_sync::signal::Signal;
 use embassy_time::MockDriver;
 
 use crate::emulator::Emulator;
@@ -29,6 +29,12 @@ use crate::master::TestMaster;
 
 /// Serialises scenarios: the mock time driver is one per process.
 static SERIAL: Mutex<()> = Mutex::new(());
+
+/// Holds the mock time driver for the caller alone until dropped: for tests that move the
+/// clock outside a scenario.
+pub fn exclusive() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(PoisonError::into_inner)
+}
 
 /// A scenario still running after this much wall-clock time is hung (a task spinning without
 /// yielding): the test process aborts with a message instead of hanging CI. Scenarios take
@@ -64,8 +70,46 @@ const MAX_IMAGE: usize = 1024;
 /// Largest mailbox the harness's SubDevice holds.
 const MAX_MAILBOX: usize = 1024;
 
-/// Tells every runner of a scenario to stop.
-pub type Stop = Signal<CriticalSectionRawMutex, ()>;
+/// Tells every runner of a scenario to stop: once signalled, every wait on it completes, for
+/// however many tasks wait. (An embassy-sync `Signal` holds one waker: two runners waiting on
+/// one woke each other in turn, for ever: the virtual slave spun a core at idle.)
+#[derive(Default)]
+pub struct Stop {
+    stopped: Cell<bool>,
+    waiters: RefCell<Vec<core::task::Waker>>,
+}
+
+impl Stop {
+    /// Stops every waiter, now and later.
+    pub fn signal(&self) {
+        self.stopped.set(true);
+        for waker in self.waiters.borrow_mut().drain(..) {
+            waker.wake();
+        }
+    }
+
+    /// Completes once [`Stop::signal`] was called.
+    pub async fn wait(&self) {
+        core::future::poll_fn(|cx| {
+            if self.stopped.get() {
+                core::task::Poll::Ready(())
+            } else {
+                crate::emulator::register(&self.waiters, cx.waker());
+                core::task::Poll::Pending
+            }
+        })
+        .await
+    }
+}
+
+/// Polls of the runners so far, in this process: a runner polled while nothing changed for it
+/// is a busy loop.
+static RUNNER_POLLS: AtomicU64 = AtomicU64::new(0);
+
+/// How often the runners were polled so far, in this process.
+pub fn runner_polls() -> u64 {
+    RUNNER_POLLS.load(Ordering::Relaxed)
+}
 
 /// The device under test.
 pub struct Device<A, C, D = ()> {
@@ -243,7 +287,7 @@ fn execute_many<F>(
                 master.settle().await;
             }
             script.await;
-            stop.signal(());
+            stop.signal();
         }));
         futures
     });
@@ -330,7 +374,7 @@ fn execute(
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
     let _guard = limit.map(HangGuard::arm);
     MockDriver::get().reset();
-    let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
+    let stop: &'static Stop = Box::leak(Box::default());
     let futures = build(stop);
     let count = futures.len();
     let done = Rc::new(Cell::new(0));
@@ -350,15 +394,20 @@ fn execute(
 }
 
 async fn stoppable(stop: &'static Stop, runner: impl Future<Output = ()>) {
-    select(runner, stop.wait()).await;
-    stop.signal(());
+    let mut runner = core::pin::pin!(runner);
+    let counted = core::future::poll_fn(|cx| {
+        RUNNER_POLLS.fetch_add(1, Ordering::Relaxed);
+        runner.as_mut().poll(cx)
+    });
+    select(counted, stop.wait()).await;
+    stop.signal();
 }
 
 /// Lets the runners start up, then runs the script, then stops the runners.
 async fn scenario(stop: &'static Stop, master: TestMaster, script: impl Future<Output = ()>) {
     master.settle().await;
     script.await;
-    stop.signal(());
+    stop.signal();
 }
 
 async fn esm<P: Pdi, D: ObjectDictionary>(

@@ -125,7 +125,7 @@ fn malformed_messages_get_the_exact_error_reply() {
     run(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
-        let cases: [(&str, [u8; 6], &[u8], u8); 6] = [
+        let cases: [(&str, [u8; 6], &[u8], u8); 8] = [
             ("length 0", [0x00, 0x00, 0, 0, 0, 0x13], &[], 0x05),
             (
                 "length beyond SM0 - 6",
@@ -157,11 +157,34 @@ fn malformed_messages_get_the_exact_error_reply() {
                 &[0x00, 0x20, 0x40, 0x00, 0x10, 0x00, 0x00],
                 0x08,
             ),
+            // The channel (byte 4, bits 0..5) is reserved, 0 (ETG.1000.4 Table 29): 0x0003
+            // "invalid channel" (Table 30) for an otherwise valid SDO upload.
+            (
+                "channel 1",
+                [0x0A, 0x00, 0, 0, 0x01, 0x73],
+                &upload_1001(0).1,
+                0x03,
+            ),
+            (
+                "channel 0x3F, priority 3",
+                [0x0A, 0x00, 0, 0, 0xFF, 0x13],
+                &upload_1001(0).1,
+                0x03,
+            ),
         ];
         for (n, (what, header, payload, detail)) in cases.into_iter().enumerate() {
             let answer = c.exchange_raw(&header, payload).await;
-            assert_eq!(answer, Some(error_reply(n as u8 + 1, detail)), "{what}");
+            assert_eq!(answer, Some(error_reply(n as u8 % 7 + 1, detail)), "{what}");
         }
+        // The priority bits (6..7) are not judged: channel 0, priority 3 is served.
+        let (mut header, request) = upload_1001(2);
+        header[4] = 0xC0;
+        let answer = c.exchange_raw(&header, &request).await.expect("an answer");
+        assert_eq!(answer[5] & 0x0F, 0x03, "CoE, not a mailbox error");
+        assert_eq!(
+            answer[6..16],
+            [0x00, 0x30, 0x4F, 0x01, 0x10, 0x00, 0, 0, 0, 0]
+        );
     });
 }
 
@@ -283,6 +306,9 @@ fn unknown_coe_service_is_answered_with_an_sdo_abort() {
     });
 }
 
+/// In INIT the SubDevice keeps SM0 and SM1 deactivated over its PDI (0x0807 + 8n bit 0), which
+/// closes their areas to the MainDevice (ESC datasheet section I, "SyncManager deactivation by
+/// the PDI"): the request is not taken, the read of SM1 not served, neither counted.
 #[test]
 fn nothing_is_served_in_init() {
     run(async |master| {
@@ -291,10 +317,18 @@ fn nothing_is_served_in_init() {
         master.settle().await;
         let before = master.pdi_accesses();
         let (header, payload) = upload_1001(1);
-        let mut c = client(&master);
-        let answer = c.exchange_raw(&header, &payload).await;
-        // SM1 is deactivated in INIT: its area is plain memory, untouched.
-        assert_eq!(answer, Some(vec![0; 128]), "no answer in INIT");
+        let mut request: Vec<u8> = header.iter().chain(&payload).copied().collect();
+        request.resize(usize::from(MAILBOX.receive.length), 0);
+        assert!(
+            !master.write(MAILBOX.receive.start, &request),
+            "SM0 closed in INIT: the request is not counted"
+        );
+        master.settle().await;
+        assert_eq!(
+            master.read(MAILBOX.send.start, usize::from(MAILBOX.send.length)),
+            None,
+            "SM1 closed in INIT: no answer, not counted"
+        );
         assert_eq!(
             master.pdi_accesses(),
             before,

@@ -136,10 +136,8 @@ fn complete_access_on_the_assignment_follows_the_configuration_sequence() {
     run(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
-        assert_eq!(
-            c.upload(0x1C12, 0, true).await,
-            Ok(vec![1, 0, 0x00, 0x16, 0x00, 0x00])
-        );
+        // SI0 and the PDOs it counts, not every slot (SSC sizes an ARRAY by SI0's value).
+        assert_eq!(c.upload(0x1C12, 0, true).await, Ok(vec![1, 0, 0x00, 0x16]));
         assert_eq!(
             c.download(0x1C12, 0, true, &[0, 0, 0, 0, 0, 0]).await,
             Ok(()),
@@ -178,10 +176,7 @@ fn complete_access_on_the_assignment_takes_the_entries_si0_counts() {
             Ok(()),
             "SI0 and one entry"
         );
-        assert_eq!(
-            c.upload(0x1C12, 0, true).await,
-            Ok(vec![1, 0, 0x00, 0x16, 0x00, 0x00])
-        );
+        assert_eq!(c.upload(0x1C12, 0, true).await, Ok(vec![1, 0, 0x00, 0x16]));
         let refused = [
             (&[2, 0, 0x00, 0x16][..], AbortCode::LENGTH_TOO_LOW),
             (&[1, 0, 0x00, 0x16, 0x00][..], AbortCode::LENGTH_MISMATCH),
@@ -206,7 +201,7 @@ fn complete_access_on_the_assignment_takes_the_entries_si0_counts() {
         }
         assert_eq!(
             c.upload(0x1C12, 0, true).await,
-            Ok(vec![1, 0, 0x00, 0x16, 0x00, 0x00]),
+            Ok(vec![1, 0, 0x00, 0x16]),
             "unchanged"
         );
     });

@@ -542,3 +542,43 @@ fn strings_shorten_on_a_shorter_download() {
         );
     });
 }
+
+/// The drive's application: accepts everything.
+struct DriveApp;
+impl ecat_embassy::Application for DriveApp {}
+impl ecat_core::dictionary::ObjectHooks<ecat_emu::devices::Drive> for DriveApp {}
+
+/// What SOEM's `ecx_readOE` (`slaveinfo -sdo`, pysoem's `slave.od`) does with 0x1C32 through the
+/// runners: an entry description of every subindex 0..=0x20 (value info 7, as SOEM sends it).
+/// Each is an entry description, none an SDO Info error (there were 22 per axis, one per gap);
+/// 0x1C32:1F, a gap whatever entries the record declares, is described as SSC describes it.
+#[test]
+fn every_subindex_of_0x1c32_is_described_through_the_runners() {
+    let device = Device::new(common::drive(), DriveApp, Loopback)
+        .with_dictionary(ecat_emu::devices::Drive::default());
+    harness::run(device, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        let mut described = Vec::new();
+        for sub in 0..=0x20u8 {
+            let counter = sub % 7 + 1;
+            let header = [0x0A, 0x00, 0, 0, 0, (counter << 4) | 0x03];
+            let request = [0x00, 0x80, 0x05, 0x00, 0x00, 0x00, 0x32, 0x1C, sub, 0x07];
+            let answer = c.exchange_raw(&header, &request).await.expect("an answer");
+            let length = usize::from(u16::from_le_bytes([answer[0], answer[1]]));
+            let message = &answer[6..6 + length];
+            assert_eq!(message[..3], [0x00, 0x80, 0x06], "0x1C32:{sub:02X}");
+            assert_eq!(message[6..9], [0x32, 0x1C, sub]);
+            described.push(message.to_vec());
+        }
+        assert_eq!(
+            described[0x1F],
+            [
+                0x00, 0x80, 0x06, 0x00, 0x00, 0x00, // CoE, entry description response
+                0x32, 0x1C, 0x1F, 0x00, // 0x1C32:1F, value info 0
+                0x00, 0x00, 0x00, 0x00, 0x00, 0x00, // data type 0, bit length 0, access 0
+                b'S', b'u', b'b', b'I', b'n', b'd', b'e', b'x', b' ', b'0', b'3', b'1',
+            ]
+        );
+    });
+}

@@ -186,11 +186,22 @@ fn per_byte_fallback_sends_one_terminated_transaction_per_byte() {
 }
 
 #[test]
-fn empty_accesses_cost_nothing() {
-    let (mut driver, _master, probe) = setup();
-    assert_eq!(block_on(driver.read(0x1000, &mut [])), Ok(AlEvent::NONE));
+fn an_empty_read_is_a_nop_that_brings_the_al_event_and_an_empty_write_costs_nothing() {
+    let (mut driver, master, probe) = setup();
+    master.write_al_control(0x0002);
+    let seen = block_on(driver.read(register::AL_EVENT_REQUEST, &mut []));
+    assert_eq!(seen, Ok(AlEvent::AL_CONTROL));
+    // 0x0220 = A[12:5] 0x11, A[4:0] 0 with CMD0 000b (NOP): the address phase alone.
+    assert_eq!(probe.take_log(), vec![vec![0x11, 0x00]]);
     assert_eq!(block_on(driver.write(0x1000, &[])), Ok(AlEvent::NONE));
-    assert_eq!(probe.stats(), SpiStats::default());
+    assert_eq!(
+        probe.stats(),
+        SpiStats {
+            transactions: 1,
+            bytes: 2
+        }
+    );
+    assert!(probe.violations().is_empty(), "{:?}", probe.violations());
 }
 
 #[test]
@@ -248,12 +259,13 @@ fn a_subdevice_reaches_op_and_exchanges_process_data_over_spi() {
                 let before = probe.stats();
                 assert!(master.write(OUTPUTS.start, &outputs));
                 master.settle().await;
-                // 0x1100: read with wait state, 12 bytes; 0x1180: write, 11 bytes.
+                // The AL event (a NOP: 2 bytes), then 0x1100: read with wait state, 12 bytes;
+                // 0x1180: write, 11 bytes.
                 assert_eq!(
                     probe.stats() - before,
                     SpiStats {
-                        transactions: 2,
-                        bytes: (3 + 12) + (2 + 11)
+                        transactions: 3,
+                        bytes: 2 + (3 + 12) + (2 + 11)
                     },
                     "cycle {cycle}"
                 );

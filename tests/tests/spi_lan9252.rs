@@ -9,6 +9,7 @@ mod common;
 use common::walk_to;
 use core::pin::pin;
 use core::task::{Context, Poll, Waker};
+use ecat_core::chip::Chip;
 use ecat_core::device::{Area, ProcessDataSizes};
 use ecat_core::{AlEvent, AlState, DeviceConfig, register};
 use ecat_embassy::Pdi;
@@ -35,14 +36,10 @@ fn finish<F: Future>(future: F) -> F::Output {
     panic!("the driver waits for something that never comes");
 }
 
-/// The ESC inside a LAN9252: 4 SyncManagers, 3 FMMUs, 4 KiB of process RAM.
+/// The ESC inside a LAN9252 (4 SyncManagers, 3 FMMUs, 4 KiB of process RAM), its EEPROM
+/// holding the configuration area the stack writes for it (PDI control 0x80: SPI).
 fn lan9252_esc() -> EscConfig {
-    EscConfig {
-        sync_managers: 4,
-        fmmus: 3,
-        process_ram_end: 0x2000,
-        ..EscConfig::default()
-    }
+    EscConfig::of(Chip::LAN9252)
 }
 
 /// A started driver with `config` on a fake chip with `chip`; the start-up traffic is cleared.
@@ -351,6 +348,46 @@ fn buffer_events_are_reported_only_by_the_read_that_saw_them() {
         AlEvent::SM_CHANGE,
         "the read cleared the SM2 event; the SM change (no SM register read yet) is still pending"
     );
+}
+
+/// On the IRQ the process-data runner samples the AL event (an empty read) and reads the output
+/// area only when SM2 is among the events: the PRAM read right after reports the sample instead
+/// of reading the AL event again (one AL event read per cycle). With any access between them it
+/// reads it again.
+#[test]
+fn a_process_ram_read_right_after_an_empty_read_reports_its_event() {
+    let (mut driver, master, probe) = setup();
+    master.configure_sm(2, 0x1100, 11, ecat_emu::master::SM2_CONTROL, true);
+    assert!(master.write(0x1100, &[5; 11]));
+    let sm2 = AlEvent::sync_manager(2);
+    let sampled = finish(driver.read(0x1100, &mut [])).expect("read");
+    assert!(sampled.contains(sm2), "{sampled:?}");
+    assert_eq!(probe.take_log(), csr_read(0x0220, 4), "the AL event alone");
+    let mut buf = [0; 11];
+    let reported = finish(driver.read(0x1100, &mut buf)).expect("read");
+    assert_eq!(reported, sampled);
+    assert_eq!(buf, [5; 11]);
+    let log = probe.take_log();
+    assert_eq!(
+        log.iter().map(|t| t[..3].to_vec()).collect::<Vec<_>>(),
+        vec![
+            vec![0x02, 0x43, 0x08],
+            vec![0x03, 0x03, 0x0C],
+            vec![0x03, 0x00, 0x00]
+        ],
+        "PRAM start, available count, FIFO: no CSR command"
+    );
+
+    finish(driver.read(register::AL_EVENT_REQUEST, &mut [])).expect("read");
+    finish(driver.read(register::AL_STATUS, &mut [0; 2])).expect("read");
+    probe.take_log();
+    let again = finish(driver.read(0x1100, &mut buf)).expect("read");
+    assert!(
+        !again.intersects(sm2),
+        "the first PRAM read took the buffer"
+    );
+    assert_eq!(probe.take_log()[..2], csr_read(0x0220, 4)[..], "read again");
+    assert!(probe.violations().is_empty(), "{:?}", probe.violations());
 }
 
 fn traffic_of(log: Vec<Vec<u8>>) -> SpiStats {

@@ -314,9 +314,18 @@ fn dc_sync0_cycles_on_every_sync0_pulse_and_reports_its_cycle() {
 #[test]
 fn dc_configuration_errors_are_0x0030() {
     // (sync type, activation): SYNC0 mode without SYNC0; the SYNC unit on without SYNC0;
-    // SYNC1 without SYNC0; SYNC0 running while the MainDevice chose free-run, or chose
-    // SM-synchronous by writing 0x1C32:01's default value.
-    for (sync_type, activation) in [(2, 0x00), (2, 0x01), (2, 0x05), (0, 0x03), (1, 0x03)] {
+    // SYNC1 without SYNC0; SYNC1 with SYNC0 on this SYNC0-only device (0x1C32:04 without
+    // 0x0008: SSC's CheckDcSettings refuses it with 0x0030 too); SYNC0 running while the
+    // MainDevice chose free-run, or chose SM-synchronous by writing 0x1C32:01's default value.
+    let cases = [
+        (2, 0x00),
+        (2, 0x01),
+        (2, 0x05),
+        (2, 0x07),
+        (0, 0x03),
+        (1, 0x03),
+    ];
+    for (sync_type, activation) in cases {
         run(DC, async move |master| {
             preop_with_sync_type(&master, sync_type).await;
             program_dc(&master, activation, 1_000_000, Duration::from_millis(1));
@@ -379,6 +388,18 @@ fn safeop_to_op_without_sync0_is_0x002d_and_with_sync0_but_no_outputs_0x001b() {
             (0x14, 0x001B),
             "SYNC0 runs but the MainDevice sends no outputs"
         );
+    });
+}
+
+/// SYNC1 activated beside SYNC0 (0x0981 = 0x07) is refused only where the device does not
+/// announce SYNC1 (0x1C32:04 bit 3, `dc_configuration_errors_are_0x0030`): one that does runs
+/// DC SYNC0 and leaves SYNC1 to the application.
+#[test]
+fn sync1_beside_sync0_is_accepted_where_supported() {
+    run(DC | SupportedSync::SYNC1, async |master| {
+        preop_with_sync_type(&master, 2).await;
+        program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
+        assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
     });
 }
 
@@ -572,11 +593,13 @@ fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode()
     });
 }
 
-/// An input-only DC device: SAFEOP→OP waits for SYNC0 (there are no outputs to wait for).
+/// An input-only DC device: SAFEOP→OP waits for SYNC0 (there are no outputs to wait for). Its
+/// SII image is written for DC SYNC0: the ESC's SYNC out unit is on.
 fn input_only_dc(start_in: Duration, expected: (u16, u16)) {
-    let mut device = ecat_emu::devices::sensor().device;
-    device.config.sync = SupportedSync(device.config.sync.0 | SupportedSync::SYNC0);
-    harness::run(device, move |master| async move {
+    let mut sample = ecat_emu::devices::sensor();
+    sample.device.config.sync = SupportedSync(sample.device.config.sync.0 | SupportedSync::SYNC0);
+    sample.device.eeprom = sample.eeprom();
+    harness::run(sample.device, move |master| async move {
         master.configure_mailbox(&ecat_core::device::MailboxConfig::contiguous(0x1000, 128));
         assert_eq!(master.request(0x02).await, (0x02, 0));
         program_dc(&master, 0x03, 1_000_000, start_in);

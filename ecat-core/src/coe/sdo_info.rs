@@ -38,9 +38,15 @@
 //! - **Errors** of well-formed requests (opcode 0x07, ETG.1000.6 Table 41 codes):
 //!   - an opcode that is not a request: `0x05040001` ([`AbortCode::COMMAND_SPECIFIER`]);
 //!   - a list type above 5: `0x06010000` ([`AbortCode::UNSUPPORTED_ACCESS`], as SOES does);
-//!   - missing object `0x06020000`, missing subindex `0x06090011`;
+//!   - missing object `0x06020000`, missing subindex `0x06090011` (above the highest subindex,
+//!     or beyond SI0 of a VAR);
 //!   - a message too short for a description's fixed part: `0x06010005`
 //!     ([`AbortCode::EXCEEDS_MAILBOX`]).
+//! - **Gaps of a sparse RECORD** (a subindex up to the highest that the record does not
+//!   declare, 0x1C32:0E..1F) are described, not refused, as SSC describes them: data type 0,
+//!   bit length 0, access 0, value info 0, name `SubIndex NNN` (`gap_description`). Every
+//!   well-formed request for subindex 0..=max of an existing object is answered without an SDO
+//!   Info error (SOEM's `ecx_readOE` asks for each of them).
 //! - A request with the incomplete bit set is served as if it were clear (requests are never
 //!   fragmented).
 //! - An `out` shorter than an error response (10 bytes) gets nothing: `request` returns 0 and
@@ -51,7 +57,7 @@
 //! counts (six scans for list type 0) and once to fill the message.
 
 use super::{AbortCode, CoeHeader, Service};
-use crate::dictionary::{EntryInfo, Limit, Object, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo};
 
 /// The SDO Information opcode (byte 0 of the SDO Information header, bits 0..6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -450,7 +456,9 @@ fn entry_description<D: ObjectDictionary>(
     data: &mut [u8],
 ) -> Result<Response, AbortCode> {
     let object = D::object(index).ok_or(AbortCode::NO_OBJECT)?;
-    let entry = object.info.entry(sub).ok_or(AbortCode::NO_SUBINDEX)?;
+    let Some(entry) = object.info.entry(sub) else {
+        return gap_description(&object.info, sub, data);
+    };
     let mut w = Writer::new(data);
     if !w.put(&entry_fixed_part(index, sub, entry)) {
         return Err(AbortCode::EXCEEDS_MAILBOX);
@@ -466,6 +474,32 @@ fn entry_description<D: ObjectDictionary>(
     }
     w.put_name(entry.name);
     w.patch(VALUE_INFO_AT, honoured);
+    Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
+}
+
+/// The entry description of a subindex a RECORD does not declare below its highest one (a gap
+/// of a sparse record, 0x1C32:0E..1F): described as SSC describes it (its records are dense
+/// arrays of entry descriptions, a gap `{0x0000, 0, 0}`, Beckhoff SSC 5.12 `objdef.c`
+/// `OBJ_GetEntryDesc`/`OBJ_GetDesc`, `coeappl.c` `asEntryDesc0x1C3x`): data type 0, bit length
+/// 0, access 0, value info 0 (no optional field, whatever the request asks) and the name SSC
+/// gives an entry without one, `SubIndex NNN` (three decimal digits). SOEM's `ecx_readOE` asks
+/// for every subindex 0..max of every object and records an SDO Info error for each one
+/// refused. Any other missing subindex is `0x06090011` (ETG.1000.6 Table 41).
+fn gap_description(object: &ObjectInfo, sub: u8, data: &mut [u8]) -> Result<Response, AbortCode> {
+    if object.code != ObjectCode::Record || sub == 0 || sub > object.max_sub {
+        return Err(AbortCode::NO_SUBINDEX);
+    }
+    let [i0, i1] = object.index.to_le_bytes();
+    let mut w = Writer::new(data);
+    if !w.put(&[i0, i1, sub, 0, 0, 0, 0, 0, 0, 0]) {
+        return Err(AbortCode::EXCEEDS_MAILBOX);
+    }
+    let digit = |n: u8| b'0' + n % 10;
+    let (h, t, u) = (digit(sub / 100), digit(sub / 10), digit(sub));
+    let name = [
+        b'S', b'u', b'b', b'I', b'n', b'd', b'e', b'x', b' ', h, t, u,
+    ];
+    w.put_name(core::str::from_utf8(&name).unwrap_or_default());
     Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
 }
 

@@ -7,6 +7,12 @@
 //!   without its header and the fixed part of its opcode, [`InfoRequest::parse`]);
 //! - counters: a message whose non-zero counter equals the previous one is a repeat and is
 //!   dropped; the SubDevice numbers its own messages 1..=7;
+//! - the channel (header byte 4, bits 0..5) is reserved and 0 (ETG.1000.4 Table 29): a new
+//!   message with another channel gets 0x0003 "invalid channel" (ETG.1000.4 Table 30), checked
+//!   after the length and repeat checks, before the protocol. The priority (bits 6..7) and the
+//!   address are not judged. SSC 5.12 and SOES never send 0x0003 (they define it and read no
+//!   channel); every MainDevice known writes channel 0 (SOEM, IgH, ethercrab), so the error
+//!   reaches only a malformed message;
 //! - flow control: a request is read from SM0 only when its answer can be sent, so nothing is
 //!   ever lost or queued unboundedly; what the SubDevice sends on its own (SDO Information
 //!   fragments, emergencies) waits until SM1 is free;
@@ -338,6 +344,9 @@ impl<const N: usize> Mailbox<N> {
             return false;
         }
         self.rx_counter = header.counter;
+        if header.channel != 0 {
+            return self.refuse_channel();
+        }
         match header.kind {
             MailboxType::Coe if cx.state != AlState::Boot => self.serve_coe(cx, length),
             _ => self.build_error(MailboxError::UNSUPPORTED_PROTOCOL),
@@ -372,6 +381,14 @@ impl<const N: usize> Mailbox<N> {
             _ => sdo::abort(out, 0, 0, AbortCode::UNSUPPORTED_ACCESS),
         };
         len > 0 && self.build(MailboxType::Coe, len)
+    }
+
+    /// The reply to a message on a channel other than 0: out of line, away from the requests'
+    /// way.
+    #[cold]
+    #[inline(never)]
+    fn refuse_channel(&mut self) -> bool {
+        self.build_error(MailboxError::INVALID_CHANNEL)
     }
 
     fn build_error(&mut self, error: MailboxError) -> bool {

@@ -11,12 +11,15 @@
 //! rights say so), SI0 = 0 first, then the entries, then SI0 = n; an entry written while SI0 ≠ 0 is
 //! refused with 0x06010003, SI0 above the capacity with 0x06090031, an assignment outside the
 //! mapping range or to a missing PDO with 0x06090030, a mapping entry that names no mappable
-//! entry of the right direction or with the wrong bit length with 0x06040041.
+//! entry of the right direction or with the wrong bit length with 0x06040041, an SI0 that
+//! makes the image of its direction longer than the device can take with 0x06040042
+//! ([`check_length`]).
 
 pub mod image;
 pub mod layout;
 
 use crate::coe::AbortCode;
+use crate::device::DeviceConfig;
 use crate::dictionary::{Access, ObjectDictionary};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
@@ -274,6 +277,78 @@ pub fn check_counted_write(
     }
     if count != 0 {
         return Err(AbortCode::SI0_NOT_ZERO);
+    }
+    Ok(())
+}
+
+/// The bytes of process RAM the process images can occupy ([`check_length`]): from the first
+/// 8-aligned byte after the mailboxes (where the SII places SM2, `sii::sync_managers`) to
+/// [`DeviceConfig::process_ram_end`].
+pub fn process_ram(config: &DeviceConfig) -> u32 {
+    let mailboxes = [Some(&config.mailbox), config.bootstrap_mailbox.as_ref()];
+    let end = mailboxes
+        .into_iter()
+        .flatten()
+        .map(|m| m.receive.end().max(m.send.end()))
+        .max()
+        .unwrap_or(0);
+    config.process_ram_end.saturating_sub(end.div_ceil(8) * 8)
+}
+
+/// The 0x06040042 check of a PDO configuration write (ETG.1000.6 Table 41 "the number and
+/// length of the objects to be mapped would exceed the PDO length"; conformance.md "CoE SDO"):
+/// SI0 := `count` of mapping or assignment object `index`, whose entry `sub` is `entry(sub)`
+/// (the dictionary's, or for a complete access the request's), would make the image of its
+/// direction longer than the device can take: over 65 535 bits (the image's bit offsets are
+/// 16-bit, [`layout::Layout`]) or, in three buffers, more than `room` bytes of process RAM
+/// ([`process_ram`]; `u32::MAX`: no such limit). The other direction is not counted: a
+/// MainDevice that grows one image before shrinking the other is not refused for the order.
+/// A mapping that is not assigned makes no image; entries that are no valid PDO or mapping
+/// are left to the other checks (0x06040041, 0x06090030; at PREOP→SAFEOP 0x0024/0x0025).
+///
+/// SSC 5.12 and SOES never send 0x06040042 (SSC lists it in `cAbortCode` only); SSC refuses
+/// an image its SyncManager cannot take at PREOP→SAFEOP, as this stack still does too.
+#[doc(hidden)]
+pub fn check_length<D: ObjectDictionary>(
+    od: &D,
+    room: u32,
+    index: u16,
+    count: u8,
+    entry: impl Fn(u8) -> Option<u32>,
+) -> Result<(), AbortCode> {
+    let direction = match (
+        Direction::of_mapping(index),
+        Direction::of_assignment(index),
+    ) {
+        (Some(d), _) | (_, Some(d)) => d,
+        _ => return Ok(()),
+    };
+    let Some(assignment) = D::object(direction.assignment()) else {
+        return Ok(());
+    };
+    let changed = |object: u16| (object == index).then_some(count);
+    let pdos = changed(assignment.info.index).unwrap_or_else(|| layout::count(od, assignment));
+    let mut bits = 0u32;
+    for p in 1..=pdos {
+        let pdo = match changed(assignment.info.index) {
+            Some(_) => entry(p).and_then(|v| u16::try_from(v).ok()),
+            None => layout::read_u16(od, assignment, p),
+        };
+        let Some(mapping) = pdo.filter(|i| direction.is_mapping(*i)).and_then(D::object) else {
+            continue;
+        };
+        let entries = changed(mapping.info.index).unwrap_or_else(|| layout::count(od, mapping));
+        for sub in 1..=entries {
+            let value = match changed(mapping.info.index) {
+                Some(_) => entry(sub),
+                None => layout::read_u32(od, mapping, sub),
+            };
+            bits += value.map_or(0, |v| u32::from(MappingEntry(v).bit_len()));
+        }
+    }
+    let bytes = bits.div_ceil(8);
+    if bits > u32::from(u16::MAX) || bytes.saturating_mul(3) > room {
+        return Err(AbortCode::PDO_TOO_LONG);
     }
     Ok(())
 }

@@ -16,8 +16,11 @@
 //! During the data phase of a read the master sends 0x00 for every byte but the last, and the read
 //! termination byte 0xFF with the last one: only then does the ESC stop prefetching (a prefetched
 //! byte of a SyncManager buffer counts as read).
+//!
+//! An empty read is a NOP: the address phase alone, which brings the AL event and nothing else.
 
 use ecat_core::AlEvent;
+use ecat_core::chip::{Chip, SpiMode};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
@@ -27,6 +30,8 @@ use crate::pdi::Data;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
 enum Command {
+    /// No operation: the address phase alone (and the AL event it shifts out).
+    Nop = 0b000,
     /// Read, the first data byte following the address phase at once; the SPI clock must leave
     /// the ESC its internal read latency.
     Read = 0b010,
@@ -37,6 +42,14 @@ enum Command {
     /// Address extension: a third address/command byte follows, carrying `A[15:13]` and the command.
     AddressExtension = 0b110,
 }
+
+/// The SPI mode the bus must run in: the mode the SII image's configuration area writes into
+/// the PDI configuration register (0x0150 bits 1:0) of the ET1100 and the AX58100
+/// ([`ecat_core::chip::ConfigArea`]), taken from the same [`Chip`] constants so the two cannot
+/// differ. A board configures its SPI peripheral with it.
+pub const SPI_MODE: SpiMode = Chip::ET1100.spi_mode;
+
+const _: () = assert!(Chip::AX58100.spi_mode as u8 == SPI_MODE as u8);
 
 /// First address that needs 3-byte addressing: 2-byte addressing carries `A[12:0]` only.
 pub const THREE_BYTE_ADDRESSING_FROM: u16 = 0x2000;
@@ -191,7 +204,8 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
     type Error = S::Error;
 
     /// Performs the access as [`Config::transactions`] says; returns the AL event of the first
-    /// address phase. An empty access costs nothing and reports no event.
+    /// address phase. An empty read is one NOP (2 bytes on the bus), an empty write costs
+    /// nothing and reports no event.
     ///
     /// An `async` block rather than an `async fn`: the block works on its captured arguments
     /// themselves, where an `async fn` keeps a copy of each beside it (18 bytes of a future each
@@ -204,7 +218,8 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
     ) -> impl Future<Output = Result<AlEvent, S::Error>> {
         async move {
             let (mut event, mut first) = (AlEvent::NONE, true);
-            while !rest.is_empty() {
+            // An empty read runs once: the address phase of a NOP.
+            while !rest.is_empty() || first && matches!(rest, Data::Read(_)) {
                 let piece_len = match self.config.transactions {
                     Transactions::Burst => rest.len(),
                     Transactions::PerByte => 1,
@@ -218,10 +233,14 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                 let (command, data) = match piece {
                     Data::Read(buf) => {
                         buf.fill(READ_CONTINUE);
-                        if let Some(last) = buf.last_mut() {
-                            *last = READ_TERMINATION;
-                        }
-                        (self.read_command(), Operation::TransferInPlace(buf))
+                        let command = match buf.last_mut() {
+                            Some(last) => {
+                                *last = READ_TERMINATION;
+                                self.read_command()
+                            }
+                            None => Command::Nop,
+                        };
+                        (command, Operation::TransferInPlace(buf))
                     }
                     Data::Write(data) => (Command::Write, Operation::Write(data)),
                 };

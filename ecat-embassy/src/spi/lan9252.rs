@@ -21,7 +21,13 @@
 //! Unlike the Beckhoff SPI protocol, nothing delivers the AL event register (0x0220) for free: it
 //! costs an EtherCAT CSR read. The driver reads it only for the reads the IRQ line prompts — reads
 //! of process RAM (the process-data runner's output read, the mailbox) and reads of 0x0220 itself —
-//! and reports it sampled before the access, as [`Pdi`] asks. Every other access (register reads
+//! and reports it sampled before the access, as [`Pdi`] asks; an empty read reads it and nothing
+//! else. A read of process RAM right after an empty read (no access between them) reports the
+//! empty read's value instead of reading it again: on the IRQ the process-data runner samples
+//! the AL event that way and reads the output area only if SM2 is among the events (reading it
+//! takes the SM2 buffer and clears the event, so a sample taken by the same access could miss a
+//! buffer the read takes), and so still pays one AL event read per cycle. Every other access
+//! (register reads
 //! and writes of the state machine, the input write) reports the state-machine events of the last
 //! value read, less those the driver's reads have cleared since (reads of AL control and of the
 //! SyncManager activation registers):
@@ -45,12 +51,19 @@ use core::future::Future;
 use core::ops::Range;
 
 use ecat_core::AlEvent;
+use ecat_core::chip::{Chip, SpiMode};
 use ecat_core::register::{AL_EVENT_REQUEST, PROCESS_RAM};
 use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
 use crate::pdi::Data;
+
+/// The SPI mode the bus must run in ([`Chip::LAN9252`]'s, which the SII image's configuration
+/// area is written for): the LAN9252's SPI host interface takes mode 0 or 3.
+pub const SPI_MODE: SpiMode = Chip::LAN9252.spi_mode;
+
+const _: () = assert!(matches!(SPI_MODE, SpiMode::Mode0 | SpiMode::Mode3));
 
 /// SPI instruction READ: address, then data (LAN9252 datasheet, "SPI/SQI Slave", "SPI Read").
 const READ: u8 = 0x03;
@@ -204,6 +217,9 @@ pub enum Error<E> {
 pub struct Lan9252<S> {
     /// State-machine events of the last AL event value read, less those cleared since.
     known: AlEvent,
+    /// The AL event read by the last access if it was an empty read, else none: what a read of
+    /// process RAM right after it reports.
+    sampled: AlEvent,
     config: Config,
     spi: S,
 }
@@ -211,12 +227,13 @@ pub struct Lan9252<S> {
 impl<S: SpiDevice> Lan9252<S> {
     /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
     /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
-    /// output, active low, push-pull. `spi` must be in SPI mode 0 or 3.
+    /// output, active low, push-pull. `spi` must be in [`SPI_MODE`].
     pub async fn start(spi: S, config: Config) -> Result<Self, Error<S::Error>> {
         let mut chip = Self {
             spi,
             config,
             known: AlEvent::NONE,
+            sampled: AlEvent::NONE,
         };
         chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
         let deadline = Deadline::after(config.startup_timeout);
@@ -448,8 +465,10 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
     /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
-    /// touches process RAM first reads the AL event register, and so does a read of 0x0220 itself;
-    /// any other access reports the state-machine events known to be pending (see the module docs).
+    /// touches process RAM first reads the AL event register (unless the access before it was an
+    /// empty read: then it reports that one's), and so do an empty read (nothing else) and a read
+    /// of 0x0220 itself; any other access reports the state-machine events known to be pending
+    /// (see the module docs).
     /// An `async` block rather than an `async fn`, which would keep a copy of its arguments.
     #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
     fn access(
@@ -467,12 +486,21 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             let reading = matches!(data, Data::Read(_));
             let len = data.len();
             let (mut registers, ram) = data.split_at(register_bytes(address, len));
+            // Taken by every access: only the next one may report it.
+            let sampled = core::mem::replace(&mut self.sampled, AlEvent::NONE);
             let mut fresh = None;
-            if reading && !ram.is_empty() {
-                let mut value = [0; 4];
-                self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
-                    .await?;
-                fresh = Some(AlEvent(u32::from_le_bytes(value)));
+            if reading && (len == 0 || !ram.is_empty()) {
+                let mut event = sampled;
+                if len == 0 || event.is_empty() {
+                    let mut value = [0; 4];
+                    self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
+                        .await?;
+                    event = AlEvent(u32::from_le_bytes(value));
+                }
+                if len == 0 {
+                    self.sampled = event;
+                }
+                fresh = Some(event);
             }
             self.registers(address, &mut registers).await?;
             self.pram(address.max(PROCESS_RAM), ram).await?;

@@ -1,5 +1,6 @@
 //! Clocks, pins and interrupts (pin assignment and priorities: README.md).
 
+use ecat_core::chip::SpiMode;
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
 use embassy_stm32::mode::Async;
@@ -25,13 +26,31 @@ pub type EscSpi = ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output
 /// (170 MHz) divided by 16 gives 10.6 MHz, the fastest rate not above it.
 const SPI_CLOCK: Hertz = Hertz(20_000_000);
 
+/// `mode` as embassy-stm32 spells it.
+const fn spi_mode(mode: SpiMode) -> spi::Mode {
+    spi::Mode {
+        polarity: if mode.idle_high() {
+            spi::Polarity::IdleHigh
+        } else {
+            spi::Polarity::IdleLow
+        },
+        phase: if mode.capture_on_second_edge() {
+            spi::Phase::CaptureOnSecondTransition
+        } else {
+            spi::Phase::CaptureOnFirstTransition
+        },
+    }
+}
+
 /// What the firmware gets from the board.
 pub struct Board {
     /// The ESC's SPI bus.
     pub spi: EscSpi,
     /// The ESC's PDI interrupt line (active low).
     pub irq: ExtiInput<'static, Async>,
-    /// The ESC's SYNC0 output (active low, from the distributed clock).
+    /// The ESC's SYNC0 output (from the distributed clock): push-pull, active high, as the SII
+    /// image's configuration area sets it (0x0151 = 0x06, `ecat_core::chip`); the process-data
+    /// runner waits for its rising edges.
     pub sync0: ExtiInput<'static, Async>,
     /// The application's pins.
     pub io: DigitalIo,
@@ -54,8 +73,8 @@ impl Board {
         let p = embassy_stm32::init(config);
 
         let mut spi_config = spi::Config::default();
-        // Mode 3, the ESCs' usual PDI configuration (0x0150 = 0x03); the LAN9252 takes mode 0 or 3.
-        spi_config.mode = spi::MODE_3;
+        // The mode of the ESC's driver, which the SII image's configuration area sets in the ESC.
+        spi_config.mode = spi_mode(crate::esc::SPI_MODE);
         spi_config.frequency = SPI_CLOCK;
         let bus = Spi::new(
             p.SPI1, p.PB3, p.PB5, p.PB4, p.DMA1_CH1, p.DMA1_CH2, Irqs, spi_config,
@@ -66,7 +85,9 @@ impl Board {
         Self {
             spi,
             irq: ExtiInput::new(p.PA10, p.EXTI10, Pull::Up, Irqs),
-            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Up, Irqs),
+            // Pulled to its idle level while the ESC's pin is still an input (before the EEPROM
+            // is loaded).
+            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Down, Irqs),
             io: DigitalIo::new(
                 [
                     Output::new(p.PA5, Level::Low, Speed::Low),

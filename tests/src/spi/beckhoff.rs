@@ -3,22 +3,34 @@
 //!
 //! - Address phase: byte 0 = `A[12:5]`, byte 1 = `A[4:0]` and CMD0; CMD0 = 110b (address extension)
 //!   adds byte 2 = `A[15:13]`, CMD1 and two reserved bits (00b). Meanwhile the chip shifts out the AL
-//!   event register, 0x0220 first, sampled when the transaction starts.
+//!   event register, 0x0220 first, sampled when the transaction starts (before byte 0).
 //! - Commands: 000b NOP, 010b read, 011b read with wait state byte, 100b write; 001b, 101b, 111b
 //!   and a second address extension are reserved.
 //! - Read: the wait state byte must be 0xFF; data bytes are 0x00 except the last, the read
-//!   termination 0xFF. A read is one PDI access of all its data bytes.
+//!   termination 0xFF. A read is one PDI access of all its data bytes, made as soon as the address
+//!   phase is complete (before the wait state byte, or before the first data byte without one):
+//!   an event that arises during the address phase is not in the AL event shifted out, yet the
+//!   read sees its cause (a SyncManager buffer written meanwhile).
 //! - Write: all bytes after the address phase are data, written as one PDI access when chip select
 //!   rises.
 //!
 //! What the chip shifts out where the datasheet leaves it undefined (wait state byte, write data
 //! phase) is [`UNDEFINED`], so a driver that used it would read nonsense.
 
+use ecat_core::chip::SpiMode;
+
 use crate::emulator::Emulator;
-use crate::spi::Chip;
+use crate::spi::{Chip, Progress};
 
 /// MISO where the datasheet does not define it.
 pub const UNDEFINED: u8 = 0xA5;
+
+/// PDI control (0x0140) value of the SPI slave (ESC datasheet section II, 0x0140).
+const PDI_SPI_SLAVE: u8 = 0x05;
+/// PDI control register.
+const PDI_CONTROL: u16 = 0x0140;
+/// PDI configuration register: bits 1:0 the SPI mode (ESC datasheet section II, 0x0150).
+const PDI_CONFIGURATION: u16 = 0x0150;
 
 const NOP: u8 = 0b000;
 const READ: u8 = 0b010;
@@ -71,8 +83,15 @@ impl Header {
 }
 
 impl Chip for BeckhoffEsc {
-    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>) {
+    fn transaction(
+        &mut self,
+        mosi: &[u8],
+        miso: &mut [u8],
+        violations: &mut Vec<String>,
+        progress: &mut Progress,
+    ) {
         miso.fill(UNDEFINED);
+        progress.reach(0);
         let event = self.emu.with(|esc| esc.al_event()).bits().to_le_bytes();
         for (out, byte) in miso.iter_mut().zip(event.iter().take(3)) {
             *out = *byte;
@@ -84,6 +103,12 @@ impl Chip for BeckhoffEsc {
             return;
         };
         let rest = mosi.get(header.len..).unwrap_or_default();
+        // The address phase is complete: a read starts here, a write waits for chip select.
+        progress.reach(if header.command == WRITE {
+            mosi.len()
+        } else {
+            header.len
+        });
         match header.command {
             NOP => {}
             READ => self.read(header.address, rest, miso.get_mut(header.len..), violations),
@@ -102,6 +127,27 @@ impl Chip for BeckhoffEsc {
             }
             reserved => violations.push(format!("reserved command {reserved:03b}")),
         }
+    }
+
+    /// The SPI slave talks only when the EEPROM selected it (0x0140 = 0x05) and in the mode
+    /// its PDI configuration (0x0150 bits 1:0) sets: in another mode it samples MOSI and shifts
+    /// MISO on the wrong clock edges.
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let (pdi, configuration) = self
+            .emu
+            .with(|esc| (esc.register(PDI_CONTROL), esc.register(PDI_CONFIGURATION)));
+        if pdi != PDI_SPI_SLAVE {
+            return Some(format!(
+                "PDI control 0x0140 = {pdi:#04x}, not the SPI slave (0x05): the ESC does not answer"
+            ));
+        }
+        let configured = configuration & 0b11;
+        (configured != mode as u8).then(|| {
+            format!(
+                "bus in SPI mode {}, PDI configuration 0x0150 sets mode {configured}: the ESC does not understand the bus",
+                mode as u8
+            )
+        })
     }
 }
 

@@ -31,8 +31,10 @@
 
 use std::collections::VecDeque;
 
+use ecat_core::chip::SpiMode;
+
 use crate::emulator::Emulator;
-use crate::spi::Chip;
+use crate::spi::{Chip, Progress};
 
 const READ: u8 = 0x03;
 const FAST_READ: u8 = 0x0B;
@@ -383,15 +385,51 @@ fn pram_range(address_length: u32, violations: &mut Vec<String>) -> Option<(u16,
     Some((address, length))
 }
 
+/// PDI control (0x0140) value that selects the SPI host interface (LAN9252 datasheet, "PDI
+/// Control Register": 80h SPI).
+const PDI_SPI: u8 = 0x80;
+
 impl Chip for Lan9252Chip {
-    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>) {
-        self.decode(mosi, miso, violations);
+    /// Register reads happen before their DWORD is clocked out, register writes once it is in,
+    /// the engines' work (CSR command, PRAM access) when chip select rises.
+    fn transaction(
+        &mut self,
+        mosi: &[u8],
+        miso: &mut [u8],
+        violations: &mut Vec<String>,
+        progress: &mut Progress,
+    ) {
+        self.decode(mosi, miso, violations, progress);
+        progress.reach(mosi.len());
         self.end_of_transaction(violations);
+    }
+
+    /// The SPI host interface runs only when the EEPROM selected it (0x0140 = 0x80), and in SPI
+    /// modes 0 and 3 only ("SPI/SQI Slave").
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let pdi = self.emu.with(|esc| esc.register(0x0140));
+        if pdi != PDI_SPI {
+            return Some(format!(
+                "PDI control 0x0140 = {pdi:#04x}, not SPI (0x80): the host interface is not in SPI mode"
+            ));
+        }
+        (!matches!(mode, SpiMode::Mode0 | SpiMode::Mode3)).then(|| {
+            format!(
+                "bus in SPI mode {}: the LAN9252 takes modes 0 and 3",
+                mode as u8
+            )
+        })
     }
 }
 
 impl Lan9252Chip {
-    fn decode(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>) {
+    fn decode(
+        &mut self,
+        mosi: &[u8],
+        miso: &mut [u8],
+        violations: &mut Vec<String>,
+        progress: &mut Progress,
+    ) {
         let (header, write) = match mosi.first() {
             Some(&READ) => (3, false),
             Some(&FAST_READ) => (4, false),
@@ -432,9 +470,11 @@ impl Lan9252Chip {
                 base
             };
             if write {
+                progress.reach(header + 4 * i + 4);
                 let value = u32::from_le_bytes([dword[0], dword[1], dword[2], dword[3]]);
                 self.write_register(register, value, violations);
             } else {
+                progress.reach(header + 4 * i);
                 out.copy_from_slice(&self.read_register(register, violations).to_le_bytes());
             }
         }

@@ -18,6 +18,7 @@ pub mod lan9252;
 use core::cell::RefCell;
 use std::rc::Rc;
 
+use ecat_core::chip::SpiMode;
 use embedded_hal_async::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
 
 /// What a logic analyser on the SPI bus counts.
@@ -51,7 +52,12 @@ struct Record {
     log: Vec<Vec<u8>>,
     violations: Vec<String>,
     fail_next: bool,
+    /// The transaction (counted from 0) and byte at which [`Probe::at`]'s action runs.
+    hook: Option<(u64, usize, Action)>,
 }
+
+/// Something the test does while a transaction is on the bus.
+type Action = Box<dyn FnOnce()>;
 
 impl Probe {
     /// Transactions and bytes so far.
@@ -73,14 +79,68 @@ impl Probe {
     pub fn fail_next(&self) {
         self.0.borrow_mut().fail_next = true;
     }
+
+    /// Runs `action` while transaction `transaction` (counted from 0, as
+    /// [`SpiStats::transactions`]) is on the bus, just before its byte `byte` is clocked: after
+    /// everything the chip does before that byte (see [`Progress`]), before the rest. An action
+    /// at a byte beyond the transaction runs when chip select rises. One action at a time; it
+    /// must not use this probe.
+    pub fn at(&self, transaction: u64, byte: usize, action: impl FnOnce() + 'static) {
+        self.0.borrow_mut().hook = Some((transaction, byte, Box::new(action)));
+    }
+
+    /// Whether the action of [`Probe::at`] is still waiting for its byte.
+    pub fn armed(&self) -> bool {
+        self.0.borrow().hook.is_some()
+    }
+}
+
+/// How far a chip has got in the transaction it decodes: before whatever the real chip does once
+/// `byte` bytes have been clocked (sample a register, start an access), it calls
+/// [`Progress::reach`]`(byte)`, which runs the test's action ([`Probe::at`]) if its byte has come.
+pub struct Progress {
+    action: Option<(usize, Action)>,
+}
+
+impl Progress {
+    /// `byte` bytes of the transaction have been clocked.
+    pub fn reach(&mut self, byte: usize) {
+        if self.action.as_ref().is_some_and(|(at, _)| *at <= byte)
+            && let Some((_, action)) = self.action.take()
+        {
+            action();
+        }
+    }
 }
 
 /// A chip behind an SPI chip-select line.
 pub trait Chip {
+    /// Why the chip cannot talk on a bus in `mode` now (its PDI not selected, another SPI
+    /// mode configured, as its EEPROM's configuration area set them), or `None`. A refused
+    /// transaction reaches nothing and reads [`NOT_DRIVEN`].
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let _ = mode;
+        None
+    }
+
     /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
     /// chip shifted out, and report what the real chip would reject or misread.
-    fn transaction(&mut self, mosi: &[u8], miso: &mut [u8], violations: &mut Vec<String>);
+    /// `progress` marks the points within the transaction where the chip acts (see [`Progress`]).
+    fn transaction(
+        &mut self,
+        mosi: &[u8],
+        miso: &mut [u8],
+        violations: &mut Vec<String>,
+        progress: &mut Progress,
+    );
 }
+
+/// MISO of a chip that does not talk: the line is not driven (pulled up).
+pub const NOT_DRIVEN: u8 = 0xFF;
+
+/// The SPI mode [`FakeSpi::new`] runs the bus in: mode 3, what both PDI drivers ask the board
+/// for (`ecat_embassy::spi::beckhoff::SPI_MODE`, `ecat_embassy::spi::lan9252::SPI_MODE`).
+pub const BUS_MODE: SpiMode = SpiMode::Mode3;
 
 /// The error [`Probe::fail_next`] injects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -96,12 +156,19 @@ impl embedded_hal_async::spi::Error for BusError {
 pub struct FakeSpi<C> {
     chip: C,
     probe: Probe,
+    /// The SPI mode the bus (the microcontroller's SPI peripheral) is configured with.
+    mode: SpiMode,
 }
 
 impl<C: Chip> FakeSpi<C> {
-    /// `chip` on a bus watched by `probe`.
+    /// `chip` on a bus in [`BUS_MODE`] watched by `probe`.
     pub fn new(chip: C, probe: Probe) -> Self {
-        Self { chip, probe }
+        Self::with_mode(chip, probe, BUS_MODE)
+    }
+
+    /// `chip` on a bus in `mode` watched by `probe`.
+    pub fn with_mode(chip: C, probe: Probe, mode: SpiMode) -> Self {
+        Self { chip, probe, mode }
     }
 
     /// Flattens the operations into the byte stream on the wire, lets the chip answer and hands
@@ -126,9 +193,36 @@ impl<C: Chip> FakeSpi<C> {
                 Operation::DelayNs(_) => {}
             }
         }
+        if let Some(why) = self.chip.refusal(self.mode) {
+            if record.violations.last() != Some(&why) {
+                record.violations.push(why);
+            }
+            record.stats.transactions += 1;
+            record.stats.bytes += mosi.len() as u64;
+            record.log.push(mosi);
+            for op in operations.iter_mut() {
+                match op {
+                    Operation::Read(buf) | Operation::TransferInPlace(buf) => buf.fill(NOT_DRIVEN),
+                    Operation::Transfer(read, _) => read.fill(NOT_DRIVEN),
+                    Operation::Write(_) | Operation::DelayNs(_) => {}
+                }
+            }
+            return Ok(());
+        }
         let mut miso = vec![0; mosi.len()];
+        let index = record.stats.transactions;
+        let action = match record.hook.take() {
+            Some((transaction, byte, action)) if transaction == index => Some((byte, action)),
+            other => {
+                record.hook = other;
+                None
+            }
+        };
+        let mut progress = Progress { action };
         self.chip
-            .transaction(&mosi, &mut miso, &mut record.violations);
+            .transaction(&mosi, &mut miso, &mut record.violations, &mut progress);
+        // An action at a byte beyond the transaction: chip select rises.
+        progress.reach(usize::MAX);
         let mut incoming = miso.iter();
         for op in operations.iter_mut() {
             let (read, len): (&mut [u8], usize) = match op {

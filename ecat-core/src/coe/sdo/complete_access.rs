@@ -2,7 +2,9 @@
 //!
 //! Layout: from subindex 0, SI0 travels as one byte plus one padding byte; from subindex 1, the
 //! entries start at once. Entries follow in subindex order, BOOL and BITn entries packed bit by bit,
-//! byte-sized entries aligned to the next byte. Variable-length entries (strings, domains) make
+//! byte-sized entries aligned to the next byte. An upload of an ARRAY or a PDO mapping RECORD
+//! ends with the entry SI0 counts ([`upload_last`]); one of another RECORD carries its declared
+//! entries, a gap nothing. Variable-length entries (strings, domains) make
 //! an object unfit for complete access (0x06010004).
 
 use crate::coe::AbortCode;
@@ -82,7 +84,30 @@ pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
         .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
 }
 
-/// Copies the image bytes from `offset` on into `out`; returns how many.
+/// The highest subindex a complete-access upload carries. Of an ARRAY, the value of SI0: the
+/// object's current size, SI0 and the entries it counts, as SSC 5.12 sizes and reads an ARRAY
+/// (`objdef.c` `OBJ_GetObjectLength`: SI0's value times the element, `OBJ_Read`: entries up to
+/// SI0's value). So 0x1C12/0x1C13 (ARRAYs) and the PDO mappings (RECORDs of like entries,
+/// [`ObjectInfo::is_uniform`], whose SI0 SSC also reads as the count) show their configured
+/// entries, not every slot of their capacity. Of another RECORD, every declared entry; an
+/// undeclared one (a gap of a sparse record) has no bits, as SSC's gap descriptions have bit
+/// length 0.
+pub fn upload_last<D>(od: &D, object: &Object<D>) -> Result<u8, AbortCode> {
+    if !object.info.is_uniform() {
+        return Ok(object.info.max_sub);
+    }
+    let mut si0 = [0u8; 1];
+    (object.read)(od, 0, 0, &mut si0)?;
+    Ok(si0[0].min(object.info.max_sub))
+}
+
+/// The size in bytes of a complete-access upload from `sub` ([`upload_last`]).
+pub fn upload_size<D>(od: &D, object: &Object<D>, sub: u8) -> Result<usize, AbortCode> {
+    Ok(size_through(&object.info, sub, upload_last(od, object)?))
+}
+
+/// Copies the bytes of a complete-access upload from `sub` ([`upload_last`]) from `offset` on
+/// into `out`; returns how many.
 pub fn read<D>(
     od: &D,
     object: &Object<D>,
@@ -90,11 +115,12 @@ pub fn read<D>(
     offset: usize,
     out: &mut [u8],
 ) -> Result<usize, AbortCode> {
-    let total = size(&object.info, sub);
+    let last = upload_last(od, object)?;
+    let total = size_through(&object.info, sub, last);
     let len = out.len().min(total.saturating_sub(offset));
     let window = out.get_mut(..len).unwrap_or_default();
     window.fill(0);
-    for slot in slots(&object.info, sub) {
+    for slot in slots(&object.info, sub).take_while(|s| s.sub <= last) {
         if slot.bit_len.is_multiple_of(8) {
             read_bytes(od, object, slot, offset, window)?;
         } else {

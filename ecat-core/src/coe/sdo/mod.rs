@@ -23,7 +23,10 @@ use command::{Request, response};
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
-use crate::dictionary::{DataType, EntryInfo, Object, ObjectDictionary, ObjectHooks, ObjectInfo};
+use crate::device::DeviceConfig;
+use crate::dictionary::{
+    DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
+};
 use crate::pdo::{self, layout::Layout as PdoLayout};
 use crate::process_data::Writes;
 use crate::time::{Duration, Instant};
@@ -79,6 +82,11 @@ pub struct Context<'a, D, H> {
     pub now: Instant,
     /// Where successful writes are noted: what they changed of the process-data configuration.
     pub writes: &'a mut Writes,
+    /// The device, for what its process RAM can take ([`pdo::process_ram`]): an SI0 written
+    /// into a PDO configuration object that makes its image longer than three buffers of it can
+    /// hold is refused with 0x06040042 ([`pdo::check_length`]). `None`: no such limit (an image
+    /// over 65 535 bits is refused all the same).
+    pub device: Option<&'a DeviceConfig>,
 }
 
 /// The SDO server, with an `N`-byte buffer for segmented downloads.
@@ -478,7 +486,7 @@ fn resolve<D: ObjectDictionary>(
     let entry = object
         .info
         .entry(target.sub)
-        .ok_or(AbortCode::NO_SUBINDEX)?;
+        .ok_or_else(|| missing_entry(&object.info, target.sub))?;
     check_access(entry, state, direction)?;
     Ok((
         object,
@@ -487,6 +495,21 @@ fn resolve<D: ObjectDictionary>(
             ..target
         },
     ))
+}
+
+/// Why a single access to `object`'s subindex `sub`, which it does not declare, is refused:
+/// a gap of a sparse RECORD (below its highest subindex; SDO Information describes it as an
+/// empty entry, data type 0 and access 0) with 0x06010000 "unsupported access", as SSC 5.12
+/// answers an access to such an entry (`OBJ_Read`/`OBJ_Write`, change V5.12 COE7); any other
+/// with 0x06090011 (ETG.1000.6 Table 41).
+#[cold]
+fn missing_entry(object: &ObjectInfo, sub: u8) -> AbortCode {
+    let gap = object.code == ObjectCode::Record && sub > 0 && sub <= object.max_sub;
+    if gap {
+        AbortCode::UNSUPPORTED_ACCESS
+    } else {
+        AbortCode::NO_SUBINDEX
+    }
 }
 
 /// A complete access to `object` from `target.sub`: allowed on the object, every entry
@@ -576,7 +599,7 @@ fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
         return usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY);
     }
     if target.complete {
-        return Ok(complete_access::size(&object.info, target.sub));
+        return complete_access::upload_size(cx.od, object, target.sub);
     }
     Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size)
 }
@@ -615,9 +638,41 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
             .domain_write(target.index, target.sub, offset, data, last);
     }
     if !target.complete {
+        if target.sub == 0 {
+            check_pdo_length(cx, object, data)?;
+        }
         return store_entry(cx, object, target.sub, data);
     }
     store_complete(cx, object, target.sub, data)
+}
+
+/// The bytes of process RAM the images can occupy, `u32::MAX` without a device.
+fn process_ram(device: Option<&DeviceConfig>) -> u32 {
+    device.map_or(u32::MAX, pdo::process_ram)
+}
+
+/// SI0 := `data` of a PDO mapping or assignment object, by a single access: the image of its
+/// direction with the entries the dictionary holds must fit the device ([`pdo::check_length`],
+/// 0x06040042). SI0 0 empties, and a count above the capacity or of the wrong size is the
+/// object's own write to refuse (0x06090031, 0x0607001x). Out of line: downloads of SI0 only.
+#[inline(never)]
+fn check_pdo_length<D: ObjectDictionary, H>(
+    cx: &Context<'_, D, H>,
+    object: &Object<D>,
+    data: &[u8],
+) -> Result<(), AbortCode> {
+    let (&[n], index) = (data, object.info.index) else {
+        return Ok(());
+    };
+    if n == 0 || n > object.info.max_sub || !pdo::configures_process_data(index) {
+        return Ok(());
+    }
+    let od = &*cx.od;
+    let entry = |sub| match pdo::Direction::of_assignment(index) {
+        Some(_) => pdo::layout::read_u16(od, object, sub).map(u32::from),
+        None => pdo::layout::read_u32(od, object, sub),
+    };
+    pdo::check_length(od, process_ram(cx.device), index, n, entry)
 }
 
 /// A complete-access download (ETG.1000.6 §5.6.2.1.2). With a writable SI0 (PDO configuration
@@ -650,7 +705,8 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         Some(n) if writable => {
             // Checked before anything is stored: a refused configuration leaves the object as
             // it was (the sequence below empties it first).
-            check_configuration::<D>(object, from, data, n)?;
+            let room = process_ram(cx.device);
+            check_configuration(&*cx.od, room, object, from, data, n)?;
             store_entry(cx, object, 0, &[0])?;
             last = n;
         }
@@ -678,8 +734,11 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
 /// The entries a complete access to a configuration object (writable SI0) counts with `n`,
 /// judged by the PDO configuration rules before anything is stored: SI0 within the capacity
 /// ([`pdo::check_counted_write`]), each a valid mapping or assignment entry
-/// ([`pdo::check_entry`]).
+/// ([`pdo::check_entry`]), the image they make within what the device can take
+/// ([`pdo::check_length`], 0x06040042).
 fn check_configuration<D: ObjectDictionary>(
+    od: &D,
+    process_ram: u32,
     object: &Object<D>,
     from: u8,
     data: &[u8],
@@ -691,7 +750,15 @@ fn check_configuration<D: ObjectDictionary>(
             .ok_or(AbortCode::LENGTH_MISMATCH)?;
         pdo::check_entry::<D>(object.info.index, value.get(..len).unwrap_or_default())?;
     }
-    Ok(())
+    let entry = |sub| {
+        let (value, len) = complete_access::entry_value(data, &object.info, from, sub)?;
+        let mut bytes = [0u8; 4];
+        bytes
+            .get_mut(..len.min(4))?
+            .copy_from_slice(value.get(..len.min(4))?);
+        Some(u32::from_le_bytes(bytes))
+    };
+    pdo::check_length(od, process_ram, object.info.index, n, entry)
 }
 
 /// A complete-access image of `len` bytes from `from` must be the whole object, or, when the
@@ -825,16 +892,83 @@ fn byte(bytes: &[u8], i: usize) -> u8 {
 mod tests {
     use super::*;
 
+    struct Sparse {
+        first: u8,
+        fourth: u16,
+    }
+
     struct Od {
         device_type: u32,
         error_register: u8,
+        sparse: Sparse,
     }
 
     crate::dictionary! {
         minimal Od {
             0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
             0x1001 => var(error_register, RO, "Error register", default = 0x81);
+            0x2000 => record(sparse: Sparse, "Sparse") {
+                1 => first, RW, "First", default = 0x11;
+                4 => fourth, RW, "Fourth", default = 0x4444;
+            };
         }
+    }
+
+    /// The answer of a fresh server in PREOP to `request` (the bytes after the CoE header): the
+    /// buffer and the answer's length.
+    fn serve(od: &mut Od, request: &[u8]) -> ([u8; 40], usize) {
+        let mut cx = Context {
+            od,
+            hooks: &mut (),
+            state: AlState::PreOp,
+            now: Instant::from_micros(0),
+            writes: &mut Writes::default(),
+            device: None,
+        };
+        let mut out = [0u8; 40];
+        let n = SdoServer::<16>::new().request(&mut cx, request, &mut out);
+        (out, n)
+    }
+
+    /// A gap of a sparse RECORD (0x2000:02, :03 here; 0x1C32:0E..1F on a device), which SDO
+    /// Information describes as an empty entry, is refused with 0x06010000 "unsupported access"
+    /// for upload and download, as SSC 5.12 refuses an entry of access 0 (change V5.12 COE7);
+    /// above the highest subindex 0x06090011 stays.
+    #[test]
+    fn an_access_to_a_gap_of_a_record_is_unsupported() {
+        let mut od = Od::default();
+        let abort = |sub: u8, code: [u8; 4]| {
+            [
+                0x00, 0x20, 0x80, 0x00, 0x20, sub, code[0], code[1], code[2], code[3],
+            ]
+        };
+        let unsupported = [0x00, 0x00, 0x01, 0x06];
+        let no_subindex = [0x11, 0x00, 0x09, 0x06];
+        for sub in [2, 3] {
+            let (out, n) = serve(&mut od, &[0x40, 0x00, 0x20, sub, 0, 0, 0, 0]);
+            assert_eq!(out[..n], abort(sub, unsupported), "upload of :{sub}");
+            let (out, n) = serve(&mut od, &[0x2F, 0x00, 0x20, sub, 1, 0, 0, 0]);
+            assert_eq!(out[..n], abort(sub, unsupported), "download into :{sub}");
+        }
+        let (out, n) = serve(&mut od, &[0x40, 0x00, 0x20, 5, 0, 0, 0, 0]);
+        assert_eq!(out[..n], abort(5, no_subindex));
+        let (out, n) = serve(&mut od, &[0x40, 0x00, 0x10, 1, 0, 0, 0, 0]);
+        assert_eq!(out[..6], [0x00, 0x20, 0x80, 0x00, 0x10, 1]);
+        assert_eq!(out[6..n], no_subindex, "a VAR has SI0 only");
+    }
+
+    /// A complete-access upload of a sparse RECORD carries its declared entries; a gap has no
+    /// bits (SSC: a gap's bit length is 0).
+    #[test]
+    fn a_complete_access_upload_of_a_sparse_record_skips_its_gaps() {
+        let mut od = Od::default();
+        let (out, n) = serve(&mut od, &[0x50, 0x00, 0x20, 0x00, 0, 0, 0, 0]);
+        assert_eq!(
+            out[..n],
+            [
+                0x00, 0x30, 0x51, 0x00, 0x20, 0x00, 5, 0, 0, 0, 4, 0, 0x11, 0x44, 0x44
+            ]
+        );
     }
 
     #[test]
@@ -861,6 +995,7 @@ mod tests {
                 state: AlState::PreOp,
                 now: Instant::from_micros(0),
                 writes: &mut Writes::default(),
+                device: None,
             };
             let [i0, i1] = u16::to_le_bytes(index);
             let mut out = [0xAA; 40];
