@@ -28,8 +28,10 @@
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
 //! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
+//! | [`sync_error`] | sync error supervision: the SM/SYNC-event-missed counter against 0x10F1:02 → SAFEOP + 0x001A (ETG.1020 §6.3) |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
+//! | [`indicator`] | the RUN and ERR indicators: patterns, AL state/code → pattern, next edge (ETG.1300) |
 //! | [`cia402`] | the CiA 402 drive profile: PDS state machine, option codes, statusword, modes (IEC 61800-7-201 §6.2) |
 #![no_std]
 #![cfg_attr(
@@ -53,6 +55,7 @@ pub mod device;
 pub mod dictionary;
 pub mod esi;
 pub mod esm;
+pub mod indicator;
 pub mod mailbox;
 pub mod pdo;
 pub mod process_data;
@@ -61,6 +64,7 @@ pub mod ring;
 pub mod sii;
 pub mod subdevice;
 pub mod sync;
+pub mod sync_error;
 pub mod sync_manager;
 pub mod time;
 

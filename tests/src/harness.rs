@@ -23,7 +23,7 @@ use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_time::MockDriver;
 
-use crate::emulator::Emulator;
+use crate::emulator::{EmulatedPdi, Emulator};
 use crate::esc::EscConfig;
 use crate::master::TestMaster;
 
@@ -242,6 +242,44 @@ pub fn run_with_pdi<A, C, D, P, F>(
             TestMaster::new(emu),
             script(master),
         )));
+        futures
+    });
+}
+
+/// Like [`run`], with more tasks beside the runners (e.g. the indicator task), which `extra`
+/// builds on the ESC handle the runners share; they stop when the script ends. Each waits for
+/// that on a signal of its own: tasks waiting on one [`Signal`] wake each other (it keeps one
+/// waker and wakes the one it replaces), which would hide whether a task wakes only when it
+/// should.
+pub fn run_with_tasks<A, C, D, F>(
+    device: Device<A, C, D>,
+    extra: impl FnOnce(&'static SharedEsc<CriticalSectionRawMutex, EmulatedPdi>) -> Vec<BoxedTask>,
+    script: impl FnOnce(TestMaster) -> F,
+) where
+    A: Application + ObjectHooks<D> + 'static,
+    C: CycleHandler<D> + 'static,
+    D: ObjectDictionary,
+    F: Future<Output = ()> + 'static,
+{
+    execute(Some(HANG_LIMIT), |stop| {
+        let emu = device.emulator();
+        let (mut futures, shared) = device.runners(&emu, emu.pdi(), stop);
+        let mut ends: Vec<&'static Stop> = Vec::new();
+        for task in extra(shared) {
+            let end: &'static Stop = Box::leak(Box::new(Stop::default()));
+            ends.push(end);
+            futures.push(Box::pin(async move {
+                select(task, end.wait()).await;
+            }));
+        }
+        let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
+        let script = scenario(stop, TestMaster::new(emu), script(master));
+        futures.push(Box::pin(async move {
+            script.await;
+            for end in ends {
+                end.signal();
+            }
+        }));
         futures
     });
 }

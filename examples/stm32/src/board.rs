@@ -12,6 +12,9 @@ use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
 use crate::io::DigitalIo;
 
+/// The ETG.1300 RUN (green) and ERR (red) LEDs: PB10 (D6) and PA9 (D8), lit when high.
+pub type Leds = ecat_embassy::indicator::RunErr<Output<'static>, Output<'static>>;
+
 bind_interrupts!(struct Irqs {
     DMA1_CHANNEL1 => dma::InterruptHandler<peripherals::DMA1_CH1>;
     DMA1_CHANNEL2 => dma::InterruptHandler<peripherals::DMA1_CH2>;
@@ -54,6 +57,8 @@ pub struct Board {
     pub sync0: ExtiInput<'static, Async>,
     /// The application's pins.
     pub io: DigitalIo,
+    /// The RUN and ERR LEDs.
+    pub leds: Leds,
 }
 
 impl Board {
@@ -102,6 +107,10 @@ impl Board {
                     Input::new(p.PA4, Pull::Down),
                 ],
             ),
+            leds: Leds {
+                run: Output::new(p.PB10, Level::Low, Speed::Low),
+                err: Output::new(p.PA9, Level::Low, Speed::Low),
+            },
         }
     }
 }

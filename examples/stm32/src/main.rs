@@ -83,12 +83,15 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
         irq,
         sync0,
         io,
+        leds,
     } = board;
     let Some(pdi) = esc::start_logged(spi).await else {
         park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(IoOd::default())));
+    let low = SendSpawner::for_current_executor().await;
+    low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
     high.spawn(unwrap!(process_data(esc, od, irq, io)));
     high.spawn(unwrap!(sync(sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
