@@ -130,6 +130,12 @@ fn esi_describes_mappings_as_records_and_assignments_as_arrays() {
         let start = xml.find("<Name>DT1600</Name>").unwrap();
         let dt = &xml[start..start + xml[start..].find("</DataType>").unwrap()];
         assert!(dt.contains(&item), "SubIndex {sub} in {dt}");
+        if sub > 0 {
+            // Named by subindex, as SSC's ESI files name a mapping's entries.
+            let compact: String = dt.split_whitespace().collect();
+            let named = format!("<SubIdx>{sub}</SubIdx><Name>SubIndex{sub:03}</Name>");
+            assert!(compact.contains(&named), "{named} in {dt}");
+        }
         assert!(dt.contains(&format!("<Type>{ty}</Type>")), "{dt}");
     }
     assert!(xml.contains("<Name>DT1C12ARR</Name>\n"), "{xml}");

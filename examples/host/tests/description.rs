@@ -582,7 +582,11 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             assert_eq!(items.len(), entries.len());
             for (((sub, entry), item), offset) in entries.iter().zip(&items).zip(&offsets) {
                 assert_eq!(number(text(*item, "SubIdx")), u64::from(*sub));
-                assert_eq!(text(*item, "Name"), entry.name);
+                let name = match *sub {
+                    1.. if info.is_uniform() => format!("SubIndex {sub:03}"),
+                    _ => entry.name.to_owned(),
+                };
+                assert_eq!(text(*item, "Name"), name);
                 assert_eq!(text(*item, "Type"), type_name(entry));
                 assert_eq!(number(text(*item, "BitSize")), u64::from(entry.bit_len));
                 assert_eq!(number(text(*item, "BitOffs")), *offset as u64);
@@ -611,9 +615,9 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
                 assert_eq!(text(*item, "Name"), si0.name);
             } else {
                 check_values::<D>(values, info.index, *sub);
-                let expected = match info.code {
-                    ObjectCode::Array => format!("SubIndex {sub:03}"),
-                    _ => info.entry(*sub).unwrap().name.to_owned(),
+                let expected = match info.is_uniform() {
+                    true => format!("SubIndex {sub:03}"),
+                    false => info.entry(*sub).unwrap().name.to_owned(),
                 };
                 assert_eq!(text(*item, "Name"), expected);
             }
