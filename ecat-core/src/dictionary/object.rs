@@ -102,7 +102,7 @@ impl ObjectInfo {
     /// Whether SI1..=`max_sub` share one description, the second of `entries`: every ARRAY,
     /// and a RECORD that describes only SI1 below a higher `max_sub` — how a PDO mapping object
     /// (0x1600..0x17FF, 0x1A00..0x1BFF: a RECORD of UNSIGNED32 mapping entries, ETG.1000.6
-    /// §5.6.7.4.7/8, data type 0x0021) keeps its like entries, as compact as an ARRAY.
+    /// §5.6.7.4, data type 0x0021) keeps its like entries, as compact as an ARRAY.
     pub const fn is_uniform(&self) -> bool {
         match (self.code, self.entries) {
             (ObjectCode::Var, _) => false,
@@ -166,7 +166,7 @@ const fn record_type(index: u16) -> u16 {
 
 /// The object code of the `pdo` kind at `index`: RECORD for a PDO mapping object (its data
 /// type is 0x0021, [`ObjectInfo::data_type`]), ARRAY of UNSIGNED16 for an assignment object
-/// (ETG.1000.6 §5.6.7.4.7..9, as SSC's object descriptions and ESI files give them).
+/// (ETG.1000.6 §5.6.7.4, as SSC's object descriptions and ESI files give them).
 #[doc(hidden)]
 pub const fn pdo_object_code(index: u16) -> ObjectCode {
     match crate::pdo::Direction::of_mapping(index) {
