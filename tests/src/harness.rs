@@ -266,7 +266,7 @@ pub fn run_with_tasks<A, C, D, F>(
         let (mut futures, shared) = device.runners(&emu, emu.pdi(), stop);
         let mut ends: Vec<&'static Stop> = Vec::new();
         for task in extra(shared) {
-            let end: &'static Stop = Box::leak(Box::new(Signal::new()));
+            let end: &'static Stop = Box::leak(Box::new(Stop::default()));
             ends.push(end);
             futures.push(Box::pin(async move {
                 select(task, end.wait()).await;
@@ -277,7 +277,7 @@ pub fn run_with_tasks<A, C, D, F>(
         futures.push(Box::pin(async move {
             script.await;
             for end in ends {
-                end.signal(());
+                end.signal();
             }
         }));
         futures
