@@ -467,7 +467,7 @@ impl Axis {
 
 /// 0x1C32:02, the cycle time.
 fn cycle_time(od: &AxisOd) -> u32 {
-    od.sync_out.cycle_time
+    od.area.outputs.cycle_time
 }
 
 /// `position` clamped into the software position limits (active when min < max), and whether

@@ -32,7 +32,8 @@ pub use app::AxisApp;
 pub use axis::{Axis, DEFAULT_CYCLE_NS};
 pub use motor::{Motor, TORQUE_ACCELERATION};
 pub use od::{
-    AxisOd, IDENTITY, RX_MAPPING, RX_PROFILE_MAPPING, SUPPORTED_MODES, TX_MAPPING, TX_PROFILE_MAPPING,
+    AxisOd, IDENTITY, INFO, RX_MAPPING, RX_PROFILE_MAPPING, SUPPORTED_MODES, TX_MAPPING,
+    TX_PROFILE_MAPPING,
 };
 
 use ecat_core::DeviceConfig;

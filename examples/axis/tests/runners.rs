@@ -54,9 +54,9 @@ fn a_master_enables_the_axis_in_csv_through_process_data() {
         assert_eq!(master.request(0x02).await, (0x02, 0));
         let mut sdo = SdoClient::for_mailbox(&master, &MAILBOX);
         assert_eq!(
-            sdo.download(0x6060, 0, false, &[1]).await,
+            sdo.download(0x6060, 0, false, &[4]).await,
             Err(SdoError::Abort(AbortCode::VALUE_RANGE)),
-            "profile position is not in 0x6502"
+            "profile torque is not in 0x6502"
         );
         assert_eq!(
             sdo.upload(0x1000, 0, false).await,
