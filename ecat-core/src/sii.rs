@@ -535,6 +535,43 @@ pub fn for_each_pdo<D: ObjectDictionary>(
     }
 }
 
+/// Calls `f(pdo index, pdo name, entries)` for every PDO mapping object of `direction` the
+/// dictionary declares but the default assignment does not list: the alternatives a MainDevice
+/// may assign instead (the ESI lists them without a SyncManager, ETG.2000 `RxPdo`/`TxPdo`).
+pub fn for_each_alternative_pdo<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    mut f: impl FnMut(u16, &'static str, &[MappingEntry]),
+) {
+    let mut assigned = [0u16; 64];
+    let mut n = 0;
+    for_each_pdo(od, direction, |index, _, _| {
+        if let Some(slot) = assigned.get_mut(n) {
+            *slot = index;
+            n += 1;
+        }
+    });
+    for mapping in D::OBJECTS {
+        let index = mapping.info.index;
+        if !direction.is_mapping(index) || assigned.get(..n).unwrap_or_default().contains(&index) {
+            continue;
+        }
+        let mut entries = [MappingEntry(0); 64];
+        let mut len = 0;
+        for sub in 1..=count(od, mapping) {
+            if let (Some(slot), Some(entry)) = (entries.get_mut(len), read_u32(od, mapping, sub)) {
+                *slot = MappingEntry(entry);
+                len += 1;
+            }
+        }
+        f(
+            index,
+            mapping.info.name,
+            entries.get(..len).unwrap_or_default(),
+        );
+    }
+}
+
 /// A PDO category (ETG.2010 Table 14): per PDO index, entry count, SyncManager, DC sync 0, name
 /// string, flags 0; per entry index, subindex, name string, data type, bit length, flags 0.
 fn pdos<D: ObjectDictionary>(w: &mut Writer<'_>, od: &D, direction: Direction) {

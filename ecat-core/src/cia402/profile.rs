@@ -84,9 +84,13 @@ impl Trajectory {
     /// `target` and stands still.
     pub fn to_position(&mut self, target: i64, ramps: Ramps, dt_ns: u32) -> bool {
         let dt = i64::from(dt_ns.max(1));
-        let remaining = target.saturating_sub(self.position);
+        // The exact distance left, in count·ns: the whole counts less the sub-count remainder
+        // already travelled.
+        let remaining = target
+            .saturating_sub(self.position)
+            .saturating_mul(NS_PER_S)
+            .saturating_sub(self.remainder);
         if remaining == 0 && self.velocity == 0 {
-            self.remainder = 0;
             return true;
         }
         let dir = if remaining < 0 { -1 } else { 1 };
@@ -95,7 +99,7 @@ impl Trajectory {
         let brake = step(ramps.deceleration, dt);
         let distance = remaining.unsigned_abs();
         // The velocity that covers `distance` in exactly one cycle.
-        let one_cycle = per_cycle(distance, dt);
+        let one_cycle = i64::try_from(distance / dt.unsigned_abs()).unwrap_or(i64::MAX);
         let max = i64::from(ramps.velocity);
         let wanted = if speed < 0 {
             (speed + brake).min(0)
@@ -105,7 +109,11 @@ impl Trajectory {
         let next = wanted
             .min(stopping_speed(one_cycle, brake))
             .max(speed - brake);
-        if next >= one_cycle && speed - brake <= one_cycle && next > 0 {
+        let reaches = u64::try_from(next)
+            .unwrap_or(0)
+            .saturating_mul(dt.unsigned_abs())
+            >= distance;
+        if reaches && speed - brake <= one_cycle {
             // Arrives this cycle: exactly on the target, at the average speed of the cycle.
             self.position = target;
             self.remainder = 0;
@@ -166,13 +174,6 @@ impl Trajectory {
 /// The velocity change of one cycle at `rate` counts/s², at least 1 count/s.
 fn step(rate: u32, dt: i64) -> i64 {
     (i64::from(rate).saturating_mul(dt) / NS_PER_S).max(1)
-}
-
-/// `distance · 10⁹ / dt`: the speed that covers `distance` in one cycle (saturating beyond
-/// 1.8·10¹⁰ counts, where it only has to be larger than any speed).
-fn per_cycle(distance: u64, dt: i64) -> i64 {
-    let speed = distance.saturating_mul(1_000_000_000) / dt.unsigned_abs().max(1);
-    i64::try_from(speed).unwrap_or(i64::MAX)
 }
 
 /// The highest speed (counts/s) from which braking by `brake` per cycle stops within the

@@ -67,6 +67,8 @@ pub struct Axis {
     probe2: bool,
     /// An index pulse passed in the previous cycle's motion.
     index: bool,
+    /// The controlword of the previous cycle (a mode entered with bit 4 rising starts at once).
+    controlword: u16,
 }
 
 impl Axis {
@@ -87,6 +89,7 @@ impl Axis {
             physical: 0,
             probe2: false,
             index: false,
+            controlword: 0,
         }
     }
 
@@ -149,7 +152,7 @@ impl Axis {
         od.mode_display = mode::display(od.mode, od.mode_display, od.supported_modes);
         let following = (step.motion == Motion::Follow).then_some(od.mode_display);
         if following != self.following {
-            self.enter(od);
+            self.enter();
             self.following = following;
         }
         let mut report = match step.motion {
@@ -172,6 +175,7 @@ impl Axis {
         }
         self.sense(od);
         self.publish(od, &report);
+        self.controlword = od.controlword;
     }
 
     /// Whether the active mode runs the trajectory generator (PP, PV, HM).
@@ -183,14 +187,15 @@ impl Axis {
     }
 
     /// A new mode is followed (or Operation enabled ended): the demand takes the motor's
-    /// position and velocity, set-points are dropped, homing needs a new start edge.
-    fn enter(&mut self, od: &AxisOd) {
+    /// position and velocity, set-points are dropped; bit 4 counts as rising when it was 0 in
+    /// the previous cycle.
+    fn enter(&mut self) {
         let position = i64::from(self.motor.position());
         self.trajectory
             .follow(position, i64::from(self.motor.velocity()));
-        self.pp.enter(position, od.controlword);
+        self.pp.enter(position, self.controlword);
         self.pv = ProfileVelocity::new();
-        self.homing.enter(od.controlword);
+        self.homing.enter(self.controlword);
     }
 
     /// The switches into 0x60FD, the touch probes into 0x60B9..0x60BD.
@@ -293,9 +298,13 @@ impl Axis {
             halt_deceleration: Self::deceleration(od, halt(od.halt_option)),
         };
         let actual = i64::from(self.motor.position());
-        let status = self
-            .pp
-            .update(od.controlword, &parameters, actual, &mut self.trajectory, dt);
+        let status = self.pp.update(
+            od.controlword,
+            &parameters,
+            actual,
+            &mut self.trajectory,
+            dt,
+        );
         self.drive();
         let error = self.trajectory.position() - i64::from(self.motor.position());
         Report {
@@ -417,8 +426,10 @@ impl Axis {
     /// at the speed limit 0x607F no torque is applied in that direction. Target reached when
     /// the commanded torque is applied.
     fn cst(&mut self, od: &AxisOd, dt: u32) -> Report {
-        let (commanded, torque_limited) =
-            clamp_torque(od.target_torque.saturating_add(od.torque_offset), od.max_torque);
+        let (commanded, torque_limited) = clamp_torque(
+            od.target_torque.saturating_add(od.torque_offset),
+            od.max_torque,
+        );
         let max = i64::from(od.max_profile_velocity);
         let velocity = i64::from(self.motor.velocity());
         let at_limit = (commanded > 0 && velocity >= max) || (commanded < 0 && velocity <= -max);

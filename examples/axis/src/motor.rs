@@ -118,14 +118,14 @@ pub struct Machine {
 }
 
 impl Machine {
-    /// Limits at ±200 000 counts, a home cam from 20 000 to 30 000, 10 000 counts per
-    /// revolution with the index at 2 500.
+    /// Limits at ±100 000 counts, a home cam from 5 000 to 8 000, 4 000 counts per revolution
+    /// with the index at 500 (…, 500, 4 500, 8 500, …).
     pub const DEFAULT: Self = Self {
-        negative_limit: -200_000,
-        positive_limit: 200_000,
-        home: (20_000, 30_000),
-        index_period: 10_000,
-        index_phase: 2_500,
+        negative_limit: -100_000,
+        positive_limit: 100_000,
+        home: (5_000, 8_000),
+        index_period: 4_000,
+        index_phase: 500,
     };
 
     /// Negative limit, positive limit and home switch at physical `position`.

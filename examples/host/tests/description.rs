@@ -454,7 +454,36 @@ fn pdos<D: ObjectDictionary>(od: &D, sii: &Sii, device: Node) {
     for (assign, category, tag, sm) in [(0x1C12, 51, "RxPdo", 2), (0x1C13, 50, "TxPdo", 3)] {
         let dictionary = dictionary_pdos(od, assign);
         let from_sii = sii.pdos(category);
-        let esi = children(device, tag);
+        // The assigned PDOs carry their SyncManager; the others are alternatives a MainDevice
+        // may assign instead: mapping objects of the dictionary that the default assignment
+        // leaves out, excluding (with a single-PDO assignment) every other PDO.
+        let (esi, alternatives): (Vec<Node>, Vec<Node>) = children(device, tag)
+            .into_iter()
+            .partition(|n| n.attribute("Sm").is_some());
+        let all: Vec<u64> = children(device, tag)
+            .iter()
+            .map(|n| number(text(*n, "Index")))
+            .collect();
+        let single = D::object(assign).is_some_and(|a| a.info.max_sub <= 1);
+        for alternative in &alternatives {
+            let index = number(text(*alternative, "Index"));
+            let object = D::object(u16::try_from(index).unwrap()).expect("declared");
+            assert_eq!(text(*alternative, "Name"), object.info.name);
+            assert!(dictionary.iter().all(|(i, _, _)| u64::from(*i) != index));
+        }
+        for pdo in children(device, tag) {
+            let index = number(text(pdo, "Index"));
+            let excluded: Vec<u64> = children(pdo, "Exclude")
+                .iter()
+                .map(|n| number(n.text().unwrap()))
+                .collect();
+            let others: Vec<u64> = all.iter().copied().filter(|&i| i != index).collect();
+            assert_eq!(
+                excluded,
+                if single { others } else { Vec::new() },
+                "{index:#x}"
+            );
+        }
         assert_eq!(from_sii.len(), dictionary.len(), "{tag}");
         assert_eq!(esi.len(), dictionary.len(), "{tag}");
         for (((index, name, entries), s), e) in dictionary.iter().zip(&from_sii).zip(&esi) {
