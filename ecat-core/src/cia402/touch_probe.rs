@@ -80,6 +80,12 @@ impl TouchProbes {
 
     /// One cycle with 0x60B8 `function` and the two probes' inputs.
     pub fn update(&mut self, function: u16, inputs: [ProbeInput; 2]) {
+        if function == 0 && self.function == 0 {
+            // Both probes off (status 0 since they were switched off): only the input levels
+            // are kept, for an edge in the cycle that enables a probe.
+            self.levels = inputs.map(|i| i.input);
+            return;
+        }
         let before = self.function;
         self.function = function;
         for (n, ((input, level), positions)) in inputs

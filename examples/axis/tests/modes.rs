@@ -347,3 +347,74 @@ fn homing_pp_set_of_set_points_pv_halt_and_quick_stop() {
     ];
     assert_eq!(r, expected);
 }
+
+/// The statusword after one cycle of `controlword` from a fresh axis in `state` (reached
+/// through the public API, quick stop option 6 so that Quick stop active stays) in `mode`,
+/// standing at 0 with every target 0.
+fn statusword_after(state: State, mode: i8, controlword: u16) -> u16 {
+    let mut axis = Axis::new();
+    let mut od = dictionary(mode);
+    od.quick_stop_option = 6;
+    let path: &[u16] = match state {
+        State::SwitchOnDisabled => &[0x00],
+        State::ReadyToSwitchOn => &[0x00, 0x06],
+        State::SwitchedOn => &[0x00, 0x06, 0x07],
+        State::OperationEnabled => &[0x00, 0x06, 0x0F],
+        State::QuickStopActive => &[0x00, 0x06, 0x0F, 0x02, 0x02],
+        _ => unreachable!(),
+    };
+    for &cw in path {
+        cycle(&mut axis, &mut od, cw);
+    }
+    assert_eq!(axis.state(), state);
+    // The command bits of the state, plus the edge under test.
+    let base = path.last().copied().unwrap_or(0);
+    cycle(&mut axis, &mut od, base | controlword)
+}
+
+/// (state, controlword edge, mode) → statusword, byte-exact: the mode bits appear only in
+/// Operation enabled (Quick stop active reports target reached at standstill); bit 4 rising
+/// acknowledges a PP set-point (already at its target 0: reached too) and starts homing method
+/// 7 (in progress: 13/12/10 = 000), not while halted; halt clears "drive follows the command" in
+/// the cyclic modes and reports target reached at standstill; PV shows speed zero (bit 12)
+/// whenever it stands.
+#[test]
+fn statusword_table_by_state_edge_and_mode() {
+    const CSP: i8 = 8;
+    const CST: i8 = 10;
+    let modes = [PP, PV, HM, CSP, CSV, CST];
+    // Per state and edge: the statusword in each of the six modes.
+    let table: &[(State, u16, [u16; 6])] = &[
+        (State::SwitchOnDisabled, 0, [0x0250; 6]),
+        (State::SwitchOnDisabled, NEW, [0x0250; 6]),
+        (State::ReadyToSwitchOn, 0, [0x0231; 6]),
+        (State::ReadyToSwitchOn, HALT, [0x0231; 6]),
+        (State::SwitchedOn, NEW, [0x0233; 6]),
+        (
+            State::OperationEnabled,
+            0,
+            [0x0637, 0x1637, 0x0637, 0x1637, 0x1637, 0x1637],
+        ),
+        (
+            State::OperationEnabled,
+            NEW,
+            [0x1637, 0x1637, 0x0237, 0x1637, 0x1637, 0x1637],
+        ),
+        (
+            State::OperationEnabled,
+            HALT,
+            [0x0637, 0x1637, 0x0637, 0x0637, 0x0637, 0x0637],
+        ),
+        (
+            State::OperationEnabled,
+            NEW | HALT,
+            [0x1637, 0x1637, 0x0637, 0x0637, 0x0637, 0x0637],
+        ),
+        (State::QuickStopActive, 0, [0x0617; 6]),
+        (State::QuickStopActive, NEW, [0x0617; 6]),
+    ];
+    for &(state, edge, expected) in table {
+        let got = modes.map(|mode| statusword_after(state, mode, edge));
+        assert_eq!(got, expected, "{state:?} with {edge:#06x}");
+    }
+}
