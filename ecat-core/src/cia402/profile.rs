@@ -18,6 +18,9 @@
 /// Nanoseconds per second.
 const NS_PER_S: i64 = 1_000_000_000;
 
+// `max(..).min(..)` rather than `clamp`: `Ord::clamp` asserts min <= max, a panic path the
+// compiler keeps although the bounds here are ordered by construction.
+
 /// The ramp parameters of one move.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Ramps {
@@ -131,7 +134,7 @@ impl Trajectory {
     pub fn to_velocity(&mut self, target: i64, ramps: Ramps, dt_ns: u32) -> bool {
         let dt = i64::from(dt_ns.max(1));
         let max = i64::from(ramps.velocity);
-        let target = target.clamp(-max, max);
+        let target = target.max(-max).min(max);
         let v = self.velocity;
         let slowing = v != 0 && (target.signum() != v.signum() || target.abs() < v.abs());
         self.velocity = if slowing {
@@ -195,21 +198,21 @@ pub fn clamp_position(limit: super::SoftwarePositionLimit, target: i64) -> (i64,
     if limit.min >= limit.max {
         return (target, false);
     }
-    let clamped = target.clamp(i64::from(limit.min), i64::from(limit.max));
+    let clamped = target.max(i64::from(limit.min)).min(i64::from(limit.max));
     (clamped, clamped != target)
 }
 
 /// `velocity` clamped into ±0x607F max profile velocity, and whether it was outside.
 pub fn clamp_velocity(velocity: i64, max: u32) -> (i64, bool) {
     let max = i64::from(max);
-    let clamped = velocity.clamp(-max, max);
+    let clamped = velocity.max(-max).min(max);
     (clamped, clamped != velocity)
 }
 
 /// `torque` (0.1 % of rated torque) clamped into ±0x6072 max torque, and whether it was outside.
 pub fn clamp_torque(torque: i16, max: u16) -> (i16, bool) {
     let max = i16::try_from(max).unwrap_or(i16::MAX);
-    let clamped = torque.clamp(-max, max);
+    let clamped = torque.max(-max).min(max);
     (clamped, clamped != torque)
 }
 

@@ -141,7 +141,12 @@ impl Machine {
     /// `(before, now]` moving up, in `[now, before)` moving down.
     pub fn index_passed(&self, before: i64, now: i64) -> bool {
         let period = self.index_period.max(1);
-        let revolution = |x: i64| (x - self.index_phase).div_euclid(period);
+        // `checked_`: no division-overflow panic path (the period is positive anyway).
+        let revolution = |x: i64| {
+            x.saturating_sub(self.index_phase)
+                .checked_div_euclid(period)
+                .unwrap_or(0)
+        };
         match now.cmp(&before) {
             core::cmp::Ordering::Greater => revolution(now) != revolution(before),
             core::cmp::Ordering::Less => revolution(now - 1) != revolution(before - 1),
