@@ -435,7 +435,17 @@ pub fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> [Syn
         .unwrap_or(0);
     let align = |a: u32| u16::try_from(a.div_ceil(8) * 8).unwrap_or(u16::MAX);
     let outputs_start = align(mailbox_end);
-    let inputs_start = align(u32::from(outputs_start) + 3 * u32::from(image.outputs));
+    // SM3 starts after SM2's three buffers at the largest output image an assignment can make
+    // (every RxPDO mapping object the dictionary declares, assigned or an alternative), so that
+    // assigning another PDO set in PREOP cannot make SM2 overlap SM3.
+    let mut bits = 0u32;
+    let mut add = |_: u16, _: &'static str, entries: &[MappingEntry]| {
+        bits += entries.iter().map(|e| u32::from(e.bit_len())).sum::<u32>();
+    };
+    for_each_pdo(od, Direction::Rx, &mut add);
+    for_each_alternative_pdo(od, Direction::Rx, &mut add);
+    let reserved = u32::from(image.outputs).max(bits.div_ceil(8));
+    let inputs_start = align(u32::from(outputs_start) + 3 * reserved);
     let [mbx_out, mbx_in, outputs, inputs] = SM_CONTROL;
     let sm = |start, length, control, enable, kind| SyncManager {
         start,

@@ -418,3 +418,15 @@ fn statusword_table_by_state_edge_and_mode() {
         assert_eq!(got, expected, "{state:?} with {edge:#06x}");
     }
 }
+
+/// SM3 starts after three buffers of the larger RxPDO set, so that assigning 0x1601 (25 bytes)
+/// instead of 0x1600 (13) in PREOP cannot make SM2 overlap SM3; SM2's default length stays the
+/// default assignment's.
+#[test]
+fn the_sync_managers_leave_room_for_the_profile_pdo_set() {
+    let sms = ecat_core::sii::sync_managers(&ecat_axis::DEVICE, &AxisOd::default());
+    let (outputs, inputs) = (&sms[2], &sms[3]);
+    assert_eq!((outputs.length, inputs.length), (13, 19));
+    // 13 + 25 bytes of RxPDO mapping objects, three buffers, 8-aligned.
+    assert_eq!(inputs.start - outputs.start, (3 * 38u16).div_ceil(8) * 8);
+}

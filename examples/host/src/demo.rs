@@ -1,6 +1,7 @@
 //! The CiA402 demo's scenario, shared by the `cia402-demo` binary and its test: ethercrab
-//! (in-process, over a line with the dummy axis) scans, reads identity and dictionary, writes
-//! the homing and profile parameters over SDO, brings the
+//! (in-process, over a line with the dummy axis) scans, reads identity and dictionary, assigns
+//! the axis's profile PDO set (0x1601/0x1A01) and writes the homing parameters over SDO, brings
+//! the
 //! axis to OP, enables it and runs the motion script of [`crate::cia402::Profile`]: homing, a PP
 //! move with a set of two set-points, CSP, CSV, halt, quick stop.
 
@@ -39,14 +40,10 @@ type Group = SubDeviceGroup<2, 64, ethercrab::DefaultLock, ethercrab::subdevice_
 /// The homing the demo configures: method 7 (home cam, positive limit reverses, the index below
 /// the cam), 50 000 counts/s searching the cam, 10 000 counts/s to the index, 5 000 000
 /// counts/s², home offset 0.
-/// PP: 0x6081 profile velocity 200 000 counts/s, 0x6083/0x6084 2 000 000 counts/s² (the
-/// default PDO set does not map them; the profile set 0x1601 does).
-/// Quick stop: 0x6085 1 500 000 counts/s² (80 ms from 120 000 counts/s).
-const HOMING: [(u16, u8, &[u8]); 9] = [
+/// Quick stop: 0x6085 1 500 000 counts/s² (80 ms from 120 000 counts/s). (0x6081, 0x6083,
+/// 0x6084 travel in the profile RxPDO 0x1601.)
+const HOMING: [(u16, u8, &[u8]); 6] = [
     (0x6085, 0, &1_500_000u32.to_le_bytes()),
-    (0x6081, 0, &200_000u32.to_le_bytes()),
-    (0x6083, 0, &2_000_000u32.to_le_bytes()),
-    (0x6084, 0, &2_000_000u32.to_le_bytes()),
     (0x6098, 0, &[7]),
     (0x6099, 1, &50_000u32.to_le_bytes()),
     (0x6099, 2, &10_000u32.to_le_bytes()),
@@ -107,6 +104,13 @@ impl Demo {
             "PREOP: 0x1018:01 = {vendor:#010x}, 0x1008 = {name:?}, 0x6502 = {modes:#010x} ({})",
             mode_names(modes)
         ));
+        // The profile PDO set, as a configuration tool picks it from the ESI's alternatives:
+        // 0x6081/0x6083/0x6084, 0x60B8 out; 0x60F4, 0x60FD, the touch probe in.
+        for (assignment, pdo) in [(0x1C12u16, 0x1601u16), (0x1C13, 0x1A01)] {
+            sub.sdo_write(assignment, 0, 0u8).await.map_err(sdo)?;
+            sub.sdo_write(assignment, 1, pdo).await.map_err(sdo)?;
+            sub.sdo_write(assignment, 0, 1u8).await.map_err(sdo)?;
+        }
         for (index, sub_index, value) in HOMING {
             match value.len() {
                 1 => sub.sdo_write(index, sub_index, value[0]).await,
@@ -120,8 +124,8 @@ impl Demo {
             .map_err(sdo)?;
         }
         (self.report)(
-            "PREOP: homing method 7 at 50 000 / 10 000 counts/s; PP at 200 000 counts/s, \
-             2 000 000 counts/s²",
+            "PREOP: assigned RxPDO 0x1601 / TxPDO 0x1A01 (the profile set); homing method 7 at \
+             50 000 / 10 000 counts/s; quick stop 1 500 000 counts/s²",
         );
         let pdo = Pdo::read(&sub).await.map_err(sdo)?;
         // OP follows the first valid outputs, so the cyclic frames start before it (ethercrab's
