@@ -401,9 +401,25 @@ fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D, sii: &Sii, 
         let sii_types: Vec<Vec<u8>> = sms.iter().map(|sm| vec![sm.4]).collect();
         assert_eq!(types, sii_types, "0x1C00 = SII SM types");
     }
-    // SM2 after the mailboxes, SM3 after SM2's three buffers, 8-byte aligned.
+    // SM2 after the mailboxes, SM3 after three SM2 buffers of the largest output image an
+    // assignment can make (every RxPDO mapping object declared), 8-byte aligned.
+    let all_rx_bits: u32 = D::OBJECTS
+        .iter()
+        .map(|o| o.info.index)
+        .filter(|i| (0x1600..=0x17FF).contains(i))
+        .map(|index| {
+            let n = read(od, index, 0)[0];
+            (1..=n)
+                .map(|sub| {
+                    let entry = read(od, index, sub);
+                    u32::from(entry[0])
+                })
+                .sum::<u32>()
+        })
+        .sum();
+    let reserved = outputs.max(all_rx_bits.div_ceil(8) as u16);
     assert_eq!(u32::from(sms[2].0), m.send.end().div_ceil(8) * 8);
-    assert_eq!(sms[3].0, (sms[2].0 + 3 * outputs).div_ceil(8) * 8);
+    assert_eq!(sms[3].0, (sms[2].0 + 3 * reserved).div_ceil(8) * 8);
     let esi = children(device, "Sm");
     let kinds = ["MBoxOut", "MBoxIn", "Outputs", "Inputs"];
     assert_eq!(esi.len(), 4);
