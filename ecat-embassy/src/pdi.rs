@@ -62,6 +62,20 @@ pub trait Pdi {
     /// Reads into or writes from `data`, starting at `address`, in one transaction.
     async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error>;
 
+    /// How many of the `len` bytes at `address` (more than 0) the next chunk of a state-machine
+    /// access moves, given the chunk size `chunk` the firmware configured
+    /// ([`SharedEsc::with_chunk`](crate::SharedEsc::with_chunk)): a driver cuts at its own
+    /// boundaries. The default is `chunk` bytes.
+    fn chunk(&self, address: u16, len: usize, chunk: usize) -> usize {
+        let _ = address;
+        len.min(chunk)
+    }
+
+    /// The next access continues the last one (the next chunk of a state-machine access, in
+    /// address order): it is no read the IRQ line prompted, so a driver that reads the AL event
+    /// register for those may report what it knows instead. The default does nothing.
+    fn continues(&mut self) {}
+
     /// Reads `buf.len()` bytes starting at `address` in one transaction.
     async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
         self.access(address, Data::Read(buf)).await

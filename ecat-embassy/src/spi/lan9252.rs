@@ -213,6 +213,9 @@ pub struct Lan9252<S> {
     /// The AL event read by the last access if it was an empty read, else none: what a read of
     /// process RAM right after it reports.
     sampled: AlEvent,
+    /// The next access continues the last one ([`Pdi::continues`]): a read of process RAM
+    /// reports the events known instead of reading the AL event register.
+    continues: bool,
     config: Config,
     spi: S,
 }
@@ -227,6 +230,7 @@ impl<S: SpiDevice> Lan9252<S> {
             config,
             known: AlEvent::NONE,
             sampled: AlEvent::NONE,
+            continues: false,
         };
         chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
         let deadline = Deadline::after(config.startup_timeout);
@@ -457,6 +461,28 @@ impl<S: SpiDevice> Lan9252<S> {
 impl<S: SpiDevice> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
+    /// ESC registers: one CSR command (the driver moves them one command at a time anyway, so
+    /// the process-data runner may come in between any two). Process RAM: at most `chunk`
+    /// bytes, ending on a DWORD boundary when the chunk is cut short, so that the next chunk
+    /// starts in byte lane 0 (no padding in its FIFO stream). Each chunk of process RAM is a
+    /// PRAM command of its own: the FIFOs hold one command at a time, and the process-data
+    /// runner's read needs the read FIFO.
+    fn chunk(&self, address: u16, len: usize, chunk: usize) -> usize {
+        let registers = register_bytes(address, len);
+        if registers > 0 {
+            return csr_size(address, registers);
+        }
+        if len <= chunk {
+            return len;
+        }
+        let end = (usize::from(address) + chunk) & !3;
+        end.saturating_sub(usize::from(address)).max(chunk.min(4))
+    }
+
+    fn continues(&mut self) {
+        self.continues = true;
+    }
+
     /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
     /// touches process RAM first reads the AL event register (unless the access before it was an
     /// empty read: then it reports that one's), and so do an empty read (nothing else) and a read
@@ -481,8 +507,9 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             let (mut registers, ram) = data.split_at(register_bytes(address, len));
             // Taken by every access: only the next one may report it.
             let sampled = core::mem::replace(&mut self.sampled, AlEvent::NONE);
+            let continues = core::mem::replace(&mut self.continues, false);
             let mut fresh = None;
-            if reading && (len == 0 || !ram.is_empty()) {
+            if reading && (len == 0 || !ram.is_empty() && !continues) {
                 let mut event = sampled;
                 if len == 0 || event.is_empty() {
                     let mut value = [0; 4];
