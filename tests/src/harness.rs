@@ -20,7 +20,6 @@ use ecat_embassy::{
 use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
-use embassy_sync::signal::Signal;
 use embassy_time::MockDriver;
 
 use crate::emulator::Emulator;
@@ -66,7 +65,7 @@ const MAX_IMAGE: usize = 1024;
 const MAX_MAILBOX: usize = 1024;
 
 /// Tells every runner of a scenario to stop.
-pub type Stop = Signal<CriticalSectionRawMutex, ()>;
+pub type Stop = scheduler::Stop;
 
 /// The device under test.
 pub struct Device<A, C, D = ()> {
@@ -333,7 +332,7 @@ fn execute(
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
     let _guard = limit.map(HangGuard::arm);
     MockDriver::get().reset();
-    let stop: &'static Stop = Box::leak(Box::new(Signal::new()));
+    let stop: &'static Stop = Box::leak(Box::new(Stop::new()));
     scheduler::run(build(stop), scheduler);
 }
 

@@ -155,3 +155,44 @@ pub fn run(tasks: Vec<Task>, scheduler: Scheduler) {
         }
     }
 }
+
+/// Tells every task of a scenario to stop: any number of them wait on it. (embassy-sync's
+/// `Signal` has room for one waiter and wakes the one it replaces: tasks waiting on it together
+/// wake each other without end, which at interrupt level starves every thread-mode task.)
+#[derive(Default)]
+pub struct Stop {
+    state: Mutex<(bool, Vec<Waker>)>,
+}
+
+impl Stop {
+    /// Not signalled.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Wakes every waiter, now and later.
+    pub fn signal(&self, (): ()) {
+        let waiters = {
+            let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+            state.0 = true;
+            std::mem::take(&mut state.1)
+        };
+        for waker in waiters {
+            waker.wake();
+        }
+    }
+
+    /// Completes once [`Stop::signal`] was called.
+    pub fn wait(&self) -> impl Future<Output = ()> + '_ {
+        std::future::poll_fn(|cx| {
+            let mut state = self.state.lock().unwrap_or_else(PoisonError::into_inner);
+            if state.0 {
+                return Poll::Ready(());
+            }
+            if !state.1.iter().any(|w| w.will_wake(cx.waker())) {
+                state.1.push(cx.waker().clone());
+            }
+            Poll::Pending
+        })
+    }
+}

@@ -289,6 +289,7 @@ async fn walk_to_op(master: &TestMaster, mailbox: &MailboxConfig, outputs: Area,
 }
 
 /// Either driver, so one harness call serves both.
+#[allow(clippy::large_enum_variant)] // one per test run
 enum AnyPdi {
     Beckhoff(BeckhoffSpi<FakeSpi<BeckhoffEsc>>),
     Lan9252(Lan9252<FakeSpi<Lan9252Chip>>),
