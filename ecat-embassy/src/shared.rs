@@ -59,6 +59,8 @@ struct Routing {
     pd_waiting: Cell<bool>,
     /// The `pd_news` the process-data runner looked at last.
     pd_seen: Cell<u32>,
+    /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
+    pd_stopped: Cell<bool>,
     esm_waker: WakerCell,
     pd_waker: WakerCell,
     /// The state-machine runner waits for the process-data runner to take the PDI.
@@ -211,6 +213,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 notes: Cell::new(Notes::NONE),
                 pd_waiting: Cell::new(false),
                 pd_seen: Cell::new(0),
+                pd_stopped: Cell::new(false),
                 esm_waker: WakerCell::new(),
                 pd_waker: WakerCell::new(),
                 esm_pdi_waker: WakerCell::new(),
@@ -291,12 +294,14 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// Waits while the process-data runner waits for the PDI or has news it has not looked at
     /// (its trigger seen by a chunk, the IRQ line free again): it comes first. In firmware it
     /// has always run by then (its interrupt preempts as soon as it is woken), so this waits
-    /// only where the runners share an executor. Both runners must run: the state-machine
-    /// runner's accesses wait for the other one's turn.
+    /// only where the runners share an executor. The state-machine runner's accesses wait for
+    /// the other one's turn: both runners must run (the process-data runner says when it stops;
+    /// a firmware that drops its future while it waits for the PDI stalls the state machine).
     fn pd_first(&self) -> impl Future<Output = ()> + '_ {
         poll_fn(|cx| {
             self.with(|r| {
-                if r.pd_waiting.get() || r.pd_seen.get() != r.pd_news.get() {
+                let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_news.get();
+                if pd_turn && !r.pd_stopped.get() {
                     r.esm_pdi_waker.register(cx.waker());
                     Poll::Pending
                 } else {
@@ -429,6 +434,14 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
             // Before the state-machine runner set up the ESC, its reset mask may hold the line.
             irq_free: r.esm_started.get() && !r.esm_holds_irq.get(),
         })
+    }
+
+    /// The process-data runner stopped: the state-machine runner no longer gives way to it.
+    pub(crate) fn pd_stopped(&self) {
+        self.with(|r| {
+            r.pd_stopped.set(true);
+            r.esm_pdi_waker.wake();
+        });
     }
 
     /// Takes the process-data trigger events seen by the state-machine runner.

@@ -10,7 +10,7 @@
 //! response). Every buffer must be processed exactly once.
 //!
 //! The tests assert the bound with the default chunk (32 bytes) and the harness's preemptive
-//! scheduling; `cargo test --release -p ecat-emu --test spi_latency -- --ignored --nocapture`
+//! scheduling; `cargo test -p ecat-emu --test spi_latency -- --ignored --nocapture`
 //! prints the table of docs/performance.md (whole accesses against chunks, cooperative against
 //! preemptive scheduling).
 
@@ -418,7 +418,7 @@ fn lan9252_1024_byte_mailboxes() {
 
 /// The table of docs/performance.md.
 #[test]
-#[ignore = "benchmark: prints the table (run with --ignored --nocapture, release)"]
+#[ignore = "benchmark: prints the table (run with --ignored --nocapture)"]
 fn table() {
     println!(
         "| driver | mailbox | chunk | scheduling | worst bytes before the PD read / transactions | mean | > 1 ms at 10 MHz | lost | doubled | bus bytes for 10 KiB down + up alone | failed transfers |"
@@ -451,4 +451,139 @@ fn table() {
             }
         }
     }
+}
+
+/// The SPI traffic of one SDO exchange (an expedited upload, 128-byte mailboxes) with
+/// `chunk`: the transactions of the SM0 read and of the answer's SM1 write.
+fn exchange_traffic(driver: Driver, chunk: u16) -> Vec<Vec<u8>> {
+    let mailbox = MailboxConfig::contiguous(0x1000, 128);
+    let mut config = DeviceConfig::new(mailbox, ProcessDataSizes::default());
+    let esc = match driver {
+        Driver::Beckhoff => EscConfig::default(),
+        Driver::Lan9252 => EscConfig {
+            sync_managers: 4,
+            fmmus: 3,
+            process_ram_end: 0x2000,
+            ..EscConfig::default()
+        },
+    };
+    config.sync_manager_count = esc.sync_managers;
+    config.process_ram_end = esc.process_ram_end;
+    let mut device = Device::new(config, BlobApp::default(), Recorder::default())
+        .with_dictionary(TestOd::default());
+    device.esc = esc;
+    device.chunk = chunk;
+    let probe = Probe::default();
+    let bus = probe.clone();
+    let log = Rc::new(RefCell::new(Vec::new()));
+    let out = log.clone();
+    let make = move |emu: &Emulator| match driver {
+        Driver::Beckhoff => AnyPdi::Beckhoff(BeckhoffSpi::new(
+            FakeSpi::new(BeckhoffEsc::new(emu.clone()), bus),
+            beckhoff::Config::default(),
+        )),
+        Driver::Lan9252 => AnyPdi::Lan9252(
+            embassy_futures::block_on(Lan9252::start(
+                FakeSpi::new(Lan9252Chip::new(emu.clone(), Lan9252Config::default()), bus),
+                lan9252::Config::default(),
+            ))
+            .expect("start"),
+        ),
+    };
+    harness::run_with_pdi(device, make, move |master: TestMaster| async move {
+        master.reset().await;
+        assert_eq!(master.request(0x01).await, (0x01, 0));
+        master.configure_mailbox(&mailbox);
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        let mut client = SdoClient::for_mailbox(&master, &mailbox);
+        // The first exchange changes the event mask; the second is the rhythm.
+        client.upload(0x1018, 1, false).await.unwrap();
+        probe.take_log();
+        client.upload(0x1018, 1, false).await.unwrap();
+        *out.borrow_mut() = probe.take_log();
+    });
+    log.take()
+}
+
+/// The Beckhoff address phase's address and command.
+fn beckhoff_header(mosi: &[u8]) -> (u16, u8) {
+    (
+        u16::from(mosi[0]) << 5 | u16::from(mosi[1] >> 3),
+        mosi[1] & 7,
+    )
+}
+
+#[test]
+fn beckhoff_mailbox_accesses_move_in_32_byte_chunks() {
+    // The mailbox's transactions (the event sample and mask writes before them are the
+    // same either way).
+    let mailbox = |chunk| -> Vec<(u16, u8, usize)> {
+        exchange_traffic(Driver::Beckhoff, chunk)
+            .iter()
+            .map(|t| {
+                let (address, command) = beckhoff_header(t);
+                (address, command, t.len())
+            })
+            .filter(|(address, _, _)| *address >= 0x1000)
+            .collect()
+    };
+    // SM0 read in four chunks (address phase, wait state byte, 32 bytes each), the answer
+    // (16 bytes) in one, then SM1's last byte.
+    assert_eq!(
+        mailbox(32),
+        [
+            (0x1000, 0b011, 35),
+            (0x1020, 0b011, 35),
+            (0x1040, 0b011, 35),
+            (0x1060, 0b011, 35),
+            (0x1080, 0b100, 2 + 16),
+            (0x10FF, 0b100, 2 + 1),
+        ]
+    );
+    assert_eq!(
+        mailbox(0),
+        [
+            (0x1000, 0b011, 2 + 1 + 128),
+            (0x1080, 0b100, 2 + 16),
+            (0x10FF, 0b100, 2 + 1),
+        ],
+        "chunk 0: whole accesses"
+    );
+}
+
+#[test]
+fn lan9252_mailbox_reads_move_in_32_byte_pram_commands_without_more_al_event_reads() {
+    // ECAT_PRAM_RD_ADDR_LEN + ECAT_PRAM_RD_CMD written together: address, length.
+    let pram_reads = |log: &[Vec<u8>]| -> Vec<(u16, u16)> {
+        log.iter()
+            .filter(|t| t.get(..3) == Some(&[0x02, 0x43, 0x08][..]))
+            .map(|t| {
+                (
+                    u16::from_le_bytes([t[3], t[4]]),
+                    u16::from_le_bytes([t[5], t[6]]),
+                )
+            })
+            .collect()
+    };
+    // CSR commands reading 0x0220 (ECAT_CSR_CMD: busy, read, size 4, address 0x0220).
+    let al_event_reads = |log: &[Vec<u8>]| {
+        log.iter()
+            .filter(|t| {
+                t.get(..3) == Some(&[0x02, 0x43, 0x00][..])
+                    && t.get(7..11) == Some(&[0x20, 0x02, 0x04, 0xC0][..])
+            })
+            .count()
+    };
+    let (chunked, whole) = (
+        exchange_traffic(Driver::Lan9252, 32),
+        exchange_traffic(Driver::Lan9252, 0),
+    );
+    assert_eq!(
+        pram_reads(&chunked),
+        [(0x1000, 32), (0x1020, 32), (0x1040, 32), (0x1060, 32)]
+    );
+    assert_eq!(pram_reads(&whole), [(0x1000, 128)]);
+    // The first chunk reads the AL event as the whole read did; the later ones continue it.
+    assert_eq!(al_event_reads(&chunked), al_event_reads(&whole));
+    assert_eq!(al_event_reads(&whole), 3);
 }
