@@ -248,36 +248,31 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         clears: AlEvent,
     ) -> impl Future<Output = Result<AlEvent, P::Error>> {
         async move {
-            if runner == Runner::ProcessData {
-                let mut pdi = match self.pdi.try_lock() {
-                    Ok(pdi) => pdi,
-                    Err(_) => {
-                        self.with(|r| r.pd_waiting.set(true));
-                        let pdi = self.pdi.lock().await;
-                        self.with(|r| {
-                            r.pd_waiting.set(false);
-                            r.esm_pdi_waker.wake();
-                        });
-                        pdi
-                    }
-                };
-                let seen = pdi.access(address, rest).await?;
-                drop(pdi);
-                return Ok(self.observe_access(runner, seen, clears));
-            }
             let (mut event, mut first) = (AlEvent::NONE, true);
+            // One lock, one driver access and one wait for the other runner's turn, each awaited
+            // at one place for both runners: the driver's access future is inlined once.
             loop {
-                self.pd_first().await;
+                self.turn(runner).await;
                 let mut pdi = self.pdi.lock().await;
-                let len = match self.chunk {
-                    0 => rest.len(),
-                    chunk => pdi.chunk(address, rest.len(), usize::from(chunk)).max(1),
+                let continues = self.with(|r| {
+                    if runner == Runner::ProcessData {
+                        r.pd_waiting.set(false);
+                        r.esm_pdi_waker.wake();
+                    }
+                    // A later chunk is no read the IRQ prompted, unless state-machine events
+                    // hold the line: then a chunk's AL event is the only news of the trigger.
+                    !first && !r.esm_holds_irq.get()
+                });
+                first = false;
+                let len = match (runner, self.chunk) {
+                    (Runner::ProcessData, _) | (_, 0) => rest.len(),
+                    (Runner::Esm, chunk) => {
+                        pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
+                    }
                 };
                 let (piece, tail) = rest.split_at(len);
                 rest = tail;
-                // A later chunk is no read the IRQ prompted, unless state-machine events hold
-                // the line: then a chunk's AL event is the only news of the trigger.
-                if !core::mem::replace(&mut first, false) && !self.with(|r| r.esm_holds_irq.get()) {
+                if continues {
                     pdi.continues();
                 }
                 let seen = pdi.access(address, piece).await?;
@@ -291,15 +286,20 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         }
     }
 
-    /// Waits while the process-data runner waits for the PDI or has news it has not looked at
-    /// (its trigger seen by a chunk, the IRQ line free again): it comes first. In firmware it
-    /// has always run by then (its interrupt preempts as soon as it is woken), so this waits
-    /// only where the runners share an executor. The state-machine runner's accesses wait for
-    /// the other one's turn: both runners must run (the process-data runner says when it stops;
-    /// a firmware that drops its future while it waits for the PDI stalls the state machine).
-    fn pd_first(&self) -> impl Future<Output = ()> + '_ {
-        poll_fn(|cx| {
+    /// Before `runner` takes the PDI. The process-data runner says that it waits for it. The
+    /// state-machine runner waits while the process-data runner waits for the PDI or has news
+    /// it has not looked at (its trigger seen by a chunk, the IRQ line free again): that one
+    /// comes first. In firmware it has always run by then (its interrupt preempts as soon as it
+    /// is woken), so this waits only where the runners share an executor. Both runners must
+    /// run (the process-data runner says when it stops; a firmware that drops its future while
+    /// it waits for the PDI stalls the state machine).
+    fn turn(&self, runner: Runner) -> impl Future<Output = ()> + '_ {
+        poll_fn(move |cx| {
             self.with(|r| {
+                if runner == Runner::ProcessData {
+                    r.pd_waiting.set(true);
+                    return Poll::Ready(());
+                }
                 let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_news.get();
                 if pd_turn && !r.pd_stopped.get() {
                     r.esm_pdi_waker.register(cx.waker());
