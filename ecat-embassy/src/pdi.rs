@@ -43,6 +43,22 @@ impl<'a> Data<'a> {
     }
 }
 
+/// What the next access's AL event must be ([`Pdi::sample`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sample {
+    /// As the driver reports it for any access: the first chunk of an access while the IRQ line
+    /// is free.
+    Usual,
+    /// A later chunk of the same access while the IRQ line is free: no read the IRQ line
+    /// prompted, so a driver that reads the AL event register for those may report what it
+    /// knows.
+    Continued,
+    /// State-machine events hold the level IRQ line: a new event (the process-data trigger)
+    /// makes no edge, and only an access's fresh AL event shows it. The driver reads it for any
+    /// access, writes included.
+    Fresh,
+}
+
 /// Register and RAM access to the ESC over its PDI (SPI, parallel bus, or an emulator).
 ///
 /// Each access returns the AL event register (0x0220) value: SPI ESCs shift it out during the
@@ -71,10 +87,13 @@ pub trait Pdi {
         len.min(chunk)
     }
 
-    /// The next access continues the last one (the next chunk of a state-machine access, in
-    /// address order): it is no read the IRQ line prompted, so a driver that reads the AL event
-    /// register for those may report what it knows instead. The default does nothing.
-    fn continues(&mut self) {}
+    /// What the AL event the next access reports must be: called before each chunk of a
+    /// state-machine access ([`SharedEsc`](crate::SharedEsc)). The default does nothing: a
+    /// driver whose every access samples the AL event (the Beckhoff SPI's address phase) needs
+    /// no hint.
+    fn sample(&mut self, sample: Sample) {
+        let _ = sample;
+    }
 
     /// Reads `buf.len()` bytes starting at `address` in one transaction.
     async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {

@@ -15,7 +15,7 @@ use embassy_sync::mutex::Mutex;
 use embassy_sync::waitqueue::WakerRegistration;
 
 use crate::Pdi;
-use crate::pdi::Data;
+use crate::pdi::{Data, Sample};
 
 /// Which runner performs an access.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -254,14 +254,21 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
             loop {
                 self.turn(runner).await;
                 let mut pdi = self.pdi.lock().await;
-                let continues = self.with(|r| {
+                let sample = self.with(|r| {
                     if runner == Runner::ProcessData {
                         r.pd_waiting.set(false);
                         r.esm_pdi_waker.wake();
+                        Sample::Usual
+                    } else if first {
+                        Sample::Usual
+                    } else if r.esm_holds_irq.get() {
+                        // The trigger makes no edge: a later chunk's AL event is its only news
+                        // before the access ends (the first chunk's is what the driver reports
+                        // for any access: a short access adds no read of its own).
+                        Sample::Fresh
+                    } else {
+                        Sample::Continued
                     }
-                    // A later chunk is no read the IRQ prompted, unless state-machine events
-                    // hold the line: then a chunk's AL event is the only news of the trigger.
-                    !first && !r.esm_holds_irq.get()
                 });
                 first = false;
                 let len = match (runner, self.chunk) {
@@ -272,8 +279,8 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 };
                 let (piece, tail) = rest.split_at(len);
                 rest = tail;
-                if continues {
-                    pdi.continues();
+                if sample != Sample::Usual {
+                    pdi.sample(sample);
                 }
                 let seen = pdi.access(address, piece).await?;
                 drop(pdi);

@@ -330,10 +330,10 @@ impl Pdi for AnyPdi {
         }
     }
 
-    fn continues(&mut self) {
+    fn sample(&mut self, sample: ecat_embassy::pdi::Sample) {
         match self {
-            AnyPdi::Beckhoff(pdi) => pdi.continues(),
-            AnyPdi::Lan9252(pdi) => pdi.continues(),
+            AnyPdi::Beckhoff(pdi) => pdi.sample(sample),
+            AnyPdi::Lan9252(pdi) => pdi.sample(sample),
         }
     }
 }
@@ -363,8 +363,8 @@ fn row(case: Case, f: &Figures) -> String {
 /// The bound with the default chunk of 32 bytes: what is in flight at the edge, then either the
 /// process-data runner's own AL event sample or, when state-machine events already hold the
 /// level IRQ line (no edge), one more chunk, whose AL event shows the trigger. For the LAN9252
-/// the first case (the second would allow 70 + 71): the load here does not hold the line while
-/// a LAN9252 chunk is in flight.
+/// the first case: the load here does not hold the line while a LAN9252 chunk is in flight
+/// (the held line: `the_trigger_shows_at_the_next_chunk_while_state_machine_events_hold_the_irq_line`).
 fn bound(driver: Driver) -> usize {
     match driver {
         // The transaction in flight and one chunk, each at most a read chunk: address phase 2,
@@ -591,4 +591,143 @@ fn lan9252_mailbox_reads_move_in_32_byte_pram_commands_without_more_al_event_rea
     // The first chunk reads the AL event as the whole read did; the later ones continue it.
     assert_eq!(al_event_reads(&chunked), al_event_reads(&whole));
     assert_eq!(al_event_reads(&whole), 3);
+}
+
+/// The worst case of the level IRQ line: state-machine events already hold it (here an AL control
+/// event the MainDevice raised while the SubDevice writes a 1024-byte answer into SM1), so the
+/// SM2 write makes no edge and only an access's AL event can show it. Returns the bytes from the
+/// SM2 write to the start of the output read, for SM2 writes placed after each of the next
+/// transactions of the answer's write in turn.
+fn held_line(driver: Driver) -> Vec<usize> {
+    let mailbox = MailboxConfig::contiguous(0x1000, 1024);
+    let outputs = Area::new(0x1800, IMAGE);
+    let inputs = Area::new(0x1880, IMAGE);
+    let esc = match driver {
+        Driver::Beckhoff => EscConfig::default(),
+        Driver::Lan9252 => EscConfig {
+            sync_managers: 4,
+            fmmus: 3,
+            process_ram_end: 0x2000,
+            ..EscConfig::default()
+        },
+    };
+    let mut config = DeviceConfig::new(
+        mailbox,
+        ProcessDataSizes {
+            outputs: IMAGE,
+            inputs: IMAGE,
+        },
+    );
+    config.sync_manager_count = esc.sync_managers;
+    config.process_ram_end = esc.process_ram_end;
+    let recorder = Recorder::default();
+    let seen = recorder.0.clone();
+    let mut device =
+        Device::new(config, BlobApp::default(), recorder).with_dictionary(TestOd::default());
+    device.esc = esc;
+    let probe = Probe::default();
+    let bus = probe.clone();
+    let make = move |emu: &Emulator| match driver {
+        Driver::Beckhoff => AnyPdi::Beckhoff(BeckhoffSpi::new(
+            FakeSpi::new(BeckhoffEsc::new(emu.clone()), bus),
+            beckhoff::Config::default(),
+        )),
+        Driver::Lan9252 => AnyPdi::Lan9252(
+            embassy_futures::block_on(Lan9252::start(
+                FakeSpi::new(Lan9252Chip::new(emu.clone(), Lan9252Config::default()), bus),
+                lan9252::Config::default(),
+            ))
+            .expect("start"),
+        ),
+    };
+    let results = Rc::new(RefCell::new(Vec::new()));
+    let out = results.clone();
+    harness::run_with_pdi(device, make, move |master: TestMaster| async move {
+        walk_to_op(&master, &mailbox, outputs, inputs).await;
+        let data: Vec<u8> = (0..10_240u32).map(|i| i as u8).collect();
+        let mut client = SdoClient::for_mailbox(&master, &mailbox);
+        client.download(0x2001, 0, false, &data).await.unwrap();
+        let emu = master.emulator().clone();
+        for n in 0..8 {
+            seen.borrow_mut().clear();
+            // The upload's initiate: its answer carries 1 008 bytes (a 1024-byte SM1 write).
+            probe.take_log();
+            let base = probe.stats().transactions;
+            let request = ecat_core::mailbox::MailboxHeader::new(
+                ecat_core::mailbox::MailboxType::Coe,
+                10,
+                (n % 7 + 1) as u8,
+            );
+            let mut frame = request.to_bytes().to_vec();
+            frame.extend_from_slice(&[0x00, 0x20, 0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]);
+            frame.resize(1024, 0);
+            // A few chunks into the answer (after the SM0 read's), an AL control event: the
+            // same state requested again.
+            let at = base + if driver == Driver::Beckhoff { 40 } else { 150 };
+            let control = emu.clone();
+            probe.at(at, 0, move || {
+                assert!(control.with(|esc| esc.ecat_write(0x0120, &[0x08, 0x00])));
+            });
+            assert!(master.write(mailbox.receive.start, &frame));
+            while probe.armed() {
+                embassy_futures::yield_now().await;
+            }
+            // The process-data runner has routed it (the IRQ edge): the line is held.
+            for _ in 0..4 {
+                embassy_futures::yield_now().await;
+            }
+            let b = image(1_000_000 + n);
+            let (esc, write) = (emu.clone(), b.clone());
+            let placed = probe.stats().transactions + 1 + n as u64;
+            probe.at(placed, 0, move || {
+                assert!(esc.with(|esc| esc.ecat_write(outputs.start, &write)));
+            });
+            let mut polls = 0;
+            while probe.armed() || !seen.borrow().contains(&b) {
+                embassy_futures::yield_now().await;
+                polls += 1;
+                assert!(polls < 1_000_000, "the cycle never ran");
+            }
+            master.settle().await;
+            let log = probe.take_log();
+            let k = (placed - base) as usize;
+            let read = (k + 1..log.len())
+                .find(|&i| starts_output_read(driver, &log[i], outputs.start))
+                .expect("the output read");
+            if std::env::var_os("LATENCY_DEBUG").is_some() {
+                let heads: Vec<_> = log[k..=read]
+                    .iter()
+                    .map(|t| (t.len(), t.get(..3).map(<[u8]>::to_vec)))
+                    .collect();
+                println!("{heads:02x?}");
+            }
+            out.borrow_mut()
+                .push(log[k..read].iter().map(Vec::len).sum::<usize>());
+            // Read the answer, abort the upload: the next round starts afresh.
+            assert!(master.read(mailbox.send.start, 1024).is_some());
+            master.settle().await;
+        }
+    });
+    results.take()
+}
+
+/// Without an edge, the trigger shows in the next chunk's AL event: the LAN9252 reads it for
+/// every later chunk while state-machine events hold the line, writes included
+/// ([`Sample::Fresh`]):
+/// at most the rest of the chunk in flight, one chunk (18 + 11 + 3 + 32 bytes for a write) and
+/// the AL event read of the output read (18). Without `Sample::Fresh` its write chunks report
+/// what it knew before, and the trigger waits for the rest of the answer and the AL control
+/// event's handling: 400 to 573 bytes here.
+///
+/// [`Sample::Fresh`]: ecat_embassy::pdi::Sample::Fresh
+#[test]
+fn the_trigger_shows_at_the_next_chunk_while_state_machine_events_hold_the_irq_line() {
+    let beckhoff = held_line(Driver::Beckhoff);
+    println!("Beckhoff: {beckhoff:?}");
+    assert!(beckhoff.iter().all(|&b| b <= 2 * (2 + 1 + 32)));
+    assert_eq!(beckhoff, [34; 8]);
+    let lan9252 = held_line(Driver::Lan9252);
+    println!("LAN9252: {lan9252:?}");
+    assert!(lan9252.iter().all(|&b| b <= 2 * (18 + 11 + 3 + 32) + 18));
+    assert_eq!(lan9252, [135, 128, 117, 82, 135, 128, 117, 82]);
 }

@@ -56,7 +56,7 @@ use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
-use crate::pdi::Data;
+use crate::pdi::{Data, Sample};
 
 /// SPI instruction READ: address, then data (LAN9252 datasheet, "SPI/SQI Slave", "SPI Read").
 const READ: u8 = 0x03;
@@ -213,9 +213,8 @@ pub struct Lan9252<S> {
     /// The AL event read by the last access if it was an empty read, else none: what a read of
     /// process RAM right after it reports.
     sampled: AlEvent,
-    /// The next access continues the last one ([`Pdi::continues`]): a read of process RAM
-    /// reports the events known instead of reading the AL event register.
-    continues: bool,
+    /// What the next access's AL event must be ([`Pdi::sample`]).
+    sample: Sample,
     config: Config,
     spi: S,
 }
@@ -230,7 +229,7 @@ impl<S: SpiDevice> Lan9252<S> {
             config,
             known: AlEvent::NONE,
             sampled: AlEvent::NONE,
-            continues: false,
+            sample: Sample::Usual,
         };
         chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
         let deadline = Deadline::after(config.startup_timeout);
@@ -479,8 +478,11 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
         end.saturating_sub(usize::from(address)).max(chunk.min(4))
     }
 
-    fn continues(&mut self) {
-        self.continues = true;
+    /// [`Sample::Continued`]: a later chunk of a read of process RAM reports the events known
+    /// instead of reading the AL event register. [`Sample::Fresh`]: any access reads it, writes
+    /// included (18 bytes; only while state-machine events hold the IRQ line).
+    fn sample(&mut self, sample: Sample) {
+        self.sample = sample;
     }
 
     /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
@@ -507,9 +509,10 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             let (mut registers, ram) = data.split_at(register_bytes(address, len));
             // Taken by every access: only the next one may report it.
             let sampled = core::mem::replace(&mut self.sampled, AlEvent::NONE);
-            let continues = core::mem::replace(&mut self.continues, false);
+            let sample = core::mem::replace(&mut self.sample, Sample::Usual);
+            let prompted = reading && (len == 0 || !ram.is_empty() && sample != Sample::Continued);
             let mut fresh = None;
-            if reading && (len == 0 || !ram.is_empty() && !continues) {
+            if prompted || sample == Sample::Fresh {
                 let mut event = sampled;
                 if len == 0 || event.is_empty() {
                     let mut value = [0; 4];
@@ -524,10 +527,10 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             }
             self.registers(address, &mut registers).await?;
             self.pram(address.max(PROCESS_RAM), ram).await?;
-            let Data::Read(registers) = registers else {
-                return Ok(self.known);
+            let fresh = match &registers {
+                Data::Read(registers) => fresh.or_else(|| al_event_in(address, registers)),
+                Data::Write(_) => fresh,
             };
-            let fresh = fresh.or_else(|| al_event_in(address, registers));
             let event = fresh.unwrap_or(self.known);
             self.known = fresh
                 .map_or(self.known, |e| e.intersection(TRACKED))
