@@ -121,6 +121,12 @@ pub struct DeviceConfig {
     /// SubDevice reads all their activation registers on an SM-change event, which is what clears
     /// the event in the ESC.
     pub sync_manager_count: u8,
+    /// The device shows an explicit device ID (set by the application,
+    /// `SubDevice::set_device_id`, e.g. from switches) in the AL status code when the
+    /// MainDevice asks with AL control bit 5 (ETG.1000.6 Table 9). The SII General category
+    /// ([`crate::sii::FLAG_IDENT_AL_STATUS`]) and the ESI (`Info/IdentificationReg134`) advertise
+    /// it, so MainDevices use it. Default: false.
+    pub explicit_device_id: bool,
     /// The sync types the device supports (0x1C32:04). Default: free-run and SM-synchronous.
     pub sync: SupportedSync,
     /// Process-data image sizes.
@@ -158,6 +164,7 @@ impl DeviceConfig {
             process_data,
             process_ram_end: Self::DEFAULT_PROCESS_RAM_END,
             sync_manager_count: 8,
+            explicit_device_id: false,
             sync: SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM),
             free_run_cycle: Duration::from_millis(1),
             min_cycle_time: Duration::from_micros(250),

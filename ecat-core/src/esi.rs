@@ -10,6 +10,7 @@
 //! | `Vendor/Id`, `Name` | [`Identity::vendor_id`], [`Description::vendor`] |
 //! | `Descriptions/Groups/Group` | [`Names::group`] |
 //! | `Device/Type` (`ProductCode`, `RevisionNo`), `Name`, `GroupType` | [`Identity`], [`Names`] |
+//! | `Device/Info/IdentificationReg134` | [`DeviceConfig::explicit_device_id`] (the SII General category's IdentALSts flag) |
 //! | `Profile` (`ProfileNo`, `AddInfo`) | 0x1000 low / high word, when the dictionary has it |
 //! | `Profile/Dictionary/DataTypes` | every base type used, a `DTxxxx` per RECORD and ARRAY (plus `DTxxxxARR`) |
 //! | `Profile/Dictionary/Objects` | every object: type, bit size, declared default/min/max ([`Object::limit`]), flags |
@@ -104,6 +105,13 @@ pub fn write<D: ObjectDictionary>(
         device.names.order_code,
     )?;
     x.leaf("Name", device.names.name)?;
+    if device.config.explicit_device_id {
+        // ETG.2000 `Device/Info/IdentificationReg134`: the explicit device ID in 0x0134, the SII
+        // General category's IdentALSts flag.
+        x.open("Info", &[])?;
+        x.leaf("IdentificationReg134", "true")?;
+        x.close("Info")?;
+    }
     x.leaf("GroupType", device.names.group)?;
     profile(&mut x, od)?;
     for fmmu in sii::fmmus(device.config, od) {
@@ -472,6 +480,10 @@ fn sub_item<D, W: Write>(
             None => values(x, object, sub)?,
         }
         x.close("Info")?;
+    } else {
+        // ETG.2000 `ObjectInfoType/SubItem`: `Name` and `Info` are both required; `Info`'s
+        // content is optional.
+        x.empty("Info", &[])?;
     }
     x.close("SubItem")?;
     Ok(())

@@ -22,13 +22,16 @@
 //! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control (ETG.1000.4 §5.6) |
 //! | [`pdo`] | PDO mapping and assignment objects, the process-image layout, pack/unpack (ETG.1000.6 §5.6.7) |
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
+//! | [`chip`] | ESC chips (ET1100, AX58100, LAN9252): DL information, SPI PDI, the EEPROM configuration area (ETG.1000.6 §5.4) |
 //! | [`sii`] | the SII EEPROM image generated from the description (ETG.1000.6 §5.4, ETG.2010) |
 //! | [`esi`] | the ESI XML file generated from the same description (ETG.2000) |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
 //! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
+//! | [`sync_error`] | sync error supervision: the SM/SYNC-event-missed counter against 0x10F1:02 → SAFEOP + 0x001A (ETG.1020 §6.3) |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
+//! | [`indicator`] | the RUN and ERR indicators: patterns, AL state/code → pattern, next edge (ETG.1300) |
 //! | [`cia402`] | the CiA 402 drive profile: PDS state machine, option codes, statusword, modes (IEC 61800-7-201 §6.2) |
 #![no_std]
 #![cfg_attr(
@@ -45,12 +48,14 @@
 )]
 
 pub mod al;
+pub mod chip;
 pub mod cia402;
 pub mod coe;
 pub mod device;
 pub mod dictionary;
 pub mod esi;
 pub mod esm;
+pub mod indicator;
 pub mod mailbox;
 pub mod pdo;
 pub mod process_data;
@@ -59,6 +64,7 @@ pub mod ring;
 pub mod sii;
 pub mod subdevice;
 pub mod sync;
+pub mod sync_error;
 pub mod sync_manager;
 pub mod time;
 

@@ -33,8 +33,13 @@ pub const AL_STATUS_CODE: u16 = 0x0134;
 pub const PDI_CONTROL: u16 = 0x0140;
 /// ESC configuration (device emulation, enhanced link detection), loaded from SII word 0 high byte.
 pub const ESC_CONFIGURATION: u16 = 0x0141;
-/// PDI configuration (ETG.1000.6 Table 14), loaded from SII word 1.
+/// PDI configuration (ETG.1000.6 Table 14), loaded from SII word 1 low byte.
 pub const PDI_CONFIGURATION: u16 = 0x0150;
+/// SYNC/LATCH PDI configuration: SYNC0/SYNC1 output or latch input, driver and polarity, mapping
+/// to the AL event (ESC datasheet section II, 0x0151), loaded from SII word 1 high byte.
+pub const SYNC_LATCH_CONFIGURATION: u16 = 0x0151;
+/// Extended PDI configuration (ESC datasheet section II, 0x0152), loaded from SII word 3. u16.
+pub const EXTENDED_PDI_CONFIGURATION: u16 = 0x0152;
 
 /// ECAT event mask: which events reach the IRQ field of datagrams (ETG.1000.4 Table 38). u16.
 pub const ECAT_EVENT_MASK: u16 = 0x0200;
@@ -85,6 +90,13 @@ pub const DC_CYCLIC_UNIT_CONTROL: u16 = 0x0980;
 /// DC activation: bit 0 cyclic operation, bit 1 SYNC0, bit 2 SYNC1 (ESC datasheet section II,
 /// 0x0981). u8, written by the MainDevice, checked by the SubDevice at PREOP→SAFEOP.
 pub const DC_ACTIVATION: u16 = 0x0981;
+/// Pulse length of the SYNC signals in 10 ns; 0: acknowledge mode, a SYNC signal stays active
+/// until the PDI reads its status register (ESC datasheet section II, 0x0982). u16, loaded from
+/// SII word 2.
+pub const DC_SYNC_PULSE_LENGTH: u16 = 0x0982;
+/// SYNC0 status: bit 0 the SYNC0 signal; in acknowledge mode a PDI read clears it (ESC
+/// datasheet section II, 0x098E). u8.
+pub const DC_SYNC0_STATUS: u16 = 0x098E;
 /// DC start time of cyclic operation (ESC datasheet section II, 0x0990). u64.
 pub const DC_START_TIME: u16 = 0x0990;
 /// DC SYNC0 cycle time in ns (ESC datasheet section II, 0x09A0). u32.
@@ -134,7 +146,8 @@ pub enum PdiType {
     None = 0x00,
     /// 0x04: 8 digital I/O.
     DigitalIo = 0x04,
-    /// 0x05: SPI slave (ET1100/AX58100/LAN9252 in SPI mode).
+    /// 0x05: the Beckhoff SPI slave (ET1100, AX58100; the LAN9252's SPI is 0x80,
+    /// [`crate::chip::Chip::pdi_spi`]).
     Spi = 0x05,
     /// 0x08: 16-bit asynchronous microcontroller interface.
     AsyncMcu16 = 0x08,

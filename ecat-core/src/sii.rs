@@ -7,7 +7,7 @@
 //!
 //! | words | contents |
 //! |---|---|
-//! | 0x00..0x07 | configuration area: PDI control (SPI), zeros, CRC-8 of words 0..6 in word 7 |
+//! | 0x00..0x07 | the ESC configuration area of the chip ([`ConfigArea::new`]: PDI control, ESC configuration, PDI configuration, SYNC/LATCH configuration, SYNC pulse length, …), CRC-8 of words 0..6 in word 7 |
 //! | 0x08..0x0F | identity: vendor ID, product code, revision, serial number |
 //! | 0x14..0x17 | bootstrap mailbox (receive offset/size, send offset/size), zero without BOOT |
 //! | 0x18..0x1B | standard mailbox |
@@ -22,6 +22,7 @@
 //! The parts of the description the ESI file ([`crate::esi`]) repeats are computed here once and
 //! shared: [`sync_managers`], [`fmmus`], [`coe_details`], [`for_each_pdo`].
 
+use crate::chip::{Chip, ConfigArea};
 use crate::device::{DeviceConfig, Identity, MailboxConfig};
 use crate::dictionary::ObjectDictionary;
 use crate::pdo::layout::{Layout as PdoLayout, count, read_u16, read_u32};
@@ -49,12 +50,6 @@ pub enum SiiError {
 
 /// Mailbox protocol CoE (word 0x1C).
 const PROTOCOL_COE: u16 = 0x0004;
-/// PDI control word 0: SPI (0x05).
-const PDI_SPI: u16 = 0x0005;
-/// Word 1 high byte (register 0x0151, SYNC/LATCH configuration of the ET1100 family): SYNC0 as
-/// an output (bit 2), push-pull active high (bits 1:0 = 10). Set for a device with DC SYNC0, so
-/// the ESC drives the pin the firmware waits on; 0 (LATCH0 input) otherwise.
-const SYNC0_OUTPUT_ACTIVE_HIGH: u16 = 0x06 << 8;
 /// SyncManager control bytes: mailbox out/in, 3-buffer out with watchdog, 3-buffer in.
 const SM_CONTROL: [u8; 4] = [0x26, 0x22, 0x64, 0x20];
 /// Category types (ETG.2010 Table 3).
@@ -74,11 +69,12 @@ const SIZE_KBIT_MINUS_ONE: u16 = 15;
 /// Largest image: 16 Kbit.
 pub const MAX_SIZE: usize = 2048;
 
-/// Writes the SII image of the device into `out`; returns its length in bytes.
+/// Writes the SII image of the device on `chip` into `out`; returns its length in bytes.
 pub fn write<D: ObjectDictionary>(
     names: &Names<'_>,
     identity: &Identity,
     config: &DeviceConfig,
+    chip: &Chip,
     od: &D,
     out: &mut [u8],
 ) -> Result<usize, SiiError> {
@@ -87,14 +83,7 @@ pub fn write<D: ObjectDictionary>(
         at: 0,
         overflow: false,
     };
-    let sync_config = if config.sync.dc() {
-        SYNC0_OUTPUT_ACTIVE_HIGH
-    } else {
-        0
-    };
-    w.words(&[PDI_SPI, sync_config, 0, 0, 0, 0, 0]);
-    let crc = crc8(w.out.get(..14).unwrap_or_default());
-    w.u16(u16::from(crc));
+    w.bytes(&ConfigArea::new(chip, config.sync.dc()).bytes());
     for value in [
         identity.vendor_id,
         identity.product_code,
@@ -111,7 +100,9 @@ pub fn write<D: ObjectDictionary>(
     w.words(&[SIZE_KBIT_MINUS_ONE, 1]);
     let strings = Strings::new(names, od)?;
     w.category(CAT_STRINGS, |w| strings.write(w, od));
-    w.category(CAT_GENERAL, |w| general(w, coe_details(od)));
+    w.category(CAT_GENERAL, |w| {
+        general(w, coe_details(od), general_flags(config))
+    });
     w.category(CAT_FMMU, |w| {
         for fmmu in fmmus(config, od) {
             w.u8(fmmu as u8);
@@ -298,9 +289,24 @@ fn string(w: &mut Writer<'_>, s: &str) {
     w.bytes(bytes);
 }
 
+/// General category flags (ETG.2010 Table 6, byte 0x0B) bit 3 "IdentALSts": the device shows
+/// an explicit device ID in the AL status code (0x0134) when the MainDevice sets AL control bit 5
+/// (ETG.1000.6 Table 9). Within bits 0..4, the flags ethercrab parses.
+pub const FLAG_IDENT_AL_STATUS: u8 = 1 << 3;
+
+/// The General category's flags: [`FLAG_IDENT_AL_STATUS`] for a device with an explicit device
+/// ID ([`DeviceConfig::explicit_device_id`]).
+pub fn general_flags(config: &DeviceConfig) -> u8 {
+    if config.explicit_device_id {
+        FLAG_IDENT_AL_STATUS
+    } else {
+        0
+    }
+}
+
 /// The General category (ETG.2010 Table 6), 32 bytes.
-fn general(w: &mut Writer<'_>, coe: CoeDetails) {
-    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, 0, 0, 0, 0, 0, 0]);
+fn general(w: &mut Writer<'_>, coe: CoeDetails, flags: u8) {
+    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, 0, 0, 0, 0, 0, flags]);
     w.u16(0); // current on E-bus
     w.bytes(&[GROUP, 0]); // group index (compatibility), reserved
     w.u16(0x0011); // physical ports 0 and 1: MII

@@ -651,6 +651,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
+    /// The process-data side's sync error supervision tripped (too many missed SM/SYNC events,
+    /// [`crate::sync_error`]): in OP the SubDevice falls back to SAFEOP with
+    /// [`AlStatusCode::SYNC_ERROR`] (ETG.1020 §6.3).
+    pub fn sync_error(&mut self) {
+        if self.state == AlState::Op {
+            self.stale = Stale::ALL;
+            self.fail(AlStatusCode::SYNC_ERROR, AlState::SafeOp);
+        }
+    }
+
     /// The process-data side ran a SYNC0-triggered cycle (DC mode) since SAFEOP was entered: a
     /// SAFEOP→OP in DC mode may complete (with its outputs, if the device has any).
     pub fn sync_received(&mut self) {

@@ -423,11 +423,17 @@ pub fn check_cycle(
 ///   outputs (SM2) since the previous SYNC0;
 /// - SI 0x0C, cycle time too small: clocked cycles (free-run, SYNC0) that started more than 1.5
 ///   cycles after the previous one, i.e. a cycle was lost because the last one took too long;
-/// - SI 0x20, sync error: whether the last cycle missed its SM event or overran.
+/// - SI 0x20, sync error: whether the last cycle missed its SM event or overran, or the sync
+///   error supervision tripped in the current or last OP session ([`crate::sync_error`]).
 ///
 /// The counters restart when the process data restarts ([`CycleMonitor::reset`] at SAFEOP).
+///
+/// It also runs the sync error supervision of 0x10F1 ([`crate::sync_error`]) over the cycles
+/// that expect outputs (DC mode in OP): [`CycleMonitor::cycle`] says when it trips.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct CycleMonitor {
+    /// The sync error counter of the current OP session.
+    supervision: crate::sync_error::SyncSupervision,
     last: Option<Instant>,
     missed: u16,
     overruns: u16,
@@ -466,11 +472,14 @@ impl CycleMonitor {
 
     /// Accounts for one cycle and stores the diagnostics into `od`'s 0x1C32/0x1C33. A dictionary
     /// without either keeps no diagnostics: known at compile time, so its firmware carries no
-    /// monitor code.
-    pub fn cycle<D: ObjectDictionary>(&mut self, od: &mut D, report: CycleReport) {
+    /// monitor code. Returns `true` when the sync error supervision trips with this cycle: the
+    /// SubDevice leaves OP with 0x001A. The supervision, too, runs only with 0x1C32/0x1C33
+    /// (which ETG.1020 requires of a device with DC: the only mode it supervises).
+    pub fn cycle<D: ObjectDictionary>(&mut self, od: &mut D, report: CycleReport) -> bool {
         if !const { has_sync_parameters(D::OBJECTS) } {
-            return;
+            return false;
         }
+        let tripped = self.supervise(od, &report);
         let elapsed = self
             .last
             .map(|last| report.now.as_micros().saturating_sub(last.as_micros()));
@@ -490,12 +499,25 @@ impl CycleMonitor {
                 .map(|us| us.saturating_mul(1_000).min(u64::from(u32::MAX))),
             missed: self.missed,
             overruns: self.overruns,
-            error: missed || overrun,
+            error: missed || overrun || self.supervision.tripped(),
         };
         if self.stored != Some(now) {
             self.stored = Some(now);
             store(od, now);
         }
+        tripped
+    }
+
+    /// The sync error supervision's share of a cycle: only cycles that expect outputs count
+    /// (the limit is looked up only for them).
+    fn supervise<D: ObjectDictionary>(&mut self, od: &D, report: &CycleReport) -> bool {
+        let expect = report.expects_outputs;
+        let limit = if expect {
+            crate::sync_error::limit(od)
+        } else {
+            0
+        };
+        self.supervision.cycle(expect, !report.new_outputs, limit)
     }
 }
 

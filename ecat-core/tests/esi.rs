@@ -217,6 +217,8 @@ fn record_type_with_complete_access_bit_offsets() {
         sub_item(3, "C", "UINT", 16, 24, rw_r),
     );
     has(&xml, &expected);
+    // The object's Info: ETG.2000 (`ObjectInfoType/SubItem`) requires `Info` in every SubItem,
+    // empty where nothing is declared (A, B).
     has(
         &xml,
         "<Index>#x6001</Index>
@@ -232,9 +234,11 @@ fn record_type_with_complete_access_bit_offsets() {
                   </SubItem>
                   <SubItem>
                     <Name>A</Name>
+                    <Info/>
                   </SubItem>
                   <SubItem>
                     <Name>B</Name>
+                    <Info/>
                   </SubItem>
                   <SubItem>
                     <Name>C</Name>
@@ -392,4 +396,31 @@ proptest! {
             prop_assert_eq!(result, Err(EsiError::Write));
         }
     }
+}
+
+/// A device with an explicit device ID says so in `Device/Info/IdentificationReg134` (ETG.2000,
+/// between `Name` and `GroupType`), as its SII General category's IdentALSts flag does; others
+/// have no `Info`.
+#[test]
+fn explicit_device_id_is_advertised_in_device_info() {
+    assert!(!sm_only().contains("<IdentificationReg134>"));
+    let mut config = config(SupportedSync::SM);
+    config.explicit_device_id = true;
+    let description = Description {
+        vendor: "v",
+        names: &NAMES,
+        identity: &IDENTITY,
+        config: &config,
+    };
+    let mut xml = String::new();
+    esi::write(&mut xml, &description, &Od::default(), &SII).unwrap();
+    has(
+        &xml,
+        "        <Name>Probe &quot;A&quot; &amp; &apos;B&apos;</Name>
+        <Info>
+          <IdentificationReg134>true</IdentificationReg134>
+        </Info>
+        <GroupType>Test &amp; measurement</GroupType>
+",
+    );
 }

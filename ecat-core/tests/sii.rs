@@ -3,8 +3,10 @@
 //! (its catalog devices have no BOOT).
 
 use ecat_core::DeviceConfig;
+use ecat_core::chip::Chip;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::{self, Names};
+use ecat_core::sync::SupportedSync;
 
 const IDENTITY: Identity = Identity {
     vendor_id: 0xE000_0001,
@@ -29,7 +31,7 @@ fn the_bootstrap_and_standard_mailbox_words() {
     );
     let words = |config: &DeviceConfig| {
         let mut image = [0u8; sii::MAX_SIZE];
-        let n = sii::write(&names, &IDENTITY, config, &(), &mut image).unwrap();
+        let n = sii::write(&names, &IDENTITY, config, &Chip::ET1100, &(), &mut image).unwrap();
         let word = |w: usize| u16::from_le_bytes([image[2 * w], image[2 * w + 1]]);
         assert!(n > 0x40 * 2);
         (0x14..=0x1C).map(word).collect::<Vec<_>>()
@@ -43,4 +45,81 @@ fn the_bootstrap_and_standard_mailbox_words() {
         words(&config),
         [0x1800, 256, 0x1900, 256, 0x1000, 128, 0x1080, 128, 0x0004]
     );
+}
+
+/// Words 0..7, the ESC configuration area (ETG.1000.6 §5.4 Table 2), per chip, for a device
+/// with and without DC SYNC0: PDI control (0x0140: 0x05 the Beckhoff SPI slave, 0x80 the
+/// LAN9252's SPI), ESC configuration (0x0141: bit 2 SYNC out unit on with DC), PDI configuration
+/// (0x0150: SPI mode 3 on the Beckhoff slave; 0 on the LAN9252, whose SPI has no mode setting),
+/// SYNC/LATCH configuration (0x0151: 0x06, SYNC0 push-pull active high, with DC), SYNC pulse
+/// length 100 × 10 ns (0x0982), extended PDI configuration and alias 0, the AX58100's word 5
+/// (0x001A), and the CRC-8 (poly 0x07, init 0xFF) of words 0..6 in word 7.
+#[test]
+fn the_configuration_area_of_each_chip() {
+    let names = Names {
+        name: "Area",
+        order_code: "A-1",
+        group: "Test",
+    };
+    let mut config = DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, 128),
+        ProcessDataSizes::default(),
+    );
+    let mut area = |chip: &Chip, dc: bool| {
+        config.sync = if dc {
+            SupportedSync(SupportedSync::SM | SupportedSync::SYNC0)
+        } else {
+            SupportedSync(SupportedSync::SM)
+        };
+        let mut image = [0u8; sii::MAX_SIZE];
+        sii::write(&names, &IDENTITY, &config, chip, &(), &mut image).unwrap();
+        image[..16].to_vec()
+    };
+    #[rustfmt::skip]
+    let expected: [(&Chip, bool, [u8; 16]); 6] = [
+        (&Chip::ET1100, true, [0x05, 0x04, 0x03, 0x06, 0x64, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x71, 0]),
+        (&Chip::ET1100, false, [0x05, 0x00, 0x03, 0x00, 0x64, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x6D, 0]),
+        (&Chip::AX58100, true, [0x05, 0x04, 0x03, 0x06, 0x64, 0, 0, 0, 0, 0, 0x1A, 0, 0, 0, 0x8A, 0]),
+        (&Chip::AX58100, false, [0x05, 0x00, 0x03, 0x00, 0x64, 0, 0, 0, 0, 0, 0x1A, 0, 0, 0, 0x96, 0]),
+        (&Chip::LAN9252, true, [0x80, 0x04, 0x00, 0x06, 0x64, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x37, 0]),
+        (&Chip::LAN9252, false, [0x80, 0x00, 0x00, 0x00, 0x64, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x2B, 0]),
+    ];
+    for (chip, dc, bytes) in expected {
+        assert_eq!(area(chip, dc), bytes, "{} dc {dc}", chip.name);
+        assert_eq!(sii::crc8(&bytes[..14]), bytes[14]);
+    }
+}
+
+/// The General category's flags (ETG.2010 Table 6, byte 0x0B): bit 3 IdentALSts for a device
+/// with an explicit device ID, nothing else (ethercrab rejects unknown bits above 4).
+#[test]
+fn the_general_flags_advertise_an_explicit_device_id() {
+    let mut config = DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, 128),
+        ProcessDataSizes::default(),
+    );
+    let names = Names {
+        name: "Id",
+        order_code: "I-1",
+        group: "Test",
+    };
+    let mut flags = |explicit: bool| {
+        config.explicit_device_id = explicit;
+        let mut image = [0u8; sii::MAX_SIZE];
+        let n = sii::write(&names, &IDENTITY, &config, &Chip::ET1100, &(), &mut image).unwrap();
+        // The categories from word 0x40: Strings first, then General.
+        let mut at = 0x80;
+        while at < n {
+            let kind = u16::from_le_bytes([image[at], image[at + 1]]);
+            let words = usize::from(u16::from_le_bytes([image[at + 2], image[at + 3]]));
+            if kind == 30 {
+                return image[at + 4 + 0x0B];
+            }
+            at += 4 + 2 * words;
+        }
+        panic!("no General category");
+    };
+    assert_eq!(flags(false), 0x00);
+    assert_eq!(flags(true), 0x08);
+    assert_eq!(sii::FLAG_IDENT_AL_STATUS, 1 << 3);
 }

@@ -12,7 +12,7 @@ use embassy_sync::blocking_mutex::raw::RawMutex;
 
 use crate::maybe::Maybe;
 use crate::pdi::Data;
-use crate::shared::{Notes, Runner};
+use crate::shared::{Indication, Notes, Runner};
 use crate::time::{now, until};
 use crate::{Application, Pdi, SharedEsc};
 
@@ -151,6 +151,9 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
     if notes.contains(Notes::SYNC_LOST) {
         sub.sync_lost();
     }
+    if notes.contains(Notes::SYNC_ERROR) {
+        sub.sync_error();
+    }
     if notes.contains(Notes::OUTPUTS_RECEIVED) {
         sub.outputs_received();
     }
@@ -179,7 +182,7 @@ fn sync<'a, M: RawMutex, P: Pdi, const MBX: usize>(
                 }
             };
             sub.access_done(now(), event);
-            esc.publish(sub.process_data(), sub.event_mask());
+            esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
         }
         Ok(())
     }

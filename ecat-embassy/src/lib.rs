@@ -9,6 +9,7 @@
 //! | [`app`] | what the firmware author implements: [`Application`] (state hooks) and [`CycleHandler`] (process data) |
 //! | [`esm_runner`] | [`run_esm`]: the state machine, in the low-priority thread executor |
 //! | [`spi`] | PDI drivers over `embedded-hal-async` SPI: Beckhoff ESC SPI protocol, Microchip LAN9252 |
+//! | [`indicator`] | [`run_indicators`]: the ETG.1300 RUN/ERR LEDs on GPIO pins, from the AL status the state-machine runner publishes |
 //! | [`pd_runner`] | [`run_process_data`]: the process-data exchange, in an `InterruptExecutor`; owns the IRQ line |
 //!
 //! ## Who wakes whom
@@ -42,6 +43,7 @@
 
 pub mod app;
 pub mod esm_runner;
+pub mod indicator;
 mod maybe;
 pub mod pd_runner;
 pub mod pdi;
@@ -51,6 +53,7 @@ mod time;
 
 pub use app::{Application, CycleHandler};
 pub use esm_runner::{SharedDictionary, run_esm};
+pub use indicator::run_indicators;
 pub use pd_runner::run_process_data;
 pub use pdi::Pdi;
 pub use shared::SharedEsc;

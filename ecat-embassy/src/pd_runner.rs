@@ -422,10 +422,8 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
-        with_dictionary(self.od, |od| {
-            if let Some(report) = report {
-                monitor.cycle(od, report);
-            }
+        let sync_error = with_dictionary(self.od, |od| {
+            let sync_error = report.is_some_and(|report| monitor.cycle(od, report));
             let pdo = images.as_ref();
             if let (true, Some(rx)) = (apply_outputs, pdo.and_then(|i| i.outputs.as_ref())) {
                 unpack(rx, outputs, od);
@@ -434,7 +432,11 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             if let Some(tx) = pdo.and_then(|i| i.inputs.as_ref()) {
                 pack(tx, od, inputs);
             }
+            sync_error
         });
+        if sync_error {
+            self.esc.note(Notes::SYNC_ERROR);
+        }
         Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }
 }

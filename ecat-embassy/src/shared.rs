@@ -5,10 +5,10 @@ use core::cell::Cell;
 use core::future::{Future, poll_fn};
 use core::task::{Poll, Waker};
 
-use ecat_core::AlEvent;
 use ecat_core::coe::Emergency;
 use ecat_core::process_data::Layout;
 use ecat_core::ring::Ring;
+use ecat_core::{AlEvent, AlStatus, AlStatusCode};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_sync::mutex::Mutex;
@@ -61,10 +61,15 @@ struct Routing {
     pd_seen: Cell<u32>,
     /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
     pd_stopped: Cell<bool>,
+    /// The AL status and status code the state-machine runner last published, for the
+    /// indicators ([`Indication`]).
+    indication: Cell<Indication>,
     esm_waker: WakerCell,
     pd_waker: WakerCell,
     /// The state-machine runner waits for the process-data runner to take the PDI.
     esm_pdi_waker: WakerCell,
+    /// The indicator task, woken when the indication changes.
+    led_waker: WakerCell,
     /// Emergencies raised by the application, waiting for the state-machine runner.
     emergencies: Cell<Ring<Emergency, EMERGENCIES>>,
     /// The process-data layout published by the state-machine runner.
@@ -148,6 +153,8 @@ impl Notes {
     pub(crate) const SYNC_RECEIVED: Self = Self(2);
     /// No SYNC0 for too long in OP.
     pub(crate) const SYNC_LOST: Self = Self(4);
+    /// The sync error supervision tripped (0x10F1, too many missed SM/SYNC events).
+    pub(crate) const SYNC_ERROR: Self = Self(8);
 
     const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -156,6 +163,28 @@ impl Notes {
     /// Whether all of `other` is in `self`.
     pub(crate) const fn contains(self, other: Self) -> bool {
         self.0 & other.0 == other.0
+    }
+}
+
+/// The AL status (0x0130) and AL status code (0x0134) as the state-machine runner publishes
+/// them for the indicators: one word, so a publication costs one compare and one store.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct Indication(u32);
+
+impl Indication {
+    /// What the SubDevice presents now.
+    pub(crate) fn of<const MBX: usize>(sub: &ecat_core::SubDevice<'_, MBX>) -> Self {
+        Self(u32::from(sub.al_status().bits()) | u32::from(sub.al_status_code().0) << 16)
+    }
+
+    /// The AL status, `None` before the state-machine runner published (the ESC's INIT).
+    pub(crate) fn status(self) -> Option<AlStatus> {
+        AlStatus::from_bits(self.0 as u16)
+    }
+
+    /// The AL status code.
+    pub(crate) fn code(self) -> AlStatusCode {
+        AlStatusCode((self.0 >> 16) as u16)
     }
 }
 
@@ -209,6 +238,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 last_event: Cell::new(AlEvent::NONE),
                 esm_started: Cell::new(false),
                 pd_news: Cell::new(0),
+                indication: Cell::new(Indication(0)),
                 emergencies: Cell::new(Ring::new(Emergency::NONE)),
                 notes: Cell::new(Notes::NONE),
                 pd_waiting: Cell::new(false),
@@ -217,6 +247,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 esm_waker: WakerCell::new(),
                 pd_waker: WakerCell::new(),
                 esm_pdi_waker: WakerCell::new(),
+                led_waker: WakerCell::new(),
             }),
         }
     }
@@ -407,9 +438,13 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// Publishes the process-data layout of the current state and the AL event mask in the ESC.
     /// The core writes its mask before anything else, so from the first publication on, every
     /// masked event is one a runner clears.
-    pub(crate) fn publish(&self, layout: Option<Layout>, mask: AlEvent) {
+    /// With them the AL status and code the SubDevice presents, for the indicators.
+    pub(crate) fn publish(&self, layout: Option<Layout>, mask: AlEvent, indication: Indication) {
         self.with(|r| {
             r.mask.set(mask);
+            if r.indication.replace(indication) != indication {
+                r.led_waker.wake();
+            }
             if r.layout.get() != layout || !r.esm_started.get() {
                 r.layout.set(layout);
                 r.esm_started.set(true);
@@ -469,6 +504,30 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 }
             })
         })
+    }
+
+    /// The AL status and code last published, once it differs from `seen`: for the indicator
+    /// task, which waits here between two edges.
+    pub(crate) fn indication_since(
+        &self,
+        seen: Indication,
+    ) -> impl Future<Output = Indication> + '_ {
+        poll_fn(move |cx| {
+            self.with(|r| {
+                let now = r.indication.get();
+                if now != seen {
+                    Poll::Ready(now)
+                } else {
+                    r.led_waker.register(cx.waker());
+                    Poll::Pending
+                }
+            })
+        })
+    }
+
+    /// The AL status and code last published.
+    pub(crate) fn indication(&self) -> Indication {
+        self.with(|r| r.indication.get())
     }
 
     fn with<R>(&self, f: impl FnOnce(&Routing) -> R) -> R {

@@ -50,15 +50,21 @@ def errors(master):
     return [str(e) for e in master._collect_mailbox_errors()]
 
 
+# How long SOEM waits for its process-data frame to come back (µs). Generous: the virtual slave
+# shares this machine with the test; a late frame is a failure all the same (-1 below).
+RECEIVE_US = 20_000
+
+
 def cycle(master, count, period=0.001, check=None):
-    """`count` process-data cycles; returns the working counters that differ from the expected."""
+    """`count` process-data cycles; returns (cycle, working counter) of those that differ from
+    the expected (-1: no frame came back within RECEIVE_US)."""
     expected = master.expected_wkc
     bad = []
     for i in range(count):
         if check is not None:
             check(i)
         master.send_processdata()
-        wkc = master.receive_processdata(2000)
+        wkc = master.receive_processdata(RECEIVE_US)
         if wkc != expected:
             bad.append((i, wkc))
         time.sleep(period)
@@ -107,12 +113,12 @@ def test_safeop_then_op_with_the_expected_working_counter(master):
     # LRW: +2 per device whose outputs it writes, +1 per device whose inputs it reads.
     assert master.expected_wkc == 2 * outputs + inputs
     master.send_processdata()
-    master.receive_processdata(2000)
+    master.receive_processdata(RECEIVE_US)
     master.state = pysoem.OP_STATE
     master.write_state()
     for _ in range(200):  # SAFEOP→OP completes only once valid outputs arrived
         master.send_processdata()
-        master.receive_processdata(2000)
+        master.receive_processdata(RECEIVE_US)
         if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
             break
     assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
@@ -162,6 +168,7 @@ def test_complete_access_and_segmented_sdo_both_ways(master):
 
 
 def test_process_data_stopped_means_safeop_with_error_0x001b_within_the_watchdog_time(master):
+    assert cycle(master, 50) == []  # the watchdog restarts with every output buffer
     start = time.monotonic()
     expired = {}
     while time.monotonic() - start < 5 * WATCHDOG_S:

@@ -54,12 +54,12 @@ def test_the_axis_reaches_op_in_dc_mode_and_runs_thousands_of_cycles(master):
     assert axis.sdo_read(0x1C33, 1)[0] == DC_SYNC0
     assert struct.unpack("<I", axis.sdo_read(0x1C32, 2))[0] == CYCLE_NS
     master.send_processdata()
-    master.receive_processdata(2000)
+    master.receive_processdata(20_000)
     master.state = pysoem.OP_STATE
     master.write_state()
     for _ in range(500):
         master.send_processdata()
-        master.receive_processdata(2000)
+        master.receive_processdata(20_000)
         if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
             break
         time.sleep(0.001)
@@ -67,7 +67,7 @@ def test_the_axis_reaches_op_in_dc_mode_and_runs_thousands_of_cycles(master):
     bad = 0
     for _ in range(3000):
         master.send_processdata()
-        if master.receive_processdata(2000) != master.expected_wkc:
+        if master.receive_processdata(20_000) != master.expected_wkc:
             bad += 1
         time.sleep(0.001)
     assert bad == 0

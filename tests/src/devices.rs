@@ -134,13 +134,15 @@ impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
         sample
     }
 
-    /// The SII image generated from the description and the dictionary's defaults.
+    /// The SII image generated from the description and the dictionary's defaults, for the chip
+    /// of the device's ESC (`device.esc.chip`: its configuration area).
     pub fn eeprom(&self) -> Vec<u8> {
         let mut image = vec![0; sii::MAX_SIZE];
         match sii::write(
             &self.names,
             &self.identity,
             &self.device.config,
+            &self.device.esc.chip,
             &self.device.od,
             &mut image,
         ) {

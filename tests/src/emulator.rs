@@ -98,49 +98,96 @@ impl Emulator {
         self.0.watchdog_deadline.set(deadline);
     }
 
-    /// The DC SYNC unit (ESC datasheet section I, "SyncSignal generation"): with cyclic
-    /// operation and SYNC0 activated (0x0981 bits 0 and 1), SYNC0 pulses at the start time
-    /// (0x0990) and every SYNC0 cycle (0x09A0) after it, on the system time (virtual time in ns
-    /// plus the offset the MainDevice set, `Esc::system_time`). Pulses due since the last tick merge into one edge, as a level-sampling input would
-    /// see them; a cycle of 0 gives a single pulse.
-    fn tick_sync0(&self) {
+    /// The DC SYNC unit's registers at the current virtual time: the system time (ns), the
+    /// activation, the SYNC0 start time and cycle time.
+    fn sync_unit(&self) -> (u64, DcActivation, u64, u64) {
         let local = embassy_time::Instant::now()
             .as_micros()
             .saturating_mul(1_000);
-        let (now, activation, start, cycle) = {
-            let mut esc = self.0.esc.borrow_mut();
-            esc.set_local_time(local);
-            let mut activation = [0u8; 1];
-            esc.ecat_read(register::DC_ACTIVATION, &mut activation);
-            let mut start = [0u8; 8];
-            esc.ecat_read(register::DC_START_TIME, &mut start);
-            let mut cycle = [0u8; 4];
-            esc.ecat_read(register::DC_SYNC0_CYCLE_TIME, &mut cycle);
-            (
-                esc.system_time(),
-                DcActivation(activation[0]),
-                u64::from_le_bytes(start),
-                u64::from(u32::from_le_bytes(cycle)),
-            )
-        };
+        let mut esc = self.0.esc.borrow_mut();
+        esc.set_local_time(local);
+        let mut activation = [0u8; 1];
+        esc.ecat_read(register::DC_ACTIVATION, &mut activation);
+        let mut start = [0u8; 8];
+        esc.ecat_read(register::DC_START_TIME, &mut start);
+        let mut cycle = [0u8; 4];
+        esc.ecat_read(register::DC_SYNC0_CYCLE_TIME, &mut cycle);
+        (
+            esc.system_time(),
+            DcActivation(activation[0]),
+            u64::from_le_bytes(start),
+            u64::from(u32::from_le_bytes(cycle)),
+        )
+    }
+
+    /// The system time (ns) of the next SYNC0 pulse, if SYNC0 is active and one is still to
+    /// come: the start time first, then every cycle after the last pulse.
+    fn next_sync0(&self, activation: DcActivation, start: u64, cycle: u64) -> Option<u64> {
+        if !activation.sync0() {
+            return None;
+        }
+        match (self.0.sync0_last.get(), cycle) {
+            (None, _) => Some(start),
+            (Some(last), 1..) => Some(last.saturating_add(cycle)),
+            (Some(_), 0) => None,
+        }
+    }
+
+    /// The DC SYNC unit (ESC datasheet section I, "SyncSignal generation"): with cyclic
+    /// operation and SYNC0 activated (0x0981 bits 0 and 1), SYNC0 pulses at the start time
+    /// (0x0990) and every SYNC0 cycle (0x09A0) after it, on the system time (virtual time in ns
+    /// plus the offset the MainDevice set, `Esc::system_time`). Pulses due since the last tick
+    /// merge into one edge, as a level-sampling input would see them; a cycle of 0 gives a
+    /// single pulse.
+    fn tick_sync0(&self) {
+        let (now, activation, start, cycle) = self.sync_unit();
         if !activation.sync0() {
             self.0.sync0_last.set(None);
             return;
         }
-        let due = match (self.0.sync0_last.get(), cycle) {
-            (None, _) if now >= start => Some(start),
-            (Some(last), 1..) if now >= last.saturating_add(cycle) => {
-                Some(last + (now - last) / cycle * cycle)
-            }
+        let due = match self.next_sync0(activation, start, cycle) {
+            Some(next) if now >= next => match self.0.sync0_last.get() {
+                None => Some(start),
+                Some(last) => Some(last + (now - last) / cycle * cycle),
+            },
             _ => None,
         };
         if let Some(pulse) = due {
             self.0.sync0_last.set(Some(pulse));
+            // The pin shows an edge only as the EEPROM's configuration area lets it: the SYNC out
+            // unit on, SYNC0 an output, and in acknowledge mode only after the PDI read 0x098E
+            // (`Esc::sync0_pulse`).
+            if !self.0.esc.borrow_mut().sync0_pulse() {
+                return;
+            }
             self.0.sync0_pulses.set(self.0.sync0_pulses.get() + 1);
             for waker in self.0.sync0_waiters.borrow_mut().drain(..) {
                 waker.wake();
             }
         }
+    }
+
+    /// When virtual time next acts on the ESC by itself (see [`Emulator::tick`]): the
+    /// process-data watchdog's expiry or the next SYNC0 pulse, whichever comes first; `None`
+    /// when neither runs. A line served on a real clock sleeps until then, or until a frame
+    /// arrives.
+    pub fn next_deadline(&self) -> Option<embassy_time::Instant> {
+        let now = embassy_time::Instant::now();
+        let (system, activation, start, cycle) = self.sync_unit();
+        let sync0 = self.next_sync0(activation, start, cycle).map(|pulse| {
+            let ns = pulse.saturating_sub(system);
+            now + embassy_time::Duration::from_micros(ns.div_ceil(1_000))
+        });
+        match (self.0.watchdog_deadline.get(), sync0) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// Wakers waiting on the IRQ and SYNC0 lines: one per waiting task at most, however often
+    /// a task polls before the line changes.
+    pub fn waiters(&self) -> usize {
+        self.0.irq_waiters.borrow().len() + self.0.sync0_waiters.borrow().len()
     }
 
     /// The SYNC0 output, for the process-data runner of a DC device.
@@ -157,6 +204,11 @@ impl Emulator {
         for waker in self.0.irq_waiters.borrow_mut().drain(..) {
             waker.wake();
         }
+    }
+
+    /// The PDI traffic so far, without waking anyone (unlike [`Emulator::with`]).
+    pub fn stats(&self) -> crate::esc::PdiStats {
+        self.0.esc.borrow().stats()
     }
 
     /// The test script got a turn: the runners did not starve it.
@@ -190,11 +242,21 @@ impl Emulator {
             if level(self.0.esc.borrow().irq()) {
                 Poll::Ready(())
             } else {
-                self.0.irq_waiters.borrow_mut().push(cx.waker().clone());
+                register(&self.0.irq_waiters, cx.waker());
                 Poll::Pending
             }
         })
         .await
+    }
+}
+
+/// Adds `waker` to `waiters` unless a waker of the same task is already there: a task polled
+/// again before the line changed (woken by a timer or another future it selects on) must not
+/// add a copy per poll.
+pub(crate) fn register(waiters: &RefCell<Vec<Waker>>, waker: &Waker) {
+    let mut waiters = waiters.borrow_mut();
+    if !waiters.iter().any(|w| w.will_wake(waker)) {
+        waiters.push(waker.clone());
     }
 }
 
@@ -260,7 +322,7 @@ impl Sync0Pin {
             if self.0.sync0_pulses() != seen {
                 Poll::Ready(())
             } else {
-                self.0.0.sync0_waiters.borrow_mut().push(cx.waker().clone());
+                register(&self.0.0.sync0_waiters, cx.waker());
                 Poll::Pending
             }
         })
@@ -297,5 +359,88 @@ impl embedded_hal_async::digital::Wait for Sync0Pin {
     async fn wait_for_any_edge(&mut self) -> Result<(), Infallible> {
         self.pulse().await;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use core::future::Future;
+    use core::pin::pin;
+    use core::task::{Context, Poll, Waker};
+
+    use embedded_hal_async::digital::Wait;
+
+    use super::*;
+
+    /// A runner that selects on the IRQ and a timer is polled again at every timer wake-up
+    /// while the line stays high: the ESC must keep one waker for it, not one per poll (the
+    /// virtual slave grew by 16 MB/s idle).
+    #[test]
+    fn a_waiter_polled_again_is_remembered_once() {
+        let emu = Emulator::new(EscConfig::default());
+        let (mut irq, sync0) = (emu.irq_pin(), emu.sync0_pin());
+        struct Task;
+        impl std::task::Wake for Task {
+            fn wake(self: std::sync::Arc<Self>) {}
+        }
+        let waker = Waker::from(std::sync::Arc::new(Task));
+        let mut cx = Context::from_waker(&waker);
+        {
+            let mut low = pin!(irq.wait_for_low());
+            let mut pulse = pin!(sync0.pulse());
+            for _ in 0..1000 {
+                assert_eq!(low.as_mut().poll(&mut cx), Poll::Pending);
+                assert_eq!(pulse.as_mut().poll(&mut cx), Poll::Pending);
+            }
+        }
+        assert_eq!(emu.waiters(), 2, "one IRQ waiter and one SYNC0 waiter");
+        emu.with(|_| ());
+        assert_eq!(emu.waiters(), 1, "an ESC access wakes the IRQ waiters");
+    }
+
+    /// Without a watchdog trigger or SYNC0, nothing is due; a running process-data watchdog is
+    /// due one period (reset values: 100 µs × 1000 = 100 ms) after the MainDevice's write.
+    #[test]
+    fn the_next_deadline_is_the_watchdog_expiry() {
+        let _serial = crate::harness::exclusive();
+        let start = embassy_time::Instant::now();
+        let emu = Emulator::new(EscConfig::default());
+        assert_eq!(emu.next_deadline(), None);
+        let sm2 = register::sync_manager(2);
+        emu.with(|esc| {
+            esc.ecat_write(sm2, &[0x00, 0x10, 1, 0, 0x64]);
+            esc.ecat_write(sm2 + 6, &[1]);
+            esc.ecat_write(0x1000, &[0xAA]);
+        });
+        let due = start + embassy_time::Duration::from_millis(100);
+        assert_eq!(emu.next_deadline(), Some(due));
+        embassy_time::MockDriver::get().advance(embassy_time::Duration::from_millis(100));
+        emu.tick();
+        assert_eq!(emu.next_deadline(), None, "expired");
+    }
+
+    /// With cyclic SYNC0 active, the next pulse is due at the start time, then one cycle after
+    /// the last pulse.
+    #[test]
+    fn the_next_deadline_is_the_next_sync0_pulse() {
+        let _serial = crate::harness::exclusive();
+        let start = embassy_time::Instant::now();
+        let emu = Emulator::new(EscConfig {
+            dc_supported: true,
+            ..EscConfig::default()
+        });
+        emu.tick();
+        let system = emu.with(|esc| esc.system_time());
+        emu.with(|esc| {
+            esc.ecat_write(register::DC_START_TIME, &(system + 500_000).to_le_bytes());
+            esc.ecat_write(register::DC_SYNC0_CYCLE_TIME, &1_000_000u32.to_le_bytes());
+            esc.ecat_write(register::DC_ACTIVATION, &[0x03]);
+        });
+        let us = embassy_time::Duration::from_micros;
+        assert_eq!(emu.next_deadline(), Some(start + us(500)), "the start time");
+        embassy_time::MockDriver::get().advance(us(500));
+        emu.tick();
+        assert_eq!(emu.sync0_pulses(), 1);
+        assert_eq!(emu.next_deadline(), Some(start + us(1500)), "one cycle on");
     }
 }

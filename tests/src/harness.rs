@@ -6,9 +6,10 @@
 //!
 //! The mock driver is global to the process, so scenarios in one test binary run one at a time.
 
-use core::cell::RefCell;
+use core::cell::{Cell, RefCell};
 use core::future::Future;
 use core::pin::Pin;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
@@ -22,13 +23,19 @@ use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_time::MockDriver;
 
-use crate::emulator::Emulator;
+use crate::emulator::{EmulatedPdi, Emulator};
 use crate::esc::EscConfig;
 use crate::master::TestMaster;
 use crate::scheduler::{self, Scheduler, Task};
 
 /// Serialises scenarios: the mock time driver is one per process.
 static SERIAL: Mutex<()> = Mutex::new(());
+
+/// Holds the mock time driver for the caller alone until dropped: for tests that move the
+/// clock outside a scenario.
+pub fn exclusive() -> std::sync::MutexGuard<'static, ()> {
+    SERIAL.lock().unwrap_or_else(PoisonError::into_inner)
+}
 
 /// A scenario still running after this much wall-clock time is hung (a task spinning without
 /// yielding): the test process aborts with a message instead of hanging CI. Scenarios take
@@ -64,8 +71,46 @@ const MAX_IMAGE: usize = 1024;
 /// Largest mailbox the harness's SubDevice holds.
 const MAX_MAILBOX: usize = 1024;
 
-/// Tells every runner of a scenario to stop.
-pub type Stop = scheduler::Stop;
+/// Tells every runner of a scenario to stop: once signalled, every wait on it completes, for
+/// however many tasks wait. (An embassy-sync `Signal` holds one waker: two runners waiting on
+/// one woke each other in turn, for ever: the virtual slave spun a core at idle.)
+#[derive(Default)]
+pub struct Stop {
+    stopped: Cell<bool>,
+    waiters: RefCell<Vec<core::task::Waker>>,
+}
+
+impl Stop {
+    /// Stops every waiter, now and later.
+    pub fn signal(&self) {
+        self.stopped.set(true);
+        for waker in self.waiters.borrow_mut().drain(..) {
+            waker.wake();
+        }
+    }
+
+    /// Completes once [`Stop::signal`] was called.
+    pub async fn wait(&self) {
+        core::future::poll_fn(|cx| {
+            if self.stopped.get() {
+                core::task::Poll::Ready(())
+            } else {
+                crate::emulator::register(&self.waiters, cx.waker());
+                core::task::Poll::Pending
+            }
+        })
+        .await
+    }
+}
+
+/// Polls of the runners so far, in this process: a runner polled while nothing changed for it
+/// is a busy loop.
+static RUNNER_POLLS: AtomicU64 = AtomicU64::new(0);
+
+/// How often the runners were polled so far, in this process.
+pub fn runner_polls() -> u64 {
+    RUNNER_POLLS.load(Ordering::Relaxed)
+}
 
 /// The device under test.
 pub struct Device<A, C, D = ()> {
@@ -205,6 +250,45 @@ pub fn run_with_pdi<A, C, D, P, F>(
     });
 }
 
+/// Like [`run`], with more tasks beside the runners (e.g. the indicator task), which `extra`
+/// builds on the ESC handle the runners share; they stop when the script ends. Each waits for
+/// that on a signal of its own: tasks waiting on one [`Signal`] wake each other (it keeps one
+/// waker and wakes the one it replaces), which would hide whether a task wakes only when it
+/// should.
+pub fn run_with_tasks<A, C, D, F>(
+    device: Device<A, C, D>,
+    extra: impl FnOnce(&'static SharedEsc<CriticalSectionRawMutex, EmulatedPdi>) -> Vec<BoxedTask>,
+    script: impl FnOnce(TestMaster) -> F,
+) where
+    A: Application + ObjectHooks<D> + 'static,
+    C: CycleHandler<D> + 'static,
+    D: ObjectDictionary,
+    F: Future<Output = ()> + 'static,
+{
+    let scheduler = device.scheduler;
+    execute(Some(HANG_LIMIT), scheduler, |stop| {
+        let emu = device.emulator();
+        let (mut futures, shared) = device.runners(&emu, emu.pdi(), stop);
+        let mut ends: Vec<&'static Stop> = Vec::new();
+        for task in extra(shared) {
+            let end: &'static Stop = Box::leak(Box::new(Stop::default()));
+            ends.push(end);
+            futures.push(Task::thread(async move {
+                select(task, end.wait()).await;
+            }));
+        }
+        let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
+        let script = scenario(stop, TestMaster::new(emu), script(master));
+        futures.push(Task::thread(async move {
+            script.await;
+            for end in ends {
+                end.signal();
+            }
+        }));
+        futures
+    });
+}
+
 /// Runs several SubDevices, each on its own emulated ESC, and `script` with their emulators (in
 /// the order given) until the script ends; then stops the runners. For MainDevices that talk to
 /// the ESCs at the frame level.
@@ -246,7 +330,7 @@ fn execute_many<F>(
                 master.settle().await;
             }
             script.await;
-            stop.signal(());
+            stop.signal();
         }));
         futures
     });
@@ -332,20 +416,25 @@ fn execute(
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
     let _guard = limit.map(HangGuard::arm);
     MockDriver::get().reset();
-    let stop: &'static Stop = Box::leak(Box::new(Stop::new()));
+    let stop: &'static Stop = Box::leak(Box::default());
     scheduler::run(build(stop), scheduler);
 }
 
 async fn stoppable(stop: &'static Stop, runner: impl Future<Output = ()>) {
-    select(runner, stop.wait()).await;
-    stop.signal(());
+    let mut runner = core::pin::pin!(runner);
+    let counted = core::future::poll_fn(|cx| {
+        RUNNER_POLLS.fetch_add(1, Ordering::Relaxed);
+        runner.as_mut().poll(cx)
+    });
+    select(counted, stop.wait()).await;
+    stop.signal();
 }
 
 /// Lets the runners start up, then runs the script, then stops the runners.
 async fn scenario(stop: &'static Stop, master: TestMaster, script: impl Future<Output = ()>) {
     master.settle().await;
     script.await;
-    stop.signal(());
+    stop.signal();
 }
 
 async fn esm<P: Pdi, D: ObjectDictionary>(

@@ -2,8 +2,11 @@
 //! the way out, loops back at the last one (its port 1 is closed) and returns through the others
 //! unprocessed, as on a real line.
 
+use core::future::Future;
+
 use ecat_core::register::{self, DlStatus};
 use ecat_core::sync_manager::{Channel, Control};
+use embassy_time::{Duration, Instant, MockDriver};
 
 use crate::emulator::Emulator;
 use crate::esc::datagram::{Command, Operation};
@@ -17,6 +20,42 @@ pub const MAIN_DEVICE_MAC: [u8; 6] = [0x10; 6];
 /// FMMU type bits (ETG.1000.4 Table 56): read, write.
 const FMMU_READ: u8 = 1;
 const FMMU_WRITE: u8 = 2;
+
+/// The longest a served line sleeps without a frame when no ESC deadline is nearer: the runners'
+/// own timers (a transition left pending, an SDO segment timeout, free-run cycles on a silent
+/// line) are served at most this late. embassy-time's mock driver, the clock of the whole host
+/// workspace, does not tell when its next alarm is due; the ESCs' deadlines are met exactly.
+pub const HEARTBEAT: Duration = Duration::from_millis(100);
+
+/// Yields in a row without a PDI access after which the runners count as idle.
+const QUIET_YIELDS: u32 = 2;
+/// Most yields a settle waits for the runners; a runner busy beyond that is left for later.
+const MAX_YIELDS: u32 = 64;
+
+/// What a line served in real time runs on: a clock and frames in and out. The virtual slave's
+/// host is a network interface and the wall clock; a test's is scripted on virtual time.
+pub trait Host {
+    /// Time since serving started, on the host's clock.
+    fn elapsed(&self) -> Duration;
+    /// The next frame that arrived, if any.
+    fn receive(&mut self) -> Option<Vec<u8>>;
+    /// Sends the line's answer to a frame.
+    fn send(&mut self, frame: &[u8]);
+    /// Waits until a frame arrives, the host stops or its clock reaches `deadline` (time since
+    /// serving started). Resolves to `false` once the host stops.
+    fn wait(&mut self, deadline: Duration) -> impl Future<Output = bool>;
+}
+
+/// What [`Line::serve`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Served {
+    /// Frames that came back to the MainDevice.
+    pub frames: u64,
+    /// Frames lost on the line (runts, malformed datagrams).
+    pub lost: u64,
+    /// Times the line woke up: for a frame, an ESC deadline or the [`HEARTBEAT`].
+    pub wakeups: u64,
+}
 
 /// DL status bit 8 + 2 × port: the port's loop is closed (ETG.1000.4 Table 33).
 const fn loop_closed(port: u8) -> u16 {
@@ -80,6 +119,78 @@ impl Line {
         passed.ok()?;
         frame::mark_processed(frame);
         Some(frame.len())
+    }
+
+    /// Serves the frames of `host` until it stops, with time acting on the ESCs between frames:
+    /// whenever the line wakes, the runners' clock (embassy-time's mock driver) catches up with
+    /// the host's, the ESCs see it ([`Emulator::tick`]: watchdog expiry, SYNC0, DC system time)
+    /// and the runners settle before the frames that arrived pass. Then the line sleeps until
+    /// the next ESC deadline ([`Emulator::next_deadline`]), the [`HEARTBEAT`] or a frame: no
+    /// polling while idle.
+    pub async fn serve(&self, host: &mut impl Host) -> Served {
+        let origin = Instant::now();
+        let mut served = Served::default();
+        loop {
+            self.catch_up(origin + host.elapsed());
+            self.settle().await;
+            while let Some(mut frame) = host.receive() {
+                // A long burst keeps the clock going too.
+                self.catch_up(origin + host.elapsed());
+                match self.process(&mut frame) {
+                    Some(len) => {
+                        host.send(frame.get(..len).unwrap_or_default());
+                        served.frames += 1;
+                    }
+                    None => served.lost += 1,
+                }
+                self.settle().await;
+            }
+            let heartbeat = Instant::now() + HEARTBEAT;
+            let next = self
+                .escs
+                .iter()
+                .filter_map(Emulator::next_deadline)
+                .fold(heartbeat, Instant::min);
+            if !host.wait(next.saturating_duration_since(origin)).await {
+                return served;
+            }
+            served.wakeups += 1;
+        }
+    }
+
+    /// Brings the runners' clock up to `target` and lets the ESCs see the time.
+    fn catch_up(&self, target: Instant) {
+        let now = Instant::now();
+        if target > now {
+            MockDriver::get().advance(target - now);
+        }
+        for emu in &self.escs {
+            emu.tick();
+            emu.script_ran();
+        }
+    }
+
+    /// Lets the runners run until they stop accessing the PDI (or [`MAX_YIELDS`] passed).
+    async fn settle(&self) {
+        let accesses = || -> u64 {
+            self.escs
+                .iter()
+                .map(|emu| {
+                    let stats = emu.stats();
+                    stats.reads + stats.writes
+                })
+                .sum()
+        };
+        let (mut last, mut quiet) = (accesses(), 0);
+        for _ in 0..MAX_YIELDS {
+            embassy_futures::yield_now().await;
+            let now = accesses();
+            quiet = if now == last { quiet + 1 } else { 0 };
+            last = now;
+            if quiet >= QUIET_YIELDS {
+                return;
+            }
+        }
     }
 
     /// Sends `datagrams` in one frame from [`MAIN_DEVICE_MAC`]; returns them as they came back,

@@ -215,16 +215,53 @@ fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {
     );
 }
 
-/// A DC-capable drive and sensor (ESCs with 64-bit DC, devices supporting DC SYNC0).
+/// A device with an explicit device ID advertises it in its SII General category (flag bit 3,
+/// IdentALSts, which ethercrab knows as `IDENT_AL_STATUS`): ethercrab reads the image as any
+/// other, and the ID request (AL control bit 5) shows the ID in 0x0134 with AL status bit 5.
+#[test]
+fn ethercrab_reads_an_image_advertising_an_explicit_device_id() {
+    let mut sample = devices::dio();
+    sample.device.config.explicit_device_id = true;
+    sample.device.device_id = 0x0A5C;
+    sample.device.eeprom = sample.eeprom();
+    let (status, code) = run_on_line(
+        vec![Box::new(sample.device)],
+        timeouts(),
+        async |main, masters| {
+            let _group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
+                .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
+                .await
+                .expect("discovery");
+            ethercrab::Command::fpwr(0x1000, 0x0120)
+                .send(main, 0x0022u16)
+                .await
+                .expect("AL control: PREOP, device ID requested");
+            let read = |register| ethercrab::Command::fprd(0x1000, register).receive::<u16>(main);
+            let mut status = 0;
+            for _ in 0..100 {
+                status = read(0x0130).await.expect("AL status");
+                if status & 0x20 != 0 {
+                    break;
+                }
+                next_cycle(&masters).await;
+            }
+            (status, read(0x0134).await.expect("AL status code"))
+        },
+    );
+    assert_eq!((status, code), (0x0022, 0x0A5C));
+}
+
+/// A DC-capable drive and sensor (ESCs with 64-bit DC, the emulated chip's default, devices
+/// supporting DC SYNC0). Their SII images are written for DC SYNC0: the configuration area turns
+/// the ESC's SYNC out unit on, without which no SYNC0 pulse would leave the ESC.
 fn dc_line() -> Vec<Box<dyn Spawn>> {
-    let mut drive = devices::drive().device;
-    let mut sensor = devices::sensor().device;
-    for config in [&mut drive.config, &mut sensor.config] {
+    let (mut drive, mut sensor) = (devices::drive(), devices::sensor());
+    for config in [&mut drive.device.config, &mut sensor.device.config] {
         config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
     }
-    drive.esc.dc_supported = true;
-    sensor.esc.dc_supported = true;
-    vec![Box::new(drive), Box::new(sensor)]
+    drive.device.eeprom = drive.eeprom();
+    sensor.device.eeprom = sensor.eeprom();
+    vec![Box::new(drive.device), Box::new(sensor.device)]
 }
 
 /// ethercrab configures DC SYNC0 the way it does for any DC SubDevice (the ESC's SYNC unit;
@@ -276,5 +313,45 @@ fn ethercrab_dc_sync0_drives_the_cycle() {
     assert_eq!(
         counted, 50,
         "one sensor cycle per SYNC0 pulse, none without"
+    );
+}
+
+/// A SubDevice that falls back to PREOP deactivates SM2 and SM3 over its PDI (0x0807 + 8n bit
+/// 0); its ESC then keeps the MainDevice out of their buffers and counts no LRW access to them
+/// (ESC datasheet section I, "SyncManager deactivation by the PDI"): the working counter drops
+/// by the drive's 3 (read + write) from 7 to 4, which is how a MainDevice detects the fallback.
+#[test]
+fn a_subdevice_back_in_preop_drops_out_of_the_lrw_working_counter() {
+    let counters = run_on_line(three(), timeouts(), async move |main, masters| {
+        let group: SubDeviceGroup<MAX, PDI, DefaultLock, PreOp> = main
+            .init_single_group(|| embassy_time::Instant::now().as_micros() * 1000)
+            .await
+            .expect("discovery");
+        let group = to_op(main, group, &masters).await;
+        let mut counters = std::collections::BTreeMap::<(&str, u16), u32>::new();
+        for _ in 0..100 {
+            let response = group.tx_rx(main).await.expect("cycle");
+            *counters
+                .entry(("OP", response.working_counter))
+                .or_default() += 1;
+            next_cycle(&masters).await;
+        }
+        // The drive alone goes back to PREOP (a local fallback, or a request for it alone).
+        masters[0].write_al_control(0x02);
+        masters[0].settle().await;
+        assert_eq!(masters[0].al_status(), 0x02, "the drive in PREOP");
+        for _ in 0..200 {
+            let response = group.tx_rx(main).await.expect("cycle");
+            *counters
+                .entry(("PREOP", response.working_counter))
+                .or_default() += 1;
+            next_cycle(&masters).await;
+        }
+        counters.into_iter().collect::<Vec<_>>()
+    });
+    assert_eq!(
+        counters,
+        vec![(("OP", 3 + 3 + 1), 100), (("PREOP", 3 + 1), 200)],
+        "(state of the drive, LRW working counter) → cycles"
     );
 }

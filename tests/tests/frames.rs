@@ -4,6 +4,7 @@
 //! (Table 58), the SII EEPROM interface (Tables 47–51), distributed clocks (§6.8) and what the line
 //! does with malformed frames (`ecat_emu::frame`).
 
+use ecat_core::chip::Chip;
 use ecat_core::sii::crc8;
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
@@ -731,9 +732,38 @@ fn sii_ignores_commands_of_the_port_that_does_not_own_it() {
 // ---------------------------------------------------------------------------------------------
 // Distributed clocks (ETG.1000.4 §6.8).
 
+/// An ESC without a DC unit (the DC bits of 0x0008 clear).
+fn no_dc() -> EscConfig {
+    EscConfig {
+        dc_supported: false,
+        ..EscConfig::default()
+    }
+}
+
+/// The emulated chips have DC as the silicon does (ET1100, AX58100, LAN9252: features 0x0008
+/// bits 2, 3 and 8): a BWR to 0x0900 counts every ESC, as SOEM's and ethercrab's DC probes expect.
+#[test]
+fn the_emulated_chips_have_dc_as_the_silicon_does() {
+    for chip in Chip::ALL {
+        let line = line_of([EscConfig::of(chip); 3]);
+        let probe = Datagram::physical(BWR, 0, 0x0900, &[0; 4]);
+        assert_eq!(
+            one(&line, probe.clone()),
+            answer(&probe, 3, &[0; 4], 3),
+            "{}",
+            chip.name
+        );
+        address(&line);
+        let features = one(&line, Datagram::physical(FPRD, 0x1001, 0x0008, &[0; 2]));
+        assert_eq!(features.data, chip.features.to_le_bytes(), "{}", chip.name);
+        assert_eq!(features.data[0] & 0x0C, 0x0C, "DC, 64-bit");
+    }
+}
+
 #[test]
 fn an_esc_without_dc_does_not_count_dc_registers() {
-    let line = line();
+    let line = line_of([no_dc(); 3]);
+    address(&line);
     let probe = Datagram::physical(BWR, 0, 0x0900, &[0; 4]);
     assert_eq!(one(&line, probe.clone()), answer(&probe, 3, &[0; 4], 0));
     let time = Datagram::physical(FPRD, 0x1000, 0x0910, &[0xAA; 8]);
@@ -747,11 +777,8 @@ fn an_esc_without_dc_does_not_count_dc_registers() {
 
 #[test]
 fn an_esc_with_dc_latches_receive_times_and_shows_local_time_plus_offset() {
-    let dc = EscConfig {
-        dc_supported: true,
-        ..EscConfig::default()
-    };
-    let line = line_of([EscConfig::default(), dc, EscConfig::default()]);
+    let dc = EscConfig::default();
+    let line = line_of([no_dc(), dc, no_dc()]);
     address(&line);
     MockDriver::get().advance(Duration::from_micros(1_234_567));
     let now = Instant::now().as_micros() * 1_000;

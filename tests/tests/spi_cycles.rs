@@ -15,6 +15,7 @@
 use core::cell::{Cell, RefCell};
 use std::rc::Rc;
 
+use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_core::mailbox::{MailboxHeader, MailboxType, next_counter};
 use ecat_core::{AlEvent, DeviceConfig};
@@ -284,12 +285,8 @@ fn beckhoff(scenario: Scenario) -> Findings {
 }
 
 fn lan9252(scenario: Scenario) -> Findings {
-    let esc = EscConfig {
-        sync_managers: 4,
-        fmmus: 3,
-        process_ram_end: 0x2000,
-        ..EscConfig::default()
-    };
+    // The LAN9252 as it is (4 SyncManagers, 3 FMMUs, 4 KiB), its EEPROM's area selecting its SPI.
+    let esc = EscConfig::of(Chip::LAN9252);
     place_everywhere(scenario, esc, |emu, probe| {
         let chip = Lan9252Chip::new(emu.clone(), Lan9252Config::default());
         let spi = FakeSpi::new(chip, probe);

@@ -9,6 +9,7 @@ mod common;
 use common::walk_to;
 use core::pin::pin;
 use core::task::{Context, Poll, Waker};
+use ecat_core::chip::Chip;
 use ecat_core::device::{Area, ProcessDataSizes};
 use ecat_core::{AlEvent, AlState, DeviceConfig, register};
 use ecat_embassy::Pdi;
@@ -35,14 +36,10 @@ fn finish<F: Future>(future: F) -> F::Output {
     panic!("the driver waits for something that never comes");
 }
 
-/// The ESC inside a LAN9252: 4 SyncManagers, 3 FMMUs, 4 KiB of process RAM.
+/// The ESC inside a LAN9252 (4 SyncManagers, 3 FMMUs, 4 KiB of process RAM), its EEPROM
+/// holding the configuration area the stack writes for it (PDI control 0x80: SPI).
 fn lan9252_esc() -> EscConfig {
-    EscConfig {
-        sync_managers: 4,
-        fmmus: 3,
-        process_ram_end: 0x2000,
-        ..EscConfig::default()
-    }
+    EscConfig::of(Chip::LAN9252)
 }
 
 /// A started driver with `config` on a fake chip with `chip`; the start-up traffic is cleared.

@@ -7,6 +7,7 @@ use core::pin::pin;
 use core::task::{Context, Poll, Waker};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
+use ecat_core::chip::Chip;
 use ecat_embassy::Pdi;
 use ecat_embassy::spi::lan9252::{self, Error, Lan9252, Wait, WriteSpace};
 use ecat_emu::emulator::Emulator;
@@ -43,7 +44,7 @@ fn run<F: Future>(probe: &Probe, future: F) -> (F::Output, Duration) {
 
 fn chip(config: Lan9252Config) -> (FakeSpi<Lan9252Chip>, Probe) {
     let probe = Probe::default();
-    let emu = Emulator::new(EscConfig::default());
+    let emu = Emulator::new(EscConfig::of(Chip::LAN9252));
     (
         FakeSpi::new(Lan9252Chip::new(emu, config), probe.clone()),
         probe,

@@ -21,6 +21,7 @@ use std::rc::Rc;
 
 use common::od::{BlobApp, TestOd};
 use ecat_core::DeviceConfig;
+use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
 use ecat_embassy::spi::lan9252::{self, Lan9252};
@@ -142,12 +143,7 @@ fn measure(case: Case) -> Figures {
     let inputs = Area::new(outputs.start + 0x80, IMAGE);
     let esc = match case.driver {
         Driver::Beckhoff => EscConfig::default(),
-        Driver::Lan9252 => EscConfig {
-            sync_managers: 4,
-            fmmus: 3,
-            process_ram_end: 0x2000,
-            ..EscConfig::default()
-        },
+        Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
     };
     let mut config = DeviceConfig::new(
         mailbox,
@@ -465,12 +461,7 @@ fn exchange_traffic(driver: Driver, chunk: u16) -> Vec<Vec<u8>> {
     let mut config = DeviceConfig::new(mailbox, ProcessDataSizes::default());
     let esc = match driver {
         Driver::Beckhoff => EscConfig::default(),
-        Driver::Lan9252 => EscConfig {
-            sync_managers: 4,
-            fmmus: 3,
-            process_ram_end: 0x2000,
-            ..EscConfig::default()
-        },
+        Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
     };
     config.sync_manager_count = esc.sync_managers;
     config.process_ram_end = esc.process_ram_end;
@@ -604,12 +595,7 @@ fn held_line(driver: Driver) -> Vec<usize> {
     let inputs = Area::new(0x1880, IMAGE);
     let esc = match driver {
         Driver::Beckhoff => EscConfig::default(),
-        Driver::Lan9252 => EscConfig {
-            sync_managers: 4,
-            fmmus: 3,
-            process_ram_end: 0x2000,
-            ..EscConfig::default()
-        },
+        Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
     };
     let mut config = DeviceConfig::new(
         mailbox,

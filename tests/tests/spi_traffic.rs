@@ -9,6 +9,7 @@ use core::cell::Cell;
 use std::rc::Rc;
 
 use ecat_core::DeviceConfig;
+use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_embassy::Pdi;
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
@@ -92,12 +93,7 @@ fn beckhoff(size: u16, config: beckhoff::Config) -> SpiStats {
 }
 
 fn lan9252(size: u16, write_space: WriteSpace) -> SpiStats {
-    let esc = EscConfig {
-        sync_managers: 4,
-        fmmus: 3,
-        process_ram_end: 0x2000,
-        ..EscConfig::default()
-    };
+    let esc = EscConfig::of(Chip::LAN9252);
     per_cycle(esc, size, move |emu, probe| {
         let chip = Lan9252Chip::new(emu.clone(), Lan9252Config::default());
         let config = lan9252::Config {

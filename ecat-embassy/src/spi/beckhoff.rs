@@ -20,6 +20,7 @@
 //! An empty read is a NOP: the address phase alone, which brings the AL event and nothing else.
 
 use ecat_core::AlEvent;
+use ecat_core::chip::{Chip, SpiMode};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
@@ -41,6 +42,14 @@ enum Command {
     /// Address extension: a third address/command byte follows, carrying `A[15:13]` and the command.
     AddressExtension = 0b110,
 }
+
+/// The SPI mode the bus must run in: the mode the SII image's configuration area writes into
+/// the PDI configuration register (0x0150 bits 1:0) of the ET1100 and the AX58100
+/// ([`ecat_core::chip::ConfigArea`]), taken from the same [`Chip`] constants so the two cannot
+/// differ. A board configures its SPI peripheral with it.
+pub const SPI_MODE: SpiMode = Chip::ET1100.spi_mode;
+
+const _: () = assert!(Chip::AX58100.spi_mode as u8 == SPI_MODE as u8);
 
 /// First address that needs 3-byte addressing: 2-byte addressing carries `A[12:0]` only.
 pub const THREE_BYTE_ADDRESSING_FROM: u16 = 0x2000;

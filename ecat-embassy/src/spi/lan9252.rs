@@ -51,12 +51,19 @@ use core::future::Future;
 use core::ops::Range;
 
 use ecat_core::AlEvent;
+use ecat_core::chip::{Chip, SpiMode};
 use ecat_core::register::{AL_EVENT_REQUEST, PROCESS_RAM};
 use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
 use crate::pdi::{Data, Sample};
+
+/// The SPI mode the bus must run in ([`Chip::LAN9252`]'s, which the SII image's configuration
+/// area is written for): the LAN9252's SPI host interface takes mode 0 or 3.
+pub const SPI_MODE: SpiMode = Chip::LAN9252.spi_mode;
+
+const _: () = assert!(matches!(SPI_MODE, SpiMode::Mode0 | SpiMode::Mode3));
 
 /// SPI instruction READ: address, then data (LAN9252 datasheet, "SPI/SQI Slave", "SPI Read").
 const READ: u8 = 0x03;
@@ -222,7 +229,7 @@ pub struct Lan9252<S> {
 impl<S: SpiDevice> Lan9252<S> {
     /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
     /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
-    /// output, active low, push-pull. `spi` must be in SPI mode 0 or 3.
+    /// output, active low, push-pull. `spi` must be in [`SPI_MODE`].
     pub async fn start(spi: S, config: Config) -> Result<Self, Error<S::Error>> {
         let mut chip = Self {
             spi,

@@ -2,20 +2,25 @@
 //! line of emulated ESCs running the real ecat runners and go back out, so any MainDevice (SOEM,
 //! IgH, TwinCAT in a VM, ethercrab on a raw socket) can drive them.
 //!
-//! Threads: one receives frames from the raw socket, one keeps the runners' clock (embassy-time's
-//! mock driver, which the whole host workspace uses) on real time; the executor thread runs the
-//! runners and passes each frame through the line.
+//! Threads: one receives frames from the raw socket into a bounded queue (blocking when it is
+//! full, so a burst waits in the socket instead of being dropped); one is an alarm clock that
+//! wakes the line at the deadline it asked for; the executor thread runs the runners and the
+//! line ([`Line::serve`]), which sleeps until a frame arrives or the next deadline (an ESC's
+//! watchdog or SYNC0, or the heartbeat for the runners' own timers) and then brings the
+//! runners' clock (embassy-time's mock driver) up to the wall clock. Nothing polls while idle.
 
-use std::cell::Cell;
+use std::cell::RefCell;
 use std::rc::Rc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, SyncSender, TrySendError};
+use std::sync::{Condvar, Mutex, PoisonError};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use ecat_emu::harness;
-use ecat_emu::line::Line;
+use ecat_emu::line::{Host, Line, Served};
 use ecat_emu::pcap::PcapWriter;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
-use embassy_sync::channel::Channel;
+use embassy_sync::signal::Signal;
 
 use crate::catalog;
 use crate::net::{self, Port, Sent};
@@ -28,29 +33,53 @@ pub struct Options {
     pub devices: Vec<String>,
     /// A capture file for every frame in and out.
     pub pcap: Option<String>,
+    /// Take frames whose source MAC has the locally-administered bit set as requests too (a
+    /// MainDevice on an interface with such a MAC); by default they are answers of a line.
+    pub la_requests: bool,
 }
 
-/// Frames waiting for the line; an empty frame wakes the line to look at [`STOP`].
-static FRAMES: Channel<CriticalSectionRawMutex, Vec<u8>, 64> = Channel::new();
-/// Ctrl-C was pressed or the interface failed.
+/// What [`serve`] did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Summary {
+    /// What the line served.
+    pub served: Served,
+    /// Frames the receiving thread had to wait to queue (the line was busy): delayed, not
+    /// dropped.
+    pub waited: u64,
+    /// Replies the socket refused to send.
+    pub send_failures: u64,
+    /// The longest a frame waited between the receiving thread and the line.
+    pub longest_wait: Duration,
+}
+
+/// Frames that may wait for the line: about 6 MB of full-size frames, far more than a
+/// MainDevice has in flight; beyond it the receiving thread waits and the socket holds the rest.
+pub const QUEUE: usize = 4096;
+
+/// Ctrl-C, SIGTERM or SIGHUP arrived, or the interface failed.
 static STOP: AtomicBool = AtomicBool::new(false);
-/// Frames dropped because the line was busy.
-static OVERRUNS: AtomicU64 = AtomicU64::new(0);
+/// Why the interface failed, if it did.
+static FAILURE: Mutex<Option<String>> = Mutex::new(None);
+/// Wakes the line: a frame arrived, the alarm rang, or [`STOP`].
+static WAKE: Signal<CriticalSectionRawMutex, ()> = Signal::new();
+/// When the alarm thread wakes the line next.
+static ALARM: Mutex<Option<Instant>> = Mutex::new(None);
+/// Tells the alarm thread that [`ALARM`] or [`STOP`] changed.
+static ALARM_CHANGED: Condvar = Condvar::new();
 /// The frames sent back, which the raw socket sees again.
-static SENT: std::sync::Mutex<Option<Sent>> = std::sync::Mutex::new(None);
+static SENT: Mutex<Option<Sent>> = Mutex::new(None);
 
 /// Runs `f` on the record of sent frames.
 fn sent<R>(f: impl FnOnce(&mut Sent) -> R) -> R {
-    let mut guard = SENT
-        .lock()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    let mut guard = SENT.lock().unwrap_or_else(PoisonError::into_inner);
     f(guard.get_or_insert_with(Sent::default))
 }
 
 type Capture = PcapWriter<std::io::BufWriter<std::fs::File>>;
 
-/// Serves `options.devices` on `options.iface` until Ctrl-C. Errors are messages for the user.
-pub fn serve(options: &Options) -> Result<(), String> {
+/// Serves `options.devices` on `options.iface` until Ctrl-C, SIGTERM or SIGHUP. Errors are
+/// messages for the user; a failing interface is one, after the summary is printed.
+pub fn serve(options: &Options) -> Result<Summary, String> {
     let devices = options
         .devices
         .iter()
@@ -61,7 +90,7 @@ pub fn serve(options: &Options) -> Result<(), String> {
             ))
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut pcap = match &options.pcap {
+    let pcap = match &options.pcap {
         Some(path) => Some(
             std::fs::File::create(path)
                 .and_then(|f| PcapWriter::new(std::io::BufWriter::new(f)))
@@ -69,87 +98,208 @@ pub fn serve(options: &Options) -> Result<(), String> {
         ),
         None => None,
     };
-    let Port { mut tx, rx } = net::open(&options.iface).map_err(|e| e.to_string())?;
-    ctrlc::set_handler(stop).map_err(|e| format!("cannot install the Ctrl-C handler: {e}"))?;
-    let receiver = std::thread::spawn(move || receive(rx));
+    let Port { tx, rx } = net::open(&options.iface).map_err(|e| e.to_string())?;
+    ctrlc::set_handler(stop).map_err(|e| format!("cannot install the signal handler: {e}"))?;
+    let (queue, inbox) = std::sync::mpsc::sync_channel(QUEUE);
+    let la_requests = options.la_requests;
+    let receiver = std::thread::spawn(move || receive(rx, &queue, la_requests));
+    let alarm = std::thread::spawn(alarm_clock);
     println!(
         "serving {} on {}; Ctrl-C to stop",
         options.devices.join(", "),
         options.iface
     );
-    let processed = Rc::new(Cell::new(0u64));
-    let counter = processed.clone();
-    harness::serve(devices, |escs| async move {
-        std::thread::spawn(pump_clock);
-        let line = Line::new(escs);
-        loop {
-            let mut frame = FRAMES.receive().await;
-            if STOP.load(Ordering::SeqCst) {
-                break;
-            }
-            capture(&mut pcap, &frame);
-            let Some(len) = line.process(&mut frame) else {
-                continue;
-            };
-            let reply = frame.get(..len).unwrap_or_default();
-            capture(&mut pcap, reply);
-            sent(|s| s.push(reply));
-            if let Some(Err(e)) = tx.send_to(reply, None) {
-                eprintln!("send failed: {e}");
-            }
-            counter.set(counter.get() + 1);
-        }
-        if let Some(pcap) = &mut pcap {
-            let _ = pcap.flush();
-        }
+    let host = NetHost {
+        start: Instant::now(),
+        inbox,
+        tx,
+        pcap,
+        la_requests,
+        send_failures: 0,
+        longest_wait: Duration::ZERO,
+    };
+    let outcome = Rc::new(RefCell::new(None));
+    let result = outcome.clone();
+    harness::serve(devices, move |escs| async move {
+        let mut host = host;
+        let served = Line::new(escs).serve(&mut host).await;
+        *result.borrow_mut() = Some((host, served));
     });
-    let _ = receiver.join();
+    let (host, served) = outcome.take().ok_or("the line stopped without a summary")?;
+    let NetHost {
+        inbox,
+        mut pcap,
+        send_failures,
+        longest_wait,
+        ..
+    } = host;
+    if let Some(pcap) = &mut pcap
+        && let Err(e) = pcap.flush()
+    {
+        eprintln!("capture failed: {e}");
+    }
+    stop();
+    // A receiving thread waiting for room in the queue gives up once the queue is gone.
+    drop(inbox);
+    let waited = receiver.join().unwrap_or(0);
+    let _ = alarm.join();
+    let summary = Summary {
+        served,
+        waited,
+        send_failures,
+        longest_wait,
+    };
     println!(
-        "stopped after {} frames ({} dropped while busy)",
-        processed.get(),
-        OVERRUNS.load(Ordering::SeqCst)
+        "stopped after {} frames ({} lost on the line, {} waited for a full queue, {} not sent; \
+         longest wait for the line {:.1} ms)",
+        summary.served.frames,
+        summary.served.lost,
+        summary.waited,
+        summary.send_failures,
+        summary.longest_wait.as_secs_f64() * 1e3
     );
-    Ok(())
+    match FAILURE
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .take()
+    {
+        Some(failure) => Err(format!("interface {}: {failure}", options.iface)),
+        None => Ok(summary),
+    }
 }
 
-/// Ends [`serve`]: the receiving thread and the line see the flag, the empty frame wakes the line.
+/// Ends [`serve`]: the threads and the line see the flag and are woken.
 fn stop() {
     STOP.store(true, Ordering::SeqCst);
-    let _ = FRAMES.try_send(Vec::new());
+    let _alarm = ALARM.lock().unwrap_or_else(PoisonError::into_inner);
+    ALARM_CHANGED.notify_all();
+    WAKE.signal(());
 }
 
-/// Hands every EtherCAT frame from the interface, except the ones this program sent, to the line
-/// until [`STOP`].
-fn receive(mut rx: Box<dyn pnet_datalink::DataLinkReceiver>) {
+/// Whether a received frame is a request for the line: an EtherCAT frame that no line processed
+/// yet. An ESC sets the locally-administered bit of the source MAC of every frame it processes,
+/// so a frame with the bit set is on its way back to a MainDevice (from this program, or from
+/// another line on the same interface, which would otherwise bounce frames with this one
+/// forever); `la_requests` takes such frames as requests all the same, for a MainDevice whose
+/// own MAC has the bit set. Frames this program sent are recognised by content ([`Sent`]):
+/// foreign frames go back unchanged.
+pub fn is_request(frame: &[u8], la_requests: bool) -> bool {
+    net::is_ethercat(frame)
+        && (la_requests || !net::locally_administered(frame))
+        && !sent(|s| s.take(frame))
+}
+
+/// Hands every request ([`is_request`]) from the interface to the line until [`STOP`]; a full
+/// queue makes it wait (the socket holds what arrives meanwhile). Returns how many frames
+/// waited. An error of the interface stops everything.
+fn receive(
+    mut rx: Box<dyn pnet_datalink::DataLinkReceiver>,
+    queue: &SyncSender<(Instant, Vec<u8>)>,
+    la_requests: bool,
+) -> u64 {
+    let mut waited = 0;
     while !STOP.load(Ordering::SeqCst) {
         match rx.next() {
-            Ok(frame) if net::is_ethercat(frame) && !sent(|s| s.take(frame)) => {
-                if FRAMES.try_send(frame.to_vec()).is_err() {
-                    OVERRUNS.fetch_add(1, Ordering::SeqCst);
+            Ok(frame) if is_request(frame, la_requests) => {
+                let frame = (Instant::now(), frame.to_vec());
+                let queued = match queue.try_send(frame) {
+                    Err(TrySendError::Full(frame)) => {
+                        waited += 1;
+                        WAKE.signal(());
+                        queue.send(frame).is_ok()
+                    }
+                    result => result.is_ok(),
+                };
+                if !queued {
+                    break;
                 }
+                WAKE.signal(());
             }
             Ok(_) => {}
             Err(e) if net::is_timeout(&e) => {}
             Err(e) => {
-                eprintln!("receive failed: {e}");
+                *FAILURE.lock().unwrap_or_else(PoisonError::into_inner) =
+                    Some(format!("receive failed: {e}"));
                 stop();
             }
         }
     }
+    waited
 }
 
-/// Keeps the runners' clock on real time: the line serves real MainDevices.
-fn pump_clock() {
-    let start = Instant::now();
-    let origin = embassy_time::Instant::now();
+/// Wakes the line when the wall clock reaches [`ALARM`], until [`STOP`].
+fn alarm_clock() {
+    let mut alarm = ALARM.lock().unwrap_or_else(PoisonError::into_inner);
     while !STOP.load(Ordering::SeqCst) {
-        std::thread::sleep(Duration::from_micros(200));
-        let real = start.elapsed();
-        let virtual_ = Duration::from_micros((embassy_time::Instant::now() - origin).as_micros());
-        if let Some(behind) = real.checked_sub(virtual_) {
-            let behind = u64::try_from(behind.as_micros()).unwrap_or(u64::MAX);
-            embassy_time::MockDriver::get().advance(embassy_time::Duration::from_micros(behind));
+        alarm = match *alarm {
+            None => ALARM_CHANGED
+                .wait(alarm)
+                .unwrap_or_else(PoisonError::into_inner),
+            Some(at) => match at.checked_duration_since(Instant::now()) {
+                Some(left) if !left.is_zero() => {
+                    ALARM_CHANGED
+                        .wait_timeout(alarm, left)
+                        .unwrap_or_else(PoisonError::into_inner)
+                        .0
+                }
+                _ => {
+                    *alarm = None;
+                    WAKE.signal(());
+                    alarm
+                }
+            },
+        };
+    }
+}
+
+/// The network interface and the wall clock, as the line sees them.
+struct NetHost {
+    start: Instant,
+    inbox: Receiver<(Instant, Vec<u8>)>,
+    tx: Box<dyn pnet_datalink::DataLinkSender>,
+    pcap: Option<Capture>,
+    la_requests: bool,
+    send_failures: u64,
+    longest_wait: Duration,
+}
+
+impl Host for NetHost {
+    fn elapsed(&self) -> embassy_time::Duration {
+        let us = u64::try_from(self.start.elapsed().as_micros()).unwrap_or(u64::MAX);
+        embassy_time::Duration::from_micros(us)
+    }
+
+    fn receive(&mut self) -> Option<Vec<u8>> {
+        let (arrived, frame) = self.inbox.try_recv().ok()?;
+        self.longest_wait = self.longest_wait.max(arrived.elapsed());
+        capture(&mut self.pcap, &frame);
+        Some(frame)
+    }
+
+    fn send(&mut self, frame: &[u8]) {
+        capture(&mut self.pcap, frame);
+        // The raw socket sees the reply again; one with the locally-administered bit set is
+        // not taken as a request anyway.
+        if self.la_requests || !net::locally_administered(frame) {
+            sent(|s| s.push(frame));
         }
+        if let Some(Err(e)) = self.tx.send_to(frame, None) {
+            if self.send_failures == 0 {
+                eprintln!("send failed: {e}");
+            }
+            self.send_failures += 1;
+        }
+    }
+
+    async fn wait(&mut self, deadline: embassy_time::Duration) -> bool {
+        if STOP.load(Ordering::SeqCst) {
+            return false;
+        }
+        let at = self.start + Duration::from_micros(deadline.as_micros());
+        *ALARM.lock().unwrap_or_else(PoisonError::into_inner) = Some(at);
+        ALARM_CHANGED.notify_all();
+        WAKE.wait().await;
+        !STOP.load(Ordering::SeqCst)
     }
 }
 
@@ -161,5 +311,42 @@ fn capture(pcap: &mut Option<Capture>, frame: &[u8]) {
         if let Err(e) = pcap.write_frame(now, frame) {
             eprintln!("capture failed: {e}");
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(source0: u8, payload: u8) -> Vec<u8> {
+        let mut f = vec![0xFF; 6];
+        f.extend_from_slice(&[source0, 0x10, 0x10, 0x10, 0x10, 0x10, 0x88, 0xA4]);
+        f.extend_from_slice(&[payload; 46]);
+        f
+    }
+
+    /// Two virtual slaves on one interface: each sees the other's answers, which an ESC marked
+    /// (locally-administered bit). Taken as requests, one frame bounced between them for ever.
+    #[test]
+    fn a_frame_a_line_processed_is_no_request() {
+        let request = frame(0x10, 1);
+        let answer = frame(0x12, 1);
+        assert!(is_request(&request, false));
+        assert!(!is_request(&answer, false), "an answer of another line");
+        assert!(
+            is_request(&answer, true),
+            "--la-requests: a MainDevice with such a MAC"
+        );
+        assert!(!is_request(&frame(0x10, 2)[..13], false), "not EtherCAT");
+    }
+
+    /// A foreign frame goes back unchanged, source MAC included: the raw socket sees it again,
+    /// and only its content tells it from the request.
+    #[test]
+    fn a_frame_this_program_sent_is_no_request_once() {
+        let foreign = frame(0x10, 3);
+        sent(|s| s.push(&foreign));
+        assert!(!is_request(&foreign, false), "our own copy");
+        assert!(is_request(&foreign, false), "the MainDevice's next one");
     }
 }

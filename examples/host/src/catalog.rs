@@ -10,8 +10,13 @@ use ecat_emu::harness::Spawn;
 pub const NAMES: [&str; 4] = ["cia402", "drive", "dio", "sensor"];
 /// The device when none is named.
 pub const DEFAULT: &str = "dio";
-/// The most devices on one line.
+/// The most devices on one line: each runs two tasks, each waiting on at most one timer, and
+/// the timer queue of embassy-time (the generic queue, 128 entries at most) must hold them all;
+/// a full queue wakes timers early, and a line beyond it spins.
 pub const MAX_COUNT: usize = 64;
+/// Why a line holds at most [`MAX_COUNT`] devices, for the user.
+pub const MAX_COUNT_REASON: &str =
+    "two runners per SubDevice, and embassy-time's timer queue holds 128 timers";
 /// The vendor of every device here (vendor ID [`devices::VENDOR_ID`], in the range the ETG
 /// leaves for tests): the ESI file's `Vendor/Name`.
 pub const VENDOR: &str = "ecat (test vendor ID)";

@@ -9,6 +9,11 @@ use pnet_datalink::{Channel, Config, DataLinkReceiver, DataLinkSender, NetworkIn
 
 /// How long a receive waits before the receiving thread looks at its stop flag again.
 pub const RECEIVE_POLL: Duration = Duration::from_millis(100);
+/// The socket's receive buffer, in bytes: what arrives while the line is busy waits there. A
+/// small frame takes about 800 bytes of it (the kernel's accounting), so 16 MiB hold a burst of
+/// some 20 000 frames; the default (208 KiB) held about 270. Needs `CAP_NET_ADMIN` beyond
+/// `net.core.rmem_max`; without it the buffer is as large as that allows.
+pub const RECEIVE_BUFFER: usize = 16 << 20;
 
 /// Why an interface could not be opened.
 #[derive(Debug)]
@@ -66,9 +71,17 @@ pub fn open(name: &str) -> Result<Port, OpenError> {
                 .collect(),
         });
     };
+    let socket = match raw_socket() {
+        Ok(socket) => socket,
+        Err(e) if e.kind() == io::ErrorKind::PermissionDenied => {
+            return Err(OpenError::NotPermitted(e));
+        }
+        Err(e) => return Err(OpenError::Io(e)),
+    };
     let config = Config {
         read_timeout: Some(RECEIVE_POLL),
         promiscuous: true,
+        socket_fd: Some(socket),
         ..Config::default()
     };
     match pnet_datalink::channel(interface, config) {
@@ -77,6 +90,26 @@ pub fn open(name: &str) -> Result<Port, OpenError> {
         Err(e) if e.kind() == io::ErrorKind::PermissionDenied => Err(OpenError::NotPermitted(e)),
         Err(e) => Err(OpenError::Io(e)),
     }
+}
+
+/// An `AF_PACKET` raw socket for every protocol, with a [`RECEIVE_BUFFER`] (forced past
+/// `net.core.rmem_max` where allowed), for `pnet_datalink` to bind and own.
+fn raw_socket() -> io::Result<i32> {
+    use std::os::fd::IntoRawFd;
+
+    use nix::sys::socket::{
+        AddressFamily, SockFlag, SockProtocol, SockType, setsockopt, socket, sockopt,
+    };
+    let socket = socket(
+        AddressFamily::Packet,
+        SockType::Raw,
+        SockFlag::SOCK_CLOEXEC,
+        SockProtocol::EthAll,
+    )?;
+    if setsockopt(&socket, sockopt::RcvBufForce, &RECEIVE_BUFFER).is_err() {
+        setsockopt(&socket, sockopt::RcvBuf, &RECEIVE_BUFFER)?;
+    }
+    Ok(socket.into_raw_fd())
 }
 
 /// Whether `frame` is an EtherCAT frame (EtherType 0x88A4).
@@ -88,10 +121,17 @@ pub fn is_ethercat(frame: &[u8]) -> bool {
     ethertype == Some(ecat_emu::frame::ETHERTYPE)
 }
 
+/// Whether the source MAC of `frame` has the locally-administered bit set (bit 1 of its first
+/// byte), as an ESC sets it on every frame it processes.
+pub fn locally_administered(frame: &[u8]) -> bool {
+    frame.get(6).is_some_and(|byte| byte & 0x02 != 0)
+}
+
 /// The frames this program sent last: an `AF_PACKET` socket also receives its own outgoing
-/// frames, which must not be processed again. Recognised by content (a hash), not by the
-/// source MAC: MainDevices that send from their interface's MAC may have the locally-administered
-/// bit set too (veth, QEMU).
+/// frames, which must not be processed again. Recognised by content (a hash) where the source
+/// MAC does not tell: a foreign frame goes back unchanged, and with `--la-requests` (a
+/// MainDevice whose interface MAC has the locally-administered bit set, veth, QEMU) the bit is
+/// no mark of an answer.
 #[derive(Debug, Default)]
 pub struct Sent(std::collections::VecDeque<u64>);
 

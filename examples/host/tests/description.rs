@@ -589,6 +589,13 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
         let subs: Vec<u8> = info.subindices().collect();
         assert_eq!(sub_items.len(), subs.len());
         for (sub, item) in subs.iter().zip(&sub_items) {
+            // ETG.2000 `ObjectInfoType/SubItem`: `Name` then `Info`, both required.
+            let elements: Vec<&str> = item
+                .children()
+                .filter(Node::is_element)
+                .map(|c| c.tag_name().name())
+                .collect();
+            assert_eq!(elements, ["Name", "Info"], "{:#06x}:{sub}", info.index);
             let values = item.children().find(|c| c.has_tag_name("Info"));
             if *sub == 0 {
                 let count = hex(&read(od, info.index, 0));
@@ -671,10 +678,14 @@ fn profile_and_pdo_flags_of_the_samples() {
 #[test]
 fn sensor_image_byte_exact() {
     let image = devices::sensor().eeprom();
-    // Configuration area: PDI control 0x0005 (SPI), zeros, CRC-8 (poly 0x07, init 0xFF) = 0x48.
+    // Configuration area of the ET1100 for a device without DC: PDI control 0x05 (SPI slave),
+    // ESC configuration 0 (SYNC out and latch units off: no DC), PDI configuration 0x03 (SPI
+    // mode 3, the driver's; IRQ push-pull active low, SEL active low), SYNC/LATCH 0, SYNC pulse
+    // 100 × 10 ns = 1 µs (0 would be acknowledge mode), no extended PDI configuration, alias 0,
+    // CRC-8 (poly 0x07, init 0xFF) of words 0..6 = 0x6D.
     assert_eq!(
         image[..16],
-        [5, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x48, 0]
+        [5, 0, 3, 0, 100, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0x6D, 0]
     );
     // Identity: vendor 0xE0000001, product 0x2001, revision 1, serial 1.
     assert_eq!(
@@ -724,6 +735,7 @@ fn sii_write_refuses_a_too_small_buffer() {
             &sample.names,
             &sample.identity,
             &sample.device.config,
+            &sample.device.esc.chip,
             &sample.device.od,
             buf,
         )
@@ -734,14 +746,19 @@ fn sii_write_refuses_a_too_small_buffer() {
     assert_eq!(write(&mut []), Err(SiiError::BufferTooSmall));
 }
 
-/// SII word 1 (registers 0x0150/0x0151): a DC SYNC0 device drives SYNC0 as a push-pull,
-/// active-high output (0x0151 = 0x06), which is what its firmware waits on; others leave the pin
-/// a LATCH0 input. The ESI's ConfigData carries the same bytes.
+/// SII words 0 and 1 (registers 0x0140/0x0141, 0x0150/0x0151): a DC SYNC0 device has the SYNC
+/// out unit on (0x0141 bit 2) and drives SYNC0 as a push-pull, active-high output (0x0151 =
+/// 0x06), which is what its firmware waits on; others leave the unit off and the pin a LATCH0
+/// input. Both run the SPI slave (0x0140 = 0x05) in mode 3 (0x0150 = 0x03). The ESI's
+/// ConfigData carries the same bytes.
 #[test]
 fn sync0_output_configuration_follows_dc_support() {
-    for (name, expected) in [("cia402", [0x00, 0x06]), ("sensor", [0x00, 0x00])] {
+    for (name, expected) in [
+        ("cia402", [0x05, 0x04, 0x03, 0x06]),
+        ("sensor", [0x05, 0x00, 0x03, 0x00]),
+    ] {
         let files = ecat_examples::description::by_name(name).unwrap().unwrap();
-        assert_eq!(files.sii[2..4], expected, "{name}");
+        assert_eq!(files.sii[..4], expected, "{name}");
         let config_data: String = files.sii[..14].iter().map(|b| format!("{b:02X}")).collect();
         assert!(
             files.esi.contains(&config_data),
@@ -794,4 +811,27 @@ fn the_dc_category_follows_dc_support() {
         .unwrap()
         .unwrap();
     assert!(categories(&sensor.sii).iter().all(|(k, _)| *k != 60));
+}
+
+/// On another chip only the configuration area (words 0..7) and the ESI's ConfigData differ:
+/// the area is the chip's for the device's DC support, everything after it the same.
+#[test]
+fn on_each_chip_only_the_configuration_area_differs() {
+    use ecat_core::chip::{Chip, ConfigArea};
+    for name in catalog::NAMES {
+        let own = description::by_name(name).unwrap().unwrap();
+        let dc = own.sii[1] & 0x04 != 0;
+        for chip in Chip::ALL {
+            let files = description::on_chip(name, chip).unwrap().unwrap();
+            let area = ConfigArea::new(&chip, dc).bytes();
+            assert_eq!(files.sii[..16], area, "{name} on {}", chip.name);
+            assert_eq!(files.sii[16..], own.sii[16..], "{name} on {}", chip.name);
+            let config_data: String = area[..14].iter().map(|b| format!("{b:02x}")).collect();
+            assert!(
+                files
+                    .esi
+                    .contains(&format!("<ConfigData>{config_data}</ConfigData>"))
+            );
+        }
+    }
 }

@@ -71,6 +71,44 @@ fn missing_arguments_print_the_usage() {
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         String::from_utf8(out.stderr).unwrap(),
-        "ecat-esi: usage: ecat-esi --device cia402|drive|dio|sensor --out DIR\n"
+        "ecat-esi: usage: ecat-esi --device cia402|drive|dio|sensor --out DIR [--chip et1100|ax58100|lan9252]\n"
     );
+}
+
+/// `--chip` writes the image for a board with that ESC: its configuration area is the chip's
+/// (the LAN9252's SPI is PDI type 0x80, no SPI mode in 0x0150), and the ESI's ConfigData with it.
+#[test]
+fn the_chip_option_writes_the_area_of_that_chip() {
+    let dir = scratch("chip");
+    let out = ecat_esi(&[
+        "--device",
+        "cia402",
+        "--out",
+        dir.to_str().unwrap(),
+        "--chip",
+        "lan9252",
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    let bin = std::fs::read(dir.join("cia402.bin")).unwrap();
+    assert_eq!(
+        bin[..4],
+        [0x80, 0x04, 0x00, 0x06],
+        "LAN9252 SPI, SYNC out, SYNC0 output"
+    );
+    let xml = std::fs::read_to_string(dir.join("cia402.xml")).unwrap();
+    assert!(xml.contains("<ConfigData>8004000664"), "{xml}");
+    let out = ecat_esi(&[
+        "--device",
+        "dio",
+        "--out",
+        dir.to_str().unwrap(),
+        "--chip",
+        "et1200",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        "ecat-esi: unknown chip \"et1200\"; known: et1100, ax58100, lan9252\n"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }

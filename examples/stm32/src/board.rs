@@ -1,5 +1,6 @@
 //! Clocks, pins and interrupts (pin assignment and priorities: README.md).
 
+use ecat_core::chip::SpiMode;
 use embassy_stm32::exti::{self, ExtiInput};
 use embassy_stm32::gpio::{Input, Level, Output, Pull, Speed};
 use embassy_stm32::mode::Async;
@@ -10,6 +11,9 @@ use embassy_stm32::{bind_interrupts, dma, interrupt, peripherals};
 use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
 use crate::io::DigitalIo;
+
+/// The ETG.1300 RUN (green) and ERR (red) LEDs: PB10 (D6) and PA9 (D8), lit when high.
+pub type Leds = ecat_embassy::indicator::RunErr<Output<'static>, Output<'static>>;
 
 bind_interrupts!(struct Irqs {
     DMA1_CHANNEL1 => dma::InterruptHandler<peripherals::DMA1_CH1>;
@@ -25,16 +29,36 @@ pub type EscSpi = ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output
 /// (170 MHz) divided by 16 gives 10.6 MHz, the fastest rate not above it.
 const SPI_CLOCK: Hertz = Hertz(20_000_000);
 
+/// `mode` as embassy-stm32 spells it.
+const fn spi_mode(mode: SpiMode) -> spi::Mode {
+    spi::Mode {
+        polarity: if mode.idle_high() {
+            spi::Polarity::IdleHigh
+        } else {
+            spi::Polarity::IdleLow
+        },
+        phase: if mode.capture_on_second_edge() {
+            spi::Phase::CaptureOnSecondTransition
+        } else {
+            spi::Phase::CaptureOnFirstTransition
+        },
+    }
+}
+
 /// What the firmware gets from the board.
 pub struct Board {
     /// The ESC's SPI bus.
     pub spi: EscSpi,
     /// The ESC's PDI interrupt line (active low).
     pub irq: ExtiInput<'static, Async>,
-    /// The ESC's SYNC0 output (active low, from the distributed clock).
+    /// The ESC's SYNC0 output (from the distributed clock): push-pull, active high, as the SII
+    /// image's configuration area sets it (0x0151 = 0x06, `ecat_core::chip`); the process-data
+    /// runner waits for its rising edges.
     pub sync0: ExtiInput<'static, Async>,
     /// The application's pins.
     pub io: DigitalIo,
+    /// The RUN and ERR LEDs.
+    pub leds: Leds,
 }
 
 impl Board {
@@ -54,8 +78,8 @@ impl Board {
         let p = embassy_stm32::init(config);
 
         let mut spi_config = spi::Config::default();
-        // Mode 3, the ESCs' usual PDI configuration (0x0150 = 0x03); the LAN9252 takes mode 0 or 3.
-        spi_config.mode = spi::MODE_3;
+        // The mode of the ESC's driver, which the SII image's configuration area sets in the ESC.
+        spi_config.mode = spi_mode(crate::esc::SPI_MODE);
         spi_config.frequency = SPI_CLOCK;
         let bus = Spi::new(
             p.SPI1, p.PB3, p.PB5, p.PB4, p.DMA1_CH1, p.DMA1_CH2, Irqs, spi_config,
@@ -66,7 +90,9 @@ impl Board {
         Self {
             spi,
             irq: ExtiInput::new(p.PA10, p.EXTI10, Pull::Up, Irqs),
-            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Up, Irqs),
+            // Pulled to its idle level while the ESC's pin is still an input (before the EEPROM
+            // is loaded).
+            sync0: ExtiInput::new(p.PA8, p.EXTI8, Pull::Down, Irqs),
             io: DigitalIo::new(
                 [
                     Output::new(p.PA5, Level::Low, Speed::Low),
@@ -81,6 +107,10 @@ impl Board {
                     Input::new(p.PA4, Pull::Down),
                 ],
             ),
+            leds: Leds {
+                run: Output::new(p.PB10, Level::Low, Speed::Low),
+                err: Output::new(p.PA9, Level::Low, Speed::Low),
+            },
         }
     }
 }

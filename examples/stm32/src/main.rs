@@ -82,11 +82,14 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
         irq,
         sync0,
         io,
+        leds,
     } = board;
     let Some(pdi) = esc::start_logged(spi).await else {
         park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
+    let low = SendSpawner::for_current_executor().await;
+    low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
     high.spawn(unwrap!(process_data(esc, irq, io)));
     high.spawn(unwrap!(sync(sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);

@@ -17,6 +17,9 @@ pub(super) enum Area {
     SyncManager(u8, Buffer),
     /// Process RAM no effective SyncManager guards: plain dual-ported memory.
     Ram,
+    /// The buffer area of a channel the PDI deactivated ([`Buffer::locked`]): closed to the
+    /// MainDevice, plain memory for the PDI.
+    Locked,
     /// Beyond the end of the process RAM: no memory answers.
     Absent,
 }
@@ -28,12 +31,23 @@ pub(super) struct AreaMap {
     /// The area each channel guards, if it is effective. A byte two channels claim belongs to the
     /// lower-numbered one.
     buffers: [Option<Buffer>; MAX_CHANNELS],
+    /// The areas the PDI locked by deactivating their channel.
+    locked: [Option<core::ops::Range<usize>>; MAX_CHANNELS],
 }
 
 impl AreaMap {
-    /// The map for process RAM ending at `ram_end` and the given channel areas.
-    pub(super) fn new(ram_end: usize, buffers: [Option<Buffer>; MAX_CHANNELS]) -> Self {
-        Self { ram_end, buffers }
+    /// The map for process RAM ending at `ram_end`, the given channel areas and the areas of
+    /// deactivated channels.
+    pub(super) fn new(
+        ram_end: usize,
+        buffers: [Option<Buffer>; MAX_CHANNELS],
+        locked: [Option<core::ops::Range<usize>>; MAX_CHANNELS],
+    ) -> Self {
+        Self {
+            ram_end,
+            buffers,
+            locked,
+        }
     }
 
     /// The area `address` falls into.
@@ -46,8 +60,12 @@ impl AreaMap {
         }
         self.buffers
             .iter()
+            .zip(&self.locked)
             .zip(0..)
-            .find_map(|(buffer, n)| {
+            .find_map(|((buffer, locked), n)| {
+                if locked.as_ref().is_some_and(|area| area.contains(&address)) {
+                    return Some(Area::Locked);
+                }
                 buffer
                     .filter(|buffer| buffer.contains(address))
                     .map(|buffer| Area::SyncManager(n, buffer))

@@ -19,6 +19,7 @@ mod sync_manager;
 #[cfg(test)]
 mod tests;
 
+use ecat_core::chip::{Chip, ConfigArea};
 use ecat_core::{AlEvent, register};
 
 use access::{Access, Side};
@@ -30,7 +31,7 @@ use sync_manager::{Buffer, ChannelState};
 const ADDRESS_SPACE: usize = 0x1_0000;
 
 /// The hardware configuration of the emulated ESC: what a real ESC fixes in silicon and reports
-/// in its DL information registers (ETG.1000.4 Table 31).
+/// in its DL information registers (ETG.1000.4 Table 31), and what the board's EEPROM holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EscConfig {
     /// SyncManager channels (register 0x0005), at most 16.
@@ -42,24 +43,41 @@ pub struct EscConfig {
     pub process_ram_end: u32,
     /// ESC type (register 0x0000); 0x11 is the ET1100.
     pub esc_type: u8,
-    /// Distributed clocks supported (features register 0x0008 bit 2).
+    /// Distributed clocks supported: the DC bits of the chip's features (register 0x0008 bits 2,
+    /// 3 and 8) and a DC unit that answers 0x0900..0x09FF. False: an ESC without DC.
     pub dc_supported: bool,
+    /// The chip: revision (0x0001), port descriptor (0x0007), features (0x0008).
+    pub chip: Chip,
+    /// The configuration area (SII words 0..7) the board's EEPROM holds at power-on, loaded by
+    /// [`Esc::new`] as the ESC loads its EEPROM; `None`: no EEPROM (PDI control 0x0140 stays 0,
+    /// no PDI).
+    pub eeprom: Option<ConfigArea>,
 }
 
 impl Default for EscConfig {
-    /// An ET1100-like ESC: 8 SyncManagers, 8 FMMUs, 8 KiB of process RAM, no DC.
+    /// An ET1100 with DC whose EEPROM holds the configuration area the stack writes for a DC
+    /// device ([`EscConfig::of`]).
     fn default() -> Self {
-        Self {
-            sync_managers: 8,
-            fmmus: 8,
-            process_ram_end: 0x3000,
-            esc_type: 0x11,
-            dc_supported: false,
-        }
+        Self::of(Chip::ET1100)
     }
 }
 
 impl EscConfig {
+    /// `chip` as it is: its SyncManagers, FMMUs, process RAM, type and DC unit, on a board whose
+    /// EEPROM holds the configuration area the stack writes for a DC SYNC0 device on it
+    /// ([`ConfigArea::new`]).
+    pub const fn of(chip: Chip) -> Self {
+        Self {
+            sync_managers: chip.sync_managers,
+            fmmus: chip.fmmus,
+            process_ram_end: chip.process_ram_end(),
+            esc_type: chip.esc_type,
+            dc_supported: chip.has_dc(),
+            eeprom: Some(ConfigArea::new(&chip, chip.has_dc())),
+            chip,
+        }
+    }
+
     /// The configuration limited to what the register map can express.
     fn normalised(self) -> Self {
         let max = u8::try_from(MAX_CHANNELS).unwrap_or(u8::MAX);
@@ -103,8 +121,9 @@ impl PdiStats {
 /// An emulated ESC with a PDI port and an EtherCAT port (ESC datasheet section I).
 ///
 /// Models the register access rights of both ports, the AL event request register and its PDI
-/// IRQ line, and the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58). FMMUs,
-/// the SII EEPROM, watchdogs and distributed clocks are plain registers.
+/// IRQ line, and the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58). The
+/// EEPROM's configuration area sets the PDI and SYNC registers at load; the frame-level port
+/// (`datagram`, `fmmu`, `sii`, `dc`) adds FMMUs, the SII interface and the DC unit.
 pub struct Esc {
     /// The configuration, limited to the register map.
     config: EscConfig,
@@ -127,14 +146,17 @@ pub struct Esc {
     previous_sii_status: u16,
     /// The local clock of the DC unit, ns.
     local_time_ns: u64,
+    /// SYNC0 in acknowledge mode (pulse length 0) is active until the PDI reads 0x098E.
+    sync0_active: bool,
 }
 
 impl Esc {
     /// An ESC just after power-on: registers at their reset values, process RAM zeroed, all
-    /// SyncManagers disabled.
+    /// SyncManagers disabled, then the EEPROM loaded when the board has one
+    /// ([`EscConfig::eeprom`]: its configuration area into 0x0012, 0x0140..0x0153 and 0x0982).
     pub fn new(config: EscConfig) -> Self {
         let config = config.normalised();
-        Self {
+        let mut esc = Self {
             memory: registers::reset_image(&config),
             config,
             channels: Default::default(),
@@ -145,7 +167,18 @@ impl Esc {
             eeprom: Vec::new(),
             previous_sii_status: 0,
             local_time_ns: 0,
+            sync0_active: false,
+        };
+        if let Some(area) = config.eeprom {
+            esc.load_eeprom(area.bytes().to_vec());
         }
+        esc
+    }
+
+    /// A register byte as the hardware holds it, without the side effects of a port's read:
+    /// what the ESC's own logic (and a fake SPI chip in front of it) sees.
+    pub fn register(&self, address: u16) -> u8 {
+        self.register_value(usize::from(address))
     }
 
     /// A PDI read of `buf.len()` bytes from `address`. Returns the AL event request register as
@@ -272,10 +305,17 @@ impl Esc {
     /// The areas as the SyncManager registers define them now.
     fn area_map(&self) -> AreaMap {
         let mut buffers = [None; MAX_CHANNELS];
-        for (buffer, n) in buffers.iter_mut().zip(0..self.config.sync_managers) {
-            *buffer = Buffer::effective(self.memory.channel(n));
+        let mut locked = [const { None }; MAX_CHANNELS];
+        for ((buffer, lock), n) in buffers
+            .iter_mut()
+            .zip(&mut locked)
+            .zip(0..self.config.sync_managers)
+        {
+            let channel = self.memory.channel(n);
+            *buffer = Buffer::effective(channel);
+            *lock = Buffer::locked(channel);
         }
-        AreaMap::new(self.config.ram_end(), buffers)
+        AreaMap::new(self.config.ram_end(), buffers, locked)
     }
 
     /// The part of an access that falls into one area, at the addresses `range`.
@@ -310,13 +350,15 @@ impl Esc {
                     state.access(&buffer, side, &offsets, access, &mut self.memory)
                 })
             }
-            (Area::Ram | Area::Absent, Access::Read(buf)) => {
+            // Closed to the MainDevice: nothing read or written, not counted.
+            (Area::Locked, _) if side == Side::Ecat => false,
+            (Area::Ram | Area::Locked | Area::Absent, Access::Read(buf)) => {
                 self.memory.read(range.start, buf);
-                area == Area::Ram
+                area != Area::Absent
             }
-            (Area::Ram | Area::Absent, Access::Write(data)) => {
+            (Area::Ram | Area::Locked | Area::Absent, Access::Write(data)) => {
                 self.memory.write(range.start, data);
-                area == Area::Ram
+                area != Area::Absent
             }
         }
     }

@@ -2,11 +2,12 @@
 //! which port may write which byte, and the side effects of register accesses on the AL event
 //! request register.
 
-use ecat_core::register::{self, DlStatus, PdiType, Watchdog};
+use ecat_core::chip::{FEATURE_DC, FEATURE_DC_64, FEATURE_DC_SYNC_ACTIVATION};
+use ecat_core::register::{self, DlStatus, Watchdog};
 use ecat_core::sync_manager::Channel;
 
 use super::access::Side;
-use super::dc::SYSTEM_TIME_OFFSET;
+use super::dc::{SYSTEM_TIME_DELAY, SYSTEM_TIME_OFFSET};
 use super::memory::Memory;
 use super::sync_manager::{
     ACTIVATE_OFFSET, CONFIGURATION_OFFSETS, ChannelState, PDI_CONTROL_OFFSET, STATUS_OFFSET,
@@ -16,9 +17,12 @@ use super::{Esc, EscConfig};
 /// Offset of the FMMU count in the DL information (ETG.1000.4 Table 31); the SM count and the
 /// RAM size follow it.
 const FMMU_COUNT_OFFSET: u16 = 4;
-/// Features of a DC-capable ESC: bit 2 distributed clocks, bit 3 64-bit system time, bit 8
-/// enhanced DC SYNC activation (ETG.1000.4 Table 31; the ET1100 reports them all).
-const FEATURE_DC: u16 = 1 << 2 | 1 << 3 | 1 << 8;
+/// The features bits of the DC unit: bit 2 distributed clocks, bit 3 64-bit system time, bit 8
+/// enhanced DC SYNC activation (ETG.1000.4 Table 31); an ESC without DC reports none of them.
+const FEATURES_OF_DC: u16 = FEATURE_DC | FEATURE_DC_64 | FEATURE_DC_SYNC_ACTIVATION;
+/// 0x0141 bit 0, device emulation: the ESC copies AL control into AL status itself (ESC
+/// datasheet section II, 0x0141).
+const DEVICE_EMULATION: u8 = 1 << 0;
 /// DL status: PDI operational, link on port 0, port 0 communication established.
 const DL_STATUS_PORT0_UP: u16 =
     DlStatus::PDI_OPERATIONAL | DlStatus::link(0) | DlStatus::communication(0);
@@ -46,7 +50,7 @@ enum Writer {
 
 /// The registers a single port writes (excluding FMMUs and SyncManagers): first address,
 /// length, writer.
-const WRITABLE: [(u16, u16, Side); 17] = [
+const WRITABLE: [(u16, u16, Side); 18] = [
     (register::STATION_ADDRESS, 2, Side::Ecat),
     (register::STATION_ALIAS, 2, Side::Pdi),
     (register::DL_CONTROL, 4, Side::Ecat),
@@ -60,6 +64,7 @@ const WRITABLE: [(u16, u16, Side); 17] = [
     (register::WATCHDOG_TIME_PROCESS_DATA, 2, Side::Ecat),
     (register::SII_INTERFACE, SII_ASSIGNMENT_SIZE, Side::Ecat),
     (SYSTEM_TIME_OFFSET, 8, Side::Ecat),
+    (SYSTEM_TIME_DELAY, 4, Side::Ecat),
     (register::DC_CYCLIC_UNIT_CONTROL, 1, Side::Ecat),
     (register::DC_ACTIVATION, 1, Side::Ecat),
     (register::DC_START_TIME, 8, Side::Ecat),
@@ -121,25 +126,34 @@ fn writer(address: usize, config: &EscConfig) -> Writer {
         .map_or(Writer::Nobody, |&(_, _, side)| Writer::Only(side))
 }
 
-/// The memory image after power-on: DL information from the configuration, the fixed status
-/// registers and the reset values of the masks and watchdogs (ESC datasheet section II).
+/// The memory image after power-on, before the EEPROM is loaded: DL information from the
+/// configuration (type, revision, FMMUs, SyncManagers, RAM size, port descriptor, features), the
+/// fixed status registers and the reset values of the masks and watchdogs (ESC datasheet section
+/// II). PDI control (0x0140) is 0, no PDI, until the EEPROM's configuration area sets it.
 pub(super) fn reset_image(config: &EscConfig) -> Memory {
     let mut memory = Memory::new(config.ram_end());
     let at = usize::from;
     let ram_kib = (config.ram_end() - at(register::PROCESS_RAM)) / 1024;
-    memory.write(at(register::DL_INFORMATION), &[config.esc_type]);
+    memory.write(
+        at(register::DL_INFORMATION),
+        &[config.esc_type, config.chip.revision],
+    );
     memory.write(
         at(register::DL_INFORMATION + FMMU_COUNT_OFFSET),
         &[
             config.fmmus,
             config.sync_managers,
             u8::try_from(ram_kib).unwrap_or(u8::MAX),
+            config.chip.port_descriptor,
         ],
     );
-    let features = if config.dc_supported { FEATURE_DC } else { 0 };
+    let features = if config.dc_supported {
+        config.chip.features | FEATURE_DC | FEATURE_DC_64 | FEATURE_DC_SYNC_ACTIVATION
+    } else {
+        config.chip.features & !FEATURES_OF_DC
+    };
     memory.write(at(register::FEATURES), &features.to_le_bytes());
     memory.write(at(register::DL_STATUS), &DL_STATUS_PORT0_UP.to_le_bytes());
-    memory.write(at(register::PDI_CONTROL), &[PdiType::Spi as u8]);
     memory.write(
         at(register::AL_EVENT_MASK),
         &AL_EVENT_MASK_RESET.to_le_bytes(),
@@ -178,8 +192,13 @@ impl Esc {
         }
         let old = self.memory.byte(address);
         self.memory.set_byte(address, value);
-        if offset_in(address, register::AL_CONTROL, 2).is_some() {
+        if let Some(offset) = offset_in(address, register::AL_CONTROL, 2) {
             self.al_control_event = true;
+            let emulation = self.memory.byte(usize::from(register::ESC_CONFIGURATION));
+            if emulation & DEVICE_EMULATION != 0 {
+                self.memory
+                    .set_byte(usize::from(register::AL_STATUS) + offset, value);
+            }
         }
         let Some((offset, state)) = self.channel_register(address) else {
             return;
@@ -206,6 +225,9 @@ impl Esc {
         if address == usize::from(register::WATCHDOG_STATUS_PROCESS_DATA) {
             self.watchdog_event = false;
         }
+        if address == usize::from(register::DC_SYNC0_STATUS) {
+            self.sync0_active = false;
+        }
         if let Some((ACTIVATE_OFFSET, state)) = self.channel_register(address) {
             state.changed = false;
         }
@@ -219,10 +241,13 @@ impl Esc {
     }
 
     /// The value of the register byte at `address`, without side effects.
-    fn register_value(&self, address: usize) -> u8 {
+    pub(super) fn register_value(&self, address: usize) -> u8 {
         if let Some(offset) = offset_in(address, register::AL_EVENT_REQUEST, 4) {
             let bytes = self.al_event().bits().to_le_bytes();
             return bytes.get(offset).copied().unwrap_or(0);
+        }
+        if address == usize::from(register::DC_SYNC0_STATUS) {
+            return u8::from(self.sync0_active);
         }
         match sync_manager_register(address, &self.config) {
             Some((n, STATUS_OFFSET)) => self

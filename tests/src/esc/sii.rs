@@ -52,11 +52,13 @@ impl Esc {
         &self.eeprom
     }
 
-    /// Reloads the configuration area: with a correct checksum, the configured station alias
-    /// (word 4) goes to 0x0012, the PDI control (word 0) to 0x0140/0x0141 and the PDI
-    /// configuration (word 1) to 0x0150/0x0151;
-    /// with a wrong one the registers keep their values and 0x0502 bit 11 is set. The reload
-    /// leaves 0x0502 with no command and only its own error bits.
+    /// Reloads the configuration area (ESC datasheet section II, "EEPROM configuration area"):
+    /// with a correct checksum, word 0 goes to 0x0140/0x0141 (PDI control, ESC configuration),
+    /// word 1 to 0x0150/0x0151 (PDI configuration, SYNC/LATCH configuration), word 2 to
+    /// 0x0982 (SYNC pulse length), word 3 to 0x0152 (extended PDI configuration) and word 4 to
+    /// 0x0012 (configured station alias); with a wrong one the registers keep their values and
+    /// 0x0502 bit 11 is set. The reload leaves 0x0502 with no command and only its own error
+    /// bits.
     pub fn reload_eeprom(&mut self) {
         let mut status = 0;
         match self.eeprom.get(..CONFIG_BYTES + 2) {
@@ -65,14 +67,16 @@ impl Esc {
                 status |= CHECKSUM_ERROR;
             }
             Some(config) => {
-                let alias = [config[8], config[9]];
-                let pdi = [config[0], config[1]];
-                let pdi_config = [config[2], config[3]];
-                self.memory
-                    .write(usize::from(register::STATION_ALIAS), &alias);
-                self.memory.write(usize::from(register::PDI_CONTROL), &pdi);
-                self.memory
-                    .write(usize::from(register::PDI_CONFIGURATION), &pdi_config);
+                let word = |n: usize| [config[2 * n], config[2 * n + 1]];
+                for (n, register) in [
+                    (0, register::PDI_CONTROL),
+                    (1, register::PDI_CONFIGURATION),
+                    (2, register::DC_SYNC_PULSE_LENGTH),
+                    (3, register::EXTENDED_PDI_CONFIGURATION),
+                    (4, register::STATION_ALIAS),
+                ] {
+                    self.memory.write(usize::from(register), &word(n));
+                }
             }
         }
         self.set_sii_status(status | READ_8_BYTES);

@@ -79,6 +79,23 @@ impl Buffer {
         })
     }
 
+    /// The memory a channel enabled by the MainDevice but deactivated by the PDI locks (PDI
+    /// control bit 0; ESC datasheet section I, "SyncManager deactivation by the PDI"): "the
+    /// entire SyncManager buffer area is read/write protected" and an access to it does not
+    /// count in the working counter, which is how a MainDevice sees the deactivation. The
+    /// area is the buffer, three of them in 3-buffer mode. `None` for any other channel.
+    pub(super) fn locked(channel: Channel) -> Option<core::ops::Range<usize>> {
+        let deactivated = channel.enabled() && channel.pdi_control & Channel::PDI_DEACTIVATE != 0;
+        let buffers = match channel.control.mode() {
+            Mode::Mailbox => 1,
+            Mode::Buffered => 3,
+            Mode::Reserved(_) => return None,
+        };
+        let start = usize::from(channel.start);
+        (deactivated && channel.length > 0)
+            .then(|| start..start + buffers * usize::from(channel.length))
+    }
+
     /// Whether `address` is one of the bytes the sides address.
     pub(super) fn contains(&self, address: usize) -> bool {
         address

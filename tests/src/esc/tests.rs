@@ -1,6 +1,7 @@
 //! Byte-exact tests of the emulated ESC against the register and SyncManager rules.
 
 use ecat_core::AlEvent;
+use ecat_core::chip::{Chip, ConfigArea};
 use ecat_core::register::{self, sync_manager};
 
 use super::{Esc, EscConfig, PdiStats};
@@ -95,8 +96,10 @@ fn dl_information_reflects_the_configuration() {
         process_ram_end: 0x2000,
         esc_type: 0x42,
         dc_supported: true,
+        ..EscConfig::default()
     });
-    let info = [0x42, 0, 0, 0, 3, 4, 4, 0, 0x0C, 0x01]; // features: DC, 64-bit, enhanced SYNC
+    // Revision, port descriptor (ports 0 and 1 MII) and features from the chip (ET1100: 0x01FC).
+    let info = [0x42, 0, 0, 0, 3, 4, 4, 0x0F, 0xFC, 0x01];
     assert_eq!(ecat_bytes(&mut esc, register::DL_INFORMATION, 10), info);
     assert_eq!(ecat_bytes(&mut esc, register::DL_STATUS, 2), [0x11, 0x02]);
     assert_eq!(ecat_bytes(&mut esc, register::PDI_CONTROL, 1), [0x05]);
@@ -116,7 +119,7 @@ fn dl_information_reflects_the_configuration() {
     esc.ecat_write(register::DL_INFORMATION, &[0xFF; 10]);
     esc.pdi_write(register::DL_INFORMATION, &[0xFF; 10]);
     assert_eq!(pdi_read(&mut esc, register::DL_INFORMATION, 10), info);
-    assert_eq!(pdi_read(&mut esc, register::FEATURES, 2), [0x0C, 0x01]);
+    assert_eq!(pdi_read(&mut esc, register::FEATURES, 2), [0xFC, 0x01]);
 }
 
 #[test]
@@ -407,17 +410,28 @@ fn disabling_resets_the_mailbox() {
     assert_eq!(pdi_read(&mut esc, SM0, 2), [2, 3]);
 }
 
+/// ESC datasheet section I, "SyncManager deactivation by the PDI": the channel's state is reset
+/// and "the entire SyncManager buffer area is read/write protected" while deactivated; the
+/// MainDevice sees it in the working counter, which such an access does not increment.
 #[test]
-fn pdi_deactivation_resets_the_mailbox_and_leaves_plain_memory() {
+fn pdi_deactivation_resets_the_mailbox_and_closes_its_area_to_the_maindevice() {
     let mut esc = configured();
     esc.ecat_write(SM0, &pattern(1, MBX_LEN));
     esc.pdi_write(sync_manager(0) + 7, &[0x01]);
     assert_eq!(status(&mut esc, 0), 0);
     assert_eq!(esc.al_event(), AlEvent::NONE);
-    assert!(esc.ecat_write(SM0, &pattern(2, MBX_LEN)));
-    assert!(esc.ecat_write(SM0, &pattern(3, MBX_LEN)), "no full mailbox");
+    assert!(!esc.ecat_write(SM0, &pattern(2, MBX_LEN)), "not counted");
     esc.pdi_write(SM0, &[0xAB]);
-    assert_eq!(ecat_bytes(&mut esc, SM0, 3), [0xAB, 4, 5]);
+    assert_eq!(
+        ecat_read(&mut esc, SM0, 3),
+        (false, vec![UNTOUCHED; 3]),
+        "nothing read, not counted"
+    );
+    assert_eq!(
+        pdi_read(&mut esc, SM0, 3),
+        [0xAB, 2, 3],
+        "the write was refused; the PDI reads the memory"
+    );
     assert_eq!((status(&mut esc, 0), esc.al_event()), (0, AlEvent::NONE));
     esc.pdi_write(sync_manager(0) + 7, &[0]);
     assert!(esc.ecat_write(SM0, &pattern(4, MBX_LEN)));
@@ -425,6 +439,21 @@ fn pdi_deactivation_resets_the_mailbox_and_leaves_plain_memory() {
         !esc.ecat_write(SM0, &pattern(5, MBX_LEN)),
         "a mailbox again"
     );
+}
+
+/// A deactivated 3-buffer channel closes all three buffers of its area; a channel the
+/// MainDevice disabled leaves plain memory.
+#[test]
+fn a_deactivated_three_buffer_area_is_closed_and_a_disabled_one_is_plain_memory() {
+    let mut esc = configured();
+    esc.pdi_write(sync_manager(2) + 7, &[0x01]);
+    for offset in [0, PD_LEN, 3 * PD_LEN - 1] {
+        assert!(!esc.ecat_write(SM2 + offset, &[1]), "offset {offset}");
+    }
+    assert!(esc.ecat_write(SM2 + 3 * PD_LEN, &[1]), "after the area");
+    esc.ecat_write(sync_manager(2) + 6, &[0]);
+    assert!(esc.ecat_write(SM2, &[7]), "disabled: plain memory");
+    assert_eq!(ecat_bytes(&mut esc, SM2, 1), [7]);
 }
 
 #[test]
@@ -657,5 +686,98 @@ fn lrw_through_a_read_write_fmmu_returns_the_memory_before_its_write() {
         ecat_bytes(&mut esc, 0x1200, 2),
         [0xAA, 0xBB],
         "then written"
+    );
+}
+
+// ---- the EEPROM configuration area ----
+
+/// At EEPROM load the ESC puts word 0 into 0x0140/0x0141, word 1 into 0x0150/0x0151, word 2
+/// into 0x0982, word 3 into 0x0152 and word 4 into 0x0012 (ESC datasheet section II, "EEPROM
+/// configuration area"); neither port writes them. Without an EEPROM PDI control stays 0.
+#[test]
+fn the_configuration_area_is_loaded_into_its_registers() {
+    let blank = Esc::new(EscConfig {
+        eeprom: None,
+        ..EscConfig::default()
+    });
+    assert_eq!(blank.register(register::PDI_CONTROL), 0x00, "no PDI");
+    let mut esc = esc();
+    let area = ConfigArea {
+        pdi_control: 0x05,
+        esc_configuration: 0x0C,
+        pdi_configuration: 0x03,
+        sync_latch_configuration: 0x44,
+        sync_pulse_length: 0x2710,
+        extended_pdi_configuration: 0x1234,
+        station_alias: 0xBEEF,
+        vendor_words: [0, 0],
+    };
+    esc.load_eeprom(area.bytes().to_vec());
+    assert_eq!(ecat_bytes(&mut esc, 0x0140, 2), [0x05, 0x0C]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0150, 4), [0x03, 0x44, 0x34, 0x12]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0982, 2), [0x10, 0x27]);
+    assert_eq!(
+        ecat_bytes(&mut esc, register::STATION_ALIAS, 2),
+        [0xEF, 0xBE]
+    );
+    esc.ecat_write(0x0140, &[0; 2]);
+    esc.pdi_write(0x0150, &[0; 4]);
+    esc.ecat_write(0x0982, &[0; 2]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0140, 2), [0x05, 0x0C], "read-only");
+    assert_eq!(ecat_bytes(&mut esc, 0x0150, 4), [0x03, 0x44, 0x34, 0x12]);
+    assert_eq!(ecat_bytes(&mut esc, 0x0982, 2), [0x10, 0x27]);
+}
+
+/// 0x0141 bit 0, device emulation: the ESC itself copies AL control into AL status; the stack's
+/// area leaves it off, so AL status is the PDI's.
+#[test]
+fn device_emulation_copies_al_control_into_al_status() {
+    let mut esc = esc();
+    esc.ecat_write(register::AL_CONTROL, &[0x02, 0]);
+    assert_eq!(ecat_bytes(&mut esc, register::AL_STATUS, 2), [0x00, 0x00]);
+    let area = ConfigArea {
+        esc_configuration: 0x01,
+        ..ConfigArea::new(&Chip::ET1100, false)
+    };
+    esc.load_eeprom(area.bytes().to_vec());
+    esc.ecat_write(register::AL_CONTROL, &[0x02, 0]);
+    assert_eq!(ecat_bytes(&mut esc, register::AL_STATUS, 2), [0x02, 0x00]);
+}
+
+/// SYNC0 in acknowledge mode (0x0982 = 0): a pulse raises the signal (0x098E bit 0) and later
+/// pulses make no edge until the PDI reads 0x098E; with a pulse length every pulse is an edge.
+#[test]
+fn acknowledge_mode_holds_sync0_until_the_pdi_reads_its_status() {
+    let mut esc = esc();
+    assert!(
+        esc.sync0_output_enabled(),
+        "the stack's area for a DC device"
+    );
+    assert!(esc.sync0_pulse() && esc.sync0_pulse(), "1 µs pulses");
+    let area = ConfigArea {
+        sync_pulse_length: 0,
+        ..ConfigArea::new(&Chip::ET1100, true)
+    };
+    esc.load_eeprom(area.bytes().to_vec());
+    assert!(esc.sync0_pulse());
+    assert!(!esc.sync0_pulse(), "still active");
+    assert_eq!(
+        ecat_bytes(&mut esc, 0x098E, 1),
+        [0x01],
+        "an ECAT read leaves it"
+    );
+    assert!(!esc.sync0_pulse());
+    assert_eq!(pdi_read(&mut esc, 0x098E, 1), [0x01]);
+    assert_eq!(
+        pdi_read(&mut esc, 0x098E, 1),
+        [0x00],
+        "the PDI read acknowledged it"
+    );
+    assert!(esc.sync0_pulse());
+    let off = ConfigArea::new(&Chip::ET1100, false);
+    esc.load_eeprom(off.bytes().to_vec());
+    assert!(
+        !esc.sync0_output_enabled(),
+        "SYNC out unit off, SYNC0 a latch input"
     );
 }

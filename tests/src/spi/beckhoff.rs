@@ -17,11 +17,20 @@
 //! What the chip shifts out where the datasheet leaves it undefined (wait state byte, write data
 //! phase) is [`UNDEFINED`], so a driver that used it would read nonsense.
 
+use ecat_core::chip::SpiMode;
+
 use crate::emulator::Emulator;
 use crate::spi::{Chip, Progress};
 
 /// MISO where the datasheet does not define it.
 pub const UNDEFINED: u8 = 0xA5;
+
+/// PDI control (0x0140) value of the SPI slave (ESC datasheet section II, 0x0140).
+const PDI_SPI_SLAVE: u8 = 0x05;
+/// PDI control register.
+const PDI_CONTROL: u16 = 0x0140;
+/// PDI configuration register: bits 1:0 the SPI mode (ESC datasheet section II, 0x0150).
+const PDI_CONFIGURATION: u16 = 0x0150;
 
 const NOP: u8 = 0b000;
 const READ: u8 = 0b010;
@@ -118,6 +127,27 @@ impl Chip for BeckhoffEsc {
             }
             reserved => violations.push(format!("reserved command {reserved:03b}")),
         }
+    }
+
+    /// The SPI slave talks only when the EEPROM selected it (0x0140 = 0x05) and in the mode
+    /// its PDI configuration (0x0150 bits 1:0) sets: in another mode it samples MOSI and shifts
+    /// MISO on the wrong clock edges.
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let (pdi, configuration) = self
+            .emu
+            .with(|esc| (esc.register(PDI_CONTROL), esc.register(PDI_CONFIGURATION)));
+        if pdi != PDI_SPI_SLAVE {
+            return Some(format!(
+                "PDI control 0x0140 = {pdi:#04x}, not the SPI slave (0x05): the ESC does not answer"
+            ));
+        }
+        let configured = configuration & 0b11;
+        (configured != mode as u8).then(|| {
+            format!(
+                "bus in SPI mode {}, PDI configuration 0x0150 sets mode {configured}: the ESC does not understand the bus",
+                mode as u8
+            )
+        })
     }
 }
 

@@ -31,6 +31,8 @@
 
 use std::collections::VecDeque;
 
+use ecat_core::chip::SpiMode;
+
 use crate::emulator::Emulator;
 use crate::spi::{Chip, Progress};
 
@@ -383,6 +385,10 @@ fn pram_range(address_length: u32, violations: &mut Vec<String>) -> Option<(u16,
     Some((address, length))
 }
 
+/// PDI control (0x0140) value that selects the SPI host interface (LAN9252 datasheet, "PDI
+/// Control Register": 80h SPI).
+const PDI_SPI: u8 = 0x80;
+
 impl Chip for Lan9252Chip {
     /// Register reads happen before their DWORD is clocked out, register writes once it is in,
     /// the engines' work (CSR command, PRAM access) when chip select rises.
@@ -396,6 +402,23 @@ impl Chip for Lan9252Chip {
         self.decode(mosi, miso, violations, progress);
         progress.reach(mosi.len());
         self.end_of_transaction(violations);
+    }
+
+    /// The SPI host interface runs only when the EEPROM selected it (0x0140 = 0x80), and in SPI
+    /// modes 0 and 3 only ("SPI/SQI Slave").
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let pdi = self.emu.with(|esc| esc.register(0x0140));
+        if pdi != PDI_SPI {
+            return Some(format!(
+                "PDI control 0x0140 = {pdi:#04x}, not SPI (0x80): the host interface is not in SPI mode"
+            ));
+        }
+        (!matches!(mode, SpiMode::Mode0 | SpiMode::Mode3)).then(|| {
+            format!(
+                "bus in SPI mode {}: the LAN9252 takes modes 0 and 3",
+                mode as u8
+            )
+        })
     }
 }
 

@@ -18,6 +18,7 @@ pub mod lan9252;
 use core::cell::RefCell;
 use std::rc::Rc;
 
+use ecat_core::chip::SpiMode;
 use embedded_hal_async::spi::{ErrorKind, ErrorType, Operation, SpiDevice};
 
 /// What a logic analyser on the SPI bus counts.
@@ -114,6 +115,14 @@ impl Progress {
 
 /// A chip behind an SPI chip-select line.
 pub trait Chip {
+    /// Why the chip cannot talk on a bus in `mode` now (its PDI not selected, another SPI
+    /// mode configured, as its EEPROM's configuration area set them), or `None`. A refused
+    /// transaction reaches nothing and reads [`NOT_DRIVEN`].
+    fn refusal(&self, mode: SpiMode) -> Option<String> {
+        let _ = mode;
+        None
+    }
+
     /// One transaction: `mosi` is what the master sent; fill `miso` (same length) with what the
     /// chip shifted out, and report what the real chip would reject or misread.
     /// `progress` marks the points within the transaction where the chip acts (see [`Progress`]).
@@ -125,6 +134,13 @@ pub trait Chip {
         progress: &mut Progress,
     );
 }
+
+/// MISO of a chip that does not talk: the line is not driven (pulled up).
+pub const NOT_DRIVEN: u8 = 0xFF;
+
+/// The SPI mode [`FakeSpi::new`] runs the bus in: mode 3, what both PDI drivers ask the board
+/// for (`ecat_embassy::spi::beckhoff::SPI_MODE`, `ecat_embassy::spi::lan9252::SPI_MODE`).
+pub const BUS_MODE: SpiMode = SpiMode::Mode3;
 
 /// The error [`Probe::fail_next`] injects.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -140,12 +156,19 @@ impl embedded_hal_async::spi::Error for BusError {
 pub struct FakeSpi<C> {
     chip: C,
     probe: Probe,
+    /// The SPI mode the bus (the microcontroller's SPI peripheral) is configured with.
+    mode: SpiMode,
 }
 
 impl<C: Chip> FakeSpi<C> {
-    /// `chip` on a bus watched by `probe`.
+    /// `chip` on a bus in [`BUS_MODE`] watched by `probe`.
     pub fn new(chip: C, probe: Probe) -> Self {
-        Self { chip, probe }
+        Self::with_mode(chip, probe, BUS_MODE)
+    }
+
+    /// `chip` on a bus in `mode` watched by `probe`.
+    pub fn with_mode(chip: C, probe: Probe, mode: SpiMode) -> Self {
+        Self { chip, probe, mode }
     }
 
     /// Flattens the operations into the byte stream on the wire, lets the chip answer and hands
@@ -169,6 +192,22 @@ impl<C: Chip> FakeSpi<C> {
                 Operation::TransferInPlace(buf) => mosi.extend_from_slice(buf),
                 Operation::DelayNs(_) => {}
             }
+        }
+        if let Some(why) = self.chip.refusal(self.mode) {
+            if record.violations.last() != Some(&why) {
+                record.violations.push(why);
+            }
+            record.stats.transactions += 1;
+            record.stats.bytes += mosi.len() as u64;
+            record.log.push(mosi);
+            for op in operations.iter_mut() {
+                match op {
+                    Operation::Read(buf) | Operation::TransferInPlace(buf) => buf.fill(NOT_DRIVEN),
+                    Operation::Transfer(read, _) => read.fill(NOT_DRIVEN),
+                    Operation::Write(_) | Operation::DelayNs(_) => {}
+                }
+            }
+            return Ok(());
         }
         let mut miso = vec![0; mosi.len()];
         let index = record.stats.transactions;

@@ -22,7 +22,9 @@ fn main() -> ExitCode {
             iface: iface.clone(),
             devices: vec!["cia402".to_owned()],
             pcap: None,
-        }),
+            la_requests: false,
+        })
+        .map(|_| ()),
         [flag, path] if flag == "--plot" => run(path),
         [] => run("cia402-demo.svg"),
         _ => Err("usage: cia402-demo [--plot FILE | --iface IFNAME]".to_owned()),

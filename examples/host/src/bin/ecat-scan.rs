@@ -3,12 +3,19 @@
 //! checks every cycle's working counter. Used by CI against `ecat-virtual-slave` on a veth pair.
 //!
 //! ```text
-//! ecat-scan --iface IFNAME [--cycles N] [--echo]
+//! ecat-scan --iface IFNAME [--cycles N] [--echo] [--silence MS]
+//! ecat-scan --iface IFNAME --burst N [--fps F]
 //! ```
 //!
+//! `--burst N` instead sends N frames back to back (a BRD of the AL status and a numbered NOP
+//! each, on a raw socket of its own), F frames a second (default: as fast as the socket takes
+//! them), and counts the answers: every one must come back.
+//!
 //! `--echo` also checks that every SubDevice with as many input as output bytes returns its
-//! outputs as inputs (the loop-back wiring of the virtual slave's digital I/O module). Exits with
-//! status 1 when a check fails.
+//! outputs as inputs (the loop-back wiring of the virtual slave's digital I/O module).
+//! `--silence MS` then stops sending for MS milliseconds of wall-clock time and checks that every
+//! SubDevice with outputs fell back to SAFEOP with the SM watchdog code 0x001B while the others
+//! stayed in OP (it leaves them there). Exits with status 1 when a check fails.
 
 use std::process::ExitCode;
 use std::time::Duration;
@@ -17,28 +24,54 @@ use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::subdevice_group::{Op, SubDeviceGroup};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
-const MAX_SUBDEVICES: usize = 16;
+const MAX_SUBDEVICES: usize = 64;
 const MAX_PDI: usize = 1024;
 static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
 
-const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo]";
+const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo] [--silence MS]\n       ecat-scan --iface IFNAME --burst N [--fps F]";
 
 struct Args {
     iface: String,
     cycles: u32,
     echo: bool,
+    burst: Option<u32>,
+    fps: Option<u32>,
+    silence: Option<u64>,
 }
 
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
-    let (mut iface, mut cycles, mut echo) = (None, 1000, false);
+    let (mut iface, mut cycles, mut echo, mut burst, mut fps, mut silence) =
+        (None, 1000, false, None, None, None);
     while let Some(flag) = args.next() {
         match flag.as_str() {
             "--iface" => iface = args.next(),
+            "--burst" => {
+                burst = Some(
+                    args.next()
+                        .and_then(|n| n.parse().ok())
+                        .ok_or("--burst takes a number")?,
+                )
+            }
             "--cycles" => {
                 cycles = args
                     .next()
                     .and_then(|n| n.parse().ok())
                     .ok_or("--cycles takes a number")?
+            }
+            "--fps" => {
+                fps = Some(
+                    args.next()
+                        .and_then(|n| n.parse().ok())
+                        .filter(|&n| n > 0)
+                        .ok_or("--fps takes a positive number")?,
+                )
+            }
+            "--silence" => {
+                silence = Some(
+                    args.next()
+                        .and_then(|n| n.parse().ok())
+                        .ok_or("--silence takes milliseconds")?,
+                )
             }
             "--echo" => echo = true,
             _ => return Err(USAGE.to_owned()),
@@ -48,12 +81,17 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
         iface: iface.ok_or(USAGE)?,
         cycles,
         echo,
+        burst,
+        fps,
+        silence,
     })
 }
 
 fn main() -> ExitCode {
-    let result = parse(std::env::args().skip(1))
-        .and_then(|args| futures_lite::future::block_on(run(args)).map_err(|e| e.to_string()));
+    let result = parse(std::env::args().skip(1)).and_then(|args| match args.burst {
+        Some(frames) => burst(&args.iface, frames, args.fps),
+        None => futures_lite::future::block_on(run(args)).map_err(|e| e.to_string()),
+    });
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -111,6 +149,9 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("all SubDevices in OP after {waited} cycles");
     let expected = expected_wkc(&group, &main);
+    // One cycle a millisecond on the wall clock: late cycles catch up, up to 10 ms behind.
+    let start = std::time::Instant::now();
+    let mut next = start;
     for cycle in 0..args.cycles {
         write_outputs(&group, &main, cycle);
         let response = group.tx_rx(&main).await?;
@@ -121,8 +162,20 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             )
             .into());
         }
-        std::thread::sleep(Duration::from_millis(1));
+        next += Duration::from_millis(1);
+        let now = std::time::Instant::now();
+        if now > next + Duration::from_millis(10) {
+            next = now;
+        }
+        if let Some(wait) = next.checked_duration_since(std::time::Instant::now()) {
+            std::thread::sleep(wait);
+        }
     }
+    let elapsed = start.elapsed().as_secs_f64();
+    println!(
+        "{:.0} cycles/s",
+        f64::from(args.cycles) / elapsed.max(f64::MIN_POSITIVE)
+    );
     if args.echo {
         check_echo(&group, &main).await?;
     }
@@ -130,6 +183,9 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         "{} cycles, working counter {expected} every cycle",
         args.cycles
     );
+    if let Some(ms) = args.silence {
+        return check_silence(&group, &main, ms).await;
+    }
     group
         .into_safe_op(&main)
         .await?
@@ -151,6 +207,37 @@ fn expected_wkc(group: &Group, main: &MainDevice<'_>) -> u16 {
             u16::from(!io.inputs().is_empty()) + 2 * u16::from(!io.outputs().is_empty())
         })
         .sum()
+}
+
+/// Sends nothing for `ms` milliseconds, then reads every SubDevice's AL status: those with
+/// outputs must have fallen back to SAFEOP + ERROR with 0x001B (their SM watchdog expired), the
+/// others must still be in OP.
+async fn check_silence(
+    group: &Group,
+    main: &MainDevice<'_>,
+    ms: u64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    std::thread::sleep(Duration::from_millis(ms));
+    let mut wrong = 0;
+    for sub in group.iter(main) {
+        // AL status and AL status code, raw: ethercrab's status() reports the error bit as an
+        // error.
+        let status: u16 = sub.register_read(0x0130u16).await?;
+        let code: u16 = sub.register_read(0x0134u16).await?;
+        let outputs = !sub.io_raw().outputs().is_empty();
+        let expected = if outputs { (0x14, 0x001B) } else { (0x08, 0) };
+        let right = (status, code) == expected;
+        println!(
+            "  {:#06x} after {ms} ms of silence: AL status {status:#04x}, code {code:#06x} ({})",
+            sub.configured_address(),
+            if right { "as expected" } else { "WRONG" }
+        );
+        wrong += usize::from(!right);
+    }
+    if wrong > 0 {
+        return Err(format!("{wrong} SubDevices in the wrong state after the silence").into());
+    }
+    Ok(())
 }
 
 /// Fills every SubDevice's outputs with a pattern of the cycle number.
@@ -190,4 +277,70 @@ async fn check_echo(group: &Group, main: &MainDevice<'_>) -> Result<(), String> 
         );
     }
     Ok(())
+}
+
+/// Sends `frames` frames back to back, each a BRD of the AL status and a NOP with the frame's
+/// number, at `fps` frames a second if given, while a second thread counts the answers (source MAC marked by an
+/// ESC) until none came for a second. Fails unless every frame came back.
+fn burst(iface: &str, frames: u32, fps: Option<u32>) -> Result<(), String> {
+    use ecat_emu::frame::{self, Datagram};
+    let port = ecat_examples::net::open(iface).map_err(|e| e.to_string())?;
+    let (mut tx, mut rx) = (port.tx, port.rx);
+    let counter = std::thread::spawn(move || {
+        let mut answers = std::collections::BTreeSet::new();
+        let mut last = std::time::Instant::now();
+        while last.elapsed() < Duration::from_secs(1) {
+            match rx.next() {
+                Ok(f)
+                    if ecat_examples::net::is_ethercat(f)
+                        && ecat_examples::net::locally_administered(f) =>
+                {
+                    let number = frame::datagrams(f)
+                        .and_then(|d| d.get(1).and_then(|nop| nop.data.get(..4)?.try_into().ok()))
+                        .map(u32::from_le_bytes);
+                    if let Some(number) = number {
+                        answers.insert(number);
+                        last = std::time::Instant::now();
+                    }
+                }
+                _ => {}
+            }
+        }
+        answers.len()
+    });
+    let start = std::time::Instant::now();
+    for n in 0..frames {
+        if let Some(fps) = fps {
+            let due = start + Duration::from_secs_f64(f64::from(n) / f64::from(fps));
+            if let Some(wait) = due.checked_duration_since(std::time::Instant::now()) {
+                std::thread::sleep(wait);
+            }
+        }
+        // A BRD of the AL status (read-only, no side effect), then a NOP that carries the
+        // frame's number through the line untouched.
+        let brd = Datagram::physical(0x07, 0, 0x0130, &[0, 0]);
+        let nop = Datagram::physical(0x00, 0, 0, &n.to_le_bytes());
+        let request = frame::build(ecat_emu::line::MAIN_DEVICE_MAC, &[brd, nop]);
+        match tx.send_to(&request, None) {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(format!("send failed: {e}")),
+            None => return Err("send failed".to_owned()),
+        }
+    }
+    let sent_in = start.elapsed();
+    let answered = counter.join().map_err(|_| "the counting thread failed")?;
+    println!(
+        "burst: {frames} frames sent in {:.1} ms ({:.0} frames/s), {answered} answered",
+        sent_in.as_secs_f64() * 1e3,
+        f64::from(frames) / sent_in.as_secs_f64()
+    );
+    let expected = usize::try_from(frames).unwrap_or(usize::MAX);
+    if answered == expected {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} of {frames} frames not answered",
+            expected.saturating_sub(answered)
+        ))
+    }
 }

@@ -3,11 +3,12 @@
 //! ESCs running the real ecat runners, and go back out.
 //!
 //! ```text
-//! ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE]
+//! ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE] [--la-requests]
 //! ```
 //!
 //! `--device` lists the devices on the line in order; `--count` repeats that list. Needs root or
-//! `CAP_NET_RAW`. Ctrl-C ends it cleanly.
+//! `CAP_NET_RAW`. Ctrl-C, SIGTERM and SIGHUP end it cleanly. Exit status: 0 after a clean stop,
+//! 1 when the interface or the capture file fails, 2 for a wrong command line.
 
 use std::process::ExitCode;
 
@@ -15,12 +16,34 @@ use ecat_examples::bridge::{self, Options};
 use ecat_examples::catalog;
 
 const USAGE: &str =
-    "usage: ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE]";
+    "usage: ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] \
+[--pcap FILE] [--la-requests]
 
-fn parse(mut args: impl Iterator<Item = String>) -> Result<Options, String> {
-    let (mut iface, mut devices, mut count, mut pcap) = (None, None, 1usize, None);
+Serves emulated EtherCAT SubDevices on a network interface (needs root or CAP_NET_RAW).
+
+  --iface IFNAME     the interface the MainDevice's frames arrive on
+  --device NAMES     the devices on the line, in cable order (default: dio)
+  --count N          repeats the --device list N times
+  --pcap FILE        writes every frame in and out to a capture file
+  --la-requests      also serve frames whose source MAC has the locally-administered bit set
+                     (a MainDevice on an interface with such a MAC, e.g. IgH on a veth); by
+                     default they are answers of a line, as ESCs mark them, and pass unserved
+  -h, --help         prints this help
+
+Ctrl-C, SIGTERM or SIGHUP stop it cleanly (summary printed, capture file complete).";
+
+/// What the command line asks for.
+enum Command {
+    Help,
+    Serve(Options),
+}
+
+fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> {
+    let (mut iface, mut devices, mut count, mut pcap, mut la_requests) =
+        (None, None, 1usize, None, false);
+    let short = USAGE.lines().next().unwrap_or(USAGE);
     while let Some(flag) = args.next() {
-        let mut value = || args.next().ok_or(format!("{flag} needs a value\n{USAGE}"));
+        let mut value = || args.next().ok_or(format!("{flag} needs a value\n{short}"));
         match flag.as_str() {
             "--iface" => iface = Some(value()?),
             "--device" => devices = Some(value()?),
@@ -28,33 +51,52 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Options, String> {
                 count = value()?
                     .parse()
                     .ok()
-                    .filter(|&n| (1..=catalog::MAX_COUNT).contains(&n))
-                    .ok_or(format!("--count takes 1..={}", catalog::MAX_COUNT))?
+                    .filter(|&n| n >= 1)
+                    .ok_or("--count takes a number of at least 1")?
             }
             "--pcap" => pcap = Some(value()?),
-            "-h" | "--help" => return Err(USAGE.to_owned()),
-            other => return Err(format!("unknown argument {other:?}\n{USAGE}")),
+            "--la-requests" => la_requests = true,
+            "-h" | "--help" => return Ok(Command::Help),
+            other => return Err(format!("unknown argument {other:?}\n{short}")),
         }
     }
     let devices = devices.unwrap_or_else(|| catalog::DEFAULT.to_owned());
     let line: Vec<String> = devices.split(',').map(str::to_owned).collect();
-    let devices: Vec<String> = (0..count).flat_map(|_| line.iter().cloned()).collect();
-    if devices.len() > catalog::MAX_COUNT {
-        return Err(format!("at most {} devices on a line", catalog::MAX_COUNT));
+    let total = line.len().saturating_mul(count);
+    if total > catalog::MAX_COUNT {
+        return Err(format!(
+            "{total} SubDevices ({} named × --count {count}): a line holds at most {} ({})",
+            line.len(),
+            catalog::MAX_COUNT,
+            catalog::MAX_COUNT_REASON
+        ));
     }
-    Ok(Options {
-        iface: iface.ok_or(format!("--iface is required\n{USAGE}"))?,
+    let devices: Vec<String> = (0..count).flat_map(|_| line.iter().cloned()).collect();
+    Ok(Command::Serve(Options {
+        iface: iface.ok_or(format!("--iface is required\n{short}"))?,
         devices,
         pcap,
-    })
+        la_requests,
+    }))
 }
 
 fn main() -> ExitCode {
-    match parse(std::env::args().skip(1)).and_then(|options| bridge::serve(&options)) {
-        Ok(()) => ExitCode::SUCCESS,
+    let options = match parse(std::env::args().skip(1)) {
+        Ok(Command::Help) => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        Ok(Command::Serve(options)) => options,
         Err(e) => {
             eprintln!("ecat-virtual-slave: {e}");
-            ExitCode::from(2)
+            return ExitCode::from(2);
+        }
+    };
+    match bridge::serve(&options) {
+        Ok(_) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("ecat-virtual-slave: {e}");
+            ExitCode::FAILURE
         }
     }
 }

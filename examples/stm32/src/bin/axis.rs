@@ -51,13 +51,19 @@ fn main() -> ! {
 #[embassy_executor::task]
 async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
-        spi, irq, sync0, ..
+        spi,
+        irq,
+        sync0,
+        leds,
+        ..
     } = board;
     let Some(pdi) = esc::start_logged(spi).await else {
         park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::default())));
+    let low = SendSpawner::for_current_executor().await;
+    low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
     high.spawn(unwrap!(process_data(esc, od, irq, sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
     let error = run_esm(esc, &mut sub, &mut AxisApp, od).await;

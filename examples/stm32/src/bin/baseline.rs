@@ -26,6 +26,7 @@ fn main() -> ! {
         irq,
         sync0,
         io,
+        leds: _,
     } = Board::init();
     info!("baseline starting");
     run_executors(|high, spawner| {

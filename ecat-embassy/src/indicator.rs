@@ -1,0 +1,131 @@
+//! The RUN and ERR indicators of ETG.1300 on GPIO pins: a task that follows the AL status the
+//! state-machine runner publishes ([`SharedEsc`]) and sleeps until the next edge
+//! ([`Indicators::poll_at`]) or the next change of the AL status, whichever comes first.
+//!
+//! The patterns, the code classes and the bicolour rule are [`ecat_core::indicator`]'s. What
+//! this adds is the wiring: [`RunErr`] (two LEDs), [`Bicolour`] (one red/green LED on two pins)
+//! and [`ErrOnly`] (the ESC drives RUN from its AL status register by itself, ETG.1000.4
+//! register 0x0138, so only ERR is the firmware's). A pin is written only when its level
+//! changes.
+//!
+//! What it costs the runners: the state-machine runner publishes the AL status and code with
+//! the layout it already publishes after each access (one compare and one store in the same
+//! critical section, a wake-up when they changed); nothing when no indicator task runs.
+
+use core::convert::Infallible;
+use core::future::Future;
+
+use ecat_core::AlState;
+use ecat_core::indicator::{Colour, Indicators, Levels};
+use embassy_futures::select::{Either, select};
+use embassy_sync::blocking_mutex::raw::RawMutex;
+use embedded_hal::digital::{OutputPin, PinState};
+
+use crate::time::{now, until};
+use crate::{Pdi, SharedEsc};
+
+/// Where the indicator levels go.
+pub trait Lamps {
+    /// Shows `levels`; called only when they differ from `before` (`None`: nothing shown yet).
+    fn show(&mut self, levels: Levels, before: Option<Levels>);
+}
+
+/// A green RUN LED and a red ERR LED on two pins, lit when high. Pin errors are ignored: an
+/// indicator has nowhere to report them.
+pub struct RunErr<R, E> {
+    /// The RUN LED.
+    pub run: R,
+    /// The ERR LED.
+    pub err: E,
+}
+
+impl<R: OutputPin, E: OutputPin> Lamps for RunErr<R, E> {
+    fn show(&mut self, levels: Levels, before: Option<Levels>) {
+        if before.map(|b| b.run) != Some(levels.run) {
+            let _ = self.run.set_state(PinState::from(levels.run));
+        }
+        if before.map(|b| b.err) != Some(levels.err) {
+            let _ = self.err.set_state(PinState::from(levels.err));
+        }
+    }
+}
+
+/// One red/green LED on two pins (lit when high), ERR winning a conflict
+/// ([`Levels::bicolour`]). The pin going low is written first, so both are never high.
+pub struct Bicolour<G, R> {
+    /// The green element (RUN).
+    pub green: G,
+    /// The red element (ERR).
+    pub red: R,
+}
+
+impl<G: OutputPin, R: OutputPin> Lamps for Bicolour<G, R> {
+    fn show(&mut self, levels: Levels, before: Option<Levels>) {
+        if before.map(Levels::bicolour) == Some(levels.bicolour()) {
+            return;
+        }
+        match levels.bicolour() {
+            Colour::Off => {
+                let _ = self.green.set_low();
+                let _ = self.red.set_low();
+            }
+            Colour::Green => {
+                let _ = self.red.set_low();
+                let _ = self.green.set_high();
+            }
+            Colour::Red => {
+                let _ = self.green.set_low();
+                let _ = self.red.set_high();
+            }
+        }
+    }
+}
+
+/// Only the ERR LED, lit when high: for an ESC that drives the RUN LED from its AL status
+/// register itself.
+pub struct ErrOnly<E>(pub E);
+
+impl<E: OutputPin> Lamps for ErrOnly<E> {
+    fn show(&mut self, levels: Levels, before: Option<Levels>) {
+        if before.map(|b| b.err) != Some(levels.err) {
+            let _ = self.0.set_state(PinState::from(levels.err));
+        }
+    }
+}
+
+/// Drives `lamps` from the AL status and code of the SubDevice behind `esc` for ever (the
+/// output type has no value). Before the state-machine runner's first access it shows INIT
+/// without error (both off).
+///
+/// Wakes at each edge of a blinking pattern (`Timer::at` the next edge, never a polling loop)
+/// and at each change of the AL status or code; a steady state (INIT or OP without error)
+/// sleeps until the next change. An `async` block, which keeps no copy of its arguments beside
+/// them (as an `async fn` would).
+#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+pub fn run_indicators<'a, M: RawMutex, P: Pdi, L: Lamps>(
+    esc: &'a SharedEsc<M, P>,
+    lamps: &'a mut L,
+) -> impl Future<Output = Infallible> + 'a {
+    async move {
+        let mut indicators = Indicators::new();
+        let mut seen = esc.indication();
+        let mut shown = None;
+        loop {
+            let at = now();
+            match seen.status() {
+                Some(status) => indicators.update_status(at, status, seen.code()),
+                None => indicators.update(at, AlState::Init, None),
+            }
+            let levels = indicators.levels(at);
+            if shown != Some(levels) {
+                lamps.show(levels, shown);
+                shown = Some(levels);
+            }
+            if let Either::Second(news) =
+                select(until(indicators.poll_at(at)), esc.indication_since(seen)).await
+            {
+                seen = news;
+            }
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! Sync error supervision (ETG.1020 §6.3, `ecat_core::sync_error`): in DC SYNC0 mode in OP each
+//! SYNC0 cycle without new outputs adds 3 to a counter, each cycle with outputs takes 1 off; at
+//! the limit (0x10F1:02, SSC's 4 for a dictionary without 0x10F1) the SubDevice falls back to
+//! SAFEOP with 0x001A. A MainDevice that loses one output frame in N, in virtual time.
+
+mod common;
+
+use common::{client, walk_to};
+use ecat_core::AlState;
+use ecat_core::dictionary::ObjectHooks;
+use ecat_core::register;
+use ecat_core::sync::SupportedSync;
+use ecat_embassy::{Application, CycleHandler};
+use ecat_emu::coe_client::SdoError;
+use ecat_emu::devices::Drive;
+use ecat_emu::harness::{self, Device};
+use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
+use embassy_time::{Duration, Instant};
+
+struct App;
+impl Application for App {}
+impl ObjectHooks<Drive> for App {}
+
+struct Idle;
+impl CycleHandler<Drive> for Idle {
+    fn cycle(&mut self, _od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {}
+}
+
+fn u16_of(bytes: Result<Vec<u8>, SdoError>) -> u16 {
+    let bytes = bytes.expect("upload");
+    u16::from_le_bytes([bytes[0], bytes[1]])
+}
+
+/// The Drive device with DC SYNC0 support (and SM-synchronous), in DC mode at a 1 ms SYNC0,
+/// in OP; then `cycles` SYNC0 cycles in which the MainDevice's output frame is lost every
+/// `n`th time. Returns the cycle (1-based) after which the SubDevice was no longer in OP, and
+/// AL status, AL status code, 0x1C32:0B and 0x1C32:20 at the end.
+fn drop_one_in(n: u32, cycles: u32) -> (Option<u32>, u16, u16, u16, Vec<u8>) {
+    let result = std::rc::Rc::new(std::cell::RefCell::new(None));
+    let out = result.clone();
+    let mut device = Device::new(common::drive(), App, Idle).with_dictionary(Drive::default());
+    device.config.sync = SupportedSync(SupportedSync::SM | SupportedSync::SYNC0);
+    harness::run(device, move |master: TestMaster| async move {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        c.download(0x1C32, 1, false, &2u16.to_le_bytes())
+            .await
+            .unwrap();
+        let start = (Instant::now() + Duration::from_millis(1)).as_micros() * 1_000;
+        assert!(master.write(register::DC_SYNC0_CYCLE_TIME, &1_000_000u32.to_le_bytes()));
+        assert!(master.write(register::DC_START_TIME, &start.to_le_bytes()));
+        assert!(master.write(register::DC_ACTIVATION, &[0x03]));
+        master.configure_sm(2, 0x1100, 11, SM2_CONTROL, true);
+        master.configure_sm(3, 0x1180, 11, SM3_CONTROL, true);
+        assert_eq!(master.request(0x04).await, (0x04, 0));
+        common::send_outputs(&master).await;
+        master.advance(Duration::from_millis(1)).await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        let mut left_op = None;
+        for k in 1..=cycles {
+            if k % n != 0 {
+                common::send_outputs(&master).await;
+            }
+            master.advance(Duration::from_millis(1)).await;
+            if left_op.is_none() && master.al_status() != 0x08 {
+                left_op = Some(k);
+            }
+        }
+        *out.borrow_mut() = Some((
+            left_op,
+            master.al_status(),
+            master.al_status_code(),
+            u16_of(c.upload(0x1C32, 0x0B, false).await),
+            c.upload(0x1C32, 0x20, false).await.unwrap(),
+        ));
+    });
+    result.borrow_mut().take().expect("the scenario ran")
+}
+
+#[test]
+fn one_lost_frame_in_four_keeps_op() {
+    // Counter: 0, 0, 0, 3, 2, 1, 0, 3, …: never at 4.
+    assert_eq!(drop_one_in(4, 200), (None, 0x08, 0, 50, vec![1]));
+    // The last cycle (200) was one of the lost ones: 0x20 shows it; one later it would not.
+    assert_eq!(drop_one_in(4, 201), (None, 0x08, 0, 50, vec![0]));
+}
+
+#[test]
+fn one_lost_frame_in_three_is_safeop_with_0x001a_at_the_second_loss() {
+    // Counter: 0, 0, 3, 2, 1, 4 → the limit at cycle 6; no cycle counts after OP.
+    assert_eq!(drop_one_in(3, 30), (Some(6), 0x14, 0x001A, 2, vec![1]));
+}
+
+#[test]
+fn two_lost_frames_in_a_row_trip_at_the_second() {
+    assert_eq!(drop_one_in(1, 10), (Some(2), 0x14, 0x001A, 2, vec![1]));
+    // One in two: 0, 3, 2, 5 → cycle 4.
+    assert_eq!(drop_one_in(2, 10), (Some(4), 0x14, 0x001A, 2, vec![1]));
+}
