@@ -10,7 +10,7 @@
 
 use ecat_core::DeviceConfig;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{Communication, DeviceInfo, ObjectDictionary};
+use ecat_core::dictionary::{Communication, DeviceInfo, ObjectDictionary, OctetString};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::{self, Names};
 use ecat_embassy::CycleHandler;
@@ -48,6 +48,9 @@ pub struct Drive {
     pub rx_assign: PdoAssignment<2>,
     /// 0x1C13.
     pub tx_assign: PdoAssignment<2>,
+    /// 0x2000: 128 bytes a MainDevice may write and read back, more than one SDO message of a
+    /// 128-byte mailbox carries: segmented transfers both ways.
+    pub scratch: OctetString<128>,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -73,6 +76,7 @@ ecat_core::dictionary! {
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x2000 => var(scratch, RW, "Scratch pad");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
         0x6060 => var(mode, RW | RXPDO, "Modes of operation");
@@ -339,7 +343,7 @@ mod tests {
             with(
                 &[0x1600, 0x1A00],
                 &[
-                    0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A, 0x60FF
+                    0x2000, 0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A, 0x60FF
                 ]
             )
         );
