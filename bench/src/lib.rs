@@ -5,7 +5,9 @@
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Identity;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{Domain, ObjectDictionary, ObjectHooks, VisibleString};
+use ecat_core::dictionary::{
+    Communication, DeviceInfo, Domain, ObjectDictionary, ObjectHooks, VisibleString,
+};
 use ecat_core::{Access, AlEvent, AlState, DeviceConfig, Instant, SubDevice, Transition, register};
 
 /// The benchmark device: `MBX`-byte mailboxes at 0x1000, no process data.
@@ -27,12 +29,19 @@ pub const IDENTITY: Identity = Identity {
     serial: 0x1234_5678,
 };
 
-/// The benchmark dictionary: the identity object and a 1 KiB string.
+/// The communication area of the benchmark device.
+pub const INFO: DeviceInfo = DeviceInfo {
+    device_type: 0x0002_0192,
+    name: "ecat bench",
+    hardware_version: "1",
+    software_version: "1",
+    identity: IDENTITY,
+};
+
+/// The benchmark dictionary: the communication area and a 1 KiB string.
 pub struct Od {
-    /// 0x1000.
-    pub device_type: u32,
-    /// 0x1018.
-    pub identity: Identity,
+    /// The communication area (0x1018 is the expedited upload's object).
+    pub area: Communication,
     /// 0x2000, 1 KiB.
     pub text: VisibleString<1024>,
     /// 0x2001, streamed to [`Sink`].
@@ -40,9 +49,9 @@ pub struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
-        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
-        0x1018 => identity(identity, IDENTITY);
+    // No process data: no PDO assignments.
+    minimal Od {
+        communication(area, INFO);
         0x2000 => var(text, RW, "Text");
         0x2001 => var(blob, RW, "Blob");
     }

@@ -394,6 +394,13 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
                 x.leaf("Type", ObjectType { index, array: true })?;
                 x.leaf("BitSize", elements_bits(element))?;
             }
+            // A PDO mapping's like entries are named by subindex, as SSC's ESI files name them.
+            None if sub > 0 && info.is_uniform() => {
+                x.leaf("SubIdx", sub)?;
+                x.leaf("Name", format_args!("SubIndex {sub:03}"))?;
+                x.leaf("Type", type_name(entry))?;
+                x.leaf("BitSize", entry.bit_len)?;
+            }
             None => {
                 x.leaf("SubIdx", sub)?;
                 x.leaf("Name", entry.name)?;
@@ -449,7 +456,8 @@ fn object<D, W: Write>(x: &mut Xml<'_, W>, od: &D, object: &Object<D>) -> Result
     Ok(())
 }
 
-/// An entry of an ARRAY or RECORD object's `Info`: its name (array elements `SubIndex nnn`) and
+/// An entry of an ARRAY or RECORD object's `Info`: its name (array elements and a PDO mapping's
+/// like entries `SubIndex nnn`) and
 /// declared values. SubIndex 0 has no declared default: its default is the count the dictionary
 /// holds (the highest subindex, or a PDO object's default number of entries), so the dictionary
 /// passed to [`write()`] holds its defaults, as it does for the SII image.
@@ -464,7 +472,7 @@ fn sub_item<D, W: Write>(
         return Ok(());
     };
     x.open("SubItem", &[])?;
-    if info.code == ObjectCode::Array && sub > 0 {
+    if info.is_uniform() && sub > 0 {
         x.leaf("Name", format_args!("SubIndex {sub:03}"))?;
     } else {
         x.leaf("Name", entry.name)?;

@@ -13,19 +13,18 @@
 //! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them ([`check_dc`];
 //! a device without DC refuses any activation with 0x0030).
 //!
-//! A device declares 0x1C32 (and 0x1C33) as a record of [`SyncParameters`] with the standard
-//! subindices (`dictionary!`'s `sync_parameters` kind writes them); the stack reads the sync type
-//! the MainDevice chose and fills the rest:
-//!
-//! ```text
-//! 0x1C32 => sync_parameters(sync_out, outputs);
-//! 0x1C33 => sync_parameters(sync_in, inputs);
-//! ```
+//! 0x1C32 and 0x1C33 are records of [`SyncParameters`] with SSC's subindices, part of the
+//! communication area every CoE dictionary gets from `dictionary!`'s `communication` item
+//! ([`crate::dictionary::communication`]); the stack reads the sync type the MainDevice chose
+//! and fills the rest.
 
 use crate::AlStatusCode;
 use crate::coe::AbortCode;
 use crate::device::DeviceConfig;
-use crate::dictionary::{Object, ObjectDictionary};
+use crate::dictionary::{
+    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, Value, read_value,
+    write_value,
+};
 use crate::pdo::layout::read_u16;
 use crate::register::DcActivation;
 use crate::time::{Duration, Instant};
@@ -105,7 +104,8 @@ impl SupportedSync {
     }
 }
 
-/// The value of a sync manager parameter object (0x1C32/0x1C33).
+/// The value of a sync manager parameter object (0x1C32/0x1C33, ETG.1000.6 Table 74, ETG.1020
+/// §6.3) with every subindex SSC carries: SI0 = 0x20; SI 0x0E..0x1F do not exist.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SyncParameters {
     /// SI1: the sync type ([`SyncType::code`]), chosen by the MainDevice in PREOP.
@@ -124,14 +124,28 @@ pub struct SyncParameters {
     /// event (outputs) or before SM3 is read (inputs) and the data being ready, which a
     /// MainDevice uses to place SYNC0 in the cycle. Set by the application; 0 when unknown.
     pub calc_copy_time: u32,
+    /// SI7: the minimum delay time in ns (the least hardware delay, SI9 being the greatest).
+    /// Set by the application; 0 when unknown.
+    pub min_delay_time: u32,
+    /// SI8: get cycle time, a command word a MainDevice may write in any state (bit 0: measure
+    /// the local cycle, bit 1: reset the measured values); 0 by default. The stack stores it:
+    /// the times it reports (SI5, SI6) are the device's, not measured.
+    pub get_cycle_time: u16,
     /// SI9: the delay time in ns (hardware delay from SYNC0 to the outputs or inputs). Set by
     /// the application; 0 when unknown.
     pub delay_time: u32,
-    /// SI0x0B: SM events missed.
+    /// SI 0x0A: the SYNC0 cycle time in ns the ESC runs (0x09A0) while the device runs DC
+    /// SYNC0, else 0 (filled by [`fill`]).
+    pub sync0_cycle_time: u32,
+    /// SI 0x0B: SM events missed.
     pub sm_event_missed: u16,
-    /// SI0x0C: cycles that took longer than the cycle time.
+    /// SI 0x0C: cycles that took longer than the cycle time.
     pub cycle_time_too_small: u16,
-    /// SI0x20: a synchronisation error occurred.
+    /// SI 0x0D: shift time too short counter: cycles whose outputs were not ready at the shift
+    /// time. The stack does not see the output instant, so it stays 0 unless the application
+    /// counts.
+    pub shift_time_too_short: u16,
+    /// SI 0x20: a synchronisation error occurred.
     pub sync_error: bool,
 }
 
@@ -144,11 +158,218 @@ impl SyncParameters {
         supported: 0,
         min_cycle_time: 0,
         calc_copy_time: 0,
+        min_delay_time: 0,
+        get_cycle_time: 0,
         delay_time: 0,
+        sync0_cycle_time: 0,
         sm_event_missed: 0,
         cycle_time_too_small: 0,
+        shift_time_too_short: 0,
         sync_error: false,
     };
+
+    /// 0x1C32 at power-on: SM-synchronous (SI1 = 1).
+    pub const OUTPUTS: Self = Self {
+        sync_type: OUTPUT_SYNC_DEFAULT,
+        ..Self::DEFAULT
+    };
+
+    /// 0x1C33 at power-on: SM2-synchronous (SI1 = 0x22), the inputs' type that follows from
+    /// SM-synchronous outputs ([`input_sync_type`]; replaced when the configuration is
+    /// refreshed).
+    pub const INPUTS: Self = Self {
+        sync_type: INPUT_SYNC_DEFAULT,
+        ..Self::DEFAULT
+    };
+
+    /// The highest subindex, SI0.
+    pub const MAX_SUB: u8 = 0x20;
+
+    /// Copies the encoded value of `sub` from `offset` into `out` (the typed read of the
+    /// standard record: one function for 0x1C32 and 0x1C33 of every dictionary).
+    pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
+        Ok(match sub {
+            0 => read_value(&Self::MAX_SUB, offset, out),
+            1 => read_value(&self.sync_type, offset, out),
+            2 => read_value(&self.cycle_time, offset, out),
+            3 => read_value(&self.shift_time, offset, out),
+            4 => read_value(&self.supported, offset, out),
+            5 => read_value(&self.min_cycle_time, offset, out),
+            6 => read_value(&self.calc_copy_time, offset, out),
+            7 => read_value(&self.min_delay_time, offset, out),
+            8 => read_value(&self.get_cycle_time, offset, out),
+            9 => read_value(&self.delay_time, offset, out),
+            0x0A => read_value(&self.sync0_cycle_time, offset, out),
+            0x0B => read_value(&self.sm_event_missed, offset, out),
+            0x0C => read_value(&self.cycle_time_too_small, offset, out),
+            0x0D => read_value(&self.shift_time_too_short, offset, out),
+            0x20 => read_value(&self.sync_error, offset, out),
+            _ => return Err(AbortCode::NO_SUBINDEX),
+        })
+    }
+
+    /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how
+    /// the stack fills the read-only entries ([`fill`], [`CycleMonitor`]).
+    pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+        fn put<T: Value + PartialOrd>(slot: &mut T, data: &[u8]) -> Result<(), AbortCode> {
+            write_value(slot, data, None, None)
+        }
+        match sub {
+            0 => Err(AbortCode::READ_ONLY),
+            1 => put(&mut self.sync_type, data),
+            2 => put(&mut self.cycle_time, data),
+            3 => put(&mut self.shift_time, data),
+            4 => put(&mut self.supported, data),
+            5 => put(&mut self.min_cycle_time, data),
+            6 => put(&mut self.calc_copy_time, data),
+            7 => put(&mut self.min_delay_time, data),
+            8 => put(&mut self.get_cycle_time, data),
+            9 => put(&mut self.delay_time, data),
+            0x0A => put(&mut self.sync0_cycle_time, data),
+            0x0B => put(&mut self.sm_event_missed, data),
+            0x0C => put(&mut self.cycle_time_too_small, data),
+            0x0D => put(&mut self.shift_time_too_short, data),
+            0x20 => put(&mut self.sync_error, data),
+            _ => Err(AbortCode::NO_SUBINDEX),
+        }
+    }
+}
+
+impl SyncParameters {
+    /// [`SyncParameters::write`] of 0x1C33: SI1 must name a sync type of the inputs
+    /// ([`check_input_sync_write`]).
+    pub fn write_input(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
+        check_input_sync_write(sub, data)?;
+        self.write(sub, data)
+    }
+}
+
+/// The declared default of 0x1C32:01.
+const OUTPUT_SYNC_DEFAULT: u16 = 1;
+/// The declared default of 0x1C33:01.
+const INPUT_SYNC_DEFAULT: u16 = 0x22;
+
+/// The declared values of 0x1C32 (the `limit` of its object): SI1's default, SM-synchronous.
+#[doc(hidden)]
+pub fn output_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
+    sync_type_default(OUTPUT_SYNC_DEFAULT, sub, which, out)
+}
+
+/// The declared values of 0x1C33: SI1's default, SM2-synchronous.
+#[doc(hidden)]
+pub fn input_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
+    sync_type_default(INPUT_SYNC_DEFAULT, sub, which, out)
+}
+
+fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
+    match (sub, which) {
+        (1, Limit::Default) => default.read_at(0, out),
+        _ => 0,
+    }
+}
+
+/// The entries of 0x1C32 and 0x1C33 (ETG.1000.6 Table 74, SSC's `asEntryDesc0x1C3x`): SI1 and
+/// SI2 writable in PREOP (the MainDevice's choice of sync type and cycle), SI8 (get cycle time)
+/// writable in every state, the rest read-only; SI1 declares its default.
+pub const PARAMETER_ENTRIES: &[EntryInfo] = &[
+    EntryInfo::subindex_count("Highest sub-index supported"),
+    sync_entry(
+        1,
+        "Synchronization type",
+        DataType::Unsigned16,
+        Access::RW_PREOP,
+        true,
+    ),
+    sync_entry(
+        2,
+        "Cycle time",
+        DataType::Unsigned32,
+        Access::RW_PREOP,
+        false,
+    ),
+    sync_entry(3, "Shift time", DataType::Unsigned32, Access::RO, false),
+    sync_entry(
+        4,
+        "Synchronization types supported",
+        DataType::Unsigned16,
+        Access::RO,
+        false,
+    ),
+    sync_entry(
+        5,
+        "Minimum cycle time",
+        DataType::Unsigned32,
+        Access::RO,
+        false,
+    ),
+    sync_entry(
+        6,
+        "Calc and copy time",
+        DataType::Unsigned32,
+        Access::RO,
+        false,
+    ),
+    sync_entry(
+        7,
+        "Minimum delay time",
+        DataType::Unsigned32,
+        Access::RO,
+        false,
+    ),
+    sync_entry(8, "Get cycle time", DataType::Unsigned16, Access::RW, false),
+    sync_entry(9, "Delay time", DataType::Unsigned32, Access::RO, false),
+    sync_entry(
+        0x0A,
+        "Sync0 cycle time",
+        DataType::Unsigned32,
+        Access::RO,
+        false,
+    ),
+    sync_entry(
+        0x0B,
+        "SM event missed counter",
+        DataType::Unsigned16,
+        Access::RO,
+        false,
+    ),
+    sync_entry(
+        0x0C,
+        "Cycle time too small counter",
+        DataType::Unsigned16,
+        Access::RO,
+        false,
+    ),
+    sync_entry(
+        0x0D,
+        "Shift time too short counter",
+        DataType::Unsigned16,
+        Access::RO,
+        false,
+    ),
+    sync_entry(0x20, "Sync error", DataType::Boolean, Access::RO, false),
+];
+
+const fn sync_entry(
+    sub: u8,
+    name: &'static str,
+    data_type: DataType,
+    access: Access,
+    default: bool,
+) -> EntryInfo {
+    let bit_len = match data_type {
+        DataType::Boolean => 1,
+        DataType::Unsigned16 => 16,
+        _ => 32,
+    };
+    EntryInfo {
+        sub,
+        name,
+        data_type,
+        bit_len,
+        access,
+        unit: 0,
+        limits: Limits(if default { Limits::DEFAULT } else { 0 }),
+    }
 }
 
 /// What the MainDevice configured in the ESC's DC SYNC unit (ESC datasheet section II,
@@ -247,7 +468,8 @@ pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
 /// Fills what the stack knows into 0x1C32 and 0x1C33 (those the dictionary has): the supported
 /// sync types (SI4), the minimum cycle time (SI5) and, unless the MainDevice wrote one
 /// (`chosen_cycle`, [`Chosen::cycle_ns`]), the cycle time in ns (SI2: the local cycle in
-/// free-run, the SYNC0 cycle in DC mode); in 0x1C33 also the inputs' sync type (SI1,
+/// free-run, the SYNC0 cycle in DC mode), the SYNC0 cycle time (SI 0x0A: the ESC's 0x09A0 while
+/// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync type (SI1,
 /// [`input_sync_type`]) of the `active` sync type.
 pub fn fill<D: ObjectDictionary>(
     od: &mut D,
@@ -266,6 +488,10 @@ pub fn fill<D: ObjectDictionary>(
         _ => None,
     };
     let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    let sync0_ns = match active {
+        Some(SyncType::DcSync0) => dc.sync0_cycle_ns,
+        _ => 0,
+    };
     for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
         let Some(object) = D::object(index) else {
             continue;
@@ -275,6 +501,7 @@ pub fn fill<D: ObjectDictionary>(
         if let Some(ns) = cycle_ns {
             set(od, object, 2, &saturated_u32(ns).to_le_bytes());
         }
+        set(od, object, 0x0A, &sync0_ns.to_le_bytes());
         if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
             let input = input_sync_type(output, has_outputs);
             set(od, object, 1, &input.code().to_le_bytes());
@@ -284,7 +511,7 @@ pub fn fill<D: ObjectDictionary>(
 
 /// Writes an entry the stack fills, in its encoding, through the object's typed `write` (the
 /// same decoding an SDO download gets; read-only is the MainDevice's restriction, not the
-/// stack's). The entries of `sync_parameters` have the sizes written here.
+/// stack's). The entries of [`PARAMETER_ENTRIES`] have the sizes written here.
 fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
     let _ = (object.write)(od, sub, bytes);
 }
@@ -594,6 +821,75 @@ mod tests {
         assert_eq!(chosen.cycle_ns(), Some(500));
         chosen.note(OUTPUT_PARAMETERS, 2, &0u32.to_le_bytes());
         assert_eq!((chosen.sync_type, chosen.cycle_ns()), (false, None));
+    }
+
+    struct Od {
+        area: crate::dictionary::Communication,
+    }
+
+    const INFO: crate::dictionary::DeviceInfo = crate::dictionary::DeviceInfo {
+        device_type: 0,
+        name: "sync test",
+        hardware_version: "1",
+        software_version: "1",
+        identity: crate::device::Identity {
+            vendor_id: 1,
+            product_code: 1,
+            revision: 1,
+            serial: 1,
+        },
+    };
+
+    crate::dictionary! {
+        // A test of 0x1C32/0x1C33 alone: no PDOs.
+        minimal Od {
+            communication(area, INFO);
+        }
+    }
+
+    /// SI 0x0A shows the SYNC0 cycle while the device runs DC SYNC0, 0 in any other mode (SSC's
+    /// `u32Sync0CycleTime`); SI2 follows the SYNC0 cycle unless the MainDevice wrote one.
+    #[test]
+    fn fill_shows_the_sync0_cycle_in_dc_mode_only() {
+        use crate::device::{MailboxConfig, ProcessDataSizes};
+        let device = DeviceConfig::new(
+            MailboxConfig::contiguous(0x1000, 128),
+            ProcessDataSizes::default(),
+        );
+        let dc = DcSettings {
+            activation: DcActivation(0x03),
+            sync0_cycle_ns: 1_000_000,
+        };
+        let mut od = Od::default();
+        fill(&mut od, &device, Some(SyncType::DcSync0), None, dc, true);
+        for p in [od.area.outputs, od.area.inputs] {
+            assert_eq!((p.sync0_cycle_time, p.cycle_time), (1_000_000, 1_000_000));
+        }
+        assert_eq!(od.area.inputs.sync_type, 2, "the inputs follow the outputs");
+        fill(
+            &mut od,
+            &device,
+            Some(SyncType::SmSynchronous),
+            None,
+            dc,
+            true,
+        );
+        for p in [od.area.outputs, od.area.inputs] {
+            assert_eq!(p.sync0_cycle_time, 0);
+        }
+        assert_eq!(od.area.inputs.sync_type, 0x22);
+        fill(
+            &mut od,
+            &device,
+            Some(SyncType::DcSync0),
+            Some(500_000),
+            dc,
+            true,
+        );
+        assert_eq!(
+            od.area.outputs.sync0_cycle_time, 1_000_000,
+            "not the written cycle"
+        );
     }
 
     #[test]

@@ -593,7 +593,7 @@ struct Good {
 }
 
 ecat_core::dictionary! {
-    Good {
+    minimal Good {
         0x603F => var(error_code, RO | TXPDO, "Error code");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
@@ -618,7 +618,7 @@ struct Bad {
 }
 
 ecat_core::dictionary! {
-    Bad {
+    minimal Bad {
         0x603F => var(error_code, RO | TXPDO, "Error code");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword"); // UNSIGNED32: wrong
@@ -635,7 +635,7 @@ struct ReadOnlyControl {
 }
 
 ecat_core::dictionary! {
-    ReadOnlyControl {
+    minimal ReadOnlyControl {
         0x603F => var(error_code, RO | TXPDO, "Error code");
         0x6040 => var(controlword, RO | RXPDO, "Controlword");
     }
@@ -647,7 +647,7 @@ struct Unmapped {
 }
 
 ecat_core::dictionary! {
-    Unmapped {
+    minimal Unmapped {
         0x603F => var(error_code, RO, "Error code");
     }
 }
@@ -662,7 +662,7 @@ struct Partial {
 }
 
 ecat_core::dictionary! {
-    Partial {
+    minimal Partial {
         0x603F => var(error_code, RO | TXPDO, "Error code");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");

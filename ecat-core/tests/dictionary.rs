@@ -22,7 +22,7 @@ struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
+    minimal Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
         0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
         0x1018 => record(identity: Identity, "Identity object") {
@@ -206,25 +206,104 @@ fn declared_limits_encode_in_the_entry_type() {
     assert!(!info.has(Limit::Default) && info.has(Limit::Min));
 }
 
-mod identity_kind {
+mod communication_item {
     use ecat_core::device::Identity;
-    use ecat_core::dictionary::{Access, Limit, ObjectCode, ObjectDictionary};
+    use ecat_core::dictionary::{
+        Access, Communication, DeviceInfo, Limit, ObjectCode, ObjectDictionary,
+    };
+    use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 
-    const IDENTITY: Identity = Identity {
-        vendor_id: 0xE000_0001,
-        product_code: 0x0000_0402,
-        revision: 7,
-        serial: 0x1234_5678,
+    const INFO: DeviceInfo = DeviceInfo {
+        device_type: 0x0001_1389,
+        name: "ecat test",
+        hardware_version: "B",
+        software_version: "0.1.0",
+        identity: Identity {
+            vendor_id: 0xE000_0001,
+            product_code: 0x0000_0402,
+            revision: 7,
+            serial: 0x1234_5678,
+        },
     };
 
     struct Od {
-        identity: Identity,
+        area: Communication,
+        error_register: u8,
+        rx: PdoMapping<1>,
+        rx_assign: PdoAssignment<1>,
+        tx_assign: PdoAssignment<1>,
+        value: u8,
     }
 
+    // The application's objects around the area's: 0x1001 between 0x1000 and 0x1008, the PDO
+    // configuration between 0x1018 and 0x1C00 and between 0x1C00 and 0x1C32.
     ecat_core::dictionary! {
         Od {
-            0x1018 => identity(identity, IDENTITY);
+            communication(area, INFO);
+            0x1001 => var(error_register, RO, "Error register");
+            0x1600 => pdo(rx, RO, "RxPDO", "Mapped object", default = PdoMapping::mapping(&[MappingEntry::new(0x7000, 0, 8)]));
+            0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+            0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[]));
+            0x7000 => var(value, RW | RXPDO, "Value");
         }
+    }
+
+    fn read(od: &Od, index: u16, sub: u8) -> Vec<u8> {
+        let object = Od::object(index).expect("present");
+        let mut out = [0u8; 64];
+        let read = (object.read)(od, sub, 0, &mut out).unwrap();
+        assert_eq!(read.copied, read.size);
+        out[..read.size].to_vec()
+    }
+
+    fn default(index: u16, sub: u8) -> Vec<u8> {
+        let object = Od::object(index).expect("present");
+        let mut out = [0u8; 64];
+        let n = (object.limit)(sub, Limit::Default, &mut out);
+        out[..n].to_vec()
+    }
+
+    #[test]
+    fn the_area_is_merged_in_index_order_with_the_application_objects() {
+        let indices: Vec<u16> = Od::OBJECTS.iter().map(|o| o.info.index).collect();
+        assert_eq!(
+            indices,
+            [
+                0x1000, 0x1001, 0x1008, 0x1009, 0x100A, 0x1018, 0x1600, 0x1C00, 0x1C12, 0x1C13,
+                0x1C32, 0x1C33, 0x7000
+            ]
+        );
+    }
+
+    #[test]
+    fn constants_come_from_the_device_info_read_only_with_their_defaults() {
+        let od = Od::default();
+        for (index, name, code, value) in [
+            (0x1000, "Device type", 0x0007, &[0x89, 0x13, 0x01, 0x00][..]),
+            (0x1008, "Manufacturer device name", 0x0009, b"ecat test"),
+            (0x1009, "Manufacturer hardware version", 0x0009, b"B"),
+            (0x100A, "Manufacturer software version", 0x0009, b"0.1.0"),
+        ] {
+            let info = &Od::object(index).unwrap().info;
+            assert_eq!(
+                (info.code, info.name, info.max_sub),
+                (ObjectCode::Var, name, 0)
+            );
+            let entry = info.entry(0).unwrap();
+            assert_eq!(
+                (entry.data_type.code(), entry.bit_len, entry.access),
+                (code, value.len() as u16 * 8, Access::RO),
+                "{index:#06x}"
+            );
+            assert_eq!(read(&od, index, 0), value, "{index:#06x}");
+            assert_eq!(default(index, 0), value, "{index:#06x} declares its value");
+        }
+        // 0x1C00: mailbox out, mailbox in, outputs, inputs.
+        let info = &Od::object(0x1C00).unwrap().info;
+        assert_eq!((info.code, info.max_sub), (ObjectCode::Array, 4));
+        let types: Vec<Vec<u8>> = (0..=4).map(|s| read(&od, 0x1C00, s)).collect();
+        assert_eq!(types, [[4], [1], [2], [3], [4]]);
+        assert_eq!(default(0x1C00, 3), [3]);
     }
 
     #[test]
@@ -246,40 +325,28 @@ mod identity_kind {
             ]
         );
         assert!((1..=4).all(|s| object.info.entry(s).unwrap().access == Access::RO));
-        let od = Od::default();
-        assert_eq!(od.identity, IDENTITY);
-        let mut out = [0u8; 4];
-        (object.read)(&od, 3, 0, &mut out).unwrap();
-        assert_eq!(u32::from_le_bytes(out), 7);
-        assert_eq!((object.limit)(4, Limit::Default, &mut out), 4);
+        let mut od = Od::default();
+        assert_eq!(od.area.identity, INFO.identity);
+        assert_eq!(read(&od, 0x1018, 0), [4]);
+        assert_eq!(read(&od, 0x1018, 3), [7, 0, 0, 0]);
+        assert_eq!(default(0x1018, 4), [0x78, 0x56, 0x34, 0x12], "the constant");
+        // The application sets the serial number at start-up; the default stays the constant.
+        od.area.identity.serial = 42;
+        assert_eq!(read(&od, 0x1018, 4), [42, 0, 0, 0]);
+        assert_eq!(default(0x1018, 4), [0x78, 0x56, 0x34, 0x12]);
         assert_eq!(
-            u32::from_le_bytes(out),
-            0x1234_5678,
-            "the default is the constant"
+            (object.write)(&mut od, 4, &[1, 0, 0, 0]),
+            Err(ecat_core::coe::AbortCode::READ_ONLY)
         );
-    }
-}
-
-mod sync_parameters_kind {
-    use ecat_core::dictionary::{Access, Limit, ObjectCode, ObjectDictionary};
-    use ecat_core::sync::SyncParameters;
-
-    struct Od {
-        sync_out: SyncParameters,
-        sync_in: SyncParameters,
-    }
-
-    ecat_core::dictionary! {
-        Od {
-            0x1C32 => sync_parameters(sync_out, outputs);
-            0x1C33 => sync_parameters(sync_in, inputs);
-        }
     }
 
     #[test]
-    fn the_standard_records_with_the_access_and_defaults_of_each_direction() {
+    fn sync_parameters_are_ssc_records_with_the_defaults_of_each_direction() {
         let od = Od::default();
-        assert_eq!((od.sync_out.sync_type, od.sync_in.sync_type), (1, 0x22));
+        assert_eq!(
+            (od.area.outputs.sync_type, od.area.inputs.sync_type),
+            (1, 0x22)
+        );
         for (index, name, si1) in [
             (0x1C32, "SM output parameter", Access::RW_PREOP),
             (0x1C33, "SM input parameter", Access::RW_PREOP),
@@ -288,10 +355,55 @@ mod sync_parameters_kind {
             assert_eq!(object.info.code, ObjectCode::Record);
             assert_eq!(object.info.name, name);
             let subs: Vec<u8> = object.info.subindices().collect();
-            assert_eq!(subs, [0, 1, 2, 3, 4, 5, 6, 9, 0x0B, 0x0C, 0x20]);
-            assert_eq!(object.info.entry(1).unwrap().access, si1);
-            assert_eq!(object.info.entry(2).unwrap().access, Access::RW_PREOP);
-            assert_eq!(object.info.entry(0x20).unwrap().access, Access::RO);
+            // SSC's record: SI 1..0x0D and 0x20, SI0 = 0x20 (ETG.1000.6 Table 74).
+            assert_eq!(
+                subs,
+                [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 0x0A, 0x0B, 0x0C, 0x0D, 0x20]
+            );
+            assert_eq!(object.info.max_sub, 0x20);
+            let described: Vec<_> = subs
+                .iter()
+                .map(|&s| {
+                    let e = object.info.entry(s).unwrap();
+                    (s, e.data_type.code(), e.bit_len, e.access.0)
+                })
+                .collect();
+            assert_eq!(
+                described,
+                [
+                    (0, 0x0005, 8, 0x0007),
+                    (1, 0x0006, 16, si1.0),
+                    (2, 0x0007, 32, 0x000F),
+                    (3, 0x0007, 32, 0x0007),
+                    (4, 0x0006, 16, 0x0007),
+                    (5, 0x0007, 32, 0x0007),
+                    (6, 0x0007, 32, 0x0007),
+                    (7, 0x0007, 32, 0x0007),
+                    (8, 0x0006, 16, 0x003F),
+                    (9, 0x0007, 32, 0x0007),
+                    (0x0A, 0x0007, 32, 0x0007),
+                    (0x0B, 0x0006, 16, 0x0007),
+                    (0x0C, 0x0006, 16, 0x0007),
+                    (0x0D, 0x0006, 16, 0x0007),
+                    (0x20, 0x0001, 1, 0x0007),
+                ]
+            );
+            assert_eq!(object.info.entry(0x0E), None, "the gap 0x0E..0x1F");
+            assert_eq!(object.info.entry(0x1F), None);
+            let mut od = Od::default();
+            let mut out = [0xAA; 4];
+            assert_eq!((object.read)(&od, 0, 0, &mut out).unwrap().copied, 1);
+            assert_eq!(out[0], 0x20, "SI0");
+            // SI8 (get cycle time) takes a command word and keeps it; 0 by default.
+            assert_eq!((object.read)(&od, 8, 0, &mut out).unwrap().size, 2);
+            assert_eq!(out[..2], [0, 0]);
+            (object.write)(&mut od, 8, &[0x01, 0x00]).unwrap();
+            (object.read)(&od, 8, 0, &mut out).unwrap();
+            assert_eq!(out[..2], [0x01, 0x00]);
+            assert_eq!(
+                (object.write)(&mut od, 0x0E, &[0, 0]),
+                Err(ecat_core::coe::AbortCode::NO_SUBINDEX)
+            );
             let mut out = [0u8; 2];
             assert_eq!(
                 (object.limit)(1, Limit::Default, &mut out),

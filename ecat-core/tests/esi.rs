@@ -29,7 +29,7 @@ struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
+    minimal Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0003_0191);
         0x2000 => var(gain, RW, "Gain <&>", default = 5, min = -100, max = 1000);
         0x2001 => var(preop, RW_PREOP, "PREOP parameter");
@@ -329,7 +329,7 @@ struct TooLong {
 }
 
 ecat_core::dictionary! {
-    TooLong {
+    minimal TooLong {
         0x1008 => var(text, RO, "Name", default = VisibleString::new(b"x"));
     }
 }

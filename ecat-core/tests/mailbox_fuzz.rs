@@ -27,7 +27,7 @@ struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
+    minimal Od {
         0x1000 => var(u, RO, "U", default = 7);
         0x2000 => var(s, RW, "S");
         0x2001 => var(blob, RW, "Blob");

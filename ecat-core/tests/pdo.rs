@@ -56,7 +56,7 @@ const TX: [MappingEntry; 4] = [
 ];
 
 ecat_core::dictionary! {
-    Od {
+    minimal Od {
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX));
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
@@ -530,7 +530,7 @@ struct Big {
 }
 
 ecat_core::dictionary! {
-    Big {
+    minimal Big {
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1", "Entry", default = PdoMapping::mapping(&[MappingEntry::new(0, 0, 255); 255]));
         0x1601 => pdo(rx2, RW_PREOP, "RxPDO 2", "Entry", default = PdoMapping::mapping(&[MappingEntry::new(0, 0, 255); 255]));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));

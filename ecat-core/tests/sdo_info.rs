@@ -28,7 +28,7 @@ struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
+    minimal Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
         0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
         0x1018 => record(identity: Identity, "Identity object") {
@@ -353,13 +353,19 @@ fn object_description_of_an_array_reports_the_element_type_and_count() {
 }
 
 #[test]
-fn object_description_of_a_record_reports_no_type_and_the_highest_subindex() {
+fn object_description_of_a_record_reports_its_standard_type_and_the_highest_subindex() {
+    // 0x1018: data type 0x0023 IDENTITY (SSC's DEFTYPE_IDENTITY), max sub 3, RECORD.
     assert_eq!(
         ask(&[0x03, 0x00, 0x00, 0x00, 0x18, 0x10]),
         message(
             0x04,
-            &[&[0x18, 0x10, 0x00, 0x00, 0x03, 0x09], b"Identity object"]
+            &[&[0x18, 0x10, 0x23, 0x00, 0x03, 0x09], b"Identity object"]
         )
+    );
+    // An application's record has no type of its own: 0x0000.
+    assert_eq!(
+        ask(&[0x03, 0x00, 0x00, 0x00, 0x00, 0x70]),
+        message(0x04, &[&[0x00, 0x70, 0x00, 0x00, 0x02, 0x09], b"Outputs"])
     );
 }
 
@@ -640,7 +646,7 @@ struct Sparse {
 }
 
 ecat_core::dictionary! {
-    Sparse {
+    minimal Sparse {
         0x2000 => var(set, RW, "Set");
         0x3000 => record(record: Record, "Sparse record") {
             1 => first, RO, "First";
@@ -765,7 +771,7 @@ macro_rules! big_dictionary {
         }
 
         ecat_core::dictionary! {
-            Big {
+            minimal Big {
                 $($index => var($field, $access, "Object");)*
             }
         }

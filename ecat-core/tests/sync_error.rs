@@ -20,7 +20,8 @@ pub struct Od {
 }
 
 ecat_core::dictionary! {
-    Od {
+    // 0x10F1 alone: a test of the limit lookup, no CoE device.
+    minimal Od {
         0x1000 => var(device_type, RO, "Device type");
         0x10F1 => record(error_settings: ErrorSettings, "Error settings") {
             1 => local_error_reaction, RW, "Local error reaction";
@@ -36,7 +37,7 @@ pub struct Plain {
 }
 
 ecat_core::dictionary! {
-    Plain {
+    minimal Plain {
         0x1000 => var(device_type, RO, "Device type");
     }
 }

@@ -63,15 +63,24 @@ def test_the_axis_reaches_op_in_dc_mode_and_runs_thousands_of_cycles(master):
         if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
             break
         time.sleep(0.001)
-    assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
+    master.read_state()
+    states = {name: (hex(s.state), hex(s.al_status)) for name, s in zip(LINE, master.slaves)}
+    assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE, states
+    # A PLC sends one frame per SYNC0 cycle, locked to the DC time; this loop runs on a
+    # non-real-time Python interpreter, so it sends every half cycle: each SYNC0 cycle then
+    # finds new outputs even when the interpreter is late once. A SYNC0 cycle without new
+    # outputs counts +3 against the sync error limit (SSC's rule, 0x10F1:02 = 4 by default):
+    # two in a row take the axis to SAFEOP with 0x001A, which is what a real drive does.
     bad = 0
-    for _ in range(3000):
+    for _ in range(6000):
         master.send_processdata()
         if master.receive_processdata(20_000) != master.expected_wkc:
             bad += 1
-        time.sleep(0.001)
-    assert bad == 0
+        time.sleep(0.0005)
     master.read_state()
-    assert axis.state == pysoem.OP_STATE
-    # The SYNC0 loss supervision did not fire: the axis saw SYNC0 pulses every cycle.
-    assert axis.al_status == 0
+    diag = {si: struct.unpack("<H", axis.sdo_read(0x1C32, si)[:2])[0] for si in (0x0B, 0x0C)}
+    assert bad == 0, diag
+    # Neither the sync error supervision nor the SYNC0 loss supervision fired.
+    assert (axis.state, axis.al_status) == (pysoem.OP_STATE, 0), diag
+    # The axis ran DC cycles: 0x1C32:0A shows the SYNC0 cycle time it follows.
+    assert struct.unpack("<I", axis.sdo_read(0x1C32, 0x0A))[0] == CYCLE_NS

@@ -10,10 +10,9 @@
 
 use ecat_core::DeviceConfig;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{ObjectDictionary, VisibleString};
+use ecat_core::dictionary::{Communication, DeviceInfo, ObjectDictionary, OctetString};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::{self, Names};
-use ecat_core::sync::SyncParameters;
 use ecat_embassy::CycleHandler;
 
 use crate::harness::{AcceptAll, Device};
@@ -23,6 +22,8 @@ use crate::harness::{AcceptAll, Device};
 /// velocity, mode display (11 bytes); both configurable in PREOP.
 #[derive(Debug)]
 pub struct Drive {
+    /// The communication area (0x1000..0x1018, 0x1C00, 0x1C32, 0x1C33).
+    pub area: Communication,
     /// 0x6040.
     pub controlword: u16,
     /// 0x607A.
@@ -47,12 +48,9 @@ pub struct Drive {
     pub rx_assign: PdoAssignment<2>,
     /// 0x1C13.
     pub tx_assign: PdoAssignment<2>,
-    /// 0x1C32.
-    pub sync_out: SyncParameters,
-    /// 0x1C33.
-    pub sync_in: SyncParameters,
-    /// 0x1018.
-    pub identity: Identity,
+    /// 0x2000: 128 bytes a MainDevice may write and read back, more than one SDO message of a
+    /// 128-byte mailbox carries: segmented transfers both ways.
+    pub scratch: OctetString<128>,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -73,13 +71,12 @@ pub const DRIVE_TX: [MappingEntry; 4] = [
 
 ecat_core::dictionary! {
     Drive {
-        0x1018 => identity(identity, DRIVE_IDENTITY);
+        communication(area, DRIVE_INFO);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_RX));
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x1C32 => sync_parameters(sync_out, outputs);
-        0x1C33 => sync_parameters(sync_in, inputs);
+        0x2000 => var(scratch, RW, "Scratch pad");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
         0x6060 => var(mode, RW | RXPDO, "Modes of operation");
@@ -106,6 +103,21 @@ pub const fn sample_identity(product_code: u32) -> Identity {
 
 /// 0x1018 of [`Drive`].
 pub const DRIVE_IDENTITY: Identity = sample_identity(0x0000_0402);
+
+/// The communication area of [`Drive`]: a CiA 402 servo drive (0x1000 = 0x0002_0192).
+pub const DRIVE_INFO: DeviceInfo = sample_info(0x0002_0192, "ecat sample drive", DRIVE_IDENTITY);
+
+/// The communication area of a sample device: `device_type`, `name` (also the SII's),
+/// hardware version "1", the crate's version as software version, `identity`.
+pub const fn sample_info(device_type: u32, name: &'static str, identity: Identity) -> DeviceInfo {
+    DeviceInfo {
+        device_type,
+        name,
+        hardware_version: "1",
+        software_version: env!("CARGO_PKG_VERSION"),
+        identity,
+    }
+}
 
 /// 128-byte mailboxes at 0x1000 and 0x1080, as every sample device has.
 const MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1000, 128);
@@ -153,22 +165,23 @@ impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
     }
 }
 
-/// A sample device in the samples group: (name, order code), identity, fixed (output, input)
-/// sizes for the description, its cycle, its dictionary at its defaults, 128-byte mailboxes.
+/// A sample device in the samples group: its communication area (name and identity), order
+/// code, fixed (output, input) sizes for the description, its cycle, its dictionary at its
+/// defaults, 128-byte mailboxes.
 fn sample<C, D: ObjectDictionary + Default>(
-    (name, order_code): (&'static str, &'static str),
-    identity: Identity,
+    info: &DeviceInfo,
+    order_code: &'static str,
     (outputs, inputs): (u16, u16),
     cycle: C,
 ) -> Sample<AcceptAll, C, D> {
     let config = DeviceConfig::new(MAILBOX, ProcessDataSizes { outputs, inputs });
     let device = Device::new(config, AcceptAll, cycle).with_dictionary(D::default());
     let names = Names {
-        name,
+        name: info.name,
         order_code,
         group: "ecat samples",
     };
-    Sample::new(names, identity, device)
+    Sample::new(names, info.identity, device)
 }
 
 /// Echoes the set-points of [`Drive`] as its actual values.
@@ -185,23 +198,14 @@ impl CycleHandler<Drive> for DriveEcho {
 
 /// The CiA402-like drive: configurable PDOs, SM-synchronous or free-run.
 pub fn drive() -> Sample<AcceptAll, DriveEcho, Drive> {
-    sample(
-        ("ecat sample drive", "ECAT-DRIVE"),
-        DRIVE_IDENTITY,
-        (11, 11),
-        DriveEcho,
-    )
+    sample(&DRIVE_INFO, "ECAT-DRIVE", (11, 11), DriveEcho)
 }
 
 /// A digital I/O module: 16 outputs, 16 inputs, fixed PDOs.
 #[derive(Debug)]
 pub struct Dio {
-    /// 0x1000.
-    pub device_type: u32,
-    /// 0x1008.
-    pub name: VisibleString<32>,
-    /// 0x1018.
-    pub identity: Identity,
+    /// The communication area.
+    pub area: Communication,
     /// 0x1600.
     pub rx: PdoMapping<2>,
     /// 0x1A00.
@@ -219,6 +223,10 @@ pub struct Dio {
 /// 0x1018 of [`Dio`].
 pub const DIO_IDENTITY: Identity = sample_identity(0x0000_1001);
 
+/// The communication area of [`Dio`]: device type 0x0000_1389 (ETG.5001 modular device
+/// profile, no modules).
+pub const DIO_INFO: DeviceInfo = sample_info(0x0000_1389, "ecat sample dio", DIO_IDENTITY);
+
 const DIO_RX: [MappingEntry; 2] = [
     MappingEntry::new(0x7000, 1, 8),
     MappingEntry::new(0x7000, 2, 8),
@@ -230,9 +238,7 @@ const DIO_TX: [MappingEntry; 2] = [
 
 ecat_core::dictionary! {
     Dio {
-        0x1000 => var(device_type, RO, "Device type", default = 0x0000_1389);
-        0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat sample dio"));
-        0x1018 => identity(identity, DIO_IDENTITY);
+        communication(area, DIO_INFO);
         0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&DIO_RX));
         0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&DIO_TX));
         0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
@@ -253,21 +259,14 @@ impl CycleHandler<Dio> for DioLoop {
 
 /// The digital I/O module.
 pub fn dio() -> Sample<AcceptAll, DioLoop, Dio> {
-    sample(
-        ("ecat sample dio", "ECAT-DIO-16"),
-        DIO_IDENTITY,
-        (2, 2),
-        DioLoop,
-    )
+    sample(&DIO_INFO, "ECAT-DIO-16", (2, 2), DioLoop)
 }
 
 /// An input-only sensor: a measured value and a status word.
 #[derive(Debug)]
 pub struct Sensor {
-    /// 0x1000.
-    pub device_type: u32,
-    /// 0x1018.
-    pub identity: Identity,
+    /// The communication area.
+    pub area: Communication,
     /// 0x1A00.
     pub tx: PdoMapping<2>,
     /// 0x1C12: no RxPDO.
@@ -283,6 +282,9 @@ pub struct Sensor {
 /// 0x1018 of [`Sensor`].
 pub const SENSOR_IDENTITY: Identity = sample_identity(0x0000_2001);
 
+/// The communication area of [`Sensor`].
+pub const SENSOR_INFO: DeviceInfo = sample_info(0x0000_1389, "ecat sample sensor", SENSOR_IDENTITY);
+
 const SENSOR_TX: [MappingEntry; 2] = [
     MappingEntry::new(0x6000, 0, 32),
     MappingEntry::new(0x6001, 0, 16),
@@ -290,8 +292,7 @@ const SENSOR_TX: [MappingEntry; 2] = [
 
 ecat_core::dictionary! {
     Sensor {
-        0x1000 => var(device_type, RO, "Device type", default = 0x0000_1389);
-        0x1018 => identity(identity, SENSOR_IDENTITY);
+        communication(area, SENSOR_INFO);
         0x1A00 => pdo(tx, RO, "Measurement", "Mapped object", default = PdoMapping::mapping(&SENSOR_TX));
         0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[]));
         0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
@@ -312,10 +313,62 @@ impl CycleHandler<Sensor> for SensorCounter {
 
 /// The input-only sensor.
 pub fn sensor() -> Sample<AcceptAll, SensorCounter, Sensor> {
-    sample(
-        ("ecat sample sensor", "ECAT-SENSOR"),
-        SENSOR_IDENTITY,
-        (0, 6),
-        SensorCounter,
-    )
+    sample(&SENSOR_INFO, "ECAT-SENSOR", (0, 6), SensorCounter)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn indices<D: ObjectDictionary>() -> Vec<u16> {
+        D::OBJECTS.iter().map(|o| o.info.index).collect()
+    }
+
+    /// Every sample carries the communication area and both PDO assignments (what SOEM's
+    /// `config_map` reads of every CoE device), then its own objects.
+    #[test]
+    fn every_sample_has_the_mandatory_objects() {
+        const AREA: [u16; 6] = [0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00];
+        let with = |pdos: &[u16], own: &[u16]| -> Vec<u16> {
+            let mut all = AREA.to_vec();
+            all.extend_from_slice(pdos);
+            all.extend_from_slice(&[0x1C00, 0x1C12, 0x1C13, 0x1C32, 0x1C33]);
+            all.extend_from_slice(own);
+            all.sort_unstable();
+            all.dedup();
+            all
+        };
+        assert_eq!(
+            indices::<Drive>(),
+            with(
+                &[0x1600, 0x1A00],
+                &[
+                    0x2000, 0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A, 0x60FF
+                ]
+            )
+        );
+        assert_eq!(indices::<Dio>(), with(&[0x1600, 0x1A00], &[0x6000, 0x7000]));
+        assert_eq!(indices::<Sensor>(), with(&[0x1A00], &[0x6000, 0x6001]));
+    }
+
+    /// 0x1008 and 0x1018 say what the SII image says: the same constants.
+    #[test]
+    fn names_and_identity_agree_with_the_sii_description() {
+        let read = |od: &Dio, index: u16, sub: u8| {
+            let object = Dio::object(index).unwrap();
+            let mut out = [0u8; 64];
+            let n = (object.read)(od, sub, 0, &mut out).unwrap().copied;
+            out[..n].to_vec()
+        };
+        let sample = dio();
+        assert_eq!(
+            read(&sample.device.od, 0x1008, 0),
+            sample.names.name.as_bytes()
+        );
+        assert_eq!(
+            read(&sample.device.od, 0x1018, 2),
+            sample.identity.product_code.to_le_bytes()
+        );
+        assert_eq!(read(&sample.device.od, 0x1000, 0), 0x1389u32.to_le_bytes());
+    }
 }

@@ -20,13 +20,15 @@
 
 use ecat_core::coe::Emergency;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{Bits, Domain, OctetString, UnicodeString, VisibleString};
+use ecat_core::dictionary::{
+    Bits, Communication, DeviceInfo, Domain, OctetString, UnicodeString, VisibleString,
+};
 use ecat_core::mailbox::MailboxHeader;
 use ecat_core::mailbox::MailboxType;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-use ecat_core::sync::{CycleMonitor, CycleReport, SupportedSync, SyncParameters};
+use ecat_core::sync::{CycleMonitor, CycleReport, SupportedSync};
 use ecat_core::{
     Access, AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Instant, SubDevice, register,
 };
@@ -50,10 +52,8 @@ pub struct Record {
 /// CiA402-like process data.
 #[derive(Debug)]
 pub struct FuzzOd {
-    /// 0x1008.
-    pub name: VisibleString<32>,
-    /// 0x1018.
-    pub identity: Identity,
+    /// The communication area.
+    pub area: Communication,
     /// 0x1600.
     pub rx1: PdoMapping<8>,
     /// 0x1601.
@@ -64,10 +64,6 @@ pub struct FuzzOd {
     pub rx_assign: PdoAssignment<2>,
     /// 0x1C13.
     pub tx_assign: PdoAssignment<2>,
-    /// 0x1C32.
-    pub sync_out: SyncParameters,
-    /// 0x1C33.
-    pub sync_in: SyncParameters,
     /// 0x2000.
     pub text: VisibleString<300>,
     /// 0x2001.
@@ -104,6 +100,15 @@ pub const IDENTITY: Identity = Identity {
     serial: 1,
 };
 
+/// The communication area of the fuzzed device.
+pub const INFO: DeviceInfo = DeviceInfo {
+    device_type: 0x0002_0192,
+    name: "fuzz",
+    hardware_version: "1",
+    software_version: "1",
+    identity: IDENTITY,
+};
+
 const RX: [MappingEntry; 3] = [
     MappingEntry::new(0x6040, 0, 16),
     MappingEntry::new(0x607A, 0, 32),
@@ -118,15 +123,12 @@ const TX: [MappingEntry; 3] = [
 
 ecat_core::dictionary! {
     FuzzOd {
-        0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"fuzz"));
-        0x1018 => identity(identity, IDENTITY);
+        communication(area, INFO);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1", "Entry", default = PdoMapping::mapping(&RX));
         0x1601 => pdo(rx2, RW_PREOP, "RxPDO 2", "Entry");
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1", "Entry", default = PdoMapping::mapping(&TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x1C32 => sync_parameters(sync_out, outputs);
-        0x1C33 => sync_parameters(sync_in, inputs);
         0x2000 => var(text, RW, "Text");
         0x2001 => var(blob, RW, "Blob");
         0x2002 => record(record: Record, "Record") {

@@ -37,7 +37,8 @@ const IO_RX: [MappingEntry; 16] = io_mapping(0x7000);
 const IO_TX: [MappingEntry; 16] = io_mapping(0x6000);
 
 ecat_core::dictionary! {
-    Io {
+    // The copy of 64 entries alone: no communication area.
+    minimal Io {
         0x1600 => pdo(rx, RW_PREOP, "RxPDO", "Entry", default = PdoMapping::mapping(&IO_RX));
         0x1A00 => pdo(tx, RW_PREOP, "TxPDO", "Entry", default = PdoMapping::mapping(&IO_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 assignment", "PDO", default = PdoAssignment::assignment(&[0x1600]));

@@ -5,37 +5,40 @@
 ///
 /// ```text
 /// dictionary! {
-///     Struct {
+///     [minimal] Struct {
+///         communication(field, DEVICE_INFO);
 ///         INDEX => var(field, ACCESS, "Name" [, default = EXPR] [, min = EXPR] [, max = EXPR] [, unit = EXPR]);
 ///         INDEX => array(field, ACCESS, "Name", "Element name" [, default = …] [, min = …] [, max = …] [, unit = …]);
 ///         INDEX => record(field: RecordType, "Name") {
 ///             SUB => field, ACCESS, "Name" [, default = …] [, min = …] [, max = …] [, unit = …];
 ///         };
 ///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
-///         0x1018 => identity(field, IDENTITY);
-///         0x1C00 => sync_manager_types(field);
-///         0x1C32 => sync_parameters(field, outputs);   // and 0x1C33 … inputs
 ///     }
 /// }
 /// ```
 ///
-/// `sync_parameters` declares 0x1C32 (`outputs`) or 0x1C33 (`inputs`) as the standard record of a
-/// [`sync::SyncParameters`](crate::sync::SyncParameters) field with the entries the stack fills
-/// (SI1 sync type: writable in PREOP, default 1 for the outputs, 0x22 for the inputs — the
-/// inputs' type follows the outputs' ([`sync::input_sync_type`](crate::sync::input_sync_type)),
-/// so a value a MainDevice writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is
-/// replaced by the type in effect when the configuration is next refreshed, and one that is no
-/// sync type is refused, [`sync::check_input_sync_write`](crate::sync::check_input_sync_write);
-/// SI2 cycle time writable in PREOP; SI3, SI4, SI5, SI6, SI9, SI 0x0B, 0x0C, 0x20 read-only).
+/// `communication` (first, once) makes the communication area
+/// ([`dictionary::communication`](crate::dictionary::communication)) from the
+/// [`DeviceInfo`](crate::dictionary::DeviceInfo) constant `DEVICE_INFO` and a
+/// [`Communication`](crate::dictionary::Communication) field: 0x1000 device type, 0x1008/0x1009/
+/// 0x100A names and versions, 0x1018 identity (initialised from `DEVICE_INFO.identity`, the same
+/// constant the SII image and the ESI file are generated from), 0x1C00 SyncManager types
+/// ([`sii::SM_TYPES`](crate::sii::SM_TYPES), as the SII and ESI give them), and 0x1C32/0x1C33,
+/// SSC's sync parameter records with the entries the stack fills (SI1 sync type: writable in
+/// PREOP, default 1 for the outputs, 0x22 for the inputs — the inputs' type follows the
+/// outputs' ([`sync::input_sync_type`](crate::sync::input_sync_type)), so a value a MainDevice
+/// writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is replaced by the type in
+/// effect when the configuration is next refreshed, and one that is no sync type is refused,
+/// [`sync::check_input_sync_write`](crate::sync::check_input_sync_write); SI2 cycle time
+/// writable in PREOP; SI8 get cycle time writable in every state; SI3..SI7, SI9, SI 0x0A..0x0D,
+/// 0x20 read-only; SI0 = 0x20). The area's objects are merged with the application's by index
+/// at compile time; the application may not declare them itself.
 ///
-/// `sync_manager_types` declares 0x1C00 as the read-only ARRAY of a `[u8; 4]` field holding (and
-/// declaring as defaults) the communication types of SM0..SM3, [`sii::SM_TYPES`](crate::sii::SM_TYPES):
-/// mailbox out, mailbox in, outputs, inputs — what the SII and ESI say of the same SyncManagers.
-///
-/// `identity` declares the identity object as the standard read-only record of a
-/// [`device::Identity`](crate::device::Identity) field, initialised from the device's constant
-/// `IDENTITY` — the same constant the SII image (and the ESI file) are generated from, so 0x1018
-/// and the EEPROM cannot disagree.
+/// A dictionary is a CoE device's unless it starts with `minimal`: it must have the
+/// communication area and the PDO assignments 0x1C12 and 0x1C13 (SOEM's `config_map` reads
+/// 0x1C00 and both assignments of every CoE device; an abort there fails the configuration),
+/// else it does not compile. `minimal` is for what is no CoE device's dictionary: tests of one
+/// feature (the SDO server, the PDO rules) and benchmarks.
 ///
 /// `pdo` declares a PDO mapping (0x1600..0x17FF, 0x1A00..0x1BFF; field type
 /// [`PdoMapping<N>`](crate::pdo::PdoMapping)) or assignment object (0x1C12, 0x1C13;
@@ -50,10 +53,65 @@
 /// subindices ascend strictly, that only mappable types are PDO-mappable and that PDO mapping and
 /// assignment objects are writable in PREOP only:
 ///
+/// ```compile_fail,E0080
+/// pub struct Od { a: u8 }
+/// ecat_core::dictionary! {
+///     Od {
+///         0x2000 => var(a, RO, "A"); // no communication area: does not compile
+///     }
+/// }
+/// ```
+///
+/// ```compile_fail,E0080
+/// use ecat_core::dictionary::{Communication, DeviceInfo};
+/// # use ecat_core::device::Identity;
+/// # const INFO: DeviceInfo = DeviceInfo { device_type: 0, name: "a", hardware_version: "1",
+/// #     software_version: "1", identity: Identity { vendor_id: 1, product_code: 1, revision: 1, serial: 1 } };
+/// pub struct Od { area: Communication, a: u8 }
+/// ecat_core::dictionary! {
+///     Od {
+///         communication(area, INFO);
+///         0x2000 => var(a, RO, "A"); // no 0x1C12/0x1C13: does not compile
+///     }
+/// }
+/// ```
+///
+/// ```compile_fail,E0080
+/// use ecat_core::dictionary::{Communication, DeviceInfo};
+/// # use ecat_core::device::Identity;
+/// # const INFO: DeviceInfo = DeviceInfo { device_type: 0, name: "a", hardware_version: "1",
+/// #     software_version: "1", identity: Identity { vendor_id: 1, product_code: 1, revision: 1, serial: 1 } };
+/// pub struct Od { area: Communication, t: u32 }
+/// ecat_core::dictionary! {
+///     minimal Od {
+///         communication(area, INFO);
+///         0x1000 => var(t, RO, "Device type"); // the area's: does not compile
+///     }
+/// }
+/// ```
+///
+/// ```
+/// // The same without the mistake compiles: `minimal`, no assignments needed.
+/// use ecat_core::dictionary::{Communication, DeviceInfo};
+/// # use ecat_core::device::Identity;
+/// # const INFO: DeviceInfo = DeviceInfo { device_type: 0, name: "a", hardware_version: "1",
+/// #     software_version: "1", identity: Identity { vendor_id: 1, product_code: 1, revision: 1, serial: 1 } };
+/// pub struct Od { area: Communication, t: u32 }
+/// ecat_core::dictionary! {
+///     minimal Od {
+///         communication(area, INFO);
+///         0x2000 => var(t, RO, "Value");
+///     }
+/// }
+/// ```
+///
+/// The other checks hold for every dictionary (the examples are `minimal` to show one rule
+/// each):
+///
 /// ```compile_fail
 /// pub struct Od { a: u8, b: u8 }
 /// ecat_core::dictionary! {
-///     Od {
+///     minimal Od {
 ///         0x2001 => var(a, RO, "A");
 ///         0x2000 => var(b, RO, "B"); // not ascending: does not compile
 ///     }
@@ -64,7 +122,7 @@
 /// use ecat_core::dictionary::VisibleString;
 /// pub struct Od { name: VisibleString<8> }
 /// ecat_core::dictionary! {
-///     Od {
+///     minimal Od {
 ///         0x2000 => var(name, RW | TXPDO, "Name"); // a string is not PDO-mappable
 ///     }
 /// }
@@ -73,7 +131,7 @@
 /// ```compile_fail
 /// pub struct Od { a: u8 }
 /// ecat_core::dictionary! {
-///     Od {
+///     minimal Od {
 ///         0x2000 => var(a, RO, "A", min = 300); // 300 is not a u8
 ///     }
 /// }
@@ -83,22 +141,60 @@
 /// use ecat_core::pdo::PdoAssignment;
 /// pub struct Od { assign: PdoAssignment<2> }
 /// ecat_core::dictionary! {
-///     Od {
+///     minimal Od {
 ///         0x1C12 => pdo(assign, RW, "SM2 assignment", "PDO"); // writable in OP: does not compile
 ///     }
 /// }
 /// ```
 #[macro_export]
 macro_rules! dictionary {
-    (
-        $dict:ident {
-            $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*
-        }
-    ) => {
+    (minimal $dict:ident { $($body:tt)* }) => {
+        $crate::__ecat_dictionary!(minimal, $dict { $($body)* });
+    };
+    ($dict:ident { $($body:tt)* }) => {
+        $crate::__ecat_dictionary!(coe, $dict { $($body)* });
+    };
+}
+
+/// [`dictionary!`] with or without the communication area: the table of objects and the
+/// fields' defaults, then the common part.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_dictionary {
+    ($mode:ident, $dict:ident { communication ( $area:ident, $info:path ) ; $($items:tt)* }) => {
+        $crate::__ecat_impl!($mode, $dict, {
+            const APPLICATION: &[$crate::dictionary::Object<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
+            const AREA: [$crate::dictionary::Object<$dict>; 8] = $crate::__ecat_communication!($dict, $area, $info);
+            const _: () = assert!(
+                $crate::dictionary::communication::leaves_communication_area(APPLICATION),
+                "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
+            );
+            &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
+        }, [$area: $crate::dictionary::Communication::new(&$info),] $($items)*);
+    };
+    ($mode:ident, $dict:ident { $($items:tt)* }) => {
+        $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [] $($items)*);
+    };
+}
+
+/// The table of an application's objects.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_objects {
+    ($dict:ident, $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
+        &[ $( $crate::__ecat_object!($dict, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?), )* ]
+    };
+}
+
+/// The implementation of [`ObjectDictionary`](crate::dictionary::ObjectDictionary) and `Default`
+/// for the table `$objects`, and the `const` checks (`coe`: also the mandatory objects).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_impl {
+    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*]
+     $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
-            const OBJECTS: &'static [$crate::dictionary::Object<Self>] = &[
-                $( $crate::__ecat_object!($dict, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?), )*
-            ];
+            const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
 
             type Offsets = [u16; $crate::pdo::layout::mappable_entries(
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
@@ -121,11 +217,13 @@ macro_rules! dictionary {
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
 
+            #[allow(unused_variables)] // a dictionary without RxPDO-mappable entries
             fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(unpack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
             }
 
+            #[allow(unused_variables)] // a dictionary without TxPDO-mappable entries
             fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(pack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
@@ -146,14 +244,141 @@ macro_rules! dictionary {
                 $crate::dictionary::pdo_configuration_preop_only(objects),
                 "PDO mapping and assignment objects may be writable in PREOP only"
             );
+            $crate::__ecat_mandatory!($mode, objects);
         };
 
         impl ::core::default::Default for $dict {
             fn default() -> Self {
                 Self {
+                    $($area)*
                     $( $field: $crate::__ecat_default!($kind ( $field $($spec)* ) $({ $($subs)* })?), )*
                 }
             }
+        }
+    };
+}
+
+/// The mandatory objects of a CoE device (`coe`), none for a `minimal` dictionary.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_mandatory {
+    (minimal, $objects:ident) => {};
+    (coe, $objects:ident) => {
+        assert!(
+            $crate::dictionary::communication::has_communication_area($objects),
+            "a CoE device's dictionary needs the communication area (0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32, 0x1C33): declare `communication(field, DEVICE_INFO);` first, or start with `minimal` a dictionary that is no CoE device's"
+        );
+        assert!(
+            $crate::dictionary::communication::has_pdo_assignments($objects),
+            "a CoE device's dictionary needs 0x1C12 and 0x1C13 (SM2/SM3 PDO assignment; `pdo` items, empty for a direction without process data): MainDevices read both"
+        );
+    };
+}
+
+/// The objects of the communication area, ascending: thin calls into the shared code of
+/// [`dictionary::communication`](crate::dictionary::communication) and
+/// [`SyncParameters`](crate::sync::SyncParameters) with the place of the field.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_communication {
+    ($dict:ident, $area:ident, $info:path) => {
+        [
+            $crate::dictionary::Object::<$dict> {
+                info: $crate::dictionary::communication::DEVICE_TYPE,
+                read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                    $crate::dictionary::communication::read_u32($info.device_type, sub, offset, out)
+                },
+                write: $crate::dictionary::communication::read_only::<$dict>,
+                limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
+                    $crate::dictionary::communication::constant_limit(
+                        &$info.device_type.to_le_bytes(),
+                        sub,
+                        which,
+                        out,
+                    )
+                },
+            },
+            $crate::__ecat_text!($dict, 0x1008, "Manufacturer device name", $info.name),
+            $crate::__ecat_text!(
+                $dict,
+                0x1009,
+                "Manufacturer hardware version",
+                $info.hardware_version
+            ),
+            $crate::__ecat_text!(
+                $dict,
+                0x100A,
+                "Manufacturer software version",
+                $info.software_version
+            ),
+            $crate::dictionary::Object::<$dict> {
+                info: $crate::dictionary::communication::IDENTITY,
+                read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                    $crate::dictionary::communication::read_identity(
+                        &d.$area.identity,
+                        sub,
+                        offset,
+                        out,
+                    )
+                },
+                write: $crate::dictionary::communication::read_only::<$dict>,
+                limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
+                    $crate::dictionary::communication::identity_limit(
+                        &$info.identity,
+                        sub,
+                        which,
+                        out,
+                    )
+                },
+            },
+            $crate::dictionary::Object::<$dict> {
+                info: $crate::dictionary::communication::SM_TYPES,
+                read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                    $crate::dictionary::communication::read_sm_types(sub, offset, out)
+                },
+                write: $crate::dictionary::communication::read_only::<$dict>,
+                limit: $crate::dictionary::communication::sm_types_limit,
+            },
+            $crate::__ecat_sync_parameters!(
+                $dict,
+                0x1C32,
+                $area.outputs,
+                "SM output parameter",
+                write,
+                output_limit
+            ),
+            $crate::__ecat_sync_parameters!(
+                $dict,
+                0x1C33,
+                $area.inputs,
+                "SM input parameter",
+                write_input,
+                input_limit
+            ),
+        ]
+    };
+}
+
+/// A text constant of the communication area (0x1008, 0x1009, 0x100A).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_text {
+    ($dict:ident, $index:literal, $name:literal, $text:expr) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Var,
+                name: $name,
+                max_sub: 0,
+                entries: &[$crate::dictionary::communication::text_entry($name, $text)],
+            },
+            read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::communication::read_constant($text.as_bytes(), sub, offset, out)
+            },
+            write: $crate::dictionary::communication::read_only::<$dict>,
+            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
+                $crate::dictionary::communication::constant_limit($text.as_bytes(), sub, which, out)
+            },
         }
     };
 }
@@ -243,7 +468,7 @@ macro_rules! __ecat_object {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
-                code: $crate::dictionary::ObjectCode::Array,
+                code: $crate::dictionary::pdo_object_code($index),
                 name: $name,
                 max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field.items),
                 entries: &[
@@ -281,44 +506,6 @@ macro_rules! __ecat_object {
             },
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
-    };
-    ($dict:ident, $index:literal, sync_parameters ( $field:ident, outputs )) => {
-        $crate::__ecat_sync_parameters!($dict, $index, $field, "SM output parameter", RW_PREOP, 1)
-    };
-    ($dict:ident, $index:literal, sync_parameters ( $field:ident, inputs )) => {{
-        const RECORD: $crate::dictionary::Object<$dict> =
-            $crate::__ecat_sync_parameters!($dict, $index, $field, "SM input parameter", RW_PREOP, 0x22);
-        $crate::dictionary::Object::<$dict> {
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                $crate::sync::check_input_sync_write(sub, data)?;
-                (RECORD.write)(d, sub, data)
-            },
-            ..RECORD
-        }
-    }};
-    ($dict:ident, $index:literal, sync_manager_types ( $field:ident )) => {
-        $crate::dictionary::Object::<$dict> {
-            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                let value = usize::from(sub).checked_sub(1).and_then(|i| $crate::sii::SM_TYPES.get(i));
-                match (which, value, out.first_mut()) {
-                    ($crate::dictionary::Limit::Default, Some(&value), Some(out)) => {
-                        *out = value;
-                        1
-                    }
-                    _ => 0,
-                }
-            },
-            // `default` marks the element's default as declared; `limit` above gives each its own.
-            ..$crate::__ecat_object!($dict, $index, array ( $field, RO, "Sync manager type", "SM type", default = 0 ))
-        }
-    };
-    ($dict:ident, $index:literal, identity ( $field:ident, $value:expr )) => {
-        $crate::__ecat_object!($dict, $index, record ( $field : Identity, "Identity object" ) {
-            1 => vendor_id, RO, "Vendor ID", default = $value.vendor_id;
-            2 => product_code, RO, "Product code", default = $value.product_code;
-            3 => revision, RO, "Revision number", default = $value.revision;
-            4 => serial, RO, "Serial number", default = $value.serial;
-        })
     };
     ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
@@ -430,18 +617,6 @@ macro_rules! __ecat_default {
     (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
         $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
     };
-    (identity ( $field:ident, $value:expr )) => {
-        $value
-    };
-    (sync_manager_types ( $field:ident )) => {
-        $crate::sii::SM_TYPES
-    };
-    (sync_parameters ( $field:ident, outputs )) => {
-        $crate::sync::SyncParameters { sync_type: 1, ..$crate::sync::SyncParameters::DEFAULT }
-    };
-    (sync_parameters ( $field:ident, inputs )) => {
-        $crate::sync::SyncParameters { sync_type: 0x22, ..$crate::sync::SyncParameters::DEFAULT }
-    };
     (record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
            $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
@@ -451,23 +626,26 @@ macro_rules! __ecat_default {
 }
 
 /// The record of a sync manager parameter object (0x1C32 outputs, 0x1C33 inputs; ETG.1000.6
-/// Table 74) with the entries the stack fills: SI1's access and default differ.
+/// Table 74): the standard entries ([`sync::PARAMETER_ENTRIES`](crate::sync::PARAMETER_ENTRIES)),
+/// read and written by the non-generic [`SyncParameters`](crate::sync::SyncParameters) methods
+/// every dictionary shares (`$write`: `write`, or `write_input` for 0x1C33); `$limit` declares
+/// SI1's default.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_sync_parameters {
-    ($dict:ident, $index:literal, $field:ident, $name:literal, $sync_access:ident, $sync_default:literal) => {
-        $crate::__ecat_object!($dict, $index, record ( $field : SyncParameters, $name ) {
-            1 => sync_type, $sync_access, "Synchronization type", default = $sync_default;
-            2 => cycle_time, RW_PREOP, "Cycle time";
-            3 => shift_time, RO, "Shift time";
-            4 => supported, RO, "Synchronization types supported";
-            5 => min_cycle_time, RO, "Minimum cycle time";
-            6 => calc_copy_time, RO, "Calc and copy time";
-            9 => delay_time, RO, "Delay time";
-            0x0B => sm_event_missed, RO, "SM event missed counter";
-            0x0C => cycle_time_too_small, RO, "Cycle time too small counter";
-            0x20 => sync_error, RO, "Sync error";
-        })
+    ($dict:ident, $index:literal, $($place:ident).+, $name:literal, $write:ident, $limit:ident) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $index,
+                code: $crate::dictionary::ObjectCode::Record,
+                name: $name,
+                max_sub: $crate::sync::SyncParameters::MAX_SUB,
+                entries: $crate::sync::PARAMETER_ENTRIES,
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| d.$($place).+.read(sub, offset, out),
+            write: |d: &mut $dict, sub: u8, data: &[u8]| d.$($place).+.$write(sub, data),
+            limit: $crate::sync::$limit,
+        }
     };
 }
 

@@ -5,39 +5,61 @@
 //! writes directly — and maps indices onto the fields with [`dictionary!`](crate::dictionary!):
 //!
 //! ```
-//! use ecat_core::dictionary::{VisibleString, ObjectDictionary};
+//! use ecat_core::device::Identity;
+//! use ecat_core::dictionary::{Communication, DeviceInfo, ObjectDictionary};
+//! use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 //!
-//! pub struct Identity { pub vendor_id: u32, pub product_code: u32, pub revision: u32, pub serial: u32 }
+//! /// The description constants of the communication area (0x1000..0x1018).
+//! pub const INFO: DeviceInfo = DeviceInfo {
+//!     device_type: 0x0002_0192,
+//!     name: "ecat drive",
+//!     hardware_version: "A",
+//!     software_version: "0.1.0",
+//!     identity: Identity { vendor_id: 0xE000_0001, product_code: 1, revision: 1, serial: 1 },
+//! };
+//!
+//! pub struct Limits { pub min: i32, pub max: i32 }
 //!
 //! pub struct Od {
-//!     pub device_type: u32,
-//!     pub name: VisibleString<16>,
-//!     pub identity: Identity,
+//!     pub area: Communication,
+//!     pub rx: PdoMapping<2>,
+//!     pub rx_assign: PdoAssignment<1>,
+//!     pub tx_assign: PdoAssignment<1>,
+//!     pub gains: [i16; 4],
 //!     pub controlword: u16,
 //!     pub target_position: i32,
-//!     pub gains: [i16; 4],
+//!     pub limits: Limits,
 //! }
+//!
+//! const RX: [MappingEntry; 2] = [MappingEntry::new(0x6040, 0, 16), MappingEntry::new(0x607A, 0, 32)];
 //!
 //! ecat_core::dictionary! {
 //!     Od {
-//!         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
-//!         0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
-//!         0x1018 => record(identity: Identity, "Identity object") {
-//!             1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
-//!             2 => product_code, RO, "Product code", default = 1;
-//!             3 => revision, RO, "Revision number";
-//!             4 => serial, RO, "Serial number";
-//!         };
+//!         communication(area, INFO);
+//!         0x1600 => pdo(rx, RO, "RxPDO", "Mapped object", default = PdoMapping::mapping(&RX));
+//!         0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+//!         0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[]));
 //!         0x2000 => array(gains, RW, "Gains", "Gain", default = 10, min = 0, max = 1000);
 //!         0x6040 => var(controlword, RW | RXPDO, "Controlword");
 //!         0x607A => var(target_position, RW | RXPDO, "Target position", min = -1_000_000, max = 1_000_000);
+//!         0x607D => record(limits: Limits, "Software position limit") {
+//!             1 => min, RW, "Min position limit";
+//!             2 => max, RW, "Max position limit", default = 1_000_000;
+//!         };
 //!     }
 //! }
 //!
 //! let od = Od::default();
-//! assert_eq!(od.identity.vendor_id, 0xE000_0001);
-//! assert_eq!(Od::OBJECTS.len(), 6);
+//! assert_eq!(od.area.identity.vendor_id, 0xE000_0001);
+//! assert_eq!(od.limits.max, 1_000_000);
+//! // The 8 objects of the communication area and the application's 7, in index order.
+//! assert_eq!(Od::OBJECTS.len(), 15);
 //! ```
+//!
+//! The communication area (0x1000, 0x1008/0x1009/0x100A, 0x1018, 0x1C00, 0x1C32/0x1C33) is
+//! the stack's: one `communication(field, INFO)` item makes it from the description constants
+//! ([`communication`]); a CoE device's declaration without it, or without the PDO
+//! assignments 0x1C12/0x1C13, does not compile.
 //!
 //! What this buys:
 //! - one declaration gives the typed values *and* the metadata every other feature reads (SDO
@@ -54,16 +76,18 @@
 //! DOMAIN) are the [`ObjectHooks`] trait, implemented by the application beside the dictionary.
 
 mod access;
+pub mod communication;
 mod data_type;
 mod macros;
 mod object;
 mod value;
 
 pub use access::Access;
+pub use communication::{Communication, DeviceInfo};
 pub use data_type::DataType;
 pub use object::{
     EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, is_well_formed, mappable_types_only,
-    pdo_configuration_preop_only,
+    pdo_configuration_preop_only, pdo_object_code,
 };
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
@@ -113,7 +137,8 @@ pub trait ObjectDictionary: Sized + 'static {
     }
 }
 
-/// The empty dictionary, for a device without objects of its own.
+/// The empty dictionary: a device that is no CoE device (the state-machine tests). A CoE device's
+/// dictionary comes from [`dictionary!`](crate::dictionary!) with its communication area.
 impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
     type Offsets = [u16; 0];
@@ -145,6 +170,16 @@ pub struct Object<D> {
     /// Encodes a declared default, minimum or maximum of a subindex; 0 bytes when not declared.
     pub limit: fn(u8, Limit, &mut [u8]) -> usize,
 }
+
+// Not derived: a description and three `fn` pointers copy whatever `D` is (the
+// communication area's table is merged with the application's at compile time).
+impl<D> Clone for Object<D> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<D> Copy for Object<D> {}
 
 /// The application's say in SDO access, implemented beside the dictionary. Every method has a
 /// default that does nothing special.

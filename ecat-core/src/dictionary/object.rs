@@ -99,6 +99,19 @@ pub struct ObjectInfo {
 }
 
 impl ObjectInfo {
+    /// Whether SI1..=`max_sub` share one description, the second of `entries`: every ARRAY,
+    /// and a RECORD that describes only SI1 below a higher `max_sub` — how a PDO mapping object
+    /// (0x1600..0x17FF, 0x1A00..0x1BFF: a RECORD of UNSIGNED32 mapping entries, ETG.1000.6
+    /// §5.6.7.4, data type 0x0021) keeps its like entries, as compact as an ARRAY.
+    pub const fn is_uniform(&self) -> bool {
+        match (self.code, self.entries) {
+            (ObjectCode::Var, _) => false,
+            (ObjectCode::Array, _) => true,
+            (ObjectCode::Record, [_, element]) => element.sub == 1 && self.max_sub > 1,
+            (ObjectCode::Record, _) => false,
+        }
+    }
+
     /// The description of subindex `sub`, `None` if it does not exist.
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
         match self.code {
@@ -109,6 +122,7 @@ impl ObjectInfo {
             // Most records are dense (subindex n at position n): a look there saves the search.
             ObjectCode::Record => match self.entries.get(usize::from(sub)) {
                 Some(entry) if entry.sub == sub => Some(entry),
+                _ if self.is_uniform() => self.entries.get(1).filter(|_| sub <= self.max_sub),
                 _ => {
                     let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
                     self.entries.get(i)
@@ -117,23 +131,47 @@ impl ObjectInfo {
         }
     }
 
-    /// The data type SDO Information reports for the object: the VAR's type, the ARRAY
-    /// element's type, or for a RECORD none of the basic types (0x0000 unless the device
-    /// defines a record type).
+    /// The data type SDO Information reports for the object (ETG.1000.6 Table 64, as SSC's
+    /// object descriptions): the VAR's type, the ARRAY element's type, for a RECORD the
+    /// standard type its index has — 0x0021 PDO mapping (0x1600..0x17FF, 0x1A00..0x1BFF),
+    /// 0x0023 identity (0x1018), 0x0029 sync manager parameter (0x1C30..0x1C4F, ETG.1020) —
+    /// and 0x0000 for an application's record (no type of its own).
     pub fn data_type(&self) -> u16 {
         match self.code {
             ObjectCode::Var => self.entries.first().map_or(0, |e| e.data_type.code()),
             ObjectCode::Array => self.entries.get(1).map_or(0, |e| e.data_type.code()),
-            ObjectCode::Record => 0,
+            ObjectCode::Record => record_type(self.index),
         }
     }
 
-    /// The subindices that exist, in order: 0..=max_sub for VAR and ARRAY, the declared ones for a
-    /// RECORD.
+    /// The subindices that exist, in order: 0..=max_sub for VAR, ARRAY and a uniform RECORD,
+    /// the declared ones for another RECORD.
     pub fn subindices(&self) -> impl Iterator<Item = u8> + '_ {
-        let dense = !matches!(self.code, ObjectCode::Record);
+        let dense = self.is_uniform() || self.code != ObjectCode::Record;
         let declared = self.entries.iter().map(|e| e.sub).filter(move |_| !dense);
         (0..=self.max_sub).filter(move |_| dense).chain(declared)
+    }
+}
+
+/// The data type of the standard RECORD at `index` (ETG.1000.6 Table 64: PDO_MAPPING 0x0021,
+/// IDENTITY 0x0023; ETG.1020: SYNC_PAR 0x0029), 0 for any other index.
+const fn record_type(index: u16) -> u16 {
+    match index {
+        0x1600..=0x17FF | 0x1A00..=0x1BFF => 0x0021,
+        0x1018 => 0x0023,
+        0x1C30..=0x1C4F => 0x0029,
+        _ => 0,
+    }
+}
+
+/// The object code of the `pdo` kind at `index`: RECORD for a PDO mapping object (its data
+/// type is 0x0021, [`ObjectInfo::data_type`]), ARRAY of UNSIGNED16 for an assignment object
+/// (ETG.1000.6 §5.6.7.4, as SSC's object descriptions and ESI files give them).
+#[doc(hidden)]
+pub const fn pdo_object_code(index: u16) -> ObjectCode {
+    match crate::pdo::Direction::of_mapping(index) {
+        Some(_) => ObjectCode::Record,
+        None => ObjectCode::Array,
     }
 }
 

@@ -11,7 +11,7 @@
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{Object, ObjectCode, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{Object, ObjectDictionary, ObjectInfo};
 
 /// The offset of an entry the configuration does not map.
 pub const UNMAPPED: u16 = u16::MAX;
@@ -258,11 +258,8 @@ const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usiz
     while j < info.entries.len() {
         let entry = &info.entries[j];
         if entry.access.rxpdo() || entry.access.txpdo() {
-            // An ARRAY's element entry stands for subindices 1..=max_sub.
-            let count = match info.code {
-                ObjectCode::Array => info.max_sub,
-                ObjectCode::Var | ObjectCode::Record => 1,
-            };
+            // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
+            let count = if info.is_uniform() { info.max_sub } else { 1 };
             if let Some(sub) = wanted
                 && sub >= entry.sub
                 && sub - entry.sub < count

@@ -68,7 +68,7 @@ impl Axis {
 
     /// One cycle over the dictionary: the body of [`CycleHandler::cycle`].
     pub fn step(&mut self, od: &mut AxisOd) {
-        let dt = match od.sync_out.cycle_time {
+        let dt = match od.area.outputs.cycle_time {
             0 => DEFAULT_CYCLE_NS,
             configured => configured,
         };

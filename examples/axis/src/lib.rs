@@ -31,7 +31,7 @@ mod od;
 pub use app::AxisApp;
 pub use axis::{Axis, DEFAULT_CYCLE_NS};
 pub use motor::{Motor, TORQUE_ACCELERATION};
-pub use od::{AxisOd, IDENTITY, RX_MAPPING, SUPPORTED_MODES, TX_MAPPING};
+pub use od::{AxisOd, IDENTITY, INFO, RX_MAPPING, SUPPORTED_MODES, TX_MAPPING};
 
 use ecat_core::DeviceConfig;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};

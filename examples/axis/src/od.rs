@@ -1,11 +1,10 @@
-//! The dictionary of the axis: the CiA 301 communication objects, the PDOs, the sync parameters
-//! and the CiA 402 objects of [`ecat_core::cia402::objects`].
+//! The dictionary of the axis: the communication area, the error register, the PDOs and the
+//! CiA 402 objects of [`ecat_core::cia402::objects`].
 
 use ecat_core::cia402::SoftwarePositionLimit;
 use ecat_core::device::Identity;
-use ecat_core::dictionary::VisibleString;
+use ecat_core::dictionary::{Communication, DeviceInfo};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
-use ecat_core::sync::SyncParameters;
 
 /// 0x1018 of the axis; the SII image carries the same value.
 pub const IDENTITY: Identity = Identity {
@@ -13,6 +12,16 @@ pub const IDENTITY: Identity = Identity {
     product_code: 0x0001_0402,
     revision: 1,
     serial: 1,
+};
+
+/// The communication area of the axis: 0x1000 = 0x0002_0192 (CiA 402, servo drive), 0x1008 the
+/// name the SII image and the ESI file carry.
+pub const INFO: DeviceInfo = DeviceInfo {
+    device_type: 0x0002_0192,
+    name: crate::NAMES.name,
+    hardware_version: "sim",
+    software_version: env!("CARGO_PKG_VERSION"),
+    identity: IDENTITY,
 };
 
 /// 0x6502 of the axis: CSP (bit 7), CSV (bit 8), CST (bit 9).
@@ -43,20 +52,11 @@ pub const TX_MAPPING: [MappingEntry; 7] = [
 /// The object dictionary of the axis; `AxisOd::default()` is the dictionary at power on.
 #[derive(Debug)]
 pub struct AxisOd {
-    /// 0x1000 device type: 0x0002_0192 (CiA 402, servo drive).
-    pub device_type: u32,
+    /// The communication area ([`INFO`]); 0x1C32:02 (`area.outputs.cycle_time`) is the cycle
+    /// time the motor integrates over.
+    pub area: Communication,
     /// 0x1001 error register: bit 0 (generic error) while 0x603F is not 0.
     pub error_register: u8,
-    /// 0x1008.
-    pub device_name: VisibleString<16>,
-    /// 0x1009.
-    pub hardware_version: VisibleString<8>,
-    /// 0x100A.
-    pub software_version: VisibleString<8>,
-    /// 0x1018.
-    pub identity: Identity,
-    /// 0x1C00 sync manager communication types: mailbox out, mailbox in, outputs, inputs.
-    pub sm_types: [u8; 4],
     /// 0x1600.
     pub rx_mapping: PdoMapping<8>,
     /// 0x1A00.
@@ -65,8 +65,6 @@ pub struct AxisOd {
     pub rx_assign: PdoAssignment<1>,
     /// 0x1C13.
     pub tx_assign: PdoAssignment<1>,
-    /// 0x1C32: SI2 is the cycle time the motor integrates over.
-    pub sync_out: SyncParameters,
     /// 0x603F error code (CiA 301 emergency error codes).
     pub error_code: u16,
     /// 0x6040.
@@ -119,18 +117,12 @@ pub struct AxisOd {
 
 ecat_core::dictionary! {
     AxisOd {
-        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+        communication(area, INFO);
         0x1001 => var(error_register, RO, "Error register");
-        0x1008 => var(device_name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat axis"));
-        0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"sim"));
-        0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
-        0x1018 => identity(identity, IDENTITY);
         0x1600 => pdo(rx_mapping, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX_MAPPING));
         0x1A00 => pdo(tx_mapping, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX_MAPPING));
-        0x1C00 => sync_manager_types(sm_types);
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x1C32 => sync_parameters(sync_out, outputs);
         0x603F => var(error_code, RO | TXPDO, "Error code");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");

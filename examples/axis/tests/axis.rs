@@ -66,9 +66,9 @@ fn cycles_until(
 fn the_dictionary_declares_the_cia402_objects_as_the_profile_defines_them() {
     assert_eq!(objects::check::<AxisOd>(), Ok(()));
     let od = AxisOd::default();
-    assert_eq!(od.device_type, 0x0002_0192);
-    assert_eq!(od.device_type & 0xFFFF, 402);
-    assert_eq!(od.sm_types, [1, 2, 3, 4]);
+    assert_eq!(ecat_axis::INFO.device_type, 0x0002_0192);
+    assert_eq!(ecat_axis::INFO.device_type & 0xFFFF, 402);
+    assert_eq!(od.area.identity, ecat_axis::IDENTITY);
     assert_eq!(od.supported_modes, SUPPORTED_MODES);
     let bytes = |entries: &[ecat_core::pdo::MappingEntry]| {
         entries.iter().map(|e| u32::from(e.bit_len())).sum::<u32>() / 8
@@ -108,7 +108,7 @@ fn csp_reaches_the_target_in_distance_over_max_velocity_cycles() {
 fn the_cycle_time_comes_from_0x1c32_02() {
     // 2 ms cycles: 2 000 counts per cycle, 5 cycles.
     let (mut axis, mut od) = enabled(CSP);
-    od.sync_out.cycle_time = 2_000_000;
+    od.area.outputs.cycle_time = 2_000_000;
     od.target_position = 10_000;
     let n = cycles_until(&mut axis, &mut od, 0x0F, 100, |od| {
         od.statusword & REACHED != 0
@@ -116,7 +116,7 @@ fn the_cycle_time_comes_from_0x1c32_02() {
     assert_eq!((n, od.position), (5, 10_000));
     // CSV over 250 µs cycles: 4 000 counts/s is exactly one count per cycle.
     let (mut axis, mut od) = enabled(CSV);
-    od.sync_out.cycle_time = 250_000;
+    od.area.outputs.cycle_time = 250_000;
     od.target_velocity = 4_000;
     for n in 1..=8 {
         cycle(&mut axis, &mut od, 0x0F);

@@ -203,6 +203,7 @@ fn type_name(entry: &EntryInfo) -> String {
         DataType::Real32 => "REAL".into(),
         DataType::Real64 => "LREAL".into(),
         DataType::VisibleString => format!("STRING({})", entry.bit_len / 8),
+        DataType::OctetString => format!("OCTET_STRING({})", entry.bit_len / 8),
         other => panic!("no sample uses {other:?}"),
     }
 }
@@ -574,10 +575,19 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             assert_eq!(number(text(items[1], "BitOffs")), offsets[1] as u64);
             check_flags(child(items[1], "Flags"), element.access, info.name);
         } else {
-            assert_eq!(items.len(), info.entries.len());
-            for ((entry, item), offset) in info.entries.iter().zip(&items).zip(&offsets) {
-                assert_eq!(number(text(*item, "SubIdx")), u64::from(entry.sub));
-                assert_eq!(text(*item, "Name"), entry.name);
+            // A uniform RECORD (a PDO mapping) lists every subindex with its one description.
+            let entries: Vec<_> = info
+                .subindices()
+                .filter_map(|s| Some((s, info.entry(s)?)))
+                .collect();
+            assert_eq!(items.len(), entries.len());
+            for (((sub, entry), item), offset) in entries.iter().zip(&items).zip(&offsets) {
+                assert_eq!(number(text(*item, "SubIdx")), u64::from(*sub));
+                let name = match *sub {
+                    1.. if info.is_uniform() => format!("SubIndex {sub:03}"),
+                    _ => entry.name.to_owned(),
+                };
+                assert_eq!(text(*item, "Name"), name);
                 assert_eq!(text(*item, "Type"), type_name(entry));
                 assert_eq!(number(text(*item, "BitSize")), u64::from(entry.bit_len));
                 assert_eq!(number(text(*item, "BitOffs")), *offset as u64);
@@ -606,9 +616,9 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
                 assert_eq!(text(*item, "Name"), si0.name);
             } else {
                 check_values::<D>(values, info.index, *sub);
-                let expected = match info.code {
-                    ObjectCode::Array => format!("SubIndex {sub:03}"),
-                    _ => info.entry(*sub).unwrap().name.to_owned(),
+                let expected = match info.is_uniform() {
+                    true => format!("SubIndex {sub:03}"),
+                    false => info.entry(*sub).unwrap().name.to_owned(),
                 };
                 assert_eq!(text(*item, "Name"), expected);
             }
@@ -666,9 +676,10 @@ fn profile_and_pdo_flags_of_the_samples() {
     );
     assert!(sensor.contains("<TxPdo Sm=\"3\" Fixed=\"true\">\n"));
     assert!(!sensor.contains("<RxPdo"), "the sensor has no outputs");
+    // Every sample has the communication area: the drive's 0x1000 is a CiA 402 servo drive's.
     assert!(
-        !xml("drive").contains("<ProfileNo>"),
-        "the drive has no 0x1000"
+        xml("drive").contains("<ProfileNo>402</ProfileNo>\n"),
+        "0x1000 = 0x00020192"
     );
 }
 

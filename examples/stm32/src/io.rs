@@ -1,5 +1,7 @@
-//! The application: 4 digital outputs (output image bits 0..3) and 4 digital inputs (input image
-//! bits 0..3), 1 byte each way.
+//! The application: 4 digital outputs (0x7000:01..04, output image bits 0..3) and 4 digital
+//! inputs (0x6000:01..04, input image bits 0..3), 1 byte each way, and its dictionary — the one
+//! SOES's sample digital I/O device carries (0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00,
+//! 0x1600, 0x1A00, 0x1C12, 0x1C13, 0x1C32, 0x1C33, 0x6000, 0x7000), with 4 channels a way.
 //!
 //! Inputs are sampled at SYNC0 when the MainDevice runs the distributed clock (DC-synchronous
 //! sampling: every SubDevice of the segment samples at the same instant), at the cycle otherwise.
@@ -7,10 +9,76 @@
 use core::cell::RefCell;
 use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
 
+use ecat_core::device::Identity;
+use ecat_core::dictionary::{Communication, DeviceInfo};
+use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_embassy::CycleHandler;
 use embassy_stm32::gpio::{Input, Level, Output};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
+
+/// The communication area: CiA 401 generic I/O with digital inputs and outputs (0x1000 =
+/// 0x0003_0191), the identity the SII image must carry.
+pub const INFO: DeviceInfo = DeviceInfo {
+    device_type: 0x0003_0191,
+    name: "ecat STM32 digital I/O",
+    hardware_version: "NUCLEO-G474RE",
+    software_version: env!("CARGO_PKG_VERSION"),
+    identity: Identity {
+        vendor_id: 0xE000_0001,
+        product_code: 0x0000_1044,
+        revision: 1,
+        serial: 1,
+    },
+};
+
+/// The dictionary of the digital I/O device.
+pub struct IoOd {
+    /// The communication area ([`INFO`]).
+    pub area: Communication,
+    /// 0x1600: the outputs, then a 4-bit gap.
+    pub rx: PdoMapping<5>,
+    /// 0x1A00: the inputs, then a 4-bit gap.
+    pub tx: PdoMapping<5>,
+    /// 0x1C12.
+    pub rx_assign: PdoAssignment<1>,
+    /// 0x1C13.
+    pub tx_assign: PdoAssignment<1>,
+    /// 0x6000: input n = pin n high (the user button, active low, reads 1 when pressed).
+    pub inputs: [bool; 4],
+    /// 0x7000: output n drives pin n.
+    pub outputs: [bool; 4],
+}
+
+/// 0x7000:01..04, one bit each, and 4 bits of gap: one output byte.
+const RX: [MappingEntry; 5] = [
+    MappingEntry::new(0x7000, 1, 1),
+    MappingEntry::new(0x7000, 2, 1),
+    MappingEntry::new(0x7000, 3, 1),
+    MappingEntry::new(0x7000, 4, 1),
+    MappingEntry::new(0, 0, 4),
+];
+
+/// 0x6000:01..04 and 4 bits of gap: one input byte.
+const TX: [MappingEntry; 5] = [
+    MappingEntry::new(0x6000, 1, 1),
+    MappingEntry::new(0x6000, 2, 1),
+    MappingEntry::new(0x6000, 3, 1),
+    MappingEntry::new(0x6000, 4, 1),
+    MappingEntry::new(0, 0, 4),
+];
+
+ecat_core::dictionary! {
+    IoOd {
+        communication(area, INFO);
+        0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&RX));
+        0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&TX));
+        0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+        0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x6000 => array(inputs, RO | TXPDO, "Digital inputs", "Input");
+        0x7000 => array(outputs, RW | RXPDO, "Digital outputs", "Output");
+    }
+}
 
 /// The input pins, sampled by the cycle and by the SYNC0 task.
 static INPUTS: Mutex<CriticalSectionRawMutex, RefCell<Option<[Input<'static>; 4]>>> =
@@ -63,19 +131,30 @@ pub fn on_process_data_stopped() {
     SYNC0_ACTIVE.store(false, Ordering::Relaxed);
 }
 
-impl CycleHandler<()> for DigitalIo {
-    fn cycle(&mut self, _od: &mut (), outputs: Option<&[u8]>, inputs: &mut [u8]) {
-        match outputs.and_then(|o| o.first()) {
-            Some(&image) => self.apply(image),
+impl CycleHandler<IoOd> for DigitalIo {
+    /// In OP the outputs arrive unpacked in 0x7000; the inputs leave packed from 0x6000.
+    fn cycle(&mut self, od: &mut IoOd, outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+        let image = match outputs {
+            Some(_) => bits(&od.outputs),
             // SAFEOP: outputs stay in their safe state.
-            None => self.apply(0),
-        }
-        if let Some(image) = inputs.first_mut() {
-            *image = if SYNC0_ACTIVE.load(Ordering::Relaxed) {
-                LATCHED.load(Ordering::Relaxed)
-            } else {
-                sample()
-            };
+            None => 0,
+        };
+        self.apply(image);
+        let sampled = if SYNC0_ACTIVE.load(Ordering::Relaxed) {
+            LATCHED.load(Ordering::Relaxed)
+        } else {
+            sample()
+        };
+        for (bit, input) in od.inputs.iter_mut().enumerate() {
+            *input = sampled >> bit & 1 != 0;
         }
     }
+}
+
+/// Bit n = `values[n]`.
+fn bits(values: &[bool; 4]) -> u8 {
+    values
+        .iter()
+        .enumerate()
+        .fold(0, |image, (bit, &on)| image | u8::from(on) << bit)
 }

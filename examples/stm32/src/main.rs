@@ -1,5 +1,6 @@
 //! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
-//! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`).
+//! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its dictionary is
+//! `io::IoOd` (SOES's sample digital I/O objects).
 //!
 //! Two executors (priorities: README.md):
 //! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
@@ -20,7 +21,7 @@ use ecat_core::{DeviceConfig, SubDevice, Transition};
 use ecat_embassy::pd_runner::{Buffers, NoSync0};
 use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_process_data};
 use ecat_stm32::board::Board;
-use ecat_stm32::io::{self, DigitalIo};
+use ecat_stm32::io::{self, DigitalIo, IoOd};
 use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use embassy_stm32::exti::ExtiInput;
@@ -42,10 +43,10 @@ const DEVICE: DeviceConfig = esc::fit(DeviceConfig::new(
 const _: () = assert!(DEVICE.validate().is_ok());
 
 type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;
-type Dictionary = SharedDictionary<CriticalSectionRawMutex, ()>;
+type Dictionary = SharedDictionary<CriticalSectionRawMutex, IoOd>;
 
 static ESC: StaticCell<Esc> = StaticCell::new();
-static DICTIONARY: Dictionary = Mutex::new(RefCell::new(()));
+static DICTIONARY: StaticCell<Dictionary> = StaticCell::new();
 ecat_stm32::executors!();
 
 #[cortex_m_rt::entry]
@@ -70,7 +71,7 @@ impl Application for Hooks {
     }
 }
 
-impl ObjectHooks<()> for Hooks {}
+impl ObjectHooks<IoOd> for Hooks {}
 
 /// The thread executor's task: brings the ESC up (the LAN9252 needs a reset sequence), starts the
 /// process-data runner and the SYNC0 task in the interrupt executor, then runs the state machine
@@ -88,12 +89,13 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
         park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
+    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(IoOd::default())));
     let low = SendSpawner::for_current_executor().await;
     low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
-    high.spawn(unwrap!(process_data(esc, irq, io)));
+    high.spawn(unwrap!(process_data(esc, od, irq, io)));
     high.spawn(unwrap!(sync(sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
-    let error = run_esm(esc, &mut sub, &mut Hooks, &DICTIONARY).await;
+    let error = run_esm(esc, &mut sub, &mut Hooks, od).await;
     error!("PDI failed: {}", error);
     park().await
 }
@@ -102,6 +104,7 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
 #[embassy_executor::task]
 async fn process_data(
     esc: &'static Esc,
+    od: &'static Dictionary,
     mut irq: ExtiInput<'static, Async>,
     mut io: DigitalIo,
 ) -> ! {
@@ -113,7 +116,7 @@ async fn process_data(
     // The device runs SM-synchronous (DEVICE.sync has no DC SYNC0): SYNC0 only latches the
     // inputs, in its own task below.
     let mut no_sync0 = NoSync0::new();
-    let error = run_process_data(esc, &mut irq, &mut no_sync0, &mut io, &DICTIONARY, buffers).await;
+    let error = run_process_data(esc, &mut irq, &mut no_sync0, &mut io, od, buffers).await;
     io.apply(0);
     error!("process data stopped: {}", error);
     park().await

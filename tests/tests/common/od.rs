@@ -5,7 +5,9 @@ use std::rc::Rc;
 
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Identity;
-use ecat_core::dictionary::{Bits, Domain, ObjectHooks, UnicodeString, VisibleString};
+use ecat_core::dictionary::{
+    Bits, Communication, DeviceInfo, Domain, ObjectHooks, UnicodeString, VisibleString,
+};
 use ecat_embassy::Application;
 
 /// 0x1018.
@@ -24,13 +26,8 @@ pub struct Params {
 }
 
 pub struct TestOd {
-    pub device_type: u32,
+    pub area: Communication,
     pub error_register: u8,
-    pub device_name: VisibleString<32>,
-    pub hardware_version: VisibleString<8>,
-    pub software_version: VisibleString<8>,
-    pub identity: Identity,
-    pub sm_types: [u8; 4],
     pub text: VisibleString<300>,
     pub blob: Domain,
     pub params: Params,
@@ -41,15 +38,21 @@ pub struct TestOd {
     pub target_position: i32,
 }
 
+/// The communication area of the test device.
+pub const INFO: DeviceInfo = DeviceInfo {
+    device_type: 0x0002_0192,
+    name: "ecat test device",
+    hardware_version: "1.0",
+    software_version: "0.1.0",
+    identity: IDENTITY,
+};
+
 ecat_core::dictionary! {
-    TestOd {
-        0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
+    // A test device of the SDO server and SDO Information: no process data, so no PDO
+    // assignments.
+    minimal TestOd {
+        communication(area, INFO);
         0x1001 => var(error_register, RO, "Error register");
-        0x1008 => var(device_name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat test device"));
-        0x1009 => var(hardware_version, RO, "Manufacturer hardware version", default = VisibleString::new(b"1.0"));
-        0x100A => var(software_version, RO, "Manufacturer software version", default = VisibleString::new(b"0.1.0"));
-        0x1018 => identity(identity, IDENTITY);
-        0x1C00 => sync_manager_types(sm_types);
         0x2000 => var(text, RW, "Text");
         0x2001 => var(blob, RW, "Blob");
         0x2002 => record(params: Params, "Parameters") {

@@ -2,8 +2,9 @@
 //!
 //! Layout: from subindex 0, SI0 travels as one byte plus one padding byte; from subindex 1, the
 //! entries start at once. Entries follow in subindex order, BOOL and BITn entries packed bit by bit,
-//! byte-sized entries aligned to the next byte. An upload of an ARRAY ends with the entry SI0
-//! counts ([`upload_last`]); one of a RECORD carries its declared entries, a gap nothing. Variable-length entries (strings, domains) make
+//! byte-sized entries aligned to the next byte. An upload of an ARRAY or a PDO mapping RECORD
+//! ends with the entry SI0 counts ([`upload_last`]); one of another RECORD carries its declared
+//! entries, a gap nothing. Variable-length entries (strings, domains) make
 //! an object unfit for complete access (0x06010004).
 
 use crate::coe::AbortCode;
@@ -86,12 +87,13 @@ pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
 /// The highest subindex a complete-access upload carries. Of an ARRAY, the value of SI0: the
 /// object's current size, SI0 and the entries it counts, as SSC 5.12 sizes and reads an ARRAY
 /// (`objdef.c` `OBJ_GetObjectLength`: SI0's value times the element, `OBJ_Read`: entries up to
-/// SI0's value). So 0x1C12/0x1C13 and the PDO mappings, which this stack reports as ARRAYs,
-/// show their configured entries, not every slot of their capacity. Of a RECORD, every declared
-/// entry; an undeclared one (a gap of a sparse record) has no bits, as SSC's gap descriptions
-/// have bit length 0.
+/// SI0's value). So 0x1C12/0x1C13 (ARRAYs) and the PDO mappings (RECORDs of like entries,
+/// [`ObjectInfo::is_uniform`], whose SI0 SSC also reads as the count) show their configured
+/// entries, not every slot of their capacity. Of another RECORD, every declared entry; an
+/// undeclared one (a gap of a sparse record) has no bits, as SSC's gap descriptions have bit
+/// length 0.
 pub fn upload_last<D>(od: &D, object: &Object<D>) -> Result<u8, AbortCode> {
-    if object.info.code != ObjectCode::Array {
+    if !object.info.is_uniform() {
         return Ok(object.info.max_sub);
     }
     let mut si0 = [0u8; 1];

@@ -904,7 +904,7 @@ mod tests {
     }
 
     crate::dictionary! {
-        Od {
+        minimal Od {
             0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
             0x1001 => var(error_register, RO, "Error register", default = 0x81);
             0x2000 => record(sparse: Sparse, "Sparse") {
