@@ -66,6 +66,9 @@ where
                 // accesses due; the serve that finds nothing to do changed nothing.
                 Step::Serve => {
                     if with_dictionary(od, |od| sub.service_mailbox(now(), od, app)) {
+                        while let Some(emergency) = app.take_emergency() {
+                            sub.emergency(emergency);
+                        }
                         Step::Serve
                     } else {
                         Step::Events { any: false }

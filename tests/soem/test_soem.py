@@ -118,6 +118,19 @@ def test_complete_access_and_segmented_sdo_both_ways_in_preop(master):
     assert errors(master) == []
 
 
+def test_an_emergency_reaches_soem(master):
+    drive = master.slaves[LINE.index("drive")]
+    received = []
+    drive.add_emergency_callback(received.append)
+    # The sample drive reports the CiA 301 error code written to 0x2001 in an emergency.
+    drive.sdo_write(0x2001, 0, struct.pack("<H", 0x5000))
+    # SOEM takes the emergency from SM1 while it waits for its next SDO answer.
+    assert u32(drive.sdo_read(0x1018, 1)) == VENDOR_ID
+    got = [(e.slave_pos, e.error_code, e.error_reg, e.b1, e.w1, e.w2) for e in received]
+    assert got == [(LINE.index("drive") + 1, 0x5000, 0x01, 0, 0, 0)]
+    errors(master)  # SOEM also lists the emergency as an error of its own kind
+
+
 def test_config_map_reads_every_pdo_configuration_without_errors(master):
     size = master.config_map()  # reads 0x1C00, 0x1C12/0x1C13 and the mappings; requests SAFEOP
     assert size == sum(sum(IMAGE[name]) for name in LINE)
