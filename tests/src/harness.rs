@@ -1,7 +1,7 @@
 //! Runs a SubDevice on the host exactly as firmware runs it: the real `ecat-embassy` runners as
 //! tasks, the process-data runner at interrupt level (it runs before any thread-mode task is
 //! polled again whenever it is woken, as a pended interrupt preempts the thread executor:
-//! [`scheduler`](crate::scheduler)), the emulated ESC behind the PDI, embassy-time's mock driver
+//! [`scheduler`]), the emulated ESC behind the PDI, embassy-time's mock driver
 //! as the clock, and a scripted MainDevice.
 //!
 //! The mock driver is global to the process, so scenarios in one test binary run one at a time.
@@ -211,7 +211,7 @@ impl<D> CycleHandler<D> for Loopback {
 }
 
 /// Runs `script` against `device` until the script ends, then stops the runners. The runners
-/// reach the emulated ESC through [`EmulatedPdi`](crate::emulator::EmulatedPdi).
+/// reach the emulated ESC through [`EmulatedPdi`].
 pub fn run<A, C, D, F>(device: Device<A, C, D>, script: impl FnOnce(TestMaster) -> F)
 where
     A: Application + ObjectHooks<D> + 'static,
@@ -252,7 +252,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
 
 /// Like [`run`], with more tasks beside the runners (e.g. the indicator task), which `extra`
 /// builds on the ESC handle the runners share; they stop when the script ends. Each waits for
-/// that on a signal of its own: tasks waiting on one [`Signal`] wake each other (it keeps one
+/// that on a signal of its own: tasks waiting on one [`Signal`](embassy_sync::signal::Signal) wake each other (it keeps one
 /// waker and wakes the one it replaces), which would hide whether a task wakes only when it
 /// should.
 pub fn run_with_tasks<A, C, D, F>(
