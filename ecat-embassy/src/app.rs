@@ -5,6 +5,7 @@
 //! executor. Data both need is shared by the application through its own
 //! `CriticalSectionRawMutex` cell.
 
+use ecat_core::coe::Emergency;
 use ecat_core::{AlStatusCode, Transition};
 
 /// State-machine hooks, called by [`run_esm`](crate::run_esm).
@@ -29,6 +30,15 @@ pub trait Application {
     /// The state changed (accepted upward, downward, or a fall back after an error).
     fn on_state_change(&mut self, transition: Transition) {
         let _ = transition;
+    }
+
+    /// An emergency (ETG.1000.6 §5.6.4) the application wants sent, asked after every mailbox
+    /// message the runner served, until it returns `None`: what an SDO write hook of the
+    /// application ([`ObjectHooks`](ecat_core::dictionary::ObjectHooks)) raised. Elsewhere
+    /// (the process-data cycle, a task) raise one with
+    /// [`SharedEsc::raise_emergency`](crate::SharedEsc::raise_emergency). The default has none.
+    fn take_emergency(&mut self) -> Option<Emergency> {
+        None
     }
 }
 

@@ -34,7 +34,8 @@ pub(crate) fn with_dictionary<M: RawMutex, D, R>(
 ///
 /// Woken only by AL events the process-data runner routes to it, by emergencies the application
 /// raises and by the core's deadlines; never polls the ESC. Each mailbox message costs one PDI
-/// read of SM0 and one or two writes of SM1, each a single bounded transaction.
+/// read of SM0 and one or two writes of SM1, each moved in chunks ([`SharedEsc::with_chunk`]):
+/// the process-data runner takes the PDI at the next chunk boundary.
 ///
 /// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
 /// the ones the loop works on.
@@ -65,6 +66,9 @@ where
                 // accesses due; the serve that finds nothing to do changed nothing.
                 Step::Serve => {
                     if with_dictionary(od, |od| sub.service_mailbox(now(), od, app)) {
+                        while let Some(emergency) = app.take_emergency() {
+                            sub.emergency(emergency);
+                        }
                         Step::Serve
                     } else {
                         Step::Events { any: false }

@@ -22,6 +22,11 @@
 //! process-data runner does not wait on the line (it would spin) but on the shared state, and the
 //! state-machine runner's own accesses tell it when the line is free again. Nothing polls.
 //!
+//! ## Who waits for whom
+//! The state-machine runner's accesses (a mailbox message can be 1 KiB) move in chunks of
+//! [`SharedEsc::with_chunk`] bytes, and the process-data runner takes the PDI at the next chunk
+//! boundary: its exchange never waits for more than the transaction in flight and one chunk.
+//!
 //! ## Firmware shape
 //! ```ignore
 //! static ESC: StaticCell<SharedEsc<CriticalSectionRawMutex, MyPdi>> = StaticCell::new();

@@ -97,7 +97,8 @@ where
         // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
         // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
         let mut tick: Option<Instant> = None;
-        loop {
+        // Every way out of the loop ends here: the state-machine runner stops giving way.
+        let error = 'run: loop {
             // What woke the runner and what follows; the news and its copy of the layout end here,
             // so only `current` lives on across the exchange.
             let plan = {
@@ -127,7 +128,9 @@ where
                     .await
                     {
                         Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
-                        Either4::First(Err(e)) | Either4::Fourth(Err(e)) => return Error::Irq(e),
+                        Either4::First(Err(e)) | Either4::Fourth(Err(e)) => {
+                            break 'run Error::Irq(e);
+                        }
                         Either4::Second(()) => None,
                         Either4::Third(()) => exchange.on_tick(layout, &mut tick),
                         Either4::Fourth(Ok(())) => {
@@ -143,7 +146,7 @@ where
             // future of their own.
             let mut access = match exchange.read(plan.read) {
                 Ok(access) => access,
-                Err(e) => return e,
+                Err(e) => break 'run e,
             };
             let mut then = Some(plan.then);
             loop {
@@ -151,16 +154,18 @@ where
                 if let Some((address, data, clears)) = access {
                     match esc.access(Runner::ProcessData, address, data, clears).await {
                         Ok(seen) => event = seen,
-                        Err(e) => return Error::Pdi(e),
+                        Err(e) => break 'run Error::Pdi(e),
                     }
                 }
                 let Some(then) = then.take() else { break };
                 access = match exchange.after_read(then, event, &current) {
                     Ok(access) => access,
-                    Err(e) => return e,
+                    Err(e) => break 'run e,
                 };
             }
-        }
+        };
+        esc.pd_stopped();
+        error
     }
 }
 

@@ -43,6 +43,22 @@ impl<'a> Data<'a> {
     }
 }
 
+/// What the next access's AL event must be ([`Pdi::sample`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Sample {
+    /// As the driver reports it for any access: the first chunk of an access while the IRQ line
+    /// is free.
+    Usual,
+    /// A later chunk of the same access while the IRQ line is free: no read the IRQ line
+    /// prompted, so a driver that reads the AL event register for those may report what it
+    /// knows.
+    Continued,
+    /// State-machine events hold the level IRQ line: a new event (the process-data trigger)
+    /// makes no edge, and only an access's fresh AL event shows it. The driver reads it for any
+    /// access, writes included.
+    Fresh,
+}
+
 /// Register and RAM access to the ESC over its PDI (SPI, parallel bus, or an emulator).
 ///
 /// Each access returns the AL event register (0x0220) value: SPI ESCs shift it out during the
@@ -61,6 +77,23 @@ pub trait Pdi {
 
     /// Reads into or writes from `data`, starting at `address`, in one transaction.
     async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error>;
+
+    /// How many of the `len` bytes at `address` (more than 0) the next chunk of a state-machine
+    /// access moves, given the chunk size `chunk` the firmware configured
+    /// ([`SharedEsc::with_chunk`](crate::SharedEsc::with_chunk)): a driver cuts at its own
+    /// boundaries. The default is `chunk` bytes.
+    fn chunk(&self, address: u16, len: usize, chunk: usize) -> usize {
+        let _ = address;
+        len.min(chunk)
+    }
+
+    /// What the AL event the next access reports must be: called before each chunk of a
+    /// state-machine access ([`SharedEsc`](crate::SharedEsc)). The default does nothing: a
+    /// driver whose every access samples the AL event (the Beckhoff SPI's address phase) needs
+    /// no hint.
+    fn sample(&mut self, sample: Sample) {
+        let _ = sample;
+    }
 
     /// Reads `buf.len()` bytes starting at `address` in one transaction.
     async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {

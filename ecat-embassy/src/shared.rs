@@ -15,7 +15,7 @@ use embassy_sync::mutex::Mutex;
 use embassy_sync::waitqueue::WakerRegistration;
 
 use crate::Pdi;
-use crate::pdi::Data;
+use crate::pdi::{Data, Sample};
 
 /// Which runner performs an access.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -53,11 +53,21 @@ struct Routing {
     last_event: Cell<AlEvent>,
     /// Bumped whenever something changes for the process-data runner.
     pd_news: Cell<u32>,
+    /// The process-data runner waits for the PDI: the state-machine runner does not take it
+    /// before the process-data runner had it (see [`SharedEsc::access`]), nor while the
+    /// process-data runner has news it has not looked at (`pd_seen` is not `pd_news`).
+    pd_waiting: Cell<bool>,
+    /// The `pd_news` the process-data runner looked at last.
+    pd_seen: Cell<u32>,
+    /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
+    pd_stopped: Cell<bool>,
     /// The AL status and status code the state-machine runner last published, for the
     /// indicators ([`Indication`]).
     indication: Cell<Indication>,
     esm_waker: WakerCell,
     pd_waker: WakerCell,
+    /// The state-machine runner waits for the process-data runner to take the PDI.
+    esm_pdi_waker: WakerCell,
     /// The indicator task, woken when the indication changes.
     led_waker: WakerCell,
     /// Emergencies raised by the application, waiting for the state-machine runner.
@@ -182,17 +192,42 @@ impl Indication {
 /// many as wait in the mailbox, so both queues are one type.
 const EMERGENCIES: usize = ecat_core::mailbox::EMERGENCY_QUEUE;
 
+/// The default largest chunk of a state-machine access, in bytes (see [`SharedEsc::with_chunk`]).
+pub const DEFAULT_CHUNK: u16 = 32;
+
 /// The ESC shared by the two runners. `M` is `CriticalSectionRawMutex` in firmware, where the
 /// runners live in different executors.
+///
+/// The state-machine runner's accesses move in chunks of at most [`SharedEsc::with_chunk`]
+/// bytes, each under its own lock of the PDI, and a process-data access that waits for the PDI
+/// takes it at the next chunk boundary: the process-data exchange never waits for more than
+/// one chunk of mailbox traffic (plus the transaction in flight), whatever the mailbox size and
+/// whether or not the runners share an executor.
 pub struct SharedEsc<M: RawMutex, P> {
     pdi: Mutex<M, P>,
     routing: BlockingMutex<M, Routing>,
+    /// The largest chunk of a state-machine access, in bytes; 0: whole accesses.
+    chunk: u16,
 }
 
 impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
-    /// Wraps the PDI driver. `const`, so it can live in a `static` or a `StaticCell`.
+    /// Wraps the PDI driver, with state-machine accesses in chunks of [`DEFAULT_CHUNK`] bytes.
+    /// `const`, so it can live in a `static` or a `StaticCell`.
     pub const fn new(pdi: P) -> Self {
+        Self::with_chunk(pdi, DEFAULT_CHUNK)
+    }
+
+    /// Wraps the PDI driver, with state-machine accesses (mailbox messages, registers) in chunks
+    /// of at most `chunk` bytes (0: each access whole, as one transaction), which the driver may
+    /// cut smaller at its own boundaries ([`Pdi::chunk`]). Smaller chunks bound the process-data
+    /// exchange's wait more tightly and cost more bus overhead per mailbox byte (an address
+    /// phase per chunk on the Beckhoff SPI, a PRAM command on the LAN9252;
+    /// docs/performance.md). A SyncManager's mailbox buffer is released when its last byte is
+    /// read and marked full when its last byte is written, so a mailbox message moved in order,
+    /// chunk by chunk, is handed over exactly as a whole one.
+    pub const fn with_chunk(pdi: P, chunk: u16) -> Self {
         Self {
+            chunk,
             pdi: Mutex::new(pdi),
             routing: BlockingMutex::new(Routing {
                 esm_events: Cell::new(AlEvent::NONE),
@@ -206,8 +241,12 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 indication: Cell::new(Indication(0)),
                 emergencies: Cell::new(Ring::new(Emergency::NONE)),
                 notes: Cell::new(Notes::NONE),
+                pd_waiting: Cell::new(false),
+                pd_seen: Cell::new(0),
+                pd_stopped: Cell::new(false),
                 esm_waker: WakerCell::new(),
                 pd_waker: WakerCell::new(),
+                esm_pdi_waker: WakerCell::new(),
                 led_waker: WakerCell::new(),
             }),
         }
@@ -215,20 +254,99 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     /// Performs one access for `runner`; returns the AL event seen, less the bits the access
     /// clears (reading a register clears its event, writing SM1's buffer clears its read event).
+    ///
+    /// The process-data runner's access is one piece, and the PDI is its at the next chunk
+    /// boundary of the state-machine runner: it says that it waits, and the state-machine runner
+    /// takes the PDI for its next chunk only once the process-data runner had it (nor while the
+    /// process-data runner has news from a chunk it has not looked at). In firmware,
+    /// where the process-data runner preempts (an interrupt executor), it takes the PDI as soon as
+    /// the chunk in flight releases it; in one cooperative executor the same rule lets it in at
+    /// the next chunk boundary as well.
+    ///
+    /// The state-machine runner's access moves in chunks, in address order, each under its own
+    /// lock and routed as an access of its own; it returns what its chunks saw (the union: the
+    /// state-machine events are cleared only by that runner's own accesses, so none of them is
+    /// stale but the bits the access itself clears).
+    ///
     /// An `async` block, which keeps no copy of its arguments beside them (as an `async fn`
     /// would), in the future each runner holds.
     #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
     pub(crate) fn access(
         &self,
         runner: Runner,
-        address: u16,
-        data: Data<'_>,
+        mut address: u16,
+        mut rest: Data<'_>,
         clears: AlEvent,
     ) -> impl Future<Output = Result<AlEvent, P::Error>> {
         async move {
-            let seen = self.pdi.lock().await.access(address, data).await?;
-            Ok(self.observe_access(runner, seen, clears))
+            let (mut event, mut first) = (AlEvent::NONE, true);
+            // One lock, one driver access and one wait for the other runner's turn, each awaited
+            // at one place for both runners: the driver's access future is inlined once.
+            loop {
+                self.turn(runner).await;
+                let mut pdi = self.pdi.lock().await;
+                let sample = self.with(|r| {
+                    if runner == Runner::ProcessData {
+                        r.pd_waiting.set(false);
+                        r.esm_pdi_waker.wake();
+                        Sample::Usual
+                    } else if first {
+                        Sample::Usual
+                    } else if r.esm_holds_irq.get() {
+                        // The trigger makes no edge: a later chunk's AL event is its only news
+                        // before the access ends (the first chunk's is what the driver reports
+                        // for any access: a short access adds no read of its own).
+                        Sample::Fresh
+                    } else {
+                        Sample::Continued
+                    }
+                });
+                first = false;
+                let len = match (runner, self.chunk) {
+                    (Runner::ProcessData, _) | (_, 0) => rest.len(),
+                    (Runner::Esm, chunk) => {
+                        pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
+                    }
+                };
+                let (piece, tail) = rest.split_at(len);
+                rest = tail;
+                if sample != Sample::Usual {
+                    pdi.sample(sample);
+                }
+                let seen = pdi.access(address, piece).await?;
+                drop(pdi);
+                event = event.union(self.observe_access(runner, seen, clears));
+                if rest.is_empty() {
+                    return Ok(event);
+                }
+                address = address.wrapping_add(len as u16);
+            }
         }
+    }
+
+    /// Before `runner` takes the PDI. The process-data runner says that it waits for it. The
+    /// state-machine runner waits while the process-data runner waits for the PDI or has news
+    /// it has not looked at (its trigger seen by a chunk, the IRQ line free again): that one
+    /// comes first. In firmware it has always run by then (its interrupt preempts as soon as it
+    /// is woken), so this waits only where the runners share an executor. Both runners must
+    /// run (the process-data runner says when it stops; a firmware that drops its future while
+    /// it waits for the PDI stalls the state machine).
+    fn turn(&self, runner: Runner) -> impl Future<Output = ()> + '_ {
+        poll_fn(move |cx| {
+            self.with(|r| {
+                if runner == Runner::ProcessData {
+                    r.pd_waiting.set(true);
+                    return Poll::Ready(());
+                }
+                let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_news.get();
+                if pd_turn && !r.pd_stopped.get() {
+                    r.esm_pdi_waker.register(cx.waker());
+                    Poll::Pending
+                } else {
+                    Poll::Ready(())
+                }
+            })
+        })
     }
 
     /// The AL event `runner` saw during its access, less the bits the access cleared, routed.
@@ -342,7 +460,13 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// token for [`SharedEsc::pd_news_since`].
     pub(crate) fn pd_news(&self, current: Option<Layout>) -> PdNews {
         self.with(|r| PdNews {
-            generation: r.pd_news.get(),
+            generation: {
+                let generation = r.pd_news.get();
+                if r.pd_seen.replace(generation) != generation {
+                    r.esm_pdi_waker.wake();
+                }
+                generation
+            },
             layout: r.layout.get(),
             pd_events: if r.layout.get() == current {
                 r.pd_events.take()
@@ -352,6 +476,14 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
             // Before the state-machine runner set up the ESC, its reset mask may hold the line.
             irq_free: r.esm_started.get() && !r.esm_holds_irq.get(),
         })
+    }
+
+    /// The process-data runner stopped: the state-machine runner no longer gives way to it.
+    pub(crate) fn pd_stopped(&self) {
+        self.with(|r| {
+            r.pd_stopped.set(true);
+            r.esm_pdi_waker.wake();
+        });
     }
 
     /// Takes the process-data trigger events seen by the state-machine runner.

@@ -98,6 +98,39 @@ def test_the_whole_dictionary_reads_through_sdo_information_without_errors(maste
         assert errors(master) == [], name
 
 
+def test_complete_access_and_segmented_sdo_both_ways_in_preop(master):
+    drive = master.slaves[LINE.index("drive")]
+    # Complete access upload of the assignment: SI0 as one byte + one pad byte, then the entries.
+    assert drive.sdo_read(0x1C12, 0, ca=True) == bytes([1, 0]) + struct.pack("<H", 0x1600)
+    assert drive.sdo_read(0x1600, 0, ca=True)[:2] == bytes([4, 0])
+    # The device name: a normal (non-expedited) upload.
+    name = drive.sdo_read(0x1008, 0)
+    assert name.rstrip(b"\0") == b"ecat sample drive"
+    # 0x2000, 128 bytes: more than one message of a 128-byte mailbox carries (112), so SOEM
+    # downloads and uploads it in segments.
+    pattern = bytes((i * 7 + 3) & 0xFF for i in range(128))
+    drive.sdo_write(0x2000, 0, pattern)
+    assert drive.sdo_read(0x2000, 0) == pattern
+    # Complete access both ways: the mapping written back as it was read (SI0 + four entries).
+    mapping = drive.sdo_read(0x1600, 0, ca=True)
+    drive.sdo_write(0x1600, 0, mapping, ca=True)
+    assert drive.sdo_read(0x1600, 0, ca=True) == mapping
+    assert errors(master) == []
+
+
+def test_an_emergency_reaches_soem(master):
+    drive = master.slaves[LINE.index("drive")]
+    received = []
+    drive.add_emergency_callback(received.append)
+    # The sample drive reports the CiA 301 error code written to 0x2001 in an emergency.
+    drive.sdo_write(0x2001, 0, struct.pack("<H", 0x5000))
+    # SOEM takes the emergency from SM1 while it waits for its next SDO answer.
+    assert u32(drive.sdo_read(0x1018, 1)) == VENDOR_ID
+    got = [(e.slave_pos, e.error_code, e.error_reg, e.b1, e.w1, e.w2) for e in received]
+    assert got == [(LINE.index("drive") + 1, 0x5000, 0x01, 0, 0, 0)]
+    errors(master)  # SOEM also lists the emergency as an error of its own kind
+
+
 def test_config_map_reads_every_pdo_configuration_without_errors(master):
     size = master.config_map()  # reads 0x1C00, 0x1C12/0x1C13 and the mappings; requests SAFEOP
     assert size == sum(sum(IMAGE[name]) for name in LINE)
@@ -122,8 +155,9 @@ def test_safeop_then_op_with_the_expected_working_counter(master):
         if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
             break
     assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
-    for slave in master.slaves:
-        assert slave.state == pysoem.OP_STATE
+    master.read_state()  # the group check reads the ORed AL status; this reads each SubDevice's
+    for name, slave in zip(LINE, master.slaves):
+        assert (slave.state, slave.al_status) == (pysoem.OP_STATE, 0), name
 
 
 def test_thousands_of_cycles_in_op_with_data_through_the_devices(master):
@@ -154,17 +188,6 @@ def test_thousands_of_cycles_in_op_with_data_through_the_devices(master):
         status, position, velocity, mode = struct.unpack("<HiiB", bytes(drive.input))
         assert (status, mode) == (0x000F, 8)
         assert velocity == -position and position in (2998, 2999)
-
-
-def test_complete_access_and_segmented_sdo_both_ways(master):
-    drive = master.slaves[LINE.index("drive")]
-    # Complete access upload of the assignment: SI0 as one byte + one pad byte, then the entries.
-    assert drive.sdo_read(0x1C12, 0, ca=True) == bytes([1, 0]) + struct.pack("<H", 0x1600)
-    assert drive.sdo_read(0x1600, 0, ca=True)[:2] == bytes([4, 0])
-    # The device name: a normal (non-expedited) upload.
-    name = drive.sdo_read(0x1008, 0)
-    assert name.rstrip(b"\0") == b"ecat sample drive"
-    assert errors(master) == []
 
 
 def test_process_data_stopped_means_safeop_with_error_0x001b_within_the_watchdog_time(master):

@@ -17,6 +17,7 @@ IFACE = os.environ.get("ECAT_IFACE", "")
 LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,sensor").split(",")
 CYCLE_NS = 1_000_000
 DC_SYNC0 = 0x02  # 0x1C32/0x1C33 SI1: synchronous with SYNC0
+SYNC_ERROR_LIMIT = 60  # 0x10F1:02: 20 missed SYNC0 cycles in a row
 
 
 @pytest.fixture(scope="module")
@@ -46,6 +47,14 @@ def test_the_axis_reaches_op_in_dc_mode_and_runs_thousands_of_cycles(master):
     axis = master.slaves[LINE.index("cia402")]
 
     def setup(slave_pos):
+        # A PLC sends one frame per SYNC0 cycle, locked to the DC time. This MainDevice is a
+        # Python loop on a shared, non-real-time machine: its frames come late now and then,
+        # and each SYNC0 cycle without new outputs adds 3 to the sync error counter (SSC's
+        # rule; at the default limit 4 two in a row end OP with 0x001A, as a real drive does
+        # with a real PLC that misses frames: tests/tests/sync_error.rs checks that exactly).
+        # Like a TwinCAT start-up list, the set-up writes the limit 0x10F1:02: a late frame now
+        # and then is tolerated, a MainDevice that stops is not.
+        axis.sdo_write(0x10F1, 2, struct.pack("<H", SYNC_ERROR_LIMIT))
         axis.dc_sync(True, CYCLE_NS)
 
     axis.config_func = setup
@@ -53,25 +62,37 @@ def test_the_axis_reaches_op_in_dc_mode_and_runs_thousands_of_cycles(master):
     assert master.state_check(pysoem.SAFEOP_STATE, 5_000_000) == pysoem.SAFEOP_STATE
     assert axis.sdo_read(0x1C33, 1)[0] == DC_SYNC0
     assert struct.unpack("<I", axis.sdo_read(0x1C32, 2))[0] == CYCLE_NS
-    master.send_processdata()
-    master.receive_processdata(20_000)
+    # Every half cycle, on a schedule (not a sleep after each exchange, which would add the
+    # round trip to the period): most SYNC0 cycles find new outputs even when the interpreter
+    # is late once.
+    def run(cycles):
+        bad = 0
+        next_frame = time.monotonic()
+        for _ in range(cycles):
+            master.send_processdata()
+            if master.receive_processdata(20_000) != master.expected_wkc:
+                bad += 1
+            next_frame += CYCLE_NS / 2e9
+            time.sleep(max(0.0, next_frame - time.monotonic()))
+        return bad
+
+    run(10)
     master.state = pysoem.OP_STATE
     master.write_state()
-    for _ in range(500):
-        master.send_processdata()
-        master.receive_processdata(20_000)
-        if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
+    for _ in range(100):
+        run(10)
+        if master.read_state() == pysoem.OP_STATE:
             break
-        time.sleep(0.001)
-    assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
-    bad = 0
-    for _ in range(3000):
-        master.send_processdata()
-        if master.receive_processdata(20_000) != master.expected_wkc:
-            bad += 1
-        time.sleep(0.001)
-    assert bad == 0
     master.read_state()
-    assert axis.state == pysoem.OP_STATE
-    # The SYNC0 loss supervision did not fire: the axis saw SYNC0 pulses every cycle.
-    assert axis.al_status == 0
+    states = {name: (hex(s.state), hex(s.al_status)) for name, s in zip(LINE, master.slaves)}
+    assert all(s.state == pysoem.OP_STATE for s in master.slaves), states
+    bad = run(6000)
+    master.read_state()
+    diag = {si: struct.unpack("<H", axis.sdo_read(0x1C32, si)[:2])[0] for si in (0x0B, 0x0C)}
+    assert bad == 0, diag
+    # Neither the sync error supervision nor the SYNC0 loss supervision fired; SYNC0 cycles
+    # never overran (0x1C32:0C: the line delivers each pulse at its time).
+    assert (axis.state, axis.al_status) == (pysoem.OP_STATE, 0), diag
+    assert diag[0x0C] == 0, diag
+    # The axis ran DC cycles: 0x1C32:0A shows the SYNC0 cycle time it follows.
+    assert struct.unpack("<I", axis.sdo_read(0x1C32, 0x0A))[0] == CYCLE_NS

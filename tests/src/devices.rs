@@ -9,11 +9,14 @@
 //! | [`sensor`] | inputs only: i32 value + u16 status | the value counts the cycles |
 
 use ecat_core::DeviceConfig;
+use ecat_core::coe::Emergency;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{Communication, DeviceInfo, ObjectDictionary};
+use ecat_core::dictionary::{
+    Communication, DeviceInfo, ObjectDictionary, ObjectHooks, OctetString,
+};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::{self, Names};
-use ecat_embassy::CycleHandler;
+use ecat_embassy::{Application, CycleHandler};
 
 use crate::harness::{AcceptAll, Device};
 
@@ -48,6 +51,12 @@ pub struct Drive {
     pub rx_assign: PdoAssignment<2>,
     /// 0x1C13.
     pub tx_assign: PdoAssignment<2>,
+    /// 0x2000: 128 bytes a MainDevice may write and read back, more than one SDO message of a
+    /// 128-byte mailbox carries: segmented transfers both ways.
+    pub scratch: OctetString<128>,
+    /// 0x2001: a CiA 301 error code a MainDevice writes to make the drive report it in an
+    /// emergency ([`DriveApp`]), for testing a MainDevice's emergency handling.
+    pub simulated_error: u16,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -73,6 +82,8 @@ ecat_core::dictionary! {
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
         0x1C13 => pdo(tx_assign, RW_PREOP, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+        0x2000 => var(scratch, RW, "Scratch pad");
+        0x2001 => var(simulated_error, RW, "Simulated error");
         0x6040 => var(controlword, RW | RXPDO, "Controlword");
         0x6041 => var(statusword, RO | TXPDO, "Statusword");
         0x6060 => var(mode, RW | RXPDO, "Modes of operation");
@@ -164,14 +175,15 @@ impl<A, C, D: ObjectDictionary> Sample<A, C, D> {
 /// A sample device in the samples group: its communication area (name and identity), order
 /// code, fixed (output, input) sizes for the description, its cycle, its dictionary at its
 /// defaults, 128-byte mailboxes.
-fn sample<C, D: ObjectDictionary + Default>(
+fn sample<A, C, D: ObjectDictionary + Default>(
     info: &DeviceInfo,
     order_code: &'static str,
     (outputs, inputs): (u16, u16),
+    app: A,
     cycle: C,
-) -> Sample<AcceptAll, C, D> {
+) -> Sample<A, C, D> {
     let config = DeviceConfig::new(MAILBOX, ProcessDataSizes { outputs, inputs });
-    let device = Device::new(config, AcceptAll, cycle).with_dictionary(D::default());
+    let device = Device::new(config, app, cycle).with_dictionary(D::default());
     let names = Names {
         name: info.name,
         order_code,
@@ -192,9 +204,40 @@ impl CycleHandler<Drive> for DriveEcho {
     }
 }
 
+/// The drive's application: accepts every transition; a write of a non-zero error code to
+/// 0x2001 raises an emergency with that code and error register 0x01 (generic error, CiA 301).
+#[derive(Debug, Default)]
+pub struct DriveApp {
+    emergency: Option<Emergency>,
+}
+
+impl Application for DriveApp {
+    fn take_emergency(&mut self) -> Option<Emergency> {
+        self.emergency.take()
+    }
+}
+
+impl ObjectHooks<Drive> for DriveApp {
+    fn after_write(&mut self, od: &mut Drive, index: u16, _sub: u8) {
+        if index == 0x2001 && od.simulated_error != 0 {
+            self.emergency = Some(Emergency {
+                code: od.simulated_error,
+                register: 0x01,
+                data: [0; 5],
+            });
+        }
+    }
+}
+
 /// The CiA402-like drive: configurable PDOs, SM-synchronous or free-run.
-pub fn drive() -> Sample<AcceptAll, DriveEcho, Drive> {
-    sample(&DRIVE_INFO, "ECAT-DRIVE", (11, 11), DriveEcho)
+pub fn drive() -> Sample<DriveApp, DriveEcho, Drive> {
+    sample(
+        &DRIVE_INFO,
+        "ECAT-DRIVE",
+        (11, 11),
+        DriveApp::default(),
+        DriveEcho,
+    )
 }
 
 /// A digital I/O module: 16 outputs, 16 inputs, fixed PDOs.
@@ -255,7 +298,7 @@ impl CycleHandler<Dio> for DioLoop {
 
 /// The digital I/O module.
 pub fn dio() -> Sample<AcceptAll, DioLoop, Dio> {
-    sample(&DIO_INFO, "ECAT-DIO-16", (2, 2), DioLoop)
+    sample(&DIO_INFO, "ECAT-DIO-16", (2, 2), AcceptAll, DioLoop)
 }
 
 /// An input-only sensor: a measured value and a status word.
@@ -309,7 +352,13 @@ impl CycleHandler<Sensor> for SensorCounter {
 
 /// The input-only sensor.
 pub fn sensor() -> Sample<AcceptAll, SensorCounter, Sensor> {
-    sample(&SENSOR_INFO, "ECAT-SENSOR", (0, 6), SensorCounter)
+    sample(
+        &SENSOR_INFO,
+        "ECAT-SENSOR",
+        (0, 6),
+        AcceptAll,
+        SensorCounter,
+    )
 }
 
 #[cfg(test)]
@@ -339,7 +388,7 @@ mod tests {
             with(
                 &[0x1600, 0x1A00],
                 &[
-                    0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A, 0x60FF
+                    0x2000, 0x2001, 0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A, 0x60FF
                 ]
             )
         );

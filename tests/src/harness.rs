@@ -1,13 +1,14 @@
 //! Runs a SubDevice on the host exactly as firmware runs it: the real `ecat-embassy` runners as
-//! tasks of an `embassy-executor` (here the std platform's), the emulated ESC behind the PDI,
-//! embassy-time's mock driver as the clock, and a scripted MainDevice.
+//! tasks, the process-data runner at interrupt level (it runs before any thread-mode task is
+//! polled again whenever it is woken, as a pended interrupt preempts the thread executor:
+//! [`scheduler`]), the emulated ESC behind the PDI, embassy-time's mock driver
+//! as the clock, and a scripted MainDevice.
 //!
 //! The mock driver is global to the process, so scenarios in one test binary run one at a time.
 
 use core::cell::{Cell, RefCell};
 use core::future::Future;
 use core::pin::Pin;
-use std::rc::Rc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, PoisonError};
 
@@ -17,7 +18,6 @@ use ecat_embassy::pd_runner::Buffers;
 use ecat_embassy::{
     Application, CycleHandler, Pdi, SharedDictionary, SharedEsc, run_esm, run_process_data,
 };
-use embassy_executor::Executor;
 use embassy_futures::select::select;
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
@@ -26,6 +26,7 @@ use embassy_time::MockDriver;
 use crate::emulator::{EmulatedPdi, Emulator};
 use crate::esc::EscConfig;
 use crate::master::TestMaster;
+use crate::scheduler::{self, Scheduler, Task};
 
 /// Serialises scenarios: the mock time driver is one per process.
 static SERIAL: Mutex<()> = Mutex::new(());
@@ -129,6 +130,10 @@ pub struct Device<A, C, D = ()> {
     pub od: D,
     /// The SII EEPROM image the ESC loads at power-on (empty: no EEPROM).
     pub eeprom: Vec<u8>,
+    /// The largest chunk of a state-machine access (`SharedEsc::with_chunk`; 0: whole accesses).
+    pub chunk: u16,
+    /// How the harness orders the runners ([`run`] and [`run_with_pdi`]).
+    pub scheduler: Scheduler,
 }
 
 impl<A, C> Device<A, C, ()> {
@@ -143,6 +148,8 @@ impl<A, C> Device<A, C, ()> {
             before_start: |_| {},
             od: (),
             eeprom: Vec::new(),
+            chunk: ecat_embassy::shared::DEFAULT_CHUNK,
+            scheduler: Scheduler::Preemptive,
         }
     }
 }
@@ -158,6 +165,8 @@ impl<A, C, D> Device<A, C, D> {
             device_id,
             before_start,
             eeprom,
+            chunk,
+            scheduler,
             ..
         } = self;
         Device {
@@ -169,6 +178,8 @@ impl<A, C, D> Device<A, C, D> {
             before_start,
             od,
             eeprom,
+            chunk,
+            scheduler,
         }
     }
 
@@ -199,16 +210,8 @@ impl<D> CycleHandler<D> for Loopback {
     }
 }
 
-/// Two tasks per device and one script per scenario; a scenario that panics leaves its tasks
-/// behind, so the pool has room for many.
-#[embassy_executor::task(pool_size = 256)]
-async fn task(future: BoxedTask, done: Rc<Cell<usize>>) {
-    future.await;
-    done.set(done.get() + 1);
-}
-
 /// Runs `script` against `device` until the script ends, then stops the runners. The runners
-/// reach the emulated ESC through [`EmulatedPdi`](crate::emulator::EmulatedPdi).
+/// reach the emulated ESC through [`EmulatedPdi`].
 pub fn run<A, C, D, F>(device: Device<A, C, D>, script: impl FnOnce(TestMaster) -> F)
 where
     A: Application + ObjectHooks<D> + 'static,
@@ -232,12 +235,13 @@ pub fn run_with_pdi<A, C, D, P, F>(
     P: Pdi + 'static,
     F: Future<Output = ()> + 'static,
 {
-    execute(Some(HANG_LIMIT), |stop| {
+    let scheduler = device.scheduler;
+    execute(Some(HANG_LIMIT), scheduler, |stop| {
         let emu = device.emulator();
         let pdi = make_pdi(&emu);
         let (mut futures, shared) = device.runners(&emu, pdi, stop);
         let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
-        futures.push(Box::pin(scenario(
+        futures.push(Task::thread(scenario(
             stop,
             TestMaster::new(emu),
             script(master),
@@ -248,7 +252,7 @@ pub fn run_with_pdi<A, C, D, P, F>(
 
 /// Like [`run`], with more tasks beside the runners (e.g. the indicator task), which `extra`
 /// builds on the ESC handle the runners share; they stop when the script ends. Each waits for
-/// that on a signal of its own: tasks waiting on one [`Signal`] wake each other (it keeps one
+/// that on a signal of its own: tasks waiting on one [`Signal`](embassy_sync::signal::Signal) wake each other (it keeps one
 /// waker and wakes the one it replaces), which would hide whether a task wakes only when it
 /// should.
 pub fn run_with_tasks<A, C, D, F>(
@@ -261,20 +265,21 @@ pub fn run_with_tasks<A, C, D, F>(
     D: ObjectDictionary,
     F: Future<Output = ()> + 'static,
 {
-    execute(Some(HANG_LIMIT), |stop| {
+    let scheduler = device.scheduler;
+    execute(Some(HANG_LIMIT), scheduler, |stop| {
         let emu = device.emulator();
         let (mut futures, shared) = device.runners(&emu, emu.pdi(), stop);
         let mut ends: Vec<&'static Stop> = Vec::new();
         for task in extra(shared) {
             let end: &'static Stop = Box::leak(Box::new(Stop::default()));
             ends.push(end);
-            futures.push(Box::pin(async move {
+            futures.push(Task::thread(async move {
                 select(task, end.wait()).await;
             }));
         }
         let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
         let script = scenario(stop, TestMaster::new(emu), script(master));
-        futures.push(Box::pin(async move {
+        futures.push(Task::thread(async move {
             script.await;
             for end in ends {
                 end.signal();
@@ -310,7 +315,7 @@ fn execute_many<F>(
 ) where
     F: Future<Output = ()> + 'static,
 {
-    execute(limit, |stop| {
+    execute(limit, Scheduler::Preemptive, |stop| {
         let mut futures = Vec::new();
         let mut emulators = Vec::new();
         for device in devices {
@@ -320,7 +325,7 @@ fn execute_many<F>(
         }
         let masters: Vec<TestMaster> = emulators.iter().cloned().map(TestMaster::new).collect();
         let script = script(emulators);
-        futures.push(Box::pin(async move {
+        futures.push(Task::thread(async move {
             for master in &masters {
                 master.settle().await;
             }
@@ -336,7 +341,7 @@ pub trait Spawn {
     /// A new emulated ESC for the device, loaded with its SII image.
     fn emulator(&self) -> Emulator;
     /// The device's two runners on `emu`, stopping when `stop` is signalled.
-    fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<BoxedTask>;
+    fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<Task>;
 }
 
 impl<A, C, D> Spawn for Device<A, C, D>
@@ -349,7 +354,7 @@ where
         Device::emulator(self)
     }
 
-    fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<BoxedTask> {
+    fn spawn(self: Box<Self>, emu: &Emulator, stop: &'static Stop) -> Vec<Task> {
         self.runners(emu, emu.pdi(), stop).0
     }
 }
@@ -378,20 +383,17 @@ where
         emu: &Emulator,
         pdi: P,
         stop: &'static Stop,
-    ) -> (
-        Vec<BoxedTask>,
-        &'static SharedEsc<CriticalSectionRawMutex, P>,
-    ) {
+    ) -> (Vec<Task>, &'static SharedEsc<CriticalSectionRawMutex, P>) {
         let shared: &'static SharedEsc<CriticalSectionRawMutex, P> =
-            Box::leak(Box::new(SharedEsc::new(pdi)));
+            Box::leak(Box::new(SharedEsc::with_chunk(pdi, self.chunk)));
         let od: &'static SharedDictionary<CriticalSectionRawMutex, D> =
             Box::leak(Box::new(BlockingMutex::new(RefCell::new(self.od))));
-        let futures: Vec<BoxedTask> = vec![
-            Box::pin(stoppable(
+        let futures = vec![
+            Task::thread(stoppable(
                 stop,
                 esm(shared, od, self.config, self.app, self.device_id),
             )),
-            Box::pin(stoppable(
+            Task::interrupt(stoppable(
                 stop,
                 process_data(shared, od, emu.clone(), self.cycle),
             )),
@@ -404,31 +406,18 @@ where
 pub type BoxedTask = Pin<Box<dyn Future<Output = ()>>>;
 
 /// Runs the tasks `build` makes (on a fresh virtual clock, one scenario at a time) until all of
-/// them ended; aborts the process if that takes longer than `limit` of wall-clock time.
+/// them ended, ordered as `scheduler` says; aborts the process if that takes longer than `limit`
+/// of wall-clock time.
 fn execute(
     limit: Option<std::time::Duration>,
-    build: impl FnOnce(&'static Stop) -> Vec<BoxedTask>,
+    scheduler: Scheduler,
+    build: impl FnOnce(&'static Stop) -> Vec<Task>,
 ) {
     let _serial = SERIAL.lock().unwrap_or_else(PoisonError::into_inner);
     let _guard = limit.map(HangGuard::arm);
     MockDriver::get().reset();
     let stop: &'static Stop = Box::leak(Box::default());
-    let futures = build(stop);
-    let count = futures.len();
-    let done = Rc::new(Cell::new(0));
-    let executor: &'static mut Executor = Box::leak(Box::new(Executor::new()));
-    let finished = done.clone();
-    executor.run_until(
-        |spawner| {
-            for future in futures {
-                match task(future, done.clone()) {
-                    Ok(token) => spawner.spawn(token),
-                    Err(e) => panic!("harness task pool exhausted: {e:?}"),
-                }
-            }
-        },
-        || finished.get() == count,
-    );
+    scheduler::run(build(stop), scheduler);
 }
 
 async fn stoppable(stop: &'static Stop, runner: impl Future<Output = ()>) {
@@ -456,7 +445,7 @@ async fn esm<P: Pdi, D: ObjectDictionary>(
     device_id: u16,
 ) {
     // In firmware the process-data runner's interrupt executor runs first; make that so here
-    // whatever order the host executor polls its tasks in.
+    // whatever order the scheduler polls its tasks in (the cooperative one: wake order).
     embassy_futures::yield_now().await;
     let config = Box::leak(Box::new(config));
     let mut sub = SubDevice::<'_, MAX_MAILBOX>::new(config);

@@ -13,7 +13,8 @@
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
-//! | [`harness`] | runs the real runners on `embassy-executor` with the mock time driver |
+//! | [`harness`] | runs the real runners with the mock time driver, the process-data runner at interrupt level |
+//! | [`scheduler`] | the harness's executor: a pended interrupt's priority on one host thread |
 pub mod coe_client;
 pub mod devices;
 pub mod emulator;
@@ -25,4 +26,5 @@ pub mod line;
 pub mod master;
 pub mod pcap;
 pub mod real_master;
+pub mod scheduler;
 pub mod spi;

@@ -31,14 +31,18 @@ pub const HEARTBEAT: Duration = Duration::from_millis(100);
 const QUIET_YIELDS: u32 = 2;
 /// Most yields a settle waits for the runners; a runner busy beyond that is left for later.
 const MAX_YIELDS: u32 = 64;
+/// The most ESC deadlines (SYNC0 pulses, watchdog expiries) one catch-up steps through: a
+/// second of 1 kHz SYNC0 pulses on a line that was held up that long.
+const MAX_DEADLINES: u32 = 1000;
 
 /// What a line served in real time runs on: a clock and frames in and out. The virtual slave's
 /// host is a network interface and the wall clock; a test's is scripted on virtual time.
 pub trait Host {
     /// Time since serving started, on the host's clock.
     fn elapsed(&self) -> Duration;
-    /// The next frame that arrived, if any.
-    fn receive(&mut self) -> Option<Vec<u8>>;
+    /// The next frame that arrived, if any, with the host time it arrived at (time since
+    /// serving started).
+    fn receive(&mut self) -> Option<(Duration, Vec<u8>)>;
     /// Sends the line's answer to a frame.
     fn send(&mut self, frame: &[u8]);
     /// Waits until a frame arrives, the host stops or its clock reaches `deadline` (time since
@@ -131,11 +135,12 @@ impl Line {
         let origin = Instant::now();
         let mut served = Served::default();
         loop {
-            self.catch_up(origin + host.elapsed());
-            self.settle().await;
-            while let Some(mut frame) = host.receive() {
+            while let Some((arrived, mut frame)) = host.receive() {
+                // The ESCs see each frame at the time it arrived, and what fell due before it
+                // (a SYNC0 pulse, a watchdog expiry) before it, however late this thread got to
+                // it: the order of frames and SYNC0 pulses is the wire's, not the scheduler's.
                 // A long burst keeps the clock going too.
-                self.catch_up(origin + host.elapsed());
+                self.catch_up(origin + arrived).await;
                 match self.process(&mut frame) {
                     Some(len) => {
                         host.send(frame.get(..len).unwrap_or_default());
@@ -145,6 +150,7 @@ impl Line {
                 }
                 self.settle().await;
             }
+            self.catch_up(origin + host.elapsed()).await;
             let heartbeat = Instant::now() + HEARTBEAT;
             let next = self
                 .escs
@@ -159,7 +165,25 @@ impl Line {
     }
 
     /// Brings the runners' clock up to `target` and lets the ESCs see the time.
-    fn catch_up(&self, target: Instant) {
+    async fn catch_up(&self, target: Instant) {
+        // Step by step through the ESC deadlines before `target` (bounded: a deadline that
+        // does not move on ends it), so that a runner sees each SYNC0 pulse and watchdog
+        // expiry at its own time, not at the time the line got to it.
+        for _ in 0..MAX_DEADLINES {
+            match self.escs.iter().filter_map(Emulator::next_deadline).min() {
+                Some(due) if due < target && due > Instant::now() => {
+                    self.advance_to(due);
+                    self.settle().await;
+                }
+                _ => break,
+            }
+        }
+        self.advance_to(target);
+        self.settle().await;
+    }
+
+    /// Moves the runners' clock to `target` (never back) and lets the ESCs see the time.
+    fn advance_to(&self, target: Instant) {
         let now = Instant::now();
         if target > now {
             MockDriver::get().advance(target - now);

@@ -493,3 +493,26 @@ fn an_emergency_during_a_pending_transition_waits_its_turn() {
         );
     });
 }
+
+/// An emergency raised by the application's SDO write hook (`Application::take_emergency`) is
+/// sent right after the answer to the write: the sample drive reports the CiA 301 error code
+/// written to 0x2001 with error register 0x01.
+#[test]
+fn an_emergency_raised_by_a_write_hook_follows_the_answer() {
+    harness::run(ecat_emu::devices::drive().device, async |master| {
+        walk_to(&master, AlState::PreOp).await;
+        let mut c = client(&master);
+        c.download(0x2001, 0, false, &0x5000u16.to_le_bytes())
+            .await
+            .unwrap();
+        let mut expected = vec![
+            0x0A, 0x00, 0x00, 0x00, 0x00, 0x23, 0x00, 0x10, 0x00, 0x50, 0x01, 0, 0, 0, 0, 0,
+        ];
+        expected.resize(128, 0);
+        assert_eq!(c.read().await, Some(expected));
+        assert_eq!(c.read().await, None, "one emergency per write");
+        // Writing 0 raises none.
+        c.download(0x2001, 0, false, &[0, 0]).await.unwrap();
+        assert_eq!(c.read().await, None);
+    });
+}

@@ -44,10 +44,12 @@ impl Host for Scripted {
         self.clock
     }
 
-    fn receive(&mut self) -> Option<Vec<u8>> {
+    /// A frame due by now arrives when the host takes it, and takes the line `per_frame`.
+    fn receive(&mut self) -> Option<(Duration, Vec<u8>)> {
         if self.frames.front()?.0 <= self.clock {
+            let arrived = self.clock;
             self.clock += self.per_frame;
-            self.frames.pop_front().map(|(_, frame)| frame)
+            self.frames.pop_front().map(|(_, frame)| (arrived, frame))
         } else {
             None
         }

@@ -57,7 +57,7 @@ use embassy_time::{Duration, Instant, Timer};
 use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
-use crate::pdi::Data;
+use crate::pdi::{Data, Sample};
 
 /// The SPI mode the bus must run in ([`Chip::LAN9252`]'s, which the SII image's configuration
 /// area is written for): the LAN9252's SPI host interface takes mode 0 or 3.
@@ -220,6 +220,8 @@ pub struct Lan9252<S> {
     /// The AL event read by the last access if it was an empty read, else none: what a read of
     /// process RAM right after it reports.
     sampled: AlEvent,
+    /// What the next access's AL event must be ([`Pdi::sample`]).
+    sample: Sample,
     config: Config,
     spi: S,
 }
@@ -234,6 +236,7 @@ impl<S: SpiDevice> Lan9252<S> {
             config,
             known: AlEvent::NONE,
             sampled: AlEvent::NONE,
+            sample: Sample::Usual,
         };
         chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
         let deadline = Deadline::after(config.startup_timeout);
@@ -464,6 +467,31 @@ impl<S: SpiDevice> Lan9252<S> {
 impl<S: SpiDevice> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
+    /// ESC registers: one CSR command (the driver moves them one command at a time anyway, so
+    /// the process-data runner may come in between any two). Process RAM: at most `chunk`
+    /// bytes, ending on a DWORD boundary when the chunk is cut short, so that the next chunk
+    /// starts in byte lane 0 (no padding in its FIFO stream). Each chunk of process RAM is a
+    /// PRAM command of its own: the FIFOs hold one command at a time, and the process-data
+    /// runner's read needs the read FIFO.
+    fn chunk(&self, address: u16, len: usize, chunk: usize) -> usize {
+        let registers = register_bytes(address, len);
+        if registers > 0 {
+            return csr_size(address, registers);
+        }
+        if len <= chunk {
+            return len;
+        }
+        let end = (usize::from(address) + chunk) & !3;
+        end.saturating_sub(usize::from(address)).max(chunk.min(4))
+    }
+
+    /// [`Sample::Continued`]: a later chunk of a read of process RAM reports the events known
+    /// instead of reading the AL event register. [`Sample::Fresh`]: any access reads it, writes
+    /// included (18 bytes; only while state-machine events hold the IRQ line).
+    fn sample(&mut self, sample: Sample) {
+        self.sample = sample;
+    }
+
     /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
     /// touches process RAM first reads the AL event register (unless the access before it was an
     /// empty read: then it reports that one's), and so do an empty read (nothing else) and a read
@@ -488,8 +516,10 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             let (mut registers, ram) = data.split_at(register_bytes(address, len));
             // Taken by every access: only the next one may report it.
             let sampled = core::mem::replace(&mut self.sampled, AlEvent::NONE);
+            let sample = core::mem::replace(&mut self.sample, Sample::Usual);
+            let prompted = reading && (len == 0 || !ram.is_empty() && sample != Sample::Continued);
             let mut fresh = None;
-            if reading && (len == 0 || !ram.is_empty()) {
+            if prompted || sample == Sample::Fresh {
                 let mut event = sampled;
                 if len == 0 || event.is_empty() {
                     let mut value = [0; 4];
@@ -504,10 +534,10 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             }
             self.registers(address, &mut registers).await?;
             self.pram(address.max(PROCESS_RAM), ram).await?;
-            let Data::Read(registers) = registers else {
-                return Ok(self.known);
+            let fresh = match &registers {
+                Data::Read(registers) => fresh.or_else(|| al_event_in(address, registers)),
+                Data::Write(_) => fresh,
             };
-            let fresh = fresh.or_else(|| al_event_in(address, registers));
             let event = fresh.unwrap_or(self.known);
             self.known = fresh
                 .map_or(self.known, |e| e.intersection(TRACKED))

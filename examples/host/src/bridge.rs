@@ -269,11 +269,13 @@ impl Host for NetHost {
         embassy_time::Duration::from_micros(us)
     }
 
-    fn receive(&mut self) -> Option<Vec<u8>> {
+    fn receive(&mut self) -> Option<(embassy_time::Duration, Vec<u8>)> {
         let (arrived, frame) = self.inbox.try_recv().ok()?;
         self.longest_wait = self.longest_wait.max(arrived.elapsed());
         capture(&mut self.pcap, &frame);
-        Some(frame)
+        let us = arrived.saturating_duration_since(self.start).as_micros();
+        let at = embassy_time::Duration::from_micros(u64::try_from(us).unwrap_or(u64::MAX));
+        Some((at, frame))
     }
 
     fn send(&mut self, frame: &[u8]) {

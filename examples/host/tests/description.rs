@@ -203,6 +203,7 @@ fn type_name(entry: &EntryInfo) -> String {
         DataType::Real32 => "REAL".into(),
         DataType::Real64 => "LREAL".into(),
         DataType::VisibleString => format!("STRING({})", entry.bit_len / 8),
+        DataType::OctetString => format!("OCTET_STRING({})", entry.bit_len / 8),
         other => panic!("no sample uses {other:?}"),
     }
 }
