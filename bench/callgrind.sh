@@ -24,7 +24,7 @@ per_case() { # binary case [function pattern] -> instructions of one case
 echo "| benchmark | case | instructions per case | SubDevice side |"
 echo "|---|---|---|---|"
 for run in "sdo expedited-upload" "sdo expedited-upload-pdo" "sdo upload-1k-128" "sdo upload-1k-1024" "sdo download-1k-128" \
-           "sdo download-1k-1024" "pd cia402" "pd cia402-remapped" "pd io64" "pd axis" "line 1" "line 3" "line 100"; do
+           "sdo download-1k-1024" "pd cia402" "pd cia402-remapped" "pd io64" "pd axis" "pd axis-pp" "pd axis-pv" "pd axis-hm" "line 1" "line 3" "line 100"; do
     set -- $run
     side="—"
     [ "$1" = sdo ] && side=$(per_case "$1" "$2" '*Bench*serve*')

@@ -631,8 +631,12 @@ fn sync_managers<D: ObjectDictionary, W: Write>(
     Ok(())
 }
 
-/// `RxPdo`/`TxPdo` elements of the default assignment: SyncManager, `Fixed` when the mapping
-/// object is not writable, entries (a gap has index 0 and only a bit length).
+/// `RxPdo`/`TxPdo` elements: first those of the default assignment (with their SyncManager),
+/// then the mapping objects the dictionary declares besides (no SyncManager: a MainDevice may
+/// assign them instead). `Fixed` when the mapping object is not writable; entries (a gap has
+/// index 0 and only a bit length). When the assignment object holds a single PDO, every PDO of
+/// the direction excludes the others (`Exclude`, ETG.2000), so a configuration tool offers them
+/// as alternatives.
 fn pdos<D: ObjectDictionary, W: Write>(
     x: &mut Xml<'_, W>,
     od: &D,
@@ -642,19 +646,42 @@ fn pdos<D: ObjectDictionary, W: Write>(
         Direction::Rx => ("RxPdo", 2u8),
         Direction::Tx => ("TxPdo", 3),
     };
+    let single = D::object(direction.assignment()).is_some_and(|a| a.info.max_sub <= 1);
+    let mut all = [0u16; 64];
+    let mut n = 0;
+    let mut collect = |index: u16, _: &'static str, _: &[crate::pdo::MappingEntry]| {
+        if let Some(slot) = all.get_mut(n) {
+            *slot = index;
+            n += 1;
+        }
+    };
+    sii::for_each_pdo(od, direction, &mut collect);
+    sii::for_each_alternative_pdo(od, direction, &mut collect);
+    let all = all.get(..n).unwrap_or_default();
     let mut result = Ok(());
-    sii::for_each_pdo(od, direction, |index, name, entries| {
-        let fixed = !D::object(index)
-            .and_then(|o| o.info.entry(0))
-            .is_some_and(|e| e.access.writable());
-        let pdo = |x: &mut Xml<'_, W>| -> fmt::Result {
-            if fixed {
-                x.open(tag, &[("Sm", &sm), ("Fixed", &"true")])?;
-            } else {
-                x.open(tag, &[("Sm", &sm)])?;
-            }
+    let emit = |assigned: bool| {
+        move |x: &mut Xml<'_, W>, index: u16, name: &str, entries: &[crate::pdo::MappingEntry]| {
+            let fixed = !D::object(index)
+                .and_then(|o| o.info.entry(0))
+                .is_some_and(|e| e.access.writable());
+            let mut attributes: [(&str, &dyn fmt::Display); 2] = [("Sm", &sm), ("Fixed", &"true")];
+            let used = match (assigned, fixed) {
+                (true, true) => &attributes[..],
+                (true, false) => &attributes[..1],
+                (false, true) => {
+                    attributes.swap(0, 1);
+                    &attributes[..1]
+                }
+                (false, false) => &attributes[..0],
+            };
+            x.open(tag, used)?;
             x.leaf("Index", Index(index))?;
             x.leaf("Name", name)?;
+            if single {
+                for &other in all.iter().filter(|&&other| other != index) {
+                    x.leaf("Exclude", Index(other))?;
+                }
+            }
             for entry in entries {
                 x.open("Entry", &[])?;
                 x.leaf("Index", Index(entry.index()))?;
@@ -670,9 +697,18 @@ fn pdos<D: ObjectDictionary, W: Write>(
                 x.close("Entry")?;
             }
             x.close(tag)
-        };
+        }
+    };
+    let default = emit(true);
+    sii::for_each_pdo(od, direction, |index, name, entries| {
         if result.is_ok() {
-            result = pdo(x);
+            result = default(x, index, name, entries);
+        }
+    });
+    let alternative = emit(false);
+    sii::for_each_alternative_pdo(od, direction, |index, name, entries| {
+        if result.is_ok() {
+            result = alternative(x, index, name, entries);
         }
     });
     result

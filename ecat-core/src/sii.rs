@@ -435,7 +435,17 @@ pub fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> [Syn
         .unwrap_or(0);
     let align = |a: u32| u16::try_from(a.div_ceil(8) * 8).unwrap_or(u16::MAX);
     let outputs_start = align(mailbox_end);
-    let inputs_start = align(u32::from(outputs_start) + 3 * u32::from(image.outputs));
+    // SM3 starts after SM2's three buffers at the largest output image an assignment can make
+    // (every RxPDO mapping object the dictionary declares, assigned or an alternative), so that
+    // assigning another PDO set in PREOP cannot make SM2 overlap SM3.
+    let mut bits = 0u32;
+    let mut add = |_: u16, _: &'static str, entries: &[MappingEntry]| {
+        bits += entries.iter().map(|e| u32::from(e.bit_len())).sum::<u32>();
+    };
+    for_each_pdo(od, Direction::Rx, &mut add);
+    for_each_alternative_pdo(od, Direction::Rx, &mut add);
+    let reserved = u32::from(image.outputs).max(bits.div_ceil(8));
+    let inputs_start = align(u32::from(outputs_start) + 3 * reserved);
     let [mbx_out, mbx_in, outputs, inputs] = SM_CONTROL;
     let sm = |start, length, control, enable, kind| SyncManager {
         start,
@@ -519,6 +529,43 @@ pub fn for_each_pdo<D: ObjectDictionary>(
         let Some(mapping) = D::object(index).filter(|_| direction.is_mapping(index)) else {
             continue;
         };
+        let mut entries = [MappingEntry(0); 64];
+        let mut len = 0;
+        for sub in 1..=count(od, mapping) {
+            if let (Some(slot), Some(entry)) = (entries.get_mut(len), read_u32(od, mapping, sub)) {
+                *slot = MappingEntry(entry);
+                len += 1;
+            }
+        }
+        f(
+            index,
+            mapping.info.name,
+            entries.get(..len).unwrap_or_default(),
+        );
+    }
+}
+
+/// Calls `f(pdo index, pdo name, entries)` for every PDO mapping object of `direction` the
+/// dictionary declares but the default assignment does not list: the alternatives a MainDevice
+/// may assign instead (the ESI lists them without a SyncManager, ETG.2000 `RxPdo`/`TxPdo`).
+pub fn for_each_alternative_pdo<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    mut f: impl FnMut(u16, &'static str, &[MappingEntry]),
+) {
+    let mut assigned = [0u16; 64];
+    let mut n = 0;
+    for_each_pdo(od, direction, |index, _, _| {
+        if let Some(slot) = assigned.get_mut(n) {
+            *slot = index;
+            n += 1;
+        }
+    });
+    for mapping in D::OBJECTS {
+        let index = mapping.info.index;
+        if !direction.is_mapping(index) || assigned.get(..n).unwrap_or_default().contains(&index) {
+            continue;
+        }
         let mut entries = [MappingEntry(0); 64];
         let mut len = 0;
         for sub in 1..=count(od, mapping) {

@@ -6,7 +6,11 @@
 //! 0x6064 i32, 0x606C i32, 0x6061 i8: 11 + 11 bytes), `cia402-remapped` (the same entries
 //! in another order, as a MainDevice may configure them), `io64` (64 bytes each way as 16 × u32),
 //! `axis` (the `ecat-axis` dummy drive, enabled in CSV at 5 000 counts/s: its 13 + 19 bytes and
-//! one `Axis::step`, the CiA 402 state machine and the simulated motor).
+//! one `Axis::step`, the CiA 402 state machine and the simulated motor), and the axis in its
+//! profile modes through the same image: `axis-pp` (profile position towards 10 000 000 counts at
+//! 0x6081 = 100 000 counts/s: the trajectory generator's braking-distance check every cycle),
+//! `axis-pv` (profile velocity to 50 000 counts/s: 50 cycles of ramp, then cruising), `axis-hm`
+//! (homing method 1, searching the negative limit 100 000 counts away at 50 000 counts/s).
 
 use ecat_axis::{Axis, AxisOd};
 use ecat_core::pdo::image::{pack, unpack};
@@ -105,14 +109,24 @@ fn main() {
         "io64" => cycles(&mut Io::default(), n, vary_first_byte, |d| {
             d.inputs = d.outputs
         }),
-        "axis" => {
+        "axis" | "axis-pp" | "axis-pv" | "axis-hm" => {
             let (mut axis, mut od) = (Axis::new(), AxisOd::default());
+            od.homing_method = 1;
             for controlword in [0x00, 0x06] {
                 od.controlword = controlword;
                 axis.step(&mut od);
             }
-            // Controlword 0x000F, target position 0, target velocity 5 000, torque 0, mode 9.
-            let image = [0x0F, 0, 0, 0, 0, 0, 0x88, 0x13, 0, 0, 0, 0, 9];
+            // Controlword, target position, target velocity, torque 0, mode.
+            let image: [u8; 13] = match case.as_str() {
+                // 0x000F, 0, 5 000 counts/s, CSV.
+                "axis" => [0x0F, 0, 0, 0, 0, 0, 0x88, 0x13, 0, 0, 0, 0, 9],
+                // 0x001F (new set-point), 10 000 000 counts, PP.
+                "axis-pp" => [0x1F, 0, 0x80, 0x96, 0x98, 0, 0, 0, 0, 0, 0, 0, 1],
+                // 0x000F, 50 000 counts/s, PV.
+                "axis-pv" => [0x0F, 0, 0, 0, 0, 0, 0x50, 0xC3, 0, 0, 0, 0, 3],
+                // 0x001F (homing start), HM.
+                _ => [0x1F, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 6],
+            };
             cycles(
                 &mut od,
                 n,

@@ -11,6 +11,21 @@
 
 /// Controlword bit 7: fault reset (rising edge).
 pub const FAULT_RESET: u16 = 1 << 7;
+/// Controlword bit 4 in profile position: new set-point (rising edge; CiA 402-2 0x6040, PP).
+pub const NEW_SET_POINT: u16 = 1 << 4;
+/// Controlword bit 4 in homing: homing operation start (rising edge starts, falling edge
+/// interrupts; CiA 402-2 0x6040, HM).
+pub const HOMING_START: u16 = 1 << 4;
+/// Controlword bit 5 in profile position: change set immediately (1: single set-point, the new
+/// one replaces the current; 0: set of set-points, the new one follows the current).
+pub const CHANGE_SET_IMMEDIATELY: u16 = 1 << 5;
+/// Controlword bit 6 in profile position: 0 absolute, 1 relative target.
+pub const RELATIVE: u16 = 1 << 6;
+/// Controlword bit 8: halt, in every mode (stop with the 0x605D ramp, stay Operation enabled).
+pub const HALT: u16 = 1 << 8;
+/// Controlword bit 9 in profile position: change on set-point (with bit 5 = 0: pass the current
+/// target at its profile velocity and go on to the buffered one without stopping).
+pub const CHANGE_ON_SET_POINT: u16 = 1 << 9;
 
 /// A device control command of Table 28. "Disable operation" has the bits of "switch on", and
 /// "switch on + enable operation" those of "enable operation": the state decides which one is

@@ -16,19 +16,31 @@
 //! | [`statusword`](mod@statusword) | the statusword bits (§6.2.1.3, Table 29) |
 //! | [`mode`] | modes of operation 0x6060/0x6061/0x6502 (§6.2.2, Tables 31–33) |
 //! | [`objects`] | the standard objects a drive declares, and a check of a dictionary against them |
+//! | [`profile`] | the trapezoidal profile generator and the limits 0x607D/0x607F/0x6072 |
+//! | [`pp`] | profile position: set-point handshake, set of set-points, absolute/relative (§6.3) |
+//! | [`pv`] | profile velocity: velocity window, speed-zero threshold (§6.5) |
+//! | [`homing`] | homing methods 1–14, 17–30, 33–35, 37 (§6.4) |
+//! | [`touch_probe`] | touch probe 0x60B8..0x60BD |
+//! | [`inputs`] | digital inputs 0x60FD |
 
 pub mod controlword;
+pub mod homing;
+pub mod inputs;
 pub mod mode;
 pub mod objects;
 pub mod option_code;
 pub mod pds;
+pub mod pp;
+pub mod profile;
+pub mod pv;
 pub mod state;
 pub mod statusword;
+pub mod touch_probe;
 
 pub use controlword::Command;
 pub use mode::Mode;
 pub use objects::SoftwarePositionLimit;
-pub use option_code::{OptionCodes, Ramp, Reaction};
+pub use option_code::{OptionCodes, Ramp, Reaction, halt};
 pub use pds::{Motion, PowerDriveSystem, Step, Transitions};
 pub use state::State;
 pub use statusword::{StatusFlags, statusword};

@@ -45,6 +45,15 @@ pub struct SoftwarePositionLimit {
     pub max: i32,
 }
 
+/// The record of 0x6099 homing speeds (CiA 402-2 0x6099).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct HomingSpeeds {
+    /// SI1: speed during search for switch, counts/s.
+    pub switch_search: u32,
+    /// SI2: speed during search for zero, counts/s.
+    pub zero_search: u32,
+}
+
 /// How a standard entry may be mapped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mapping {
@@ -130,6 +139,7 @@ pub const ENTRIES: &[StandardEntry] = {
             None,
             false,
         ),
+        entry(0x605D, 0, "Halt option code", Integer16, true, None, false),
         entry(
             0x605E,
             0,
@@ -167,6 +177,16 @@ pub const ENTRIES: &[StandardEntry] = {
             None,
             false,
         ),
+        entry(0x6067, 0, "Position window", Unsigned32, true, None, false),
+        entry(
+            0x6068,
+            0,
+            "Position window time",
+            Unsigned16,
+            true,
+            None,
+            false,
+        ),
         entry(
             0x606C,
             0,
@@ -176,7 +196,36 @@ pub const ENTRIES: &[StandardEntry] = {
             Tx,
             false,
         ),
+        entry(0x606D, 0, "Velocity window", Unsigned16, true, None, false),
+        entry(
+            0x606E,
+            0,
+            "Velocity window time",
+            Unsigned16,
+            true,
+            None,
+            false,
+        ),
+        entry(
+            0x606F,
+            0,
+            "Velocity threshold",
+            Unsigned16,
+            true,
+            None,
+            false,
+        ),
+        entry(
+            0x6070,
+            0,
+            "Velocity threshold time",
+            Unsigned16,
+            true,
+            None,
+            false,
+        ),
         entry(0x6071, 0, "Target torque", Integer16, true, Rx, false),
+        entry(0x6072, 0, "Max torque", Unsigned16, true, None, false),
         entry(
             0x6077,
             0,
@@ -187,6 +236,7 @@ pub const ENTRIES: &[StandardEntry] = {
             false,
         ),
         entry(0x607A, 0, "Target position", Integer32, true, Rx, false),
+        entry(0x607C, 0, "Home offset", Integer32, true, None, false),
         entry(
             0x607D,
             1,
@@ -203,6 +253,25 @@ pub const ENTRIES: &[StandardEntry] = {
             Integer32,
             true,
             None,
+            false,
+        ),
+        entry(
+            0x607F,
+            0,
+            "Max profile velocity",
+            Unsigned32,
+            true,
+            None,
+            false,
+        ),
+        entry(0x6081, 0, "Profile velocity", Unsigned32, true, Rx, false),
+        entry(
+            0x6083,
+            0,
+            "Profile acceleration",
+            Unsigned32,
+            true,
+            Rx,
             false,
         ),
         entry(
@@ -223,8 +292,90 @@ pub const ENTRIES: &[StandardEntry] = {
             None,
             false,
         ),
+        entry(0x6098, 0, "Homing method", Integer8, true, None, false),
+        entry(
+            0x6099,
+            1,
+            "Speed during search for switch",
+            Unsigned32,
+            true,
+            None,
+            false,
+        ),
+        entry(
+            0x6099,
+            2,
+            "Speed during search for zero",
+            Unsigned32,
+            true,
+            None,
+            false,
+        ),
+        entry(
+            0x609A,
+            0,
+            "Homing acceleration",
+            Unsigned32,
+            true,
+            None,
+            false,
+        ),
         entry(0x60B1, 0, "Velocity offset", Integer32, true, Rx, false),
         entry(0x60B2, 0, "Torque offset", Integer16, true, Rx, false),
+        entry(
+            0x60B8,
+            0,
+            "Touch probe function",
+            Unsigned16,
+            true,
+            Rx,
+            false,
+        ),
+        entry(
+            0x60B9,
+            0,
+            "Touch probe status",
+            Unsigned16,
+            false,
+            Tx,
+            false,
+        ),
+        entry(
+            0x60BA,
+            0,
+            "Touch probe 1 positive edge",
+            Integer32,
+            false,
+            Tx,
+            false,
+        ),
+        entry(
+            0x60BB,
+            0,
+            "Touch probe 1 negative edge",
+            Integer32,
+            false,
+            Tx,
+            false,
+        ),
+        entry(
+            0x60BC,
+            0,
+            "Touch probe 2 positive edge",
+            Integer32,
+            false,
+            Tx,
+            false,
+        ),
+        entry(
+            0x60BD,
+            0,
+            "Touch probe 2 negative edge",
+            Integer32,
+            false,
+            Tx,
+            false,
+        ),
         entry(
             0x60F4,
             0,
@@ -234,6 +385,7 @@ pub const ENTRIES: &[StandardEntry] = {
             Tx,
             false,
         ),
+        entry(0x60FD, 0, "Digital inputs", Unsigned32, false, Tx, false),
         entry(0x60FF, 0, "Target velocity", Integer32, true, Rx, false),
         entry(
             0x6502,

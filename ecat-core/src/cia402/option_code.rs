@@ -119,3 +119,16 @@ const fn slow_down_or_disable(code: i16) -> Ramp {
         _ => Ramp::Disable,
     }
 }
+
+/// The ramp of the halt function (controlword bit 8) by 0x605D halt option code (CiA 402-2
+/// 0x605D; IEC 61800-7-201 §6.2.3): 1 slow down ramp (0x6084, the default), 2 quick stop ramp
+/// (0x6085), 3 current limit, 4 voltage limit. The drive stays in Operation enabled. Other codes
+/// (reserved, manufacturer-specific) act as 1.
+pub const fn halt(code: i16) -> Ramp {
+    match code {
+        2 => Ramp::QuickStop,
+        3 => Ramp::CurrentLimit,
+        4 => Ramp::VoltageLimit,
+        _ => Ramp::SlowDown,
+    }
+}

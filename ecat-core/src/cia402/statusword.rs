@@ -18,6 +18,16 @@ pub const INTERNAL_LIMIT: u16 = 1 << 11;
 pub const FOLLOWS_COMMAND: u16 = 1 << 12;
 /// Bit 13 (operation mode specific): following error (CSP, PP).
 pub const FOLLOWING_ERROR: u16 = 1 << 13;
+/// Bit 12 in profile position: set-point acknowledge.
+pub const SET_POINT_ACKNOWLEDGE: u16 = 1 << 12;
+/// Bit 12 in profile velocity: speed (1 = speed is 0, |0x606C| ≤ 0x606F for 0x6070 ms).
+pub const SPEED_ZERO: u16 = 1 << 12;
+/// Bit 13 in profile velocity: max slippage error (asynchronous motors only).
+pub const MAX_SLIPPAGE_ERROR: u16 = 1 << 13;
+/// Bit 12 in homing: homing attained.
+pub const HOMING_ATTAINED: u16 = 1 << 12;
+/// Bit 13 in homing: homing error.
+pub const HOMING_ERROR: u16 = 1 << 13;
 
 /// The statusword bits the application reports (Table 29).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]

@@ -1,5 +1,6 @@
 //! The ESM and SDO side of the axis.
 
+use ecat_core::cia402::homing::Method;
 use ecat_core::cia402::mode;
 use ecat_core::cia402::objects::MODES_OF_OPERATION;
 use ecat_core::coe::AbortCode;
@@ -8,8 +9,12 @@ use ecat_embassy::Application;
 
 use crate::AxisOd;
 
+/// 0x6098 homing method.
+const HOMING_METHOD: u16 = 0x6098;
+
 /// The axis' [`Application`]: accepts every ESM transition; refuses an SDO download of an
-/// unsupported mode to 0x6060 with 0x06090030 ([`mode::check_write`]).
+/// unsupported mode to 0x6060 ([`mode::check_write`]) or of a reserved homing method to 0x6098
+/// ([`Method::of`]) with 0x06090030.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct AxisApp;
 
@@ -25,6 +30,12 @@ impl ObjectHooks<AxisOd> for AxisApp {
     ) -> Result<(), AbortCode> {
         match (index, sub) {
             (MODES_OF_OPERATION, 0) => mode::check_write(data, od.supported_modes),
+            (HOMING_METHOD, 0) => match data {
+                [code] if Method::of(i8::from_le_bytes([*code])).is_none() => {
+                    Err(AbortCode::VALUE_RANGE)
+                }
+                _ => Ok(()),
+            },
             _ => Ok(()),
         }
     }

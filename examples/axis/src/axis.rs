@@ -1,15 +1,27 @@
 //! The process-data cycle of the axis: the CiA 402 state machine decides, the simulated motor
 //! moves (the structure of the SSC `CiA402_Application`/`CiA402_DummyMotionControl`).
+//!
+//! The profile modes (PP, PV, HM) run `ecat_core::cia402`'s trajectory generator and the motor
+//! follows its demand exactly; the cyclic modes (CSP, CSV, CST) drive the motor directly. The
+//! halt bit (controlword bit 8) stops every mode with the 0x605D ramp; the stop ramps of the
+//! option codes, 0x607D (not while homing), 0x607F and 0x6072 apply in every mode.
 
+use ecat_core::cia402::controlword::HALT;
+use ecat_core::cia402::homing::{Homing, HomingInputs, HomingParameters};
+use ecat_core::cia402::inputs::digital_inputs;
+use ecat_core::cia402::pp::{PpParameters, ProfilePosition};
+use ecat_core::cia402::profile::{Trajectory, clamp_torque};
+use ecat_core::cia402::pv::{ProfileVelocity, PvParameters};
 use ecat_core::cia402::statusword::StatusFlags;
+use ecat_core::cia402::touch_probe::{ProbeInput, TouchProbes};
 use ecat_core::cia402::{
-    Mode, Motion, OptionCodes, PowerDriveSystem, Ramp, SoftwarePositionLimit, State, mode,
+    Mode, Motion, OptionCodes, PowerDriveSystem, Ramp, SoftwarePositionLimit, State, halt, mode,
     statusword,
 };
 use ecat_embassy::CycleHandler;
 
 use crate::AxisOd;
-use crate::motor::{Motor, TORQUE_ACCELERATION, saturate};
+use crate::motor::{Machine, Motor, TORQUE_ACCELERATION, saturate};
 
 /// The cycle time when 0x1C32:02 is 0 (no cycle configured): 1 ms.
 pub const DEFAULT_CYCLE_NS: u32 = 1_000_000;
@@ -37,16 +49,64 @@ pub struct Axis {
     pds: PowerDriveSystem,
     motor: Motor,
     fault: Option<u16>,
+    /// The demand of the profile modes.
+    trajectory: Trajectory,
+    pp: ProfilePosition,
+    pv: ProfileVelocity,
+    homing: Homing,
+    probes: TouchProbes,
+    /// The mode followed in the previous cycle (`None`: not Operation enabled).
+    following: Option<i8>,
+    /// The switches and the index pulse.
+    machine: Machine,
+    /// Physical position = reported position − `origin` (homing moves the origin).
+    origin: i64,
+    /// The physical position of the previous cycle.
+    physical: i64,
+    /// The touch probe 2 input (an application input).
+    probe2: bool,
+    /// An index pulse passed in the previous cycle's motion.
+    index: bool,
+    /// The controlword of the previous cycle (a mode entered with bit 4 rising starts at once).
+    controlword: u16,
 }
 
 impl Axis {
-    /// An axis at power on: Not ready to switch on, motor at rest at 0.
+    /// An axis at power on: Not ready to switch on, motor at rest at 0, on [`Machine::DEFAULT`].
     pub const fn new() -> Self {
         Self {
             pds: PowerDriveSystem::new(),
             motor: Motor::new(),
             fault: None,
+            trajectory: Trajectory::new(),
+            pp: ProfilePosition::new(),
+            pv: ProfileVelocity::new(),
+            homing: Homing::new(),
+            probes: TouchProbes::new(),
+            following: None,
+            machine: Machine::DEFAULT,
+            origin: 0,
+            physical: 0,
+            probe2: false,
+            index: false,
+            controlword: 0,
         }
+    }
+
+    /// The same axis on `machine`.
+    pub const fn with_machine(mut self, machine: Machine) -> Self {
+        self.machine = machine;
+        self
+    }
+
+    /// The machine's physical position of the motor (where the switches are).
+    pub const fn physical_position(&self) -> i64 {
+        self.physical
+    }
+
+    /// Sets the touch probe 2 input (touch probe 1 is wired to the home switch).
+    pub fn set_probe_input(&mut self, level: bool) {
+        self.probe2 = level;
     }
 
     /// The PDS state.
@@ -68,7 +128,7 @@ impl Axis {
 
     /// One cycle over the dictionary: the body of [`CycleHandler::cycle`].
     pub fn step(&mut self, od: &mut AxisOd) {
-        let dt = match od.area.outputs.cycle_time {
+        let dt = match cycle_time(od) {
             0 => DEFAULT_CYCLE_NS,
             configured => configured,
         };
@@ -90,14 +150,93 @@ impl Axis {
         }
         od.error_register = u8::from(od.error_code != 0);
         od.mode_display = mode::display(od.mode, od.mode_display, od.supported_modes);
+        let following = (step.motion == Motion::Follow).then_some(od.mode_display);
+        if following != self.following {
+            self.enter();
+            self.following = following;
+        }
         let mut report = match step.motion {
             Motion::Off | Motion::Stop(Ramp::Disable) => self.halt(dt, false),
             Motion::Hold => self.halt(dt, true),
             Motion::Stop(ramp) => self.stop(od, ramp, dt),
+            Motion::Follow if od.controlword & HALT != 0 && !self.profile_mode(od) => {
+                self.stop(od, halt(od.halt_option), dt)
+            }
             Motion::Follow => self.follow(od, dt),
         };
-        report.internal_limit |= self.enforce(od.position_limit);
+        if following != Some(Mode::Homing.code()) {
+            report.internal_limit |= self.enforce(od.position_limit);
+        }
+        if !matches!(step.motion, Motion::Follow) || !self.profile_mode(od) {
+            self.trajectory.follow(
+                i64::from(self.motor.position()),
+                i64::from(self.motor.velocity()),
+            );
+        }
+        self.sense(od);
         self.publish(od, &report);
+        self.controlword = od.controlword;
+    }
+
+    /// Whether the active mode runs the trajectory generator (PP, PV, HM).
+    fn profile_mode(&self, od: &AxisOd) -> bool {
+        matches!(
+            Mode::from_code(od.mode_display),
+            Some(Mode::ProfilePosition | Mode::ProfileVelocity | Mode::Homing)
+        )
+    }
+
+    /// A new mode is followed (or Operation enabled ended): the demand takes the motor's
+    /// position and velocity, set-points are dropped; bit 4 counts as rising when it was 0 in
+    /// the previous cycle.
+    fn enter(&mut self) {
+        let position = i64::from(self.motor.position());
+        self.trajectory
+            .follow(position, i64::from(self.motor.velocity()));
+        self.pp.enter(position, self.controlword);
+        self.pv = ProfileVelocity::new();
+        self.homing.enter(self.controlword);
+    }
+
+    /// The switches into 0x60FD, the touch probes into 0x60B9..0x60BD.
+    fn sense(&mut self, od: &mut AxisOd) {
+        let physical = i64::from(self.motor.position()) - self.origin;
+        let (negative, positive, home) = self.machine.switches(physical);
+        let index = self.machine.index_passed(self.physical, physical);
+        self.physical = physical;
+        self.index = index;
+        od.digital_inputs = digital_inputs(negative, positive, home);
+        let position = self.motor.position();
+        self.probes.update(
+            od.touch_probe_function,
+            [
+                ProbeInput {
+                    input: home,
+                    index,
+                    position,
+                },
+                ProbeInput {
+                    input: self.probe2,
+                    index,
+                    position,
+                },
+            ],
+        );
+        od.touch_probe_status = self.probes.status();
+        let [first, second] = [self.probes.positions(0), self.probes.positions(1)];
+        od.probe1_positive = first.positive;
+        od.probe1_negative = first.negative;
+        od.probe2_positive = second.positive;
+        od.probe2_negative = second.negative;
+    }
+
+    /// The deceleration of `ramp`: 0x6084 for the slow down ramp, 0x6085 for the quick stop
+    /// ramp and for the current and voltage limits (the dummy motor has neither).
+    fn deceleration(od: &AxisOd, ramp: Ramp) -> u32 {
+        match ramp {
+            Ramp::SlowDown => od.profile_deceleration,
+            _ => od.quick_stop_deceleration,
+        }
     }
 
     /// No torque (the unpowered dummy motor has no inertia and stops at once), or holding at
@@ -115,11 +254,7 @@ impl Axis {
     /// and for the current and voltage limits (the dummy motor has neither). Target reached once
     /// at standstill.
     fn stop(&mut self, od: &AxisOd, ramp: Ramp, dt: u32) -> Report {
-        let deceleration = match ramp {
-            Ramp::SlowDown => od.profile_deceleration,
-            _ => od.quick_stop_deceleration,
-        };
-        self.motor.decelerate(deceleration, dt);
+        self.motor.decelerate(Self::deceleration(od, ramp), dt);
         self.motor.integrate(dt);
         Report {
             target_reached: self.motor.standstill(),
@@ -130,10 +265,118 @@ impl Axis {
     /// Operation enabled: the active mode (0x6061); no supported mode holds the motor.
     fn follow(&mut self, od: &AxisOd, dt: u32) -> Report {
         match Mode::from_code(od.mode_display) {
+            Some(Mode::ProfilePosition) => self.pp(od, dt),
+            Some(Mode::ProfileVelocity) => self.pv(od, dt),
+            Some(Mode::Homing) => self.hm(od, dt),
             Some(Mode::CyclicSyncPosition) => self.csp(od, dt),
             Some(Mode::CyclicSyncVelocity) => self.csv(od, dt),
             Some(Mode::CyclicSyncTorque) => self.cst(od, dt),
             _ => self.halt(dt, false),
+        }
+    }
+
+    /// The motor follows the demand of the trajectory generator.
+    fn drive(&mut self) {
+        self.motor.move_to(
+            saturate(self.trajectory.position()),
+            saturate(self.trajectory.velocity()),
+        );
+    }
+
+    /// PP ([`ProfilePosition`]): bit 10 target reached, 12 set-point acknowledge, 13 following
+    /// error (demand − actual beyond 0x6065; the ideal motor never lags).
+    fn pp(&mut self, od: &AxisOd, dt: u32) -> Report {
+        let parameters = PpParameters {
+            target: od.target_position,
+            profile_velocity: od.profile_velocity,
+            acceleration: od.profile_acceleration,
+            deceleration: od.profile_deceleration,
+            max_velocity: od.max_profile_velocity,
+            limit: od.position_limit,
+            window: od.position_window,
+            window_time: od.position_window_time,
+            halt_deceleration: Self::deceleration(od, halt(od.halt_option)),
+        };
+        let actual = i64::from(self.motor.position());
+        let status = self.pp.update(
+            od.controlword,
+            &parameters,
+            actual,
+            &mut self.trajectory,
+            dt,
+        );
+        self.drive();
+        let error = self.trajectory.position() - i64::from(self.motor.position());
+        Report {
+            target_reached: status.target_reached,
+            internal_limit: status.internal_limit,
+            follows_command: status.set_point_acknowledge,
+            following_error: od.following_error_window != u32::MAX
+                && error.unsigned_abs() > u64::from(od.following_error_window),
+            error: saturate(error),
+            torque: 0,
+        }
+    }
+
+    /// PV ([`ProfileVelocity`]): bit 10 target reached, 11 limited, 12 speed zero.
+    fn pv(&mut self, od: &AxisOd, dt: u32) -> Report {
+        let parameters = PvParameters {
+            target: od.target_velocity,
+            acceleration: od.profile_acceleration,
+            deceleration: od.profile_deceleration,
+            max_velocity: od.max_profile_velocity,
+            window: od.velocity_window,
+            window_time: od.velocity_window_time,
+            threshold: od.velocity_threshold,
+            threshold_time: od.velocity_threshold_time,
+            halt_deceleration: Self::deceleration(od, halt(od.halt_option)),
+        };
+        let status = self
+            .pv
+            .update(od.controlword, &parameters, &mut self.trajectory, dt);
+        self.drive();
+        Report {
+            target_reached: status.target_reached,
+            internal_limit: status.internal_limit,
+            follows_command: status.speed_zero,
+            ..Report::default()
+        }
+    }
+
+    /// HM ([`Homing`]) against the machine's switches and index pulse: bit 10 target reached,
+    /// 12 homing attained, 13 homing error. The reference moves the reported position.
+    fn hm(&mut self, od: &AxisOd, dt: u32) -> Report {
+        let parameters = HomingParameters {
+            method: od.homing_method,
+            switch_speed: od.homing_speeds.switch_search,
+            zero_speed: od.homing_speeds.zero_search,
+            acceleration: od.homing_acceleration,
+            home_offset: od.home_offset,
+            max_velocity: od.max_profile_velocity,
+            halt_deceleration: Self::deceleration(od, halt(od.halt_option)),
+        };
+        let physical = i64::from(self.motor.position()) - self.origin;
+        let (negative_limit, positive_limit, home_switch) = self.machine.switches(physical);
+        let inputs = HomingInputs {
+            negative_limit,
+            positive_limit,
+            home_switch,
+            index_pulse: self.index,
+        };
+        let status = self.homing.update(
+            od.controlword,
+            &parameters,
+            inputs,
+            &mut self.trajectory,
+            dt,
+        );
+        self.origin += status.shift;
+        self.drive();
+        Report {
+            target_reached: status.target_reached,
+            follows_command: status.attained,
+            following_error: status.error,
+            ..Report::default()
         }
     }
 
@@ -183,7 +426,10 @@ impl Axis {
     /// at the speed limit 0x607F no torque is applied in that direction. Target reached when
     /// the commanded torque is applied.
     fn cst(&mut self, od: &AxisOd, dt: u32) -> Report {
-        let commanded = od.target_torque.saturating_add(od.torque_offset);
+        let (commanded, torque_limited) = clamp_torque(
+            od.target_torque.saturating_add(od.torque_offset),
+            od.max_torque,
+        );
         let max = i64::from(od.max_profile_velocity);
         let velocity = i64::from(self.motor.velocity());
         let at_limit = (commanded > 0 && velocity >= max) || (commanded < 0 && velocity <= -max);
@@ -195,7 +441,7 @@ impl Axis {
         self.motor.integrate(dt);
         Report {
             target_reached: !at_limit,
-            internal_limit: at_limit,
+            internal_limit: at_limit || torque_limited,
             follows_command: true,
             torque,
             ..Report::default()
@@ -228,6 +474,11 @@ impl Axis {
         };
         od.statusword = statusword(self.pds.state(), flags);
     }
+}
+
+/// 0x1C32:02, the cycle time.
+fn cycle_time(od: &AxisOd) -> u32 {
+    od.area.outputs.cycle_time
 }
 
 /// `position` clamped into the software position limits (active when min < max), and whether

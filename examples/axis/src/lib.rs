@@ -6,7 +6,10 @@
 //! moves). No std, no heap: the same code serves the host demo, a virtual SubDevice and the
 //! STM32 firmware.
 //!
-//! Modes: cyclic synchronous position (8), velocity (9) and torque (10); 0x6502 = 0x0000_0380.
+//! Modes: profile position (1), profile velocity (3), homing (6) on a simulated machine
+//! ([`Machine`]: limit switches, a home cam, an index pulse), cyclic synchronous position (8),
+//! velocity (9) and torque (10); 0x6502 = 0x0000_03A5. Halt (controlword bit 8, 0x605D), touch
+//! probe (0x60B8..0x60BD, probe 1 on the home switch) and digital inputs (0x60FD) in every mode.
 //! Units: position in counts, velocity in counts/s, acceleration in counts/s², torque in 0.1 %
 //! of the rated torque (CiA 402-2 default units).
 #![no_std]
@@ -30,8 +33,11 @@ mod od;
 
 pub use app::AxisApp;
 pub use axis::{Axis, DEFAULT_CYCLE_NS};
-pub use motor::{Motor, TORQUE_ACCELERATION};
-pub use od::{AxisOd, IDENTITY, INFO, RX_MAPPING, SUPPORTED_MODES, TX_MAPPING};
+pub use motor::{Machine, Motor, TORQUE_ACCELERATION};
+pub use od::{
+    AxisOd, IDENTITY, INFO, RX_MAPPING, RX_PROFILE_MAPPING, SUPPORTED_MODES, TX_MAPPING,
+    TX_PROFILE_MAPPING,
+};
 
 use ecat_core::DeviceConfig;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};

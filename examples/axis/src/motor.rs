@@ -84,6 +84,11 @@ impl Motor {
         self.velocity = velocity;
     }
 
+    /// Moves the coordinate system by `delta` counts (homing): the motor stays where it is.
+    pub fn shift(&mut self, delta: i64) {
+        self.position = saturate(i64::from(self.position).saturating_add(delta));
+    }
+
     /// Stops at `position` (a hard limit): velocity 0, no sub-count remainder.
     pub fn stop_at(&mut self, position: i32) {
         self.move_to(position, 0);
@@ -93,4 +98,65 @@ impl Motor {
 /// `value` clamped into `i32`.
 pub(crate) fn saturate(value: i64) -> i32 {
     i32::try_from(value).unwrap_or(if value < 0 { i32::MIN } else { i32::MAX })
+}
+
+/// The simulated machine around the motor: limit switches, a home cam and the encoder's index
+/// pulse, at physical positions (counts from where the motor was at power on; homing moves the
+/// reported position, not these).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Machine {
+    /// The negative limit switch is active at or below this position.
+    pub negative_limit: i64,
+    /// The positive limit switch is active at or above this position.
+    pub positive_limit: i64,
+    /// The home switch is active from `.0` to `.1` (inclusive).
+    pub home: (i64, i64),
+    /// Counts per revolution: one index pulse per period.
+    pub index_period: i64,
+    /// Where the index pulses sit within a period.
+    pub index_phase: i64,
+}
+
+impl Machine {
+    /// Limits at ±100 000 counts, a home cam from 5 000 to 8 000, 4 000 counts per revolution
+    /// with the index at 500 (…, 500, 4 500, 8 500, …).
+    pub const DEFAULT: Self = Self {
+        negative_limit: -100_000,
+        positive_limit: 100_000,
+        home: (5_000, 8_000),
+        index_period: 4_000,
+        index_phase: 500,
+    };
+
+    /// Negative limit, positive limit and home switch at physical `position`.
+    pub const fn switches(&self, position: i64) -> (bool, bool, bool) {
+        (
+            position <= self.negative_limit,
+            position >= self.positive_limit,
+            position >= self.home.0 && position <= self.home.1,
+        )
+    }
+
+    /// Whether the motor passed an index pulse moving from `before` to `now`: a pulse in
+    /// `(before, now]` moving up, in `[now, before)` moving down.
+    pub fn index_passed(&self, before: i64, now: i64) -> bool {
+        let period = self.index_period.max(1);
+        // `checked_`: no division-overflow panic path (the period is positive anyway).
+        let revolution = |x: i64| {
+            x.saturating_sub(self.index_phase)
+                .checked_div_euclid(period)
+                .unwrap_or(0)
+        };
+        match now.cmp(&before) {
+            core::cmp::Ordering::Greater => revolution(now) != revolution(before),
+            core::cmp::Ordering::Less => revolution(now - 1) != revolution(before - 1),
+            core::cmp::Ordering::Equal => false,
+        }
+    }
+}
+
+impl Default for Machine {
+    fn default() -> Self {
+        Self::DEFAULT
+    }
 }

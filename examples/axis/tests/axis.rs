@@ -333,8 +333,9 @@ fn shutdown_ramps_down_then_goes_to_ready_to_switch_on() {
 fn unsupported_modes_are_refused_by_sdo_and_ignored_by_pdo() {
     let (mut axis, mut od) = enabled(CSV);
     let mut app = AxisApp;
+    // 4 (profile torque) is not supported.
     assert_eq!(
-        app.before_write(&od, 0x6060, 0, &[1]),
+        app.before_write(&od, 0x6060, 0, &[4]),
         Err(AbortCode::VALUE_RANGE)
     );
     assert_eq!(
@@ -343,8 +344,16 @@ fn unsupported_modes_are_refused_by_sdo_and_ignored_by_pdo() {
     );
     assert_eq!(app.before_write(&od, 0x6060, 0, &[CST as u8]), Ok(()));
     assert_eq!(app.before_write(&od, 0x607A, 0, &[1, 0, 0, 0]), Ok(()));
+    // Reserved homing methods are refused as well.
+    for method in [0u8, 15, 16, 31, 32, 36, 38] {
+        assert_eq!(
+            app.before_write(&od, 0x6098, 0, &[method]),
+            Err(AbortCode::VALUE_RANGE)
+        );
+    }
+    assert_eq!(app.before_write(&od, 0x6098, 0, &[7]), Ok(()));
     // Through the RxPDO: the display keeps the running mode.
-    od.mode = 1;
+    od.mode = 4;
     cycle(&mut axis, &mut od, 0x0F);
     assert_eq!(od.mode_display, CSV);
     // A supported mode switches on the fly.

@@ -54,9 +54,9 @@ fn a_master_enables_the_axis_in_csv_through_process_data() {
         assert_eq!(master.request(0x02).await, (0x02, 0));
         let mut sdo = SdoClient::for_mailbox(&master, &MAILBOX);
         assert_eq!(
-            sdo.download(0x6060, 0, false, &[1]).await,
+            sdo.download(0x6060, 0, false, &[4]).await,
             Err(SdoError::Abort(AbortCode::VALUE_RANGE)),
-            "profile position is not in 0x6502"
+            "profile torque is not in 0x6502"
         );
         assert_eq!(
             sdo.upload(0x1000, 0, false).await,
@@ -83,5 +83,63 @@ fn a_master_enables_the_axis_in_csv_through_process_data() {
         let (status, _, velocity, _, _) = exchange(&master, &rx(0x02, 5_000, 9)).await;
         assert_eq!((status, velocity), (0x0617, 0));
         assert_eq!(exchange(&master, &rx(0x02, 5_000, 9)).await.0, 0x0250);
+    });
+}
+
+/// The profile PDO set: RxPDO 0x1601 (25 bytes), TxPDO 0x1A01 (31 bytes).
+const PROFILE_OUTPUTS: Area = Area::new(0x1100, 25);
+const PROFILE_INPUTS: Area = Area::new(0x1180, 31);
+
+#[test]
+fn the_profile_pdo_set_is_selected_through_0x1c12_and_0x1c13() {
+    let config = DeviceConfig::new(
+        MAILBOX,
+        ProcessDataSizes {
+            outputs: 13,
+            inputs: 19,
+        },
+    );
+    let device = Device::new(config, AxisApp, Axis::new()).with_dictionary(AxisOd::default());
+    harness::run(device, |master| async move {
+        master.reset().await;
+        assert_eq!(master.request(0x01).await, (0x01, 0));
+        master.configure_mailbox(&MAILBOX);
+        assert_eq!(master.request(0x02).await, (0x02, 0));
+        let mut sdo = SdoClient::for_mailbox(&master, &MAILBOX);
+        for (assignment, pdo) in [(0x1C12u16, 0x1601u16), (0x1C13, 0x1A01)] {
+            assert_eq!(sdo.download(assignment, 0, false, &[0]).await, Ok(()));
+            assert_eq!(
+                sdo.download(assignment, 1, false, &pdo.to_le_bytes()).await,
+                Ok(())
+            );
+            assert_eq!(sdo.download(assignment, 0, false, &[1]).await, Ok(()));
+        }
+        master.configure_process_data(Some(PROFILE_OUTPUTS), Some(PROFILE_INPUTS));
+        master.settle().await;
+        assert_eq!(master.request(0x04).await, (0x04, 0));
+        // Controlword, target position, target velocity, profile velocity, acceleration,
+        // deceleration, mode 1, touch probe function.
+        let image = |controlword: u16, target: i32| {
+            let mut out = controlword.to_le_bytes().to_vec();
+            for value in [target, 0, 100_000, 1_000_000, 1_000_000] {
+                out.extend_from_slice(&value.to_le_bytes());
+            }
+            out.push(1);
+            out.extend_from_slice(&0u16.to_le_bytes());
+            out
+        };
+        assert!(master.write(PROFILE_OUTPUTS.start, &image(0, 0)));
+        master.settle().await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        let mut statuswords = Vec::new();
+        for controlword in [0x00, 0x06, 0x0F, 0x1F, 0x0F] {
+            assert!(master.write(PROFILE_OUTPUTS.start, &image(controlword, 500)));
+            master.settle().await;
+            let inputs = master.read(PROFILE_INPUTS.start, 31).expect("inputs");
+            statuswords.push(u16::from_le_bytes([inputs[0], inputs[1]]));
+            assert_eq!(inputs[10], 1, "0x6061 at byte 10");
+        }
+        // Switch on disabled, ready, enabled + reached, set-point acknowledged, released.
+        assert_eq!(statuswords, [0x0250, 0x0231, 0x0637, 0x1237, 0x0237]);
     });
 }

@@ -1,6 +1,7 @@
 //! The MainDevice's side of a CiA402 drive, as the demo drives one: where the drive's objects sit in
 //! the process image (read from its PDO configuration over SDO), the controlword sequence that
-//! enables it, and a motion script (a smooth CSP move, a CSV segment, a quick stop).
+//! enables it, and a motion script (homing, a profile position move with a set of two set-points,
+//! a smooth CSP move, a CSV segment, a halt, a quick stop).
 //!
 //! The drive's own side (state machine, statusword, modes) is `ecat_core::cia402`; this module
 //! reuses its statusword decoding and mode numbers.
@@ -9,7 +10,10 @@ use std::collections::HashMap;
 use std::ops::Deref;
 
 pub use ecat_core::cia402::State;
-use ecat_core::cia402::controlword::FAULT_RESET;
+use ecat_core::cia402::controlword::{FAULT_RESET, HALT, NEW_SET_POINT};
+use ecat_core::cia402::statusword::{
+    HOMING_ATTAINED, HOMING_ERROR, SET_POINT_ACKNOWLEDGE, TARGET_REACHED,
+};
 use ecat_core::cia402::{Command as ControlCommand, Mode};
 use ethercrab::SubDeviceRef;
 use ethercrab::error::Error;
@@ -77,6 +81,12 @@ pub struct Command {
     pub target_position: i32,
     /// 0x60FF, counts/s.
     pub target_velocity: i32,
+    /// 0x6081, counts/s.
+    pub profile_velocity: u32,
+    /// 0x6083, counts/s².
+    pub profile_acceleration: u32,
+    /// 0x6084, counts/s².
+    pub profile_deceleration: u32,
 }
 
 /// What the drive reports each cycle.
@@ -90,6 +100,8 @@ pub struct Feedback {
     pub position: i32,
     /// 0x606C, counts/s.
     pub velocity: i32,
+    /// 0x60F4, counts (0 when not mapped).
+    pub following_error: i32,
 }
 
 impl Pdo {
@@ -142,6 +154,9 @@ impl Pdo {
             (0x6060, i64::from(command.mode)),
             (0x607A, i64::from(command.target_position)),
             (0x60FF, i64::from(command.target_velocity)),
+            (0x6081, i64::from(command.profile_velocity)),
+            (0x6083, i64::from(command.profile_acceleration)),
+            (0x6084, i64::from(command.profile_deceleration)),
         ];
         for (index, value) in values {
             if let Some(slot) = self.outputs_at.get(&index) {
@@ -173,6 +188,7 @@ impl Pdo {
             mode: get(0x6061) as i8,
             position: get(0x6064) as i32,
             velocity: get(0x606C) as i32,
+            following_error: get(0x60F4) as i32,
         }
     }
 }
@@ -182,10 +198,16 @@ impl Pdo {
 pub enum Phase {
     /// Walking the drive to "operation enabled".
     Enable,
+    /// Homing (mode 6) with the method the demo wrote to 0x6098.
+    Homing,
+    /// Profile position (mode 1): two set-points, the second buffered (set of set-points).
+    Pp,
     /// A smooth position move in cyclic synchronous position mode.
     Csp,
     /// A velocity segment in cyclic synchronous velocity mode.
     Csv,
+    /// Halt (controlword bit 8) while in CSV: the drive stops with its 0x605D ramp.
+    Halt,
     /// Quick stop until the drive stands still.
     QuickStop,
     /// Finished.
@@ -193,19 +215,32 @@ pub enum Phase {
 }
 
 impl Phase {
+    /// Every phase that moves the axis, in order.
+    pub const MOTION: [Phase; 6] = [
+        Phase::Homing,
+        Phase::Pp,
+        Phase::Csp,
+        Phase::Csv,
+        Phase::Halt,
+        Phase::QuickStop,
+    ];
+
     /// A short name.
     pub fn name(self) -> &'static str {
         match self {
             Phase::Enable => "enable",
+            Phase::Homing => "homing",
+            Phase::Pp => "PP",
             Phase::Csp => "CSP",
             Phase::Csv => "CSV",
-            Phase::QuickStop => "quickstop",
+            Phase::Halt => "halt",
+            Phase::QuickStop => "quick stop",
             Phase::Done => "done",
         }
     }
 }
 
-/// Commanded motion at one instant.
+/// Commanded motion at one instant (NaN where the drive generates the profile itself).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Setpoint {
     /// Counts.
@@ -214,14 +249,23 @@ pub struct Setpoint {
     pub velocity: f64,
 }
 
+/// The PP set-points: 60 000 counts, then 20 000 (buffered while the first runs), at
+/// 200 000 counts/s with 2 000 000 counts/s² ramps.
+pub const PP_TARGETS: [i32; 2] = [60_000, 20_000];
+const PP_VELOCITY: u32 = 200_000;
+const PP_ACCELERATION: u32 = 2_000_000;
 /// The CSP move: distance in counts and duration in s (a cosine velocity profile: smooth
 /// acceleration and deceleration).
-const CSP_DISTANCE: f64 = 200_000.0;
-const CSP_TIME: f64 = 1.5;
+pub const CSP_DISTANCE: f64 = 200_000.0;
+const CSP_TIME: f64 = 1.0;
 /// The CSV segment: ramp to this velocity (counts/s) in CSV_RAMP s, hold until CSV_TIME.
-const CSV_VELOCITY: f64 = 120_000.0;
-const CSV_RAMP: f64 = 0.4;
-const CSV_TIME: f64 = 1.2;
+pub const CSV_VELOCITY: f64 = 120_000.0;
+const CSV_RAMP: f64 = 0.3;
+const CSV_TIME: f64 = 0.7;
+/// How long the halt bit is held, s.
+const HALT_TIME: f64 = 0.12;
+/// How long CSV runs again after the halt, before the quick stop, s.
+const RESUME_TIME: f64 = 0.1;
 
 /// The motion script: what to command next, from the drive's state and feedback.
 #[derive(Debug, Clone)]
@@ -232,6 +276,12 @@ pub struct Profile {
     start: f64,
     setpoint: Setpoint,
     command: Command,
+    /// PP: set-points sent so far; homing: the drive reported "in progress".
+    progress: usize,
+    /// PP: the set-point the drive runs to (for the plot).
+    shown: usize,
+    /// CSV: the segment after the halt.
+    resumed: bool,
 }
 
 impl Default for Profile {
@@ -249,9 +299,15 @@ impl Profile {
             start: 0.0,
             setpoint: Setpoint::default(),
             command: Command {
-                mode: Mode::CyclicSyncPosition.code(),
+                mode: Mode::Homing.code(),
+                profile_velocity: PP_VELOCITY,
+                profile_acceleration: PP_ACCELERATION,
+                profile_deceleration: PP_ACCELERATION,
                 ..Command::default()
             },
+            progress: 0,
+            shown: 0,
+            resumed: false,
         }
     }
 
@@ -275,19 +331,32 @@ impl Profile {
         self.t += dt;
         match self.phase {
             Phase::Enable => self.enable(state, feedback),
+            Phase::Homing => self.homing(feedback),
+            Phase::Pp => self.pp(feedback),
             Phase::Csp => self.csp(),
             Phase::Csv => self.csv(dt),
+            Phase::Halt => {
+                self.command.controlword = ControlCommand::EnableOperation.controlword() | HALT;
+                self.setpoint = Setpoint {
+                    position: f64::NAN,
+                    velocity: f64::NAN,
+                };
+                if self.t >= HALT_TIME {
+                    self.resumed = true;
+                    self.command.controlword = ControlCommand::EnableOperation.controlword();
+                    self.next(Phase::Csv);
+                }
+            }
             Phase::QuickStop => {
                 self.command.controlword = ControlCommand::QuickStop.controlword();
                 self.setpoint = Setpoint {
-                    position: f64::from(feedback.position),
-                    velocity: 0.0,
+                    position: f64::NAN,
+                    velocity: f64::NAN,
                 };
                 let stopped = feedback.velocity == 0;
-                let off = matches!(
-                    state,
-                    Some(State::SwitchOnDisabled | State::QuickStopActive)
-                );
+                // Option codes 0..4 end in Switch on disabled; 5..8 stay in Quick stop active.
+                let off = state == Some(State::SwitchOnDisabled)
+                    || (state == Some(State::QuickStopActive) && self.t > 0.3);
                 if stopped && off && self.t > 0.05 {
                     self.next(Phase::Done);
                 }
@@ -299,6 +368,7 @@ impl Profile {
     fn next(&mut self, phase: Phase) {
         self.phase = phase;
         self.t = 0.0;
+        self.progress = 0;
     }
 
     fn enable(&mut self, state: Option<State>, feedback: Feedback) {
@@ -306,18 +376,81 @@ impl Profile {
         self.command.target_position = feedback.position;
         self.start = f64::from(feedback.position);
         self.setpoint = Setpoint {
-            position: self.start,
-            velocity: 0.0,
+            position: f64::NAN,
+            velocity: f64::NAN,
         };
         self.command.controlword = match state {
             Some(State::Fault) => FAULT_RESET,
             Some(State::ReadyToSwitchOn) => ControlCommand::SwitchOn.controlword(),
             Some(State::SwitchedOn) => ControlCommand::EnableOperation.controlword(),
             Some(State::OperationEnabled) => {
-                self.next(Phase::Csp);
+                self.next(Phase::Homing);
                 ControlCommand::EnableOperation.controlword()
             }
             _ => ControlCommand::Shutdown.controlword(),
+        };
+    }
+
+    /// Homing: bit 4 up in mode 6; done when the drive shows mode 6 with homing attained and
+    /// target reached after having shown "in progress" (bits 13, 12, 10 all 0).
+    fn homing(&mut self, feedback: Feedback) {
+        self.command.mode = Mode::Homing.code();
+        self.command.controlword = ControlCommand::EnableOperation.controlword() | NEW_SET_POINT;
+        self.setpoint = Setpoint {
+            position: f64::NAN,
+            velocity: f64::NAN,
+        };
+        if feedback.mode != Mode::Homing.code() {
+            return;
+        }
+        let bits = feedback.statusword & (HOMING_ERROR | HOMING_ATTAINED | TARGET_REACHED);
+        if bits == 0 {
+            self.progress = 1;
+        } else if self.progress == 1 && bits == HOMING_ATTAINED | TARGET_REACHED {
+            self.command.controlword = ControlCommand::EnableOperation.controlword();
+            self.next(Phase::Pp);
+        }
+    }
+
+    /// PP: each set-point with a rising edge of bit 4 (bit 5 = 0: the second one buffered),
+    /// bit 4 dropped when the drive acknowledges (bit 12); done at target reached with no
+    /// set-point pending.
+    fn pp(&mut self, feedback: Feedback) {
+        self.command.mode = Mode::ProfilePosition.code();
+        let acknowledged = feedback.statusword & SET_POINT_ACKNOWLEDGE != 0;
+        let enable = ControlCommand::EnableOperation.controlword();
+        let raised = self.command.controlword & NEW_SET_POINT != 0;
+        if feedback.mode != Mode::ProfilePosition.code() {
+            self.command.controlword = enable;
+        } else if raised && acknowledged {
+            self.command.controlword = enable;
+            self.progress += 1;
+        } else if !raised && !acknowledged && self.progress < PP_TARGETS.len() {
+            if let Some(&target) = PP_TARGETS.get(self.progress) {
+                self.command.target_position = target;
+                self.command.controlword = enable | NEW_SET_POINT;
+            }
+        } else if !raised
+            && self.progress == PP_TARGETS.len()
+            && feedback.statusword & TARGET_REACHED != 0
+            && !acknowledged
+        {
+            self.start = f64::from(feedback.position);
+            self.command.target_position = feedback.position;
+            self.next(Phase::Csp);
+        }
+        // The plot shows the set-point the drive runs to: the first until the axis is there.
+        let shown = PP_TARGETS.get(self.shown).copied().unwrap_or_default();
+        if feedback.position == shown && self.shown + 1 < self.progress.max(1) {
+            self.shown += 1;
+        }
+        self.setpoint = Setpoint {
+            position: if self.progress == 0 && self.command.controlword & NEW_SET_POINT == 0 {
+                f64::NAN
+            } else {
+                f64::from(PP_TARGETS.get(self.shown).copied().unwrap_or_default())
+            },
+            velocity: f64::NAN,
         };
     }
 
@@ -334,14 +467,28 @@ impl Profile {
             },
         };
         self.command.mode = Mode::CyclicSyncPosition.code();
+        self.command.controlword = ControlCommand::EnableOperation.controlword();
         self.command.target_position = self.setpoint.position.round() as i32;
-        if self.t >= CSP_TIME + 0.2 {
+        if self.t >= CSP_TIME + 0.1 {
             self.start = self.setpoint.position;
             self.next(Phase::Csv);
         }
     }
 
     fn csv(&mut self, dt: f64) {
+        if self.resumed {
+            // After the halt: the velocity command again (CSV has no ramp of its own), then the
+            // quick stop.
+            self.command.target_velocity = CSV_VELOCITY as i32;
+            self.setpoint = Setpoint {
+                position: f64::NAN,
+                velocity: CSV_VELOCITY,
+            };
+            if self.t >= RESUME_TIME {
+                self.next(Phase::QuickStop);
+            }
+            return;
+        }
         let ramp = (self.t / CSV_RAMP).min(1.0);
         let velocity = CSV_VELOCITY * ramp;
         // The position the commanded velocity integrates to, for the plot.
@@ -353,7 +500,7 @@ impl Profile {
         self.command.mode = Mode::CyclicSyncVelocity.code();
         self.command.target_velocity = velocity.round() as i32;
         if self.t >= CSV_TIME {
-            self.next(Phase::QuickStop);
+            self.next(Phase::Halt);
         }
     }
 }
@@ -373,15 +520,55 @@ mod tests {
         p.step(Some(State::SwitchedOn), fb, 0.001);
         assert_eq!(p.command().controlword, 0x0F);
         p.step(Some(State::OperationEnabled), fb, 0.001);
+        assert_eq!(p.phase(), Phase::Homing);
+    }
+
+    #[test]
+    fn homing_then_two_set_points_with_the_handshake() {
+        let mut p = Profile::new();
+        let on = Some(State::OperationEnabled);
+        p.step(on, Feedback::default(), 0.001);
+        let hm = |statusword| Feedback {
+            statusword,
+            mode: 6,
+            ..Feedback::default()
+        };
+        // Attained + reached before "in progress" was seen: an old result, not this run.
+        p.step(on, hm(0x1637), 0.001);
+        assert_eq!((p.phase(), p.command().controlword), (Phase::Homing, 0x1F));
+        p.step(on, hm(0x0237), 0.001);
+        p.step(on, hm(0x1637), 0.001);
+        assert_eq!(p.phase(), Phase::Pp);
+        let pp = |statusword| Feedback {
+            statusword,
+            mode: 1,
+            ..Feedback::default()
+        };
+        p.step(on, pp(0x0237), 0.001);
+        assert_eq!(
+            (p.command().controlword, p.command().target_position),
+            (0x1F, 60_000)
+        );
+        p.step(on, pp(0x1237), 0.001);
+        assert_eq!(p.command().controlword, 0x0F);
+        p.step(on, pp(0x0237), 0.001);
+        assert_eq!(
+            (p.command().controlword, p.command().target_position),
+            (0x1F, 20_000)
+        );
+        p.step(on, pp(0x1237), 0.001);
+        p.step(on, pp(0x1237), 0.001);
+        assert_eq!((p.command().controlword, p.phase()), (0x0F, Phase::Pp));
+        p.step(on, pp(0x0637), 0.001);
         assert_eq!(p.phase(), Phase::Csp);
     }
 
     #[test]
     fn the_csp_move_is_smooth_and_ends_at_the_distance() {
         let mut p = Profile::new();
-        p.step(Some(State::OperationEnabled), Feedback::default(), 0.001);
+        p.next(Phase::Csp);
         let mut last = 0.0;
-        for _ in 0..1500 {
+        for _ in 0..1000 {
             p.step(Some(State::OperationEnabled), Feedback::default(), 0.001);
             let step = p.commanded().position - last;
             assert!(

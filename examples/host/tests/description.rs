@@ -402,9 +402,25 @@ fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D, sii: &Sii, 
         let sii_types: Vec<Vec<u8>> = sms.iter().map(|sm| vec![sm.4]).collect();
         assert_eq!(types, sii_types, "0x1C00 = SII SM types");
     }
-    // SM2 after the mailboxes, SM3 after SM2's three buffers, 8-byte aligned.
+    // SM2 after the mailboxes, SM3 after three SM2 buffers of the largest output image an
+    // assignment can make (every RxPDO mapping object declared), 8-byte aligned.
+    let all_rx_bits: u32 = D::OBJECTS
+        .iter()
+        .map(|o| o.info.index)
+        .filter(|i| (0x1600..=0x17FF).contains(i))
+        .map(|index| {
+            let n = read(od, index, 0)[0];
+            (1..=n)
+                .map(|sub| {
+                    let entry = read(od, index, sub);
+                    u32::from(entry[0])
+                })
+                .sum::<u32>()
+        })
+        .sum();
+    let reserved = outputs.max(all_rx_bits.div_ceil(8) as u16);
     assert_eq!(u32::from(sms[2].0), m.send.end().div_ceil(8) * 8);
-    assert_eq!(sms[3].0, (sms[2].0 + 3 * outputs).div_ceil(8) * 8);
+    assert_eq!(sms[3].0, (sms[2].0 + 3 * reserved).div_ceil(8) * 8);
     let esi = children(device, "Sm");
     let kinds = ["MBoxOut", "MBoxIn", "Outputs", "Inputs"];
     assert_eq!(esi.len(), 4);
@@ -455,7 +471,36 @@ fn pdos<D: ObjectDictionary>(od: &D, sii: &Sii, device: Node) {
     for (assign, category, tag, sm) in [(0x1C12, 51, "RxPdo", 2), (0x1C13, 50, "TxPdo", 3)] {
         let dictionary = dictionary_pdos(od, assign);
         let from_sii = sii.pdos(category);
-        let esi = children(device, tag);
+        // The assigned PDOs carry their SyncManager; the others are alternatives a MainDevice
+        // may assign instead: mapping objects of the dictionary that the default assignment
+        // leaves out, excluding (with a single-PDO assignment) every other PDO.
+        let (esi, alternatives): (Vec<Node>, Vec<Node>) = children(device, tag)
+            .into_iter()
+            .partition(|n| n.attribute("Sm").is_some());
+        let all: Vec<u64> = children(device, tag)
+            .iter()
+            .map(|n| number(text(*n, "Index")))
+            .collect();
+        let single = D::object(assign).is_some_and(|a| a.info.max_sub <= 1);
+        for alternative in &alternatives {
+            let index = number(text(*alternative, "Index"));
+            let object = D::object(u16::try_from(index).unwrap()).expect("declared");
+            assert_eq!(text(*alternative, "Name"), object.info.name);
+            assert!(dictionary.iter().all(|(i, _, _)| u64::from(*i) != index));
+        }
+        for pdo in children(device, tag) {
+            let index = number(text(pdo, "Index"));
+            let excluded: Vec<u64> = children(pdo, "Exclude")
+                .iter()
+                .map(|n| number(n.text().unwrap()))
+                .collect();
+            let others: Vec<u64> = all.iter().copied().filter(|&i| i != index).collect();
+            assert_eq!(
+                excluded,
+                if single { others } else { Vec::new() },
+                "{index:#x}"
+            );
+        }
         assert_eq!(from_sii.len(), dictionary.len(), "{tag}");
         assert_eq!(esi.len(), dictionary.len(), "{tag}");
         for (((index, name, entries), s), e) in dictionary.iter().zip(&from_sii).zip(&esi) {
