@@ -438,20 +438,13 @@ macro_rules! __ecat_object {
                     ),
                 ],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
-                0 => Ok($crate::dictionary::read_value(&$crate::dictionary::array_len_of(|d: &$dict| &d.$field), offset, out)),
-                n => d.$field.get(usize::from(n) - 1)
-                    .map(|v| $crate::dictionary::read_value(v, offset, out))
-                    .ok_or($crate::coe::AbortCode::NO_SUBINDEX),
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::read_element(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
-                0 => Err($crate::coe::AbortCode::READ_ONLY),
-                n => match d.$field.get_mut(usize::from(n) - 1) {
-                    Some(slot) => $crate::dictionary::write_value(
-                        slot, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
-                    ),
-                    None => Err($crate::coe::AbortCode::NO_SUBINDEX),
-                },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                $crate::dictionary::write_element(
+                    &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                )
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 (0, _, _) => 0,
