@@ -402,15 +402,13 @@ macro_rules! __ecat_object {
                     [$($acc)|+], [$($unit)?], [$($default)?; $($min)?; $($max)?]
                 )],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
-                0 => Ok($crate::dictionary::read_value(&d.$field, offset, out)),
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::read_var(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
-                0 => $crate::dictionary::write_value(
-                    &mut d.$field, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
-                ),
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                $crate::dictionary::write_var(
+                    &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                )
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?

@@ -296,6 +296,36 @@ pub fn write_value<T: Value + PartialOrd>(
     Ok(())
 }
 
+/// Reads a VAR (SI0 only). One copy per type for every VAR of every dictionary: the code
+/// `dictionary!` generates per object is a call.
+#[doc(hidden)]
+pub fn read_var<T: Value>(
+    value: &T,
+    sub: u8,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<Read, AbortCode> {
+    match sub {
+        0 => Ok(read_value(value, offset, out)),
+        _ => Err(AbortCode::NO_SUBINDEX),
+    }
+}
+
+/// Writes `data` into a VAR (SI0 only) after the range check; one copy per type.
+#[doc(hidden)]
+pub fn write_var<T: Value + PartialOrd>(
+    slot: &mut T,
+    sub: u8,
+    data: &[u8],
+    min: Option<T>,
+    max: Option<T>,
+) -> Result<(), AbortCode> {
+    match sub {
+        0 => write_value(slot, data, min, max),
+        _ => Err(AbortCode::NO_SUBINDEX),
+    }
+}
+
 /// Reads SI `sub` of an ARRAY: SI0 its length (at most 255, `array_len_of`), SI n element n.
 /// One copy per element type for every ARRAY of every dictionary: the code `dictionary!`
 /// generates per object is a call.
