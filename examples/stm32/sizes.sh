@@ -26,6 +26,7 @@ variant() { # label cargo-args…
     cargo build --release --locked "$@"
     row "$label" "$release/$(echo "$@" | grep -o 'bin [a-z0-9-]*' | cut -d' ' -f2)"
 }
+variant "digital I/O, no dictionary, no LED task" --bin ecat-stm32 --features no-dictionary,no-leds
 variant "digital I/O, no dictionary (\`no-dictionary\`)" --bin ecat-stm32 --features no-dictionary
 variant "digital I/O, SOES's dictionary, no LED task (\`no-leds\`)" --bin ecat-stm32 --features no-leds
 variant "axis, its dictionary (\`axis\`)" --bin axis
