@@ -277,6 +277,32 @@ const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usiz
     Err(n)
 }
 
+/// Whether `index:sub` is mapped in a PDO assigned for `direction`: a walk of the assignment
+/// object and the mapping objects it names, without a layout. Where a layout exists (a valid
+/// configuration, as in SAFEOP and OP) it answers as [`Layout::offset`] does.
+pub(crate) fn is_mapped<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    index: u16,
+    sub: u8,
+) -> bool {
+    let Some(assignment) = D::object(direction.assignment()) else {
+        return false;
+    };
+    (1..=count(od, assignment)).any(|pdo| {
+        read_u16(od, assignment, pdo)
+            .and_then(D::object)
+            .is_some_and(|mapping| {
+                (1..=count(od, mapping)).any(|n| {
+                    read_u32(od, mapping, n).is_some_and(|raw| {
+                        let entry = MappingEntry(raw);
+                        entry.index() == index && entry.sub() == sub
+                    })
+                })
+            })
+    })
+}
+
 pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {
     let mut b = [0u8; 1];
     (object.read)(od, 0, 0, &mut b).map_or(0, |_| b[0])

@@ -27,7 +27,7 @@ use crate::device::DeviceConfig;
 use crate::dictionary::{
     DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
-use crate::pdo::{self, layout::Layout as PdoLayout};
+use crate::pdo;
 use crate::process_data::Writes;
 use crate::time::{Duration, Instant};
 
@@ -567,18 +567,13 @@ fn check_not_rx_mapped<D: ObjectDictionary>(
     if !state.has_process_data() {
         return Ok(());
     }
+    // SAFEOP and OP run on a valid configuration: a walk of the assigned mappings answers as
+    // its layout would, without building one.
     let index = object.info.index;
-    let mut mappable = entries_of(object, target)
+    let mapped = entries_of(object, target)
         .filter(|(_, e)| e.access.rxpdo())
-        .map(|(sub, _)| sub);
-    let Some(first) = mappable.next() else {
-        return Ok(());
-    };
-    let Ok(Some(layout)) = PdoLayout::of(od, pdo::Direction::Rx) else {
-        return Ok(());
-    };
-    let mapped = |sub| layout.offset(index, sub).is_some();
-    if mapped(first) || mappable.any(mapped) {
+        .any(|(sub, _)| pdo::layout::is_mapped(od, pdo::Direction::Rx, index, sub));
+    if mapped {
         return Err(AbortCode::MAPPED_TO_RXPDO);
     }
     Ok(())
