@@ -299,6 +299,7 @@ pub fn write_value<T: Value + PartialOrd>(
 /// Reads a VAR (SI0 only). One copy per type for every VAR of every dictionary: the code
 /// `dictionary!` generates per object is a call.
 #[doc(hidden)]
+#[inline]
 pub fn read_var<T: Value>(
     value: &T,
     sub: u8,
