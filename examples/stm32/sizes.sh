@@ -38,5 +38,5 @@ if [ "${1:-}" = --top ] && command -v llvm-nm >/dev/null; then
     echo "Largest symbols of \`ecat-stm32\` (bytes, llvm-nm --size-sort):"
     llvm-nm -C --size-sort --print-size --radix=d "$release/ecat-stm32" \
         | awk '$3 ~ /^[tTrRdD]$/' | tail -n "${2:-25}" | sort -k2 -rn \
-        | awk '{ size = $2 + 0; $1 = $2 = $3 = ""; sub(/^ +/, ""); printf "%6d  %s\n", size, substr($0, 1, 110) }'
+        | awk '{ size = $2 + 0; $1 = $2 = $3 = ""; sub(/^ +/, ""); sub(/::h[0-9a-f]+$/, ""); printf "%6d  %s\n", size, substr($0, 1, 110) }'
 fi
