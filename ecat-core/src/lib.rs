@@ -48,6 +48,7 @@
 )]
 
 pub mod al;
+mod bytes;
 pub mod chip;
 pub mod cia402;
 pub mod coe;

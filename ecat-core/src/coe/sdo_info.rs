@@ -610,15 +610,15 @@ impl<'a> Writer<'a> {
 
     /// Appends `bytes` whole; `false` (nothing written) when they do not fit.
     fn put(&mut self, bytes: &[u8]) -> bool {
-        // `..bytes.len()` of the rest: the lengths match by construction, so the copy has no
-        // length-mismatch panic path.
+        // `..bytes.len()` of the rest: the lengths match; `bytes::copy` has no length-mismatch
+        // panic path the compiler would otherwise keep.
         let dst = self
             .buf
             .get_mut(self.len..)
             .and_then(|rest| rest.get_mut(..bytes.len()));
         match dst {
             Some(dst) => {
-                dst.copy_from_slice(bytes);
+                crate::bytes::copy(dst, bytes);
                 self.len += bytes.len();
                 true
             }

@@ -147,10 +147,7 @@ pub const SM_TYPES: ObjectInfo = ObjectInfo {
 fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
     let size = bytes.len();
     let rest = bytes.get(offset..).unwrap_or_default();
-    let copied = rest.len().min(out.len());
-    if let (Some(dst), Some(src)) = (out.get_mut(..copied), rest.get(..copied)) {
-        dst.copy_from_slice(src);
-    }
+    let copied = crate::bytes::copy(out, rest);
     Read { copied, size }
 }
 

@@ -402,15 +402,13 @@ macro_rules! __ecat_object {
                     [$($acc)|+], [$($unit)?], [$($default)?; $($min)?; $($max)?]
                 )],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
-                0 => Ok($crate::dictionary::read_value(&d.$field, offset, out)),
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::read_var(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
-                0 => $crate::dictionary::write_value(
-                    &mut d.$field, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
-                ),
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                $crate::dictionary::write_var(
+                    &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                )
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
@@ -438,20 +436,13 @@ macro_rules! __ecat_object {
                     ),
                 ],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
-                0 => Ok($crate::dictionary::read_value(&$crate::dictionary::array_len_of(|d: &$dict| &d.$field), offset, out)),
-                n => d.$field.get(usize::from(n) - 1)
-                    .map(|v| $crate::dictionary::read_value(v, offset, out))
-                    .ok_or($crate::coe::AbortCode::NO_SUBINDEX),
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::read_element(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
-                0 => Err($crate::coe::AbortCode::READ_ONLY),
-                n => match d.$field.get_mut(usize::from(n) - 1) {
-                    Some(slot) => $crate::dictionary::write_value(
-                        slot, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
-                    ),
-                    None => Err($crate::coe::AbortCode::NO_SUBINDEX),
-                },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                $crate::dictionary::write_element(
+                    &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                )
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 (0, _, _) => 0,
@@ -482,27 +473,12 @@ macro_rules! __ecat_object {
                     ),
                 ],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
-                0 => Ok($crate::dictionary::read_value(&d.$field.count, offset, out)),
-                n => d.$field.items.get(usize::from(n) - 1)
-                    .map(|v| $crate::dictionary::read_value(v, offset, out))
-                    .ok_or($crate::coe::AbortCode::NO_SUBINDEX),
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::pdo::read_counted(d.$field.count, &d.$field.items, sub, offset, out)
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                $crate::pdo::check_counted_write(d.$field.count, d.$field.items.len(), sub, data)?;
-                match sub {
-                    0 => {
-                        $crate::pdo::check_counted_entries::<$dict, _>($index, &d.$field.items, data)?;
-                        $crate::dictionary::write_value(&mut d.$field.count, data, None, None)
-                    }
-                    n => {
-                        $crate::pdo::check_entry::<$dict>($index, data)?;
-                        match d.$field.items.get_mut(usize::from(n) - 1) {
-                            Some(slot) => $crate::dictionary::write_value(slot, data, None, None),
-                            None => Err($crate::coe::AbortCode::NO_SUBINDEX),
-                        }
-                    }
-                }
+                let field = &mut d.$field;
+                $crate::pdo::write_counted::<$dict, _>($index, &mut field.count, &mut field.items, sub, data)
             },
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }

@@ -296,6 +296,75 @@ pub fn write_value<T: Value + PartialOrd>(
     Ok(())
 }
 
+/// Reads a VAR (SI0 only). One copy per type for every VAR of every dictionary: the code
+/// `dictionary!` generates per object is a call.
+#[doc(hidden)]
+#[inline]
+pub fn read_var<T: Value>(
+    value: &T,
+    sub: u8,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<Read, AbortCode> {
+    match sub {
+        0 => Ok(read_value(value, offset, out)),
+        _ => Err(AbortCode::NO_SUBINDEX),
+    }
+}
+
+/// Writes `data` into a VAR (SI0 only) after the range check; one copy per type.
+#[doc(hidden)]
+pub fn write_var<T: Value + PartialOrd>(
+    slot: &mut T,
+    sub: u8,
+    data: &[u8],
+    min: Option<T>,
+    max: Option<T>,
+) -> Result<(), AbortCode> {
+    match sub {
+        0 => write_value(slot, data, min, max),
+        _ => Err(AbortCode::NO_SUBINDEX),
+    }
+}
+
+/// Reads SI `sub` of an ARRAY: SI0 its length (at most 255, `array_len_of`), SI n element n.
+/// One copy per element type for every ARRAY of every dictionary: the code `dictionary!`
+/// generates per object is a call.
+#[doc(hidden)]
+pub fn read_element<T: Value>(
+    items: &[T],
+    sub: u8,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<Read, AbortCode> {
+    match sub.checked_sub(1) {
+        None => Ok(read_value(&(items.len() as u8), offset, out)),
+        Some(n) => items
+            .get(usize::from(n))
+            .map(|v| read_value(v, offset, out))
+            .ok_or(AbortCode::NO_SUBINDEX),
+    }
+}
+
+/// Writes `data` into SI `sub` of an ARRAY after the range check (SI0 is read-only). One copy
+/// per element type, as [`read_element`].
+#[doc(hidden)]
+pub fn write_element<T: Value + PartialOrd>(
+    items: &mut [T],
+    sub: u8,
+    data: &[u8],
+    min: Option<T>,
+    max: Option<T>,
+) -> Result<(), AbortCode> {
+    match sub.checked_sub(1) {
+        None => Err(AbortCode::READ_ONLY),
+        Some(n) => match items.get_mut(usize::from(n)) {
+            Some(slot) => write_value(slot, data, min, max),
+            None => Err(AbortCode::NO_SUBINDEX),
+        },
+    }
+}
+
 #[doc(hidden)]
 pub fn encode_like<S, T: Value>(_: fn(&S) -> &T, value: T, out: &mut [u8]) -> usize {
     value.read_at(0, out)

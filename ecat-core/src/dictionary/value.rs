@@ -45,15 +45,9 @@ fn copy_from(bytes: &[u8], offset: usize, out: &mut [u8]) -> usize {
     if offset == 0
         && let Some(dst) = out.get_mut(..bytes.len())
     {
-        dst.copy_from_slice(bytes);
-        return bytes.len();
+        return crate::bytes::copy(dst, bytes);
     }
-    let src = bytes.get(offset..).unwrap_or_default();
-    let n = src.len().min(out.len());
-    if let (Some(dst), Some(src)) = (out.get_mut(..n), src.get(..n)) {
-        dst.copy_from_slice(src);
-    }
-    n
+    crate::bytes::copy(out, bytes.get(offset..).unwrap_or_default())
 }
 
 /// The exact-length check of a fixed-size value.

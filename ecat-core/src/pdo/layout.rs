@@ -198,21 +198,25 @@ pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
 /// ARRAY. `None` when `index:sub` is not mappable or does not exist. A binary search for the
 /// object, then its first number ([`ObjectDictionary::FIRST_ENTRIES`]) and the entry's place in
 /// it; `const`, so the code `dictionary!` generates gets every field's number as a constant.
-#[allow(clippy::indexing_slicing)] // `mid` < `len` of both tables (`FIRST_ENTRIES` is parallel)
+/// No indexing (no panic path at run time: `mid` < `len` of both tables, `FIRST_ENTRIES` is
+/// parallel, but the compiler does not see it).
 pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
     let (objects, first) = (D::OBJECTS, D::FIRST_ENTRIES);
     let (mut low, mut high) = (0, objects.len());
     while low < high {
         let mid = low + (high - low) / 2;
-        let info = &objects[mid].info;
+        let Some((_, [object, ..])) = objects.split_at_checked(mid) else {
+            return None;
+        };
+        let info = &object.info;
         if info.index < index {
             low = mid + 1;
         } else if info.index > index {
             high = mid;
-        } else if mid < first.len()
+        } else if let Some((_, [number, ..])) = first.split_at_checked(mid)
             && let Some(position) = position_in(info, sub)
         {
-            return Some(first[mid] + position);
+            return Some(*number + position);
         } else {
             return None;
         }
@@ -271,6 +275,32 @@ const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usiz
         j += 1;
     }
     Err(n)
+}
+
+/// Whether `index:sub` is mapped in a PDO assigned for `direction`: a walk of the assignment
+/// object and the mapping objects it names, without a layout. Where a layout exists (a valid
+/// configuration, as in SAFEOP and OP) it answers as [`Layout::offset`] does.
+pub(crate) fn is_mapped<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    index: u16,
+    sub: u8,
+) -> bool {
+    let Some(assignment) = D::object(direction.assignment()) else {
+        return false;
+    };
+    (1..=count(od, assignment)).any(|pdo| {
+        read_u16(od, assignment, pdo)
+            .and_then(D::object)
+            .is_some_and(|mapping| {
+                (1..=count(od, mapping)).any(|n| {
+                    read_u32(od, mapping, n).is_some_and(|raw| {
+                        let entry = MappingEntry(raw);
+                        entry.index() == index && entry.sub() == sub
+                    })
+                })
+            })
+    })
 }
 
 pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {

@@ -249,6 +249,56 @@ pub fn check_entry<D: ObjectDictionary>(index: u16, data: &[u8]) -> Result<(), A
     }
 }
 
+/// Reads SI `sub` of a PDO mapping or assignment object (`count` = SI0, `items` = SI1..):
+/// one copy per item type for every such object of every dictionary (the code `dictionary!`
+/// generates per object is a call).
+#[doc(hidden)]
+pub fn read_counted<T: crate::dictionary::Value>(
+    count: u8,
+    items: &[T],
+    sub: u8,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<crate::dictionary::Read, AbortCode> {
+    match sub.checked_sub(1) {
+        None => Ok(crate::dictionary::read_value(&count, offset, out)),
+        Some(n) => items
+            .get(usize::from(n))
+            .map(|v| crate::dictionary::read_value(v, offset, out))
+            .ok_or(AbortCode::NO_SUBINDEX),
+    }
+}
+
+/// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
+/// configuration rules ([`check_counted_write`], [`check_counted_entries`], [`check_entry`]):
+/// one copy per dictionary and item type, a call in the code `dictionary!` generates.
+#[doc(hidden)]
+pub fn write_counted<D: ObjectDictionary, T>(
+    index: u16,
+    count: &mut u8,
+    items: &mut [T],
+    sub: u8,
+    data: &[u8],
+) -> Result<(), AbortCode>
+where
+    T: crate::dictionary::Value + PartialOrd + Copy + Into<u32>,
+{
+    check_counted_write(*count, items.len(), sub, data)?;
+    match sub.checked_sub(1) {
+        None => {
+            check_counted_entries::<D, T>(index, items, data)?;
+            crate::dictionary::write_value(count, data, None, None)
+        }
+        Some(n) => {
+            check_entry::<D>(index, data)?;
+            match items.get_mut(usize::from(n)) {
+                Some(slot) => crate::dictionary::write_value(slot, data, None, None),
+                None => Err(AbortCode::NO_SUBINDEX),
+            }
+        }
+    }
+}
+
 /// The PDO configuration write rules shared by mapping and assignment objects: SI0 up to the
 /// capacity `n`; entries only while SI0 is 0 and within the capacity.
 #[doc(hidden)]

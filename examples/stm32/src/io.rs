@@ -131,6 +131,26 @@ pub fn on_process_data_stopped() {
     SYNC0_ACTIVE.store(false, Ordering::Relaxed);
 }
 
+/// Without a dictionary (feature `no-dictionary`, a size variant): output bits 0..3 drive the
+/// pins, input bits 0..3 are the pins, straight from and into the process images.
+impl CycleHandler<()> for DigitalIo {
+    fn cycle(&mut self, _: &mut (), outputs: Option<&[u8]>, inputs: &mut [u8]) {
+        self.apply(outputs.and_then(|o| o.first().copied()).unwrap_or(0));
+        if let Some(byte) = inputs.first_mut() {
+            *byte = sampled();
+        }
+    }
+}
+
+/// The inputs of this cycle: latched at SYNC0 when it runs, sampled now otherwise.
+fn sampled() -> u8 {
+    if SYNC0_ACTIVE.load(Ordering::Relaxed) {
+        LATCHED.load(Ordering::Relaxed)
+    } else {
+        sample()
+    }
+}
+
 impl CycleHandler<IoOd> for DigitalIo {
     /// In OP the outputs arrive unpacked in 0x7000; the inputs leave packed from 0x6000.
     fn cycle(&mut self, od: &mut IoOd, outputs: Option<&[u8]>, _inputs: &mut [u8]) {
@@ -140,11 +160,7 @@ impl CycleHandler<IoOd> for DigitalIo {
             None => 0,
         };
         self.apply(image);
-        let sampled = if SYNC0_ACTIVE.load(Ordering::Relaxed) {
-            LATCHED.load(Ordering::Relaxed)
-        } else {
-            sample()
-        };
+        let sampled = sampled();
         for (bit, input) in od.inputs.iter_mut().enumerate() {
             *input = sampled >> bit & 1 != 0;
         }

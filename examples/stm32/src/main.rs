@@ -1,6 +1,7 @@
 //! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
 //! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its dictionary is
-//! `io::IoOd` (SOES's sample digital I/O objects).
+//! `io::IoOd` (SOES's sample digital I/O objects). Size variants: feature `no-dictionary` (the
+//! dictionary `()`, raw process images) and `no-leds` (no ETG.1300 LED task).
 //!
 //! Two executors (priorities: README.md):
 //! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
@@ -21,7 +22,7 @@ use ecat_core::{DeviceConfig, SubDevice, Transition};
 use ecat_embassy::pd_runner::{Buffers, NoSync0};
 use ecat_embassy::{Application, SharedDictionary, SharedEsc, run_esm, run_process_data};
 use ecat_stm32::board::Board;
-use ecat_stm32::io::{self, DigitalIo, IoOd};
+use ecat_stm32::io::{self, DigitalIo};
 use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use embassy_stm32::exti::ExtiInput;
@@ -42,8 +43,14 @@ const DEVICE: DeviceConfig = esc::fit(DeviceConfig::new(
 ));
 const _: () = assert!(DEVICE.validate().is_ok());
 
+/// SOES's sample digital I/O dictionary, or none (feature `no-dictionary`).
+#[cfg(not(feature = "no-dictionary"))]
+type Od = io::IoOd;
+#[cfg(feature = "no-dictionary")]
+type Od = ();
+
 type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;
-type Dictionary = SharedDictionary<CriticalSectionRawMutex, IoOd>;
+type Dictionary = SharedDictionary<CriticalSectionRawMutex, Od>;
 
 static ESC: StaticCell<Esc> = StaticCell::new();
 static DICTIONARY: StaticCell<Dictionary> = StaticCell::new();
@@ -71,7 +78,7 @@ impl Application for Hooks {
     }
 }
 
-impl ObjectHooks<IoOd> for Hooks {}
+impl ObjectHooks<Od> for Hooks {}
 
 /// The thread executor's task: brings the ESC up (the LAN9252 needs a reset sequence), starts the
 /// process-data runner and the SYNC0 task in the interrupt executor, then runs the state machine
@@ -89,9 +96,12 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
         park().await
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
-    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(IoOd::default())));
+    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(Od::default())));
     let low = SendSpawner::for_current_executor().await;
+    #[cfg(not(feature = "no-leds"))]
     low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
+    #[cfg(feature = "no-leds")]
+    let _ = leds;
     high.spawn(unwrap!(process_data(esc, od, irq, io)));
     high.spawn(unwrap!(sync(sync0)));
     let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);

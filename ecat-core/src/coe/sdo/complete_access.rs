@@ -196,7 +196,10 @@ pub fn entry_value(
     if slot.bit_len.is_multiple_of(8) {
         let n = slot.bit_len / 8;
         let src = data.get(slot.bit_offset / 8..slot.bit_offset / 8 + n)?;
-        value.get_mut(..n)?.copy_from_slice(src);
+        if n > value.len() {
+            return None;
+        }
+        crate::bytes::copy(&mut value, src);
         return Some((value, if entry_sub == 0 { 1 } else { n }));
     }
     for i in 0..slot.bit_len {

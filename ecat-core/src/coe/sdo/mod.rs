@@ -27,7 +27,7 @@ use crate::device::DeviceConfig;
 use crate::dictionary::{
     DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
-use crate::pdo::{self, layout::Layout as PdoLayout};
+use crate::pdo;
 use crate::process_data::Writes;
 use crate::time::{Duration, Instant};
 
@@ -333,10 +333,8 @@ impl<const N: usize> SdoServer<N> {
             if size > N {
                 return Err(AbortCode::OUT_OF_MEMORY);
             }
-            self.buf
-                .get_mut(..first.len())
-                .ok_or(AbortCode::OUT_OF_MEMORY)?
-                .copy_from_slice(first);
+            let buf = self.buf.get_mut(..first.len());
+            crate::bytes::copy(buf.ok_or(AbortCode::OUT_OF_MEMORY)?, first);
         }
         self.begin(cx, Kind::Download, target, size, first.len());
         Ok(download_response(out, target))
@@ -373,10 +371,8 @@ impl<const N: usize> SdoServer<N> {
         if target.domain {
             store(cx, object, target, data, received, last)?;
         } else {
-            self.buf
-                .get_mut(received..total)
-                .ok_or(AbortCode::OUT_OF_MEMORY)?
-                .copy_from_slice(data);
+            let buf = self.buf.get_mut(received..total);
+            crate::bytes::copy(buf.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
             if last {
                 let value = self.buf.get(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
                 store(cx, object, target, value, 0, true)?;
@@ -571,18 +567,13 @@ fn check_not_rx_mapped<D: ObjectDictionary>(
     if !state.has_process_data() {
         return Ok(());
     }
+    // SAFEOP and OP run on a valid configuration: a walk of the assigned mappings answers as
+    // its layout would, without building one.
     let index = object.info.index;
-    let mut mappable = entries_of(object, target)
+    let mapped = entries_of(object, target)
         .filter(|(_, e)| e.access.rxpdo())
-        .map(|(sub, _)| sub);
-    let Some(first) = mappable.next() else {
-        return Ok(());
-    };
-    let Ok(Some(layout)) = PdoLayout::of(od, pdo::Direction::Rx) else {
-        return Ok(());
-    };
-    let mapped = |sub| layout.offset(index, sub).is_some();
-    if mapped(first) || mappable.any(mapped) {
+        .any(|(sub, _)| pdo::layout::is_mapped(od, pdo::Direction::Rx, index, sub));
+    if mapped {
         return Err(AbortCode::MAPPED_TO_RXPDO);
     }
     Ok(())
@@ -753,9 +744,7 @@ fn check_configuration<D: ObjectDictionary>(
     let entry = |sub| {
         let (value, len) = complete_access::entry_value(data, &object.info, from, sub)?;
         let mut bytes = [0u8; 4];
-        bytes
-            .get_mut(..len.min(4))?
-            .copy_from_slice(value.get(..len.min(4))?);
+        crate::bytes::copy(&mut bytes, value.get(..len)?);
         Some(u32::from_le_bytes(bytes))
     };
     pdo::check_length(od, process_ram, object.info.index, n, entry)

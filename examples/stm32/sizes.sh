@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# The firmware size benchmark (docs/performance.md, "Firmware size"): builds every variant and
+# prints its flash (text + data) and RAM (data + bss) and its ecat share (the variant less the
+# `baseline` binary: the same board, executors and drivers without ecat).
+# Usage: ./sizes.sh [--top N]   (--top: also the N largest symbols of the digital I/O firmware)
+set -euo pipefail
+cd "$(dirname "$0")"
+export CARGO_TARGET_DIR=target   # the sizes are read from here, whatever the caller set
+release=target/thumbv7em-none-eabihf/release
+size_tool=$(command -v llvm-size || command -v size || true)
+[ -n "$size_tool" ] || { echo "(neither llvm-size nor size installed: sizes not printed)"; exit 0; }
+# flash and RAM of an ELF: "text+data data+bss"
+measure() { "$size_tool" "$1" | awk 'NR == 2 { print $1 + $2, $2 + $3 }'; }
+cargo build --release --locked --bin baseline
+read -r base_flash base_ram < <(measure "$release/baseline")
+echo "| variant | flash | RAM | ecat share flash | ecat share RAM |"
+echo "|---|---|---|---|---|"
+echo "| baseline (no ecat) | $base_flash | $base_ram | — | — |"
+row() { # label elf
+    local flash ram
+    read -r flash ram < <(measure "$2")
+    echo "| $1 | $flash | $ram | $((flash - base_flash)) | $((ram - base_ram)) |"
+}
+variant() { # label cargo-args…
+    local label=$1; shift
+    cargo build --release --locked "$@"
+    row "$label" "$release/$(echo "$@" | grep -o 'bin [a-z0-9-]*' | cut -d' ' -f2)"
+}
+variant "digital I/O, no dictionary, no LED task" --bin ecat-stm32 --features no-dictionary,no-leds
+variant "digital I/O, no dictionary (\`no-dictionary\`)" --bin ecat-stm32 --features no-dictionary
+variant "digital I/O, SOES's dictionary, no LED task (\`no-leds\`)" --bin ecat-stm32 --features no-leds
+variant "axis, its dictionary (\`axis\`)" --bin axis
+variant "digital I/O, LAN9252" --bin ecat-stm32 --no-default-features --features lan9252
+# Last, so the binary left behind is the default firmware.
+variant "**digital I/O, SOES's dictionary (\`ecat-stm32\`)**" --bin ecat-stm32
+if [ "${1:-}" = --top ] && command -v llvm-nm >/dev/null; then
+    echo
+    echo "Largest symbols of \`ecat-stm32\` (bytes, llvm-nm --size-sort):"
+    llvm-nm -C --size-sort --print-size --radix=d "$release/ecat-stm32" \
+        | awk '$3 ~ /^[tTrRdD]$/' | tail -n "${2:-25}" | sort -k2 -rn \
+        | awk '{ size = $2 + 0; $1 = $2 = $3 = ""; sub(/^ +/, ""); sub(/::h[0-9a-f]+$/, ""); printf "%6d  %s\n", size, substr($0, 1, 110) }'
+fi
