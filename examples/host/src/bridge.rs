@@ -132,9 +132,6 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
     };
     let Port { tx, rx } = net::open(&options.iface).map_err(|e| e.to_string())?;
     let out = match &options.out {
-        Some(name) if *name == options.iface => {
-            return Err(format!("--out {name} is the interface the line serves"));
-        }
         Some(name) => Some(net::open(name).map_err(|e| format!("--out: {e}"))?),
         None => None,
     };

@@ -50,6 +50,19 @@ fn a_line_longer_than_256_subdevices_is_refused_with_the_reason() {
     );
 }
 
+/// Port 1 of the last ESC leads to the next segment: it cannot be the interface the line
+/// serves (frames would come back as requests).
+#[test]
+fn out_on_the_served_interface_is_refused() {
+    let (code, _, stderr) = run(&["--iface", "lo", "--out", "lo"]);
+    assert_eq!(code, Some(2));
+    assert_eq!(
+        stderr,
+        "ecat-virtual-slave: --out lo is the interface the line serves: port 1 leads to the next \
+         segment\n"
+    );
+}
+
 /// A failure at run time (here: no such interface) is status 1, not 0 and not the usage's 2.
 #[test]
 fn a_missing_interface_is_status_1() {

@@ -82,8 +82,14 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> {
         ));
     }
     let devices: Vec<String> = (0..count).flat_map(|_| line.iter().cloned()).collect();
+    let iface = iface.ok_or(format!("--iface is required\n{short}"))?;
+    if out.as_ref() == Some(&iface) {
+        return Err(format!(
+            "--out {iface} is the interface the line serves: port 1 leads to the next segment"
+        ));
+    }
     Ok(Command::Serve(Options {
-        iface: iface.ok_or(format!("--iface is required\n{short}"))?,
+        iface,
         devices,
         pcap,
         la_requests,
