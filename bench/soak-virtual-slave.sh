@@ -2,10 +2,11 @@
 # The virtual slave's soak (a benchmark, not a test): SOEM (pysoem, bench/soem_cycle.py) drives
 # ecat-virtual-slave (release build) over a veth pair at 1 kHz for DURATION seconds (default one
 # hour), with a line of N copies of DEVICE (default 64 × dio). Every minute it prints the cycles,
-# the cycles lost or late (no frame back within 2 ms) or with a wrong working counter, the round
-# trip p50/p99/max, whether every SubDevice is in OP (AL status read between two cycles), and the
-# virtual slave's RSS and CPU share; then a total. Exit status 1 when any cycle was lost, late or
-# wrong, or a SubDevice left OP. Needs root (netns, raw sockets).
+# the cycles lost (no frame back within 20 ms), late (back after 2 ms) or with a wrong working
+# counter, the round trip p50/p99/max, whether every SubDevice is in OP (AL status read between
+# two cycles), and the virtual slave's RSS and CPU share; then a total. SubDevices that fell out
+# of OP (checked every second) are counted and brought back. Exit status 1 when any cycle was
+# lost, late or wrong, or a SubDevice left OP. Needs root (netns, raw sockets).
 #
 # Usage: bench/soak-virtual-slave.sh [DURATION_S [N [DEVICE]]]
 #   NICE=-15 (default 0) runs both processes at that niceness on a shared machine.

@@ -1,7 +1,10 @@
 """SOEM (pysoem) as the MainDevice of a benchmark: brings a line to OP and runs process-data
-cycles at a fixed period for a given time, counting the cycles whose frame did not come back in
-time (lost or late: no frame within the timeout) or came back with another working counter, and
-the round trips (send to receive). Every --sample seconds it prints a line: the cycles of the
+cycles at a fixed period for a given time, counting the cycles whose frame came back late (after
+--late-us, 2 ms), not at all (lost: nothing within --receive-us, 20 ms) or with another working
+counter, and the round trips (send to receive). SOEM waits the longer time so that a late frame
+is taken in its own cycle: one left in the socket after SOEM gave its slot up is taken later for
+the answer to a newer frame with the same index (SOEM cycles through 16), and from then on every
+cycle got the answer of an earlier one (round trips of 16 us, AL status reads unanswered). Every --sample seconds it prints a line: the cycles of the
 window, their round-trip p50/p99/max, whether every SubDevice is in OP (AL status read between
 two cycles), and the RSS and CPU share of the processes given with --pid (the virtual slaves).
 Every second a BRD of the AL status (one frame, between two cycles) checks that every
@@ -82,7 +85,8 @@ def main():
     ap.add_argument("--count", type=int, required=True, help="SubDevices expected on the line")
     ap.add_argument("--seconds", type=float, default=10)
     ap.add_argument("--period-us", type=int, default=1000)
-    ap.add_argument("--timeout-us", type=int, default=2000, help="a frame later than this is late")
+    ap.add_argument("--late-us", type=int, default=2000, help="a frame later than this is late")
+    ap.add_argument("--receive-us", type=int, default=20000, help="SOEM's receive timeout")
     ap.add_argument("--sample", type=float, default=60, help="seconds between report lines")
     ap.add_argument("--pid", type=int, action="append", default=[], help="process to sample")
     args = ap.parse_args()
@@ -107,12 +111,12 @@ def main():
             return 1
     expected = m.expected_wkc
     m.send_processdata()
-    m.receive_processdata(args.timeout_us)
+    m.receive_processdata(args.receive_us)
     m.state = pysoem.OP_STATE
     m.write_state()
     for _ in range(2000):
         m.send_processdata()
-        m.receive_processdata(args.timeout_us)
+        m.receive_processdata(args.receive_us)
         if m.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
             break
     if m.state_check(pysoem.OP_STATE, 100_000) != pysoem.OP_STATE:
@@ -122,7 +126,7 @@ def main():
             return 1
     print(
         f"{found} SubDevices in OP, image {size} bytes, expected WKC {expected}; "
-        f"{args.seconds:.0f} s at {args.period_us} us, late over {args.timeout_us} us",
+        f"{args.seconds:.0f} s at {args.period_us} us, late over {args.late_us} us",
         flush=True,
     )
 
@@ -132,14 +136,14 @@ def main():
     end = start + int(args.seconds * 1e9)
     window_end = start + int(args.sample * 1e9)
     window, all_us = [], []
-    totals = {"cycles": 0, "lost": 0, "wrong": 0, "not_op": 0, "fallbacks": 0}
+    totals = {"cycles": 0, "lost": 0, "late": 0, "wrong": 0, "not_op": 0, "fallbacks": 0}
     next_check = start + 1_000_000_000
-    lost = wrong = 0
+    lost = late = wrong = 0
     ticks = {pid: cpu_ticks(pid) for pid in args.pid}
     rss0 = {pid: rss_kb(pid) for pid in args.pid}
     rss_max = dict(rss0)
     window_start = start
-    print("t_s cycles lost wrong p50_us p99_us max_us all_op " + " ".join(
+    print("t_s cycles lost late wrong p50_us p99_us max_us all_op " + " ".join(
         f"rss_kB[{p}] cpu%[{p}]" for p in args.pid), flush=True)
     while True:
         now = time.monotonic_ns()
@@ -147,14 +151,16 @@ def main():
             break
         t0 = time.perf_counter_ns()
         m.send_processdata()
-        wkc = m.receive_processdata(args.timeout_us)
+        wkc = m.receive_processdata(args.receive_us)
         rt = (time.perf_counter_ns() - t0) // 1000
-        if wkc == expected:
-            window.append(rt)
-        elif wkc < 0:
+        if wkc < 0:
             lost += 1
         else:
-            wrong += 1
+            window.append(rt)
+            if rt > args.late_us:
+                late += 1
+            if wkc != expected:
+                wrong += 1
         deadline += period
         now = time.monotonic_ns()
         if now < deadline:
@@ -165,7 +171,7 @@ def main():
             next_check = now + 1_000_000_000
             # SOEM's own receive timeout (EC_TIMEOUTRET): with none, the BRD's answer arrives
             # after SOEM gave its frame slot up, and SOEM takes later frames for wrong ones.
-            if m.state_check(pysoem.OP_STATE, 2000) != pysoem.OP_STATE:
+            if m.state_check(pysoem.OP_STATE, args.receive_us) != pysoem.OP_STATE:
                 fallen = recover(m)
                 totals["fallbacks"] += 1
                 print(f"{(now - start) / 1e9:.1f} s: left OP {fallen}", flush=True)
@@ -183,24 +189,26 @@ def main():
                 rss_max[pid] = max(rss_max[pid], r)
                 cols.append(f"{r} {100 * (t - ticks[pid]) / TICK / elapsed:.1f}")
                 ticks[pid] = t
-            cycles = len(window) + lost + wrong
+            cycles = len(window) + lost
             print(
-                f"{(now - start) / 1e9:.0f} {cycles} {lost} {wrong} {percentile(window, 50)} "
+                f"{(now - start) / 1e9:.0f} {cycles} {lost} {late} {wrong} {percentile(window, 50)} "
                 f"{percentile(window, 99)} {window[-1] if window else 0} {int(all_op)} "
                 + " ".join(cols),
                 flush=True,
             )
             totals["cycles"] += cycles
             totals["lost"] += lost
+            totals["late"] += late
             totals["wrong"] += wrong
             totals["not_op"] += 0 if all_op else 1
             all_us.extend(window)
-            window, lost, wrong = [], 0, 0
+            window, lost, late, wrong = [], 0, 0, 0
             window_start = now
             window_end = now + int(args.sample * 1e9)
-    cycles = len(window) + lost + wrong
+    cycles = len(window) + lost
     totals["cycles"] += cycles
     totals["lost"] += lost
+    totals["late"] += late
     totals["wrong"] += wrong
     all_us.extend(window)
     all_us.sort()
@@ -213,7 +221,7 @@ def main():
     rss = " ".join(f"RSS[{p}] {rss0[p]} -> {rss_kb(p)} kB (max {rss_max[p]})" for p in args.pid)
     print(
         f"total: {totals['cycles']} cycles in {seconds:.0f} s ({totals['cycles'] / seconds:.0f}/s), "
-        f"{totals['lost']} lost or late, {totals['wrong']} wrong WKC, round trip p50 "
+        f"{totals['lost']} lost, {totals['late']} late, {totals['wrong']} wrong WKC, round trip p50 "
         f"{percentile(all_us, 50)} us p99 {percentile(all_us, 99)} us max "
         f"{all_us[-1] if all_us else 0} us; fallbacks out of OP (recovered): "
         f"{totals['fallbacks']}; samples not all in OP: {totals['not_op']}; {rss}",
@@ -222,7 +230,9 @@ def main():
     m.state = pysoem.INIT_STATE
     m.write_state()
     m.close()
-    failed = totals["lost"] or totals["wrong"] or totals["not_op"] or totals["fallbacks"]
+    failed = (
+        totals["lost"] or totals["late"] or totals["wrong"] or totals["not_op"] or totals["fallbacks"]
+    )
     return 1 if failed else 0
 
 

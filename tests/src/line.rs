@@ -93,10 +93,11 @@ impl Line {
         Self::wired(escs, false)
     }
 
-    /// `escs` in cable order, a segment of a longer line with more to follow: like [`Line::new`], but the
-    /// last ESC's port 1 has a link to the next segment too (DL status: link and communication
-    /// on port 1, its loop open), so [`Line::serve`] passes processed frames on through it
-    /// ([`Host::pass_on`]) and sends what comes back ([`Host::returned`]) to the MainDevice.
+    /// `escs` in cable order, a segment of a longer line with more segments after it: like
+    /// [`Line::new`], but the last ESC's port 1 has a link to the next segment too (DL status:
+    /// link and communication on port 1, its loop open), so [`Line::serve`] passes processed
+    /// frames on through it ([`Host::pass_on`]) and sends what comes back ([`Host::returned`])
+    /// to the MainDevice.
     pub fn open_ended(escs: Vec<Emulator>) -> Self {
         Self::wired(escs, true)
     }
