@@ -296,33 +296,48 @@ pub fn run_many<F>(devices: Vec<Box<dyn Spawn>>, script: impl FnOnce(Vec<Emulato
 where
     F: Future<Output = ()> + 'static,
 {
-    execute_many(devices, script, Some(HANG_LIMIT));
+    execute_many(devices, script, Some(HANG_LIMIT), None);
 }
 
 /// Like [`run_many`] but for as long as the script runs, without the test harness's limit on
-/// wall-clock time: for programs that serve emulated SubDevices (a virtual slave, a demo).
+/// wall-clock time: for programs that serve emulated SubDevices (a virtual slave, a demo). The
+/// runners share at most [`SERVED_TASKS`] tasks, however long the line.
 pub fn serve<F>(devices: Vec<Box<dyn Spawn>>, script: impl FnOnce(Vec<Emulator>) -> F)
 where
     F: Future<Output = ()> + 'static,
 {
-    execute_many(devices, script, None);
+    execute_many(devices, script, None, Some(SERVED_TASKS));
 }
+
+/// The most tasks [`serve`] runs the runners of a line in. A task waiting on a timer takes one
+/// entry of embassy-time's timer queue (the generic queue: 128 entries at most, entries told
+/// apart by waker); a full queue wakes its last timer early, which then takes an entry again and
+/// wakes the next: with one task per runner, a line of more than 64 SubDevices whose runners
+/// all wait on timers at once (free-run cycles, transitions left pending) spun a core. Runners
+/// sharing a task share its waker, so the queue holds one entry per task whatever the line's
+/// length; the price is that a wake polls every runner of the task.
+pub const SERVED_TASKS: usize = 64;
 
 fn execute_many<F>(
     devices: Vec<Box<dyn Spawn>>,
     script: impl FnOnce(Vec<Emulator>) -> F,
     limit: Option<std::time::Duration>,
+    tasks: Option<usize>,
 ) where
     F: Future<Output = ()> + 'static,
 {
     execute(limit, Scheduler::Preemptive, |stop| {
-        let mut futures = Vec::new();
+        let mut runners = Vec::new();
         let mut emulators = Vec::new();
         for device in devices {
             let emu = device.emulator();
-            futures.extend(device.spawn(&emu, stop));
+            runners.extend(device.spawn(&emu, stop));
             emulators.push(emu);
         }
+        let mut futures = match tasks {
+            Some(tasks) => share(runners, tasks),
+            None => runners,
+        };
         let masters: Vec<TestMaster> = emulators.iter().cloned().map(TestMaster::new).collect();
         let script = script(emulators);
         futures.push(Task::thread(async move {
@@ -334,6 +349,38 @@ fn execute_many<F>(
         }));
         futures
     });
+}
+
+/// `runners` in at most `tasks` futures, consecutive runners together: each future polls all
+/// of its runners whenever its task is woken, until every one of them ended.
+fn share(runners: Vec<Task>, tasks: usize) -> Vec<Task> {
+    // Runners of one level share tasks of that level: the process-data runners stay at
+    // interrupt level, each level gets half of `tasks`.
+    let (interrupt, thread): (Vec<Task>, Vec<Task>) =
+        runners.into_iter().partition(|task| task.interrupt);
+    let per_level = (tasks / 2).max(1);
+    let mut shared = Vec::new();
+    for (at_interrupt, runners) in [(true, interrupt), (false, thread)] {
+        let per_task = runners.len().div_ceil(per_level).max(1);
+        let mut runners = runners.into_iter().map(|task| task.future).peekable();
+        while runners.peek().is_some() {
+            let mut group: Vec<_> = runners.by_ref().take(per_task).collect();
+            let future = core::future::poll_fn(move |cx| {
+                group.retain_mut(|runner| runner.as_mut().poll(cx).is_pending());
+                if group.is_empty() {
+                    core::task::Poll::Ready(())
+                } else {
+                    core::task::Poll::Pending
+                }
+            });
+            shared.push(if at_interrupt {
+                Task::interrupt(future)
+            } else {
+                Task::thread(future)
+            });
+        }
+    }
+    shared
 }
 
 /// A device that [`run_many`] can start next to devices of other types.

@@ -1,6 +1,12 @@
 //! Emulated ESCs on one cable: a frame from the MainDevice passes through each ESC in order on
 //! the way out, loops back at the last one (its port 1 is closed) and returns through the others
 //! unprocessed, as on a real line.
+//!
+//! A line can also be one segment of a longer one ([`Line::open_ended`]): the last ESC's port 1
+//! has a link to the next segment, so a processed frame leaves through it ([`Host::pass_on`])
+//! instead of looping back, and what comes back from there ([`Host::returned`]) passes the ESCs
+//! unprocessed on the return path and leaves through port 0 of the first, as on a real line
+//! whose devices are on several cables.
 
 use core::future::Future;
 
@@ -48,12 +54,22 @@ pub trait Host {
     /// Waits until a frame arrives, the host stops or its clock reaches `deadline` (time since
     /// serving started). Resolves to `false` once the host stops.
     fn wait(&mut self, deadline: Duration) -> impl Future<Output = bool>;
+    /// The next frame that came back from the next segment into port 1 of the last ESC (the
+    /// return path), if any. Only an [open-ended](Line::open_ended) line asks; by default none.
+    fn returned(&mut self) -> Option<Vec<u8>> {
+        None
+    }
+    /// Sends a frame the line processed out of port 1 of its last ESC, to the next segment.
+    /// Only an [open-ended](Line::open_ended) line sends; by default the frame is lost.
+    fn pass_on(&mut self, frame: &[u8]) {
+        let _ = frame;
+    }
 }
 
 /// What [`Line::serve`] did.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Served {
-    /// Frames that came back to the MainDevice.
+    /// Frames that came back to the MainDevice (out of port 0 of the first ESC).
     pub frames: u64,
     /// Frames lost on the line (runts, malformed datagrams).
     pub lost: u64,
@@ -69,6 +85,8 @@ const fn loop_closed(port: u8) -> u16 {
 /// Emulated ESCs wired in a line, port 0 towards the MainDevice.
 pub struct Line {
     escs: Vec<Emulator>,
+    /// The last ESC's port 1 has a link to the next segment.
+    open_end: bool,
 }
 
 impl Line {
@@ -76,6 +94,19 @@ impl Line {
     /// port 1 linked and open for all but the last, whose port 1 loop is closed; ports 2 and 3
     /// closed.
     pub fn new(escs: Vec<Emulator>) -> Self {
+        Self::wired(escs, false)
+    }
+
+    /// `escs` in cable order, a segment of a longer line with more segments after it: like
+    /// [`Line::new`], but the last ESC's port 1 has a link to the next segment too (DL status:
+    /// link and communication on port 1, its loop open), so [`Line::serve`] passes processed
+    /// frames on through it ([`Host::pass_on`]) and sends what comes back ([`Host::returned`])
+    /// to the MainDevice.
+    pub fn open_ended(escs: Vec<Emulator>) -> Self {
+        Self::wired(escs, true)
+    }
+
+    fn wired(escs: Vec<Emulator>, open_end: bool) -> Self {
         let last = escs.len().saturating_sub(1);
         for (n, emu) in escs.iter().enumerate() {
             let mut status = DlStatus::PDI_OPERATIONAL
@@ -84,14 +115,14 @@ impl Line {
                 | DlStatus::communication(0)
                 | loop_closed(2)
                 | loop_closed(3);
-            status |= if n < last {
+            status |= if n < last || open_end {
                 DlStatus::link(1) | DlStatus::communication(1)
             } else {
                 loop_closed(1)
             };
             emu.with(|esc| esc.set_register(register::DL_STATUS, &status.to_le_bytes()));
         }
-        Self { escs }
+        Self { escs, open_end }
     }
 
     /// The ESCs, in cable order.
@@ -130,12 +161,24 @@ impl Line {
     /// the host's, the ESCs see it ([`Emulator::tick`]: watchdog expiry, SYNC0, DC system time)
     /// and the runners settle before the frames that arrived pass. Then the line sleeps until
     /// the next ESC deadline ([`Emulator::next_deadline`]), the [`HEARTBEAT`] or a frame: no
-    /// polling while idle.
+    /// polling while idle. An [open-ended](Line::open_ended) line passes each processed frame
+    /// on to the next segment and sends the frames that come back from there to the MainDevice.
     pub async fn serve(&self, host: &mut impl Host) -> Served {
         let origin = Instant::now();
         let mut served = Served::default();
         loop {
-            while let Some((arrived, mut frame)) = host.receive() {
+            loop {
+                if self.open_end
+                    && let Some(frame) = host.returned()
+                {
+                    // The return path: through the ESCs unprocessed, out of port 0.
+                    host.send(&frame);
+                    served.frames += 1;
+                    continue;
+                }
+                let Some((arrived, mut frame)) = host.receive() else {
+                    break;
+                };
                 // The ESCs see each frame at the time it arrived, and what fell due before it
                 // (a SYNC0 pulse, a watchdog expiry) before it, however late this thread got to
                 // it: the order of frames and SYNC0 pulses is the wire's, not the scheduler's.
@@ -143,8 +186,13 @@ impl Line {
                 self.catch_up(origin + arrived).await;
                 match self.process(&mut frame) {
                     Some(len) => {
-                        host.send(frame.get(..len).unwrap_or_default());
-                        served.frames += 1;
+                        let frame = frame.get(..len).unwrap_or_default();
+                        if self.open_end {
+                            host.pass_on(frame);
+                        } else {
+                            host.send(frame);
+                            served.frames += 1;
+                        }
                     }
                     None => served.lost += 1,
                 }

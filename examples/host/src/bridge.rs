@@ -8,6 +8,14 @@
 //! line ([`Line::serve`]), which sleeps until a frame arrives or the next deadline (an ESC's
 //! watchdog or SYNC0, or the heartbeat for the runners' own timers) and then brings the
 //! runners' clock (embassy-time's mock driver) up to the wall clock. Nothing polls while idle.
+//!
+//! With [`Options::out`] the line is one segment of a longer one, as EtherCAT wires devices on
+//! several cables: the last ESC's port 1 is the second interface. A processed frame leaves
+//! through it to the next segment (another instance, in another process or on another host)
+//! instead of looping back; a second receiving thread takes what comes back on it (the return
+//! path) and the line sends that out of the first interface, to the MainDevice. A frame that
+//! comes back has the locally-administered bit set (the ESCs of both segments set it): on the
+//! second interface that marks no answer of another line, since only the next segment is there.
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -36,6 +44,15 @@ pub struct Options {
     /// Take frames whose source MAC has the locally-administered bit set as requests too (a
     /// MainDevice on an interface with such a MAC); by default they are answers of a line.
     pub la_requests: bool,
+    /// The interface is linked to the [`Options::out`] interface of the previous segment of the
+    /// line, not to a MainDevice: every EtherCAT frame arriving on it is a request (the previous
+    /// segment's ESCs set its locally-administered bit, and a frame that segment polls comes
+    /// again byte for byte, so neither the bit nor the record of sent frames tells anything).
+    pub chained: bool,
+    /// The interface to the next segment of the line (port 1 of the last ESC): processed frames
+    /// leave through it, and what comes back on it goes to the MainDevice. `None`: port 1 of
+    /// the last ESC has no link, its loop is closed.
+    pub out: Option<String>,
 }
 
 /// What [`serve`] did.
@@ -50,6 +67,10 @@ pub struct Summary {
     pub send_failures: u64,
     /// The longest a frame waited between the receiving thread and the line.
     pub longest_wait: Duration,
+    /// Frames passed on to the next segment ([`Options::out`]).
+    pub passed_on: u64,
+    /// Frames that came back from the next segment.
+    pub returned: u64,
 }
 
 /// Frames that may wait for the line: about 6 MB of full-size frames, far more than a
@@ -75,6 +96,17 @@ fn sent<R>(f: impl FnOnce(&mut Sent) -> R) -> R {
     f(guard.get_or_insert_with(Sent::default))
 }
 
+/// Where a frame arrived: port 0 of the first ESC (from the MainDevice or the previous
+/// segment), or port 1 of the last (back from the next segment).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Side {
+    In,
+    Back,
+}
+
+/// A frame the receiving threads queued for the line: when and where it arrived.
+type Arrival = (Instant, Side, Vec<u8>);
+
 type Capture = PcapWriter<std::io::BufWriter<std::fs::File>>;
 
 /// Serves `options.devices` on `options.iface` until Ctrl-C, SIGTERM or SIGHUP. Errors are
@@ -99,30 +131,66 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
         None => None,
     };
     let Port { tx, rx } = net::open(&options.iface).map_err(|e| e.to_string())?;
+    let out = match &options.out {
+        Some(name) => Some(net::open(name).map_err(|e| format!("--out: {e}"))?),
+        None => None,
+    };
     ctrlc::set_handler(stop).map_err(|e| format!("cannot install the signal handler: {e}"))?;
     let (queue, inbox) = std::sync::mpsc::sync_channel(QUEUE);
-    let la_requests = options.la_requests;
-    let receiver = std::thread::spawn(move || receive(rx, &queue, la_requests));
+    let (la_requests, chained) = (options.la_requests, options.chained);
+    let (tx_out, returning) = match out {
+        Some(Port { tx, rx }) => {
+            let queue = queue.clone();
+            let thread = std::thread::spawn(move || receive_returning(rx, &queue));
+            (Some(tx), Some(thread))
+        }
+        None => (None, None),
+    };
+    let receiver = std::thread::spawn(move || {
+        if chained {
+            forward(rx, &queue, Side::In, net::is_ethercat)
+        } else {
+            receive(rx, &queue, la_requests)
+        }
+    });
     let alarm = std::thread::spawn(alarm_clock);
-    println!(
-        "serving {} on {}; Ctrl-C to stop",
-        options.devices.join(", "),
-        options.iface
-    );
+    match &options.out {
+        Some(out) => println!(
+            "serving {} on {} (port 0) and {out} (port 1 of the last ESC, to the next segment); \
+             Ctrl-C to stop",
+            options.devices.join(", "),
+            options.iface
+        ),
+        None => println!(
+            "serving {} on {}; Ctrl-C to stop",
+            options.devices.join(", "),
+            options.iface
+        ),
+    }
+    let open_end = tx_out.is_some();
     let host = NetHost {
         start: Instant::now(),
         inbox,
+        waiting: Default::default(),
         tx,
+        tx_out,
         pcap,
-        la_requests,
+        record_sent: la_requests && !chained,
         send_failures: 0,
         longest_wait: Duration::ZERO,
+        passed_on: 0,
+        returned: 0,
     };
     let outcome = Rc::new(RefCell::new(None));
     let result = outcome.clone();
     harness::serve(devices, move |escs| async move {
         let mut host = host;
-        let served = Line::new(escs).serve(&mut host).await;
+        let line = if open_end {
+            Line::open_ended(escs)
+        } else {
+            Line::new(escs)
+        };
+        let served = line.serve(&mut host).await;
         *result.borrow_mut() = Some((host, served));
     });
     let (host, served) = outcome.take().ok_or("the line stopped without a summary")?;
@@ -131,6 +199,8 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
         mut pcap,
         send_failures,
         longest_wait,
+        passed_on,
+        returned,
         ..
     } = host;
     if let Some(pcap) = &mut pcap
@@ -141,13 +211,16 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
     stop();
     // A receiving thread waiting for room in the queue gives up once the queue is gone.
     drop(inbox);
-    let waited = receiver.join().unwrap_or(0);
+    let waited =
+        receiver.join().unwrap_or(0) + returning.map_or(0, |thread| thread.join().unwrap_or(0));
     let _ = alarm.join();
     let summary = Summary {
         served,
         waited,
         send_failures,
         longest_wait,
+        passed_on,
+        returned,
     };
     println!(
         "stopped after {} frames ({} lost on the line, {} waited for a full queue, {} not sent; \
@@ -158,6 +231,12 @@ pub fn serve(options: &Options) -> Result<Summary, String> {
         summary.send_failures,
         summary.longest_wait.as_secs_f64() * 1e3
     );
+    if let Some(out) = &options.out {
+        println!(
+            "{} frames passed on through {out}, {} came back",
+            summary.passed_on, summary.returned
+        );
+    }
     match FAILURE
         .lock()
         .unwrap_or_else(PoisonError::into_inner)
@@ -193,15 +272,46 @@ pub fn is_request(frame: &[u8], la_requests: bool) -> bool {
 /// queue makes it wait (the socket holds what arrives meanwhile). Returns how many frames
 /// waited. An error of the interface stops everything.
 fn receive(
-    mut rx: Box<dyn pnet_datalink::DataLinkReceiver>,
-    queue: &SyncSender<(Instant, Vec<u8>)>,
+    rx: Box<dyn pnet_datalink::DataLinkReceiver>,
+    queue: &SyncSender<Arrival>,
     la_requests: bool,
+) -> u64 {
+    forward(rx, queue, Side::In, |frame| is_request(frame, la_requests))
+}
+
+/// Whether a frame received on the interface to the next segment comes back from there: any
+/// EtherCAT frame. Its locally-administered bit is set (the next segment's ESCs processed it),
+/// and that makes it no less a frame for the return path. The frames passed on through that
+/// interface are not seen again: a packet socket does not receive what it sent itself, and
+/// only the next segment is on that link. (A frame that the next segment leaves unchanged, an
+/// FPRD of a station in this segment, comes back byte for byte as it was passed on.)
+pub fn is_returning(frame: &[u8]) -> bool {
+    net::is_ethercat(frame)
+}
+
+/// Hands every frame that comes back from the next segment ([`is_returning`]) to the line until
+/// [`STOP`], as [`receive`] does.
+fn receive_returning(
+    rx: Box<dyn pnet_datalink::DataLinkReceiver>,
+    queue: &SyncSender<Arrival>,
+) -> u64 {
+    forward(rx, queue, Side::Back, is_returning)
+}
+
+/// Queues the frames of `rx` that `wanted` accepts as arrived on `side`, until [`STOP`]; a full
+/// queue makes it wait. Returns how many frames waited. An error of the interface stops
+/// everything.
+fn forward(
+    mut rx: Box<dyn pnet_datalink::DataLinkReceiver>,
+    queue: &SyncSender<Arrival>,
+    side: Side,
+    wanted: impl Fn(&[u8]) -> bool,
 ) -> u64 {
     let mut waited = 0;
     while !STOP.load(Ordering::SeqCst) {
         match rx.next() {
-            Ok(frame) if is_request(frame, la_requests) => {
-                let frame = (Instant::now(), frame.to_vec());
+            Ok(frame) if wanted(frame) => {
+                let frame = (Instant::now(), side, frame.to_vec());
                 let queued = match queue.try_send(frame) {
                     Err(TrySendError::Full(frame)) => {
                         waited += 1;
@@ -218,8 +328,12 @@ fn receive(
             Ok(_) => {}
             Err(e) if net::is_timeout(&e) => {}
             Err(e) => {
+                let port = match side {
+                    Side::In => "",
+                    Side::Back => " (--out)",
+                };
                 *FAILURE.lock().unwrap_or_else(PoisonError::into_inner) =
-                    Some(format!("receive failed: {e}"));
+                    Some(format!("receive failed{port}: {e}"));
                 stop();
             }
         }
@@ -252,15 +366,51 @@ fn alarm_clock() {
     }
 }
 
-/// The network interface and the wall clock, as the line sees them.
+/// The network interfaces and the wall clock, as the line sees them.
 struct NetHost {
     start: Instant,
-    inbox: Receiver<(Instant, Vec<u8>)>,
+    inbox: Receiver<Arrival>,
+    /// Frames taken from the inbox while looking for one of the other side: requests, returns.
+    waiting: [std::collections::VecDeque<(Instant, Vec<u8>)>; 2],
     tx: Box<dyn pnet_datalink::DataLinkSender>,
+    /// To the next segment.
+    tx_out: Option<Box<dyn pnet_datalink::DataLinkSender>>,
     pcap: Option<Capture>,
-    la_requests: bool,
+    /// Record every frame sent in [`SENT`], not only unmarked ones (`--la-requests`).
+    record_sent: bool,
     send_failures: u64,
     longest_wait: Duration,
+    passed_on: u64,
+    returned: u64,
+}
+
+impl NetHost {
+    /// The next frame that arrived on `side`.
+    fn next(&mut self, side: Side) -> Option<(Instant, Vec<u8>)> {
+        let index = |side| match side {
+            Side::In => 0,
+            Side::Back => 1,
+        };
+        if let Some(frame) = self.waiting[index(side)].pop_front() {
+            return Some(frame);
+        }
+        loop {
+            let (arrived, on, frame) = self.inbox.try_recv().ok()?;
+            self.longest_wait = self.longest_wait.max(arrived.elapsed());
+            if on == side {
+                return Some((arrived, frame));
+            }
+            self.waiting[index(on)].push_back((arrived, frame));
+        }
+    }
+
+    /// Counts a failed send, telling the first.
+    fn failed(&mut self, e: &std::io::Error) {
+        if self.send_failures == 0 {
+            eprintln!("send failed: {e}");
+        }
+        self.send_failures += 1;
+    }
 }
 
 impl Host for NetHost {
@@ -270,26 +420,38 @@ impl Host for NetHost {
     }
 
     fn receive(&mut self) -> Option<(embassy_time::Duration, Vec<u8>)> {
-        let (arrived, frame) = self.inbox.try_recv().ok()?;
-        self.longest_wait = self.longest_wait.max(arrived.elapsed());
+        let (arrived, frame) = self.next(Side::In)?;
         capture(&mut self.pcap, &frame);
         let us = arrived.saturating_duration_since(self.start).as_micros();
         let at = embassy_time::Duration::from_micros(u64::try_from(us).unwrap_or(u64::MAX));
         Some((at, frame))
     }
 
+    fn returned(&mut self) -> Option<Vec<u8>> {
+        let (_, frame) = self.next(Side::Back)?;
+        self.returned += 1;
+        Some(frame)
+    }
+
+    fn pass_on(&mut self, frame: &[u8]) {
+        let Some(tx) = &mut self.tx_out else {
+            return;
+        };
+        match tx.send_to(frame, None) {
+            Some(Err(e)) => self.failed(&e),
+            _ => self.passed_on += 1,
+        }
+    }
+
     fn send(&mut self, frame: &[u8]) {
         capture(&mut self.pcap, frame);
         // The raw socket sees the reply again; one with the locally-administered bit set is
         // not taken as a request anyway.
-        if self.la_requests || !net::locally_administered(frame) {
+        if self.record_sent || !net::locally_administered(frame) {
             sent(|s| s.push(frame));
         }
         if let Some(Err(e)) = self.tx.send_to(frame, None) {
-            if self.send_failures == 0 {
-                eprintln!("send failed: {e}");
-            }
-            self.send_failures += 1;
+            self.failed(&e);
         }
     }
 

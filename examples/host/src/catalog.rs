@@ -10,13 +10,15 @@ use ecat_emu::harness::Spawn;
 pub const NAMES: [&str; 4] = ["cia402", "drive", "dio", "sensor"];
 /// The device when none is named.
 pub const DEFAULT: &str = "dio";
-/// The most devices on one line: each runs two tasks, each waiting on at most one timer, and
-/// the timer queue of embassy-time (the generic queue, 128 entries at most) must hold them all;
-/// a full queue wakes timers early, and a line beyond it spins.
-pub const MAX_COUNT: usize = 64;
+/// The most devices on one line (one process). The runners of a line share at most
+/// [`ecat_emu::harness::SERVED_TASKS`] tasks, so embassy-time's timer queue (128 entries) never
+/// overflows however long the line; what grows with the line is the time a frame takes through
+/// it (every ESC processes every frame): a longer line is several instances chained with
+/// `--out`, one process per core.
+pub const MAX_COUNT: usize = 256;
 /// Why a line holds at most [`MAX_COUNT`] devices, for the user.
 pub const MAX_COUNT_REASON: &str =
-    "two runners per SubDevice, and embassy-time's timer queue holds 128 timers";
+    "a frame passes every ESC of the line in one thread; chain instances with --out for more";
 /// The vendor of every device here (vendor ID [`devices::VENDOR_ID`], in the range the ETG
 /// leaves for tests): the ESI file's `Vendor/Name`.
 pub const VENDOR: &str = "ecat (test vendor ID)";

@@ -40,13 +40,26 @@ fn a_wrong_command_line_is_status_2_with_the_usage() {
 
 /// The limit is the product of the list and --count, and the message names the real limit.
 #[test]
-fn a_line_longer_than_64_subdevices_is_refused_with_the_reason() {
-    let (code, _, stderr) = run(&["--iface", "lo", "--device", "dio,sensor", "--count", "33"]);
+fn a_line_longer_than_256_subdevices_is_refused_with_the_reason() {
+    let (code, _, stderr) = run(&["--iface", "lo", "--device", "dio,sensor", "--count", "129"]);
     assert_eq!(code, Some(2));
     assert_eq!(
         stderr,
-        "ecat-virtual-slave: 66 SubDevices (2 named × --count 33): a line holds at most 64 (two \
-         runners per SubDevice, and embassy-time's timer queue holds 128 timers)\n"
+        "ecat-virtual-slave: 258 SubDevices (2 named × --count 129): a line holds at most 256 (a \
+         frame passes every ESC of the line in one thread; chain instances with --out for more)\n"
+    );
+}
+
+/// Port 1 of the last ESC leads to the next segment: it cannot be the interface the line
+/// serves (frames would come back as requests).
+#[test]
+fn out_on_the_served_interface_is_refused() {
+    let (code, _, stderr) = run(&["--iface", "lo", "--out", "lo"]);
+    assert_eq!(code, Some(2));
+    assert_eq!(
+        stderr,
+        "ecat-virtual-slave: --out lo is the interface the line serves: port 1 leads to the next \
+         segment\n"
     );
 }
 

@@ -27,6 +27,8 @@ fn main() -> ExitCode {
             devices: vec!["cia402".to_owned()],
             pcap: None,
             la_requests: false,
+            chained: false,
+            out: None,
         })
         .map(|_| ()),
         [flag, path] if flag == "--plot" => run(path),

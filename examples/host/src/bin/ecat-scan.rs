@@ -3,9 +3,14 @@
 //! checks every cycle's working counter. Used by CI against `ecat-virtual-slave` on a veth pair.
 //!
 //! ```text
-//! ecat-scan --iface IFNAME [--cycles N] [--echo] [--silence MS]
+//! ecat-scan --iface IFNAME [--cycles N] [--lrw] [--echo] [--silence MS]
 //! ecat-scan --iface IFNAME --burst N [--fps F]
 //! ```
+//!
+//! `--lrw` runs the cycles as one LRW frame each over the whole process image, on a raw socket
+//! of its own, as SOEM does, instead of ethercrab's cycle (the LRW and an AL status read of
+//! every SubDevice, in as many frames as that takes, one after the other): for figures of long
+//! lines.
 //!
 //! `--burst N` instead sends N frames back to back (a BRD of the AL status and a numbered NOP
 //! each, on a raw socket of its own), F frames a second (default: as fast as the socket takes
@@ -24,16 +29,17 @@ use ethercrab::std::{ethercat_now, tx_rx_task};
 use ethercrab::subdevice_group::{Op, SubDeviceGroup};
 use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
 
-const MAX_SUBDEVICES: usize = 64;
-const MAX_PDI: usize = 1024;
+const MAX_SUBDEVICES: usize = 256;
+const MAX_PDI: usize = 2048;
 static STORAGE: PduStorage<16, { PduStorage::element_size(1100) }> = PduStorage::new();
 
-const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--echo] [--silence MS]\n       ecat-scan --iface IFNAME --burst N [--fps F]";
+const USAGE: &str = "usage: ecat-scan --iface IFNAME [--cycles N] [--lrw] [--echo] [--silence MS]\n       ecat-scan --iface IFNAME --burst N [--fps F]";
 
 struct Args {
     iface: String,
     cycles: u32,
     echo: bool,
+    lrw: bool,
     burst: Option<u32>,
     fps: Option<u32>,
     silence: Option<u64>,
@@ -42,6 +48,7 @@ struct Args {
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
     let (mut iface, mut cycles, mut echo, mut burst, mut fps, mut silence) =
         (None, 1000, false, None, None, None);
+    let mut lrw = false;
     while let Some(flag) = args.next() {
         match flag.as_str() {
             "--iface" => iface = args.next(),
@@ -74,6 +81,7 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
                 )
             }
             "--echo" => echo = true,
+            "--lrw" => lrw = true,
             _ => return Err(USAGE.to_owned()),
         }
     }
@@ -81,6 +89,7 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
         iface: iface.ok_or(USAGE)?,
         cycles,
         echo,
+        lrw,
         burst,
         fps,
         silence,
@@ -111,7 +120,14 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     std::thread::spawn(move || futures_lite::future::block_on(task));
     let main = MainDevice::new(
         pdu_loop,
-        Timeouts::default(),
+        // Long enough for a long line on a loaded machine (ethercrab's defaults, EEPROM 10 ms
+        // and PDU 30 ms, failed now and then at 64 SubDevices under load 5): late process-data
+        // frames are counted by the round trips instead.
+        Timeouts {
+            eeprom: Duration::from_millis(100),
+            pdu: Duration::from_millis(100),
+            ..Timeouts::default()
+        },
         MainDeviceConfig {
             dc_static_sync_iterations: 0,
             ..MainDeviceConfig::default()
@@ -149,12 +165,27 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
     }
     println!("all SubDevices in OP after {waited} cycles");
     let expected = expected_wkc(&group, &main);
+    if args.lrw {
+        let image = group
+            .iter(&main)
+            .map(|sub| sub.io_raw().inputs().len() + sub.io_raw().outputs().len())
+            .sum();
+        lrw_cycles(&args.iface, args.cycles, image, expected)?;
+        println!(
+            "{} cycles, working counter {expected} every cycle",
+            args.cycles
+        );
+        return Ok(());
+    }
     // One cycle a millisecond on the wall clock: late cycles catch up, up to 10 ms behind.
     let start = std::time::Instant::now();
     let mut next = start;
+    let mut round_trips = Vec::with_capacity(usize::try_from(args.cycles).unwrap_or(0));
     for cycle in 0..args.cycles {
         write_outputs(&group, &main, cycle);
+        let sent = std::time::Instant::now();
         let response = group.tx_rx(&main).await?;
+        round_trips.push(sent.elapsed());
         if response.working_counter != expected {
             return Err(format!(
                 "cycle {cycle}: working counter {} instead of {expected}",
@@ -176,6 +207,7 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         "{:.0} cycles/s",
         f64::from(args.cycles) / elapsed.max(f64::MIN_POSITIVE)
     );
+    println!("{}", RoundTrips::of(round_trips));
     if args.echo {
         check_echo(&group, &main).await?;
     }
@@ -195,6 +227,46 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
         .await?;
     println!("back in INIT");
     Ok(())
+}
+
+/// A cycle whose frames took longer than this to come back is late.
+const LATE: Duration = Duration::from_millis(2);
+
+/// The round trips of the process-data cycles: percentiles and how many were [`LATE`].
+struct RoundTrips {
+    sorted: Vec<Duration>,
+}
+
+impl RoundTrips {
+    fn of(mut round_trips: Vec<Duration>) -> Self {
+        round_trips.sort_unstable();
+        Self {
+            sorted: round_trips,
+        }
+    }
+
+    /// The round trip that `percent` % of the cycles did not exceed.
+    fn percentile(&self, percent: usize) -> Duration {
+        let n = self.sorted.len();
+        let at = (n * percent).div_ceil(100).clamp(1, n.max(1)) - 1;
+        self.sorted.get(at).copied().unwrap_or_default()
+    }
+}
+
+impl std::fmt::Display for RoundTrips {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let us = |d: Duration| d.as_micros();
+        let late = self.sorted.iter().filter(|&&d| d > LATE).count();
+        write!(
+            f,
+            "round trip p50 {} us, p99 {} us, max {} us; {late} of {} cycles late (over {} ms)",
+            us(self.percentile(50)),
+            us(self.percentile(99)),
+            us(self.sorted.last().copied().unwrap_or_default()),
+            self.sorted.len(),
+            LATE.as_millis()
+        )
+    }
 }
 
 /// The LRW working counter of a cycle: per SubDevice 1 for its inputs (read) and 2 for its outputs
@@ -282,6 +354,72 @@ async fn check_echo(group: &Group, main: &MainDevice<'_>) -> Result<(), String> 
 /// Sends `frames` frames back to back, each a BRD of the AL status and a NOP with the frame's
 /// number, at `fps` frames a second if given, while a second thread counts the answers (source MAC marked by an
 /// ESC) until none came for a second. Fails unless every frame came back.
+/// `cycles` process-data cycles of one LRW frame each over the `image` bytes from logical address
+/// 0 (ethercrab maps its first group there), one a millisecond, on a raw socket of its own: each
+/// must come back with the working counter `expected`; prints the round trips.
+fn lrw_cycles(iface: &str, cycles: u32, image: usize, expected: u16) -> Result<(), String> {
+    use ecat_emu::frame::{self, Datagram};
+    let port = ecat_examples::net::open(iface).map_err(|e| e.to_string())?;
+    let (mut tx, mut rx) = (port.tx, port.rx);
+    let start = std::time::Instant::now();
+    let mut next = start;
+    let mut round_trips = Vec::with_capacity(usize::try_from(cycles).unwrap_or(0));
+    for cycle in 0..cycles {
+        let data: Vec<u8> = (0..image).map(|i| (cycle as usize + i) as u8).collect();
+        let mut lrw = Datagram::logical(0x0C, 0, &data);
+        // The index tells this cycle's frame from a late one of an earlier cycle.
+        lrw.index = cycle as u8;
+        let request = frame::build(ecat_emu::line::MAIN_DEVICE_MAC, &[lrw]);
+        let sent = std::time::Instant::now();
+        match tx.send_to(&request, None) {
+            Some(Ok(())) => {}
+            Some(Err(e)) => return Err(format!("send failed: {e}")),
+            None => return Err("send failed".to_owned()),
+        }
+        let wkc = loop {
+            if sent.elapsed() > Duration::from_secs(1) {
+                return Err(format!("cycle {cycle}: no frame back within 1 s"));
+            }
+            match rx.next() {
+                Ok(f)
+                    if ecat_examples::net::is_ethercat(f)
+                        && ecat_examples::net::locally_administered(f) =>
+                {
+                    let back = frame::datagrams(f).and_then(|d| d.into_iter().next());
+                    if let Some(back) = back.filter(|d| d.command == 0x0C && d.index == cycle as u8)
+                    {
+                        break back.wkc;
+                    }
+                }
+                Ok(_) => {}
+                Err(e) if ecat_examples::net::is_timeout(&e) => {}
+                Err(e) => return Err(format!("receive failed: {e}")),
+            }
+        };
+        round_trips.push(sent.elapsed());
+        if wkc != expected {
+            return Err(format!(
+                "cycle {cycle}: working counter {wkc} instead of {expected}"
+            ));
+        }
+        next += Duration::from_millis(1);
+        let now = std::time::Instant::now();
+        if now > next + Duration::from_millis(10) {
+            next = now;
+        }
+        if let Some(wait) = next.checked_duration_since(std::time::Instant::now()) {
+            std::thread::sleep(wait);
+        }
+    }
+    let elapsed = start.elapsed().as_secs_f64();
+    println!(
+        "{:.0} cycles/s (one LRW of {image} bytes each)",
+        f64::from(cycles) / elapsed.max(f64::MIN_POSITIVE)
+    );
+    println!("{}", RoundTrips::of(round_trips));
+    Ok(())
+}
+
 fn burst(iface: &str, frames: u32, fps: Option<u32>) -> Result<(), String> {
     use ecat_emu::frame::{self, Datagram};
     let port = ecat_examples::net::open(iface).map_err(|e| e.to_string())?;

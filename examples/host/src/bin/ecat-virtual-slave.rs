@@ -3,10 +3,12 @@
 //! ESCs running the real ecat runners, and go back out.
 //!
 //! ```text
-//! ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE] [--la-requests]
+//! ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] [--pcap FILE] [--la-requests] [--out IF2] [--chained]
 //! ```
 //!
-//! `--device` lists the devices on the line in order; `--count` repeats that list. Needs root or
+//! `--device` lists the devices on the line in order; `--count` repeats that list. `--out` makes
+//! the line a segment of a longer one: frames leave the last ESC through IF2 to the next segment
+//! (another instance, started with `--chained`) and come back through it. Needs root or
 //! `CAP_NET_RAW`. Ctrl-C, SIGTERM and SIGHUP end it cleanly. Exit status: 0 after a clean stop,
 //! 1 when the interface or the capture file fails, 2 for a wrong command line.
 
@@ -17,7 +19,7 @@ use ecat_examples::catalog;
 
 const USAGE: &str =
     "usage: ecat-virtual-slave --iface IFNAME [--device NAME[,NAME...]] [--count N] \
-[--pcap FILE] [--la-requests]
+[--pcap FILE] [--la-requests] [--out IF2]
 
 Serves emulated EtherCAT SubDevices on a network interface (needs root or CAP_NET_RAW).
 
@@ -28,6 +30,12 @@ Serves emulated EtherCAT SubDevices on a network interface (needs root or CAP_NE
   --la-requests      also serve frames whose source MAC has the locally-administered bit set
                      (a MainDevice on an interface with such a MAC, e.g. IgH on a veth); by
                      default they are answers of a line, as ESCs mark them, and pass unserved
+  --out IF2          port 1 of the last ESC: frames leave the line through IF2 to the next
+                     segment (an instance with --chained on the other end) and come back
+                     through it, then go out of IFNAME; without it port 1 has no link and the
+                     last ESC loops frames back
+  --chained          IFNAME is linked to the --out interface of the previous segment, not to
+                     a MainDevice: every EtherCAT frame on it is served
   -h, --help         prints this help
 
 Ctrl-C, SIGTERM or SIGHUP stop it cleanly (summary printed, capture file complete).";
@@ -39,8 +47,8 @@ enum Command {
 }
 
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> {
-    let (mut iface, mut devices, mut count, mut pcap, mut la_requests) =
-        (None, None, 1usize, None, false);
+    let (mut iface, mut devices, mut count, mut pcap) = (None, None, 1usize, None);
+    let (mut la_requests, mut out, mut chained) = (false, None, false);
     let short = USAGE.lines().next().unwrap_or(USAGE);
     while let Some(flag) = args.next() {
         let mut value = || args.next().ok_or(format!("{flag} needs a value\n{short}"));
@@ -56,6 +64,8 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> {
             }
             "--pcap" => pcap = Some(value()?),
             "--la-requests" => la_requests = true,
+            "--out" => out = Some(value()?),
+            "--chained" => chained = true,
             "-h" | "--help" => return Ok(Command::Help),
             other => return Err(format!("unknown argument {other:?}\n{short}")),
         }
@@ -72,11 +82,19 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Command, String> {
         ));
     }
     let devices: Vec<String> = (0..count).flat_map(|_| line.iter().cloned()).collect();
+    let iface = iface.ok_or(format!("--iface is required\n{short}"))?;
+    if out.as_ref() == Some(&iface) {
+        return Err(format!(
+            "--out {iface} is the interface the line serves: port 1 leads to the next segment"
+        ));
+    }
     Ok(Command::Serve(Options {
-        iface: iface.ok_or(format!("--iface is required\n{short}"))?,
+        iface,
         devices,
         pcap,
         la_requests,
+        chained,
+        out,
     }))
 }
 
