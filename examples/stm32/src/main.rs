@@ -97,9 +97,10 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
     };
     let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
     let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(Od::default())));
-    let low = SendSpawner::for_current_executor().await;
     #[cfg(not(feature = "no-leds"))]
-    low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
+    SendSpawner::for_current_executor()
+        .await
+        .spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
     #[cfg(feature = "no-leds")]
     let _ = leds;
     high.spawn(unwrap!(process_data(esc, od, irq, io)));
