@@ -12,9 +12,9 @@ import struct
 import time
 
 import pysoem
-import pytest
 
-IFACE = os.environ.get("ECAT_IFACE", "")
+from conftest import RECEIVE_US, safeop_to_op
+
 LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,sensor").split(",")
 
 VENDOR_ID = 0xE000_0001
@@ -34,25 +34,9 @@ def u32(data):
     return struct.unpack("<I", data[:4])[0]
 
 
-@pytest.fixture(scope="module")
-def master():
-    assert IFACE, "ECAT_IFACE names the MainDevice's interface (run .ci/soem)"
-    m = pysoem.Master()
-    m.open(IFACE)
-    yield m
-    m.state = pysoem.INIT_STATE
-    m.write_state()
-    m.close()
-
-
 def errors(master):
     """SOEM's error list since the last call (SDO aborts, SDO Info and mailbox errors)."""
     return [str(e) for e in master._collect_mailbox_errors()]
-
-
-# How long SOEM waits for its process-data frame to come back (µs). Generous: the virtual slave
-# shares this machine with the test; a late frame is a failure all the same (-1 below).
-RECEIVE_US = 20_000
 
 
 def cycle(master, count, period=0.001, check=None):
@@ -140,21 +124,7 @@ def test_config_map_reads_every_pdo_configuration_without_errors(master):
 
 
 def test_safeop_then_op_with_the_expected_working_counter(master):
-    assert master.state_check(pysoem.SAFEOP_STATE, 5_000_000) == pysoem.SAFEOP_STATE
-    outputs = sum(1 for name in LINE if IMAGE[name][0])
-    inputs = sum(1 for name in LINE if IMAGE[name][1])
-    # LRW: +2 per device whose outputs it writes, +1 per device whose inputs it reads.
-    assert master.expected_wkc == 2 * outputs + inputs
-    master.send_processdata()
-    master.receive_processdata(RECEIVE_US)
-    master.state = pysoem.OP_STATE
-    master.write_state()
-    for _ in range(200):  # SAFEOP→OP completes only once valid outputs arrived
-        master.send_processdata()
-        master.receive_processdata(RECEIVE_US)
-        if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
-            break
-    assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
+    safeop_to_op(master, IMAGE, LINE)
     master.read_state()  # the group check reads the ORed AL status; this reads each SubDevice's
     for name, slave in zip(LINE, master.slaves):
         assert (slave.state, slave.al_status) == (pysoem.OP_STATE, 0), name

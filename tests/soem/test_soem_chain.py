@@ -15,9 +15,9 @@ import time
 import pysoem
 import pytest
 
-from test_soem import IMAGE, PRODUCT_CODES, RECEIVE_US, VENDOR_ID
+from conftest import RECEIVE_US, safeop_to_op
+from test_soem import IMAGE, PRODUCT_CODES, VENDOR_ID
 
-IFACE = os.environ.get("ECAT_IFACE", "")
 SEGMENTS = [s.split(",") for s in os.environ.get("ECAT_SEGMENTS", "").split("|") if s]
 
 pytestmark = pytest.mark.skipif(not SEGMENTS, reason="ECAT_SEGMENTS names a chain's segments")
@@ -33,17 +33,6 @@ PORT_1_CLOSED = 0x5613
 
 LINE = [name for segment in SEGMENTS for name in segment]
 CYCLES = int(os.environ.get("ECAT_CYCLES", "2000"))
-
-
-@pytest.fixture(scope="module")
-def master():
-    assert IFACE, "ECAT_IFACE names the MainDevice's interface (run .ci/virtual-slave-chain)"
-    m = pysoem.Master()
-    m.open(IFACE)
-    yield m
-    m.state = pysoem.INIT_STATE
-    m.write_state()
-    m.close()
 
 
 def test_the_segments_are_one_line_in_cable_order(master):
@@ -62,21 +51,7 @@ def test_only_the_last_esc_of_the_line_closes_port_1(master):
 
 def test_op_and_cycles_with_the_working_counter_of_one_line(master):
     assert master.config_map() == sum(sum(IMAGE[name]) for name in LINE)
-    assert master.state_check(pysoem.SAFEOP_STATE, 5_000_000) == pysoem.SAFEOP_STATE
-    outputs = sum(1 for name in LINE if IMAGE[name][0])
-    inputs = sum(1 for name in LINE if IMAGE[name][1])
-    # LRW: +2 per device whose outputs it writes, +1 per device whose inputs it reads.
-    assert master.expected_wkc == 2 * outputs + inputs
-    master.send_processdata()
-    master.receive_processdata(RECEIVE_US)
-    master.state = pysoem.OP_STATE
-    master.write_state()
-    for _ in range(200):  # SAFEOP→OP completes only once valid outputs arrived
-        master.send_processdata()
-        master.receive_processdata(RECEIVE_US)
-        if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
-            break
-    assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
+    safeop_to_op(master, IMAGE, LINE)
     bad = []
     for i in range(CYCLES):
         master.send_processdata()

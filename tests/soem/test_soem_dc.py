@@ -11,24 +11,11 @@ import struct
 import time
 
 import pysoem
-import pytest
 
-IFACE = os.environ.get("ECAT_IFACE", "")
 LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,sensor").split(",")
 CYCLE_NS = 1_000_000
 DC_SYNC0 = 0x02  # 0x1C32/0x1C33 SI1: synchronous with SYNC0
 SYNC_ERROR_LIMIT = 60  # 0x10F1:02: 20 missed SYNC0 cycles in a row
-
-
-@pytest.fixture(scope="module")
-def master():
-    assert IFACE, "ECAT_IFACE names the MainDevice's interface (run .ci/soem)"
-    m = pysoem.Master()
-    m.open(IFACE)
-    yield m
-    m.state = pysoem.INIT_STATE
-    m.write_state()
-    m.close()
 
 
 def test_config_dc_finds_every_esc_with_a_dc_unit(master):
