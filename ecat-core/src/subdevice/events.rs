@@ -1,8 +1,8 @@
 //! AL events in: what each event bit makes due.
 
-use super::plan::{Op, read};
+use super::plan::{InFlight, read};
 use super::targets::Stale;
-use super::{ESM_EVENTS, MAILBOX_EVENTS, SM_READ_OVERTAKEN, SubDevice};
+use super::{ESM_EVENTS, MAILBOX_EVENTS, SubDevice};
 use crate::al::{AlEvent, AlState};
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -38,12 +38,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.reads |= read::AL_CONTROL | read::WATCHDOG | read::DC;
         }
         if event.contains(AlEvent::SM_CHANGE) {
-            self.sm_changed = true;
+            self.due.sm_check = true;
         }
         if al_control || event.contains(AlEvent::SM_CHANGE) {
             self.sm_unread = self.sm_bytes();
-            if let Some((Op::ReadSyncManagers, chunk)) = &mut self.in_flight {
-                *chunk |= SM_READ_OVERTAKEN;
+            if let Some(InFlight::ReadSyncManagers { overtaken, .. }) = &mut self.in_flight {
+                *overtaken = true;
             }
         }
         if event.contains(AlEvent::WATCHDOG_PROCESS_DATA) && self.state == AlState::Op {

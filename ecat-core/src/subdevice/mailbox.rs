@@ -1,6 +1,6 @@
 //! The mailbox glue: SM0/SM1 events and accesses, serving requests, emergencies.
 
-use super::plan::Op;
+use super::plan::InFlight;
 use super::targets::Stale;
 use super::{Access, MAILBOX_EVENTS, SubDevice};
 use crate::al::{AlEvent, AlState};
@@ -17,6 +17,17 @@ pub(super) enum MailboxOp {
     Read,
     /// Write the message into SM1, and SM1's last byte after a shorter one ([`Access::Send`]).
     Write,
+}
+
+impl MailboxOp {
+    /// The AL event bit the access clears in the ESC: reading SM0's buffer bit 8, writing
+    /// SM1's buffer bit 9.
+    pub(super) const fn clears(self) -> AlEvent {
+        match self {
+            MailboxOp::Read => AlEvent::sync_manager(0),
+            MailboxOp::Write => AlEvent::sync_manager(1),
+        }
+    }
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -43,7 +54,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// finds it.
     fn mailbox_due(&mut self, op: MailboxOp) {
         if self.in_flight.is_none() && self.stale == Stale::NONE {
-            self.in_flight = Some((Op::Mailbox(op), 0));
+            self.in_flight = Some(InFlight::Mailbox(op));
         } else {
             self.stale.insert(Stale::MAILBOX);
         }
@@ -62,7 +73,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub(super) fn mailbox_access(&mut self) -> Option<Access<'_>> {
         self.stale = Stale::NONE;
         let op = self.next_mailbox_op()?;
-        self.in_flight = Some((Op::Mailbox(op), 0));
+        self.in_flight = Some(InFlight::Mailbox(op));
         Some(self.prepare_mailbox(op))
     }
 
@@ -83,7 +94,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The SM0 read or SM1 write of `op`.
     #[inline]
     pub(super) fn prepare_mailbox(&mut self, op: MailboxOp) -> Access<'_> {
-        let clears = Op::Mailbox(op).clears();
+        let clears = op.clears();
         match op {
             MailboxOp::Read => {
                 let (address, buf) = self.mailbox.rx_buffer();
@@ -158,7 +169,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             device: Some(self.config),
         };
         let built = self.mailbox.serve(&mut cx);
-        self.pd_stale |= core::mem::take(&mut self.writes.configured);
+        self.due.refresh |= core::mem::take(&mut self.writes.configured);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.

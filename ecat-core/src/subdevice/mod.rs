@@ -38,7 +38,7 @@ mod sync_mode;
 mod targets;
 mod transitions;
 
-use plan::Op;
+use plan::InFlight;
 use targets::{Stale, Written};
 
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
@@ -54,10 +54,6 @@ const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_man
 const SM_CHUNK: usize = Channels::SIZE;
 // A chunk starts where the unread bytes' last multiple of `SM_CHUNK` does (a mask).
 const _: () = assert!(SM_CHUNK.is_power_of_two() && SM_CHUNK < 256);
-
-/// Marks a SyncManager read in flight (its chunk in the low bytes of the plan's value) that an
-/// SM-change or AL control event overtook: its completion must not count the chunk as read.
-const SM_READ_OVERTAKEN: u32 = 1 << 16;
 
 /// The register buffer: one chunk of SyncManager registers or the DC registers, whichever is
 /// longer.
@@ -139,12 +135,40 @@ pub enum Event {
 struct Pending {
     transition: Transition,
     deadline: Instant,
-    /// The application accepted; the transition still waits for the first outputs.
+    /// The application accepted; the transition still waits for [`Pending::awaits`].
     accepted: bool,
-    /// SAFEOP→OP of a device with outputs: waits until valid outputs were received.
-    needs_outputs: bool,
-    /// SAFEOP→OP in DC SYNC0 mode: waits until a SYNC0-triggered cycle ran.
-    needs_sync: bool,
+    /// What SAFEOP→OP still waits for: valid outputs (a device with outputs), a SYNC0-triggered
+    /// cycle (DC SYNC0 mode).
+    awaits: CycleSigns,
+}
+
+/// The signs of a running process-data cycle that SAFEOP→OP waits for, reported by the
+/// process-data side: valid outputs received (the MainDevice wrote SM2), a SYNC0-triggered cycle
+/// run (DC SYNC0 mode).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct CycleSigns {
+    outputs: bool,
+    sync0: bool,
+}
+
+/// AL status's indication bits as the core presents them (ETG.1000.6 Table 12).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct Indication {
+    /// Bit 4: the error indication, with the code in 0x0134.
+    error: bool,
+    /// AL control bit 5 asked for the device ID: 0x0134 shows it (bit 5, when there is no error).
+    id_requested: bool,
+}
+
+/// Work an event left for later, done when its inputs are there.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+struct Due {
+    /// The PDO configuration may have changed since `pd_sizes` was computed:
+    /// [`SubDevice::refresh_process_data`] recomputes it.
+    refresh: bool,
+    /// An SM-change event came: the configuration is checked against the state once the
+    /// SyncManagers are read.
+    sm_check: bool,
 }
 
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
@@ -159,7 +183,7 @@ struct Pending {
 #[repr(C)]
 pub struct SubDevice<'c, const MBX: usize = 128> {
     pending: Option<Pending>,
-    in_flight: Option<(Op, u32)>,
+    in_flight: Option<InFlight>,
     state: AlState,
     /// The parts of the register plan that may not be satisfied: what the next poll looks at.
     stale: Stale,
@@ -169,15 +193,10 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// [`SM_CHUNK`] from the end, the channels beyond SM3 first and SM0..SM3 last; 0 when no read
     /// is due.
     sm_unread: u8,
-    error: bool,
-    id_requested: bool,
-    /// The PDO configuration may have changed since `pd_sizes` was computed.
-    pd_stale: bool,
-    sm_changed: bool,
-    /// Valid outputs arrived since SAFEOP was entered.
-    outputs_received: bool,
-    /// A SYNC0-triggered cycle ran since SAFEOP was entered (DC mode).
-    sync_received: bool,
+    indication: Indication,
+    due: Due,
+    /// What the process-data side reported since SAFEOP was entered.
+    received: CycleSigns,
     code: AlStatusCode,
     device_id: u16,
     /// 0x0420 as last read.
@@ -193,7 +212,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     written: Written,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
     /// MainDevice wrote, and whether the process-data configuration changed since the last
-    /// [`SubDevice::refresh_process_data`] (taken into `pd_stale` after each message).
+    /// [`SubDevice::refresh_process_data`] (taken into `due.refresh` after each message).
     writes: Writes,
     /// The DC registers as last read.
     dc: DcSettings,
@@ -209,16 +228,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         Self {
             config,
             state: AlState::Init,
-            error: false,
+            indication: Indication::default(),
             code: AlStatusCode::NO_ERROR,
-            id_requested: false,
             device_id: 0,
             channels: Channels::default(),
             sm_unread: 0,
             reads: 0,
             watchdog_time: 0,
             dc: DcSettings::default(),
-            sm_changed: false,
             written: Written::new(),
             in_flight: None,
             pending: None,
@@ -231,9 +248,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             stale: Stale::ALL,
             pd_sizes: config.process_data,
             pd_unusable: AlStatusCode::NO_ERROR,
-            pd_stale: true,
-            outputs_received: false,
-            sync_received: false,
+            due: Due {
+                refresh: true,
+                sm_check: false,
+            },
+            received: CycleSigns::default(),
             sync: Ok(sync::Requested {
                 sync: SyncType::SmSynchronous,
                 chosen: false,
@@ -256,8 +275,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub fn al_status(&self) -> AlStatus {
         AlStatus {
             state: self.state,
-            error: self.error,
-            id_loaded: self.id_requested && !self.error,
+            error: self.indication.error,
+            id_loaded: self.indication.id_requested && !self.indication.error,
         }
     }
 

@@ -2,8 +2,8 @@
 //! mailbox, AL status code, AL status), prepared into the core's buffer and completed.
 
 use super::mailbox::MailboxOp;
-use super::targets::{Stale, Written};
-use super::{Access, ESM_EVENTS, SM_CHUNK, SM_READ_OVERTAKEN, SubDevice};
+use super::targets::Stale;
+use super::{Access, ESM_EVENTS, SM_CHUNK, SubDevice};
 use crate::al::{AlControl, AlEvent, AlState, AlStatusCode};
 use crate::register;
 use crate::sync::DcSettings;
@@ -11,30 +11,54 @@ use crate::sync_manager::Channel;
 use crate::sync_manager::check::Channels;
 use crate::time::Instant;
 
-/// The register accesses the core may need, in the order it performs them.
+/// The register access in flight, in the order the plan makes them, with what its completion
+/// needs: the value a write puts in the ESC (stored as written once it is done), the chunk a
+/// SyncManager read covers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Op {
-    WriteEventMask,
-    ReadSyncManagers,
+pub(super) enum InFlight {
+    /// Write the AL event mask (0x0204).
+    WriteEventMask(u32),
+    /// Read the SyncManager registers from 0x0800 + `start` to 0x0800 + `end`.
+    ReadSyncManagers {
+        /// The chunk's first byte, from 0x0800.
+        start: u8,
+        /// One past the chunk's last byte, from 0x0800.
+        end: u8,
+        /// An SM-change or AL control event came while the read was in flight: its completion
+        /// does not count the chunk as read.
+        overtaken: bool,
+    },
+    /// Read the process-data watchdog time (0x0420).
     ReadWatchdog,
+    /// Read the process-data watchdog status (0x0440).
     ReadWatchdogStatus,
+    /// Read the DC activation and SYNC0 cycle (0x0981..).
     ReadDc,
+    /// Read AL control (0x0120).
     ReadAlControl,
-    WritePdiControl(u8),
+    /// Write PDI control of a SyncManager (0x0807 + 8·n).
+    WritePdiControl {
+        /// The SyncManager, 0..=3.
+        sm: u8,
+        /// The value written.
+        value: u8,
+    },
+    /// An SM0 read or SM1 write of the mailbox.
     Mailbox(MailboxOp),
-    WriteStatusCode,
-    WriteStatus,
+    /// Write AL status code (0x0134).
+    WriteStatusCode(u16),
+    /// Write AL status (0x0130).
+    WriteStatus(u16),
 }
 
-impl Op {
+impl InFlight {
     /// The AL event bits the access clears in the ESC.
     pub(super) const fn clears(self) -> AlEvent {
         match self {
-            Op::ReadAlControl => AlEvent::AL_CONTROL,
-            Op::ReadSyncManagers => AlEvent::SM_CHANGE,
-            Op::Mailbox(MailboxOp::Read) => AlEvent::sync_manager(0),
-            Op::ReadWatchdogStatus => AlEvent::WATCHDOG_PROCESS_DATA,
-            Op::Mailbox(MailboxOp::Write) => AlEvent::sync_manager(1),
+            InFlight::ReadAlControl => AlEvent::AL_CONTROL,
+            InFlight::ReadSyncManagers { .. } => AlEvent::SM_CHANGE,
+            InFlight::Mailbox(op) => op.clears(),
+            InFlight::ReadWatchdogStatus => AlEvent::WATCHDOG_PROCESS_DATA,
             _ => AlEvent::NONE,
         }
     }
@@ -67,25 +91,25 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             None if self.stale == Stale::MAILBOX => self.mailbox_access(),
             // The request/answer rhythm's way: the SM0 read or the answer, made due by the
             // event or the service that needed it (`mailbox_due`).
-            Some((Op::Mailbox(op), _)) => Some(self.prepare_mailbox(op)),
+            Some(InFlight::Mailbox(op)) => Some(self.prepare_mailbox(op)),
             _ => self.next_access(),
         }
     }
 
     fn next_access(&mut self) -> Option<Access<'_>> {
-        let (op, value) = match self.in_flight {
+        let op = match self.in_flight {
             Some(in_flight) => in_flight,
             None => self.next_op()?,
         };
-        self.in_flight = Some((op, value));
-        Some(self.prepare(op, value))
+        self.in_flight = Some(op);
+        Some(self.prepare(op))
     }
 
     /// Reports that the access returned by [`SubDevice::poll_access`] was performed, with the AL
     /// event register value the driver saw during it.
     #[inline]
     pub fn access_done(&mut self, now: Instant, event: AlEvent) {
-        let Some((op, value)) = self.in_flight.take() else {
+        let Some(op) = self.in_flight.take() else {
             return;
         };
         match op {
@@ -94,11 +118,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
             // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
             // served.
-            Op::Mailbox(MailboxOp::Read) => self.mailbox.received(),
-            Op::Mailbox(MailboxOp::Write) => self.sent(),
+            InFlight::Mailbox(MailboxOp::Read) => self.mailbox.received(),
+            InFlight::Mailbox(MailboxOp::Write) => self.sent(),
             _ => {
                 self.stale = Stale::ALL;
-                self.complete_register(now, op, value);
+                self.complete_register(now, op);
             }
         }
         self.handle_al_event(event.difference(op.clears()));
@@ -120,7 +144,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The next access of the register plan, in order: event mask, reads, PDI control, mailbox,
     /// AL status code, AL status. Only the stale parts are looked at; a part found satisfied is
     /// no longer stale.
-    fn next_op(&mut self) -> Option<(Op, u32)> {
+    fn next_op(&mut self) -> Option<InFlight> {
         let mut stale = self.stale;
         let next = self.next_op_in(&mut stale);
         self.stale = stale;
@@ -129,27 +153,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// [`SubDevice::next_op`] on a copy of the stale parts, stored back once (none of the parts'
     /// questions looks at them).
-    fn next_op_in(&mut self, stale: &mut Stale) -> Option<(Op, u32)> {
+    fn next_op_in(&mut self, stale: &mut Stale) -> Option<InFlight> {
         if stale.contains(Stale::EVENT_MASK) {
             let mask = self.desired_event_mask();
             if self.written.event_mask != mask {
-                return Some((Op::WriteEventMask, mask));
+                return Some(InFlight::WriteEventMask(mask));
             }
             stale.remove(Stale::EVENT_MASK);
         }
         if stale.contains(Stale::READS) {
             if let Some(read) = self.next_read() {
-                // A SyncManager read carries its chunk (start and end), fixed at the poll: an
-                // SM-change event handled before it completes starts the reads over.
-                let chunk = u32::from(self.sm_chunk_start()) | u32::from(self.sm_unread) << 8;
-                return Some((
-                    read,
-                    if read == Op::ReadSyncManagers {
-                        chunk
-                    } else {
-                        0
-                    },
-                ));
+                return Some(read);
             }
             stale.remove(Stale::READS);
         }
@@ -164,7 +178,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // makes due (see `access_done`).
             stale.remove(Stale::MAILBOX);
             if let Some(op) = self.next_mailbox_op() {
-                return Some((Op::Mailbox(op), 0));
+                return Some(InFlight::Mailbox(op));
             }
         }
         if stale.contains(Stale::STATUS) {
@@ -176,20 +190,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         None
     }
 
-    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`]).
-    fn next_pdi_control(&self) -> Option<(Op, u32)> {
-        let (n, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
-        Some((Op::WritePdiControl(n), u32::from(value)))
+    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`](super::targets::Written::pdi_control_due)).
+    fn next_pdi_control(&self) -> Option<InFlight> {
+        let (sm, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
+        Some(InFlight::WritePdiControl { sm, value })
     }
 
     /// The AL status code write due, or else the AL status write.
-    fn next_status(&self) -> Option<(Op, u32)> {
-        let code = u32::from(self.al_status_code().0);
-        let status = u32::from(self.al_status().bits());
-        if self.written.status_code != code {
-            Some((Op::WriteStatusCode, code))
-        } else if self.written.status != status {
-            Some((Op::WriteStatus, status))
+    fn next_status(&self) -> Option<InFlight> {
+        let code = self.al_status_code().0;
+        let status = self.al_status().bits();
+        if self.written.status_code != u32::from(code) {
+            Some(InFlight::WriteStatusCode(code))
+        } else if self.written.status != u32::from(status) {
+            Some(InFlight::WriteStatus(status))
         } else {
             None
         }
@@ -198,17 +212,23 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The next register read: the SyncManagers, the watchdog registers and the DC registers
     /// before AL control, so that a transition is checked against what the MainDevice wrote
     /// before requesting it.
-    fn next_read(&self) -> Option<Op> {
+    fn next_read(&self) -> Option<InFlight> {
         if self.sm_unread > 0 {
-            Some(Op::ReadSyncManagers)
+            // A SyncManager read carries its chunk, fixed at the poll: an SM-change event
+            // handled before it completes starts the reads over.
+            Some(InFlight::ReadSyncManagers {
+                start: self.sm_chunk_start(),
+                end: self.sm_unread,
+                overtaken: false,
+            })
         } else if self.read_due(read::WATCHDOG) {
-            Some(Op::ReadWatchdog)
+            Some(InFlight::ReadWatchdog)
         } else if self.read_due(read::WATCHDOG_STATUS) {
-            Some(Op::ReadWatchdogStatus)
+            Some(InFlight::ReadWatchdogStatus)
         } else if self.read_due(read::DC) {
-            Some(Op::ReadDc)
+            Some(InFlight::ReadDc)
         } else if self.read_due(read::AL_CONTROL) {
-            Some(Op::ReadAlControl)
+            Some(InFlight::ReadAlControl)
         } else {
             None
         }
@@ -257,40 +277,38 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         [mailbox, mailbox | ack, process, process]
     }
 
-    fn prepare(&mut self, op: Op, value: u32) -> Access<'_> {
+    fn prepare(&mut self, op: InFlight) -> Access<'_> {
         match op {
-            Op::Mailbox(op) => self.prepare_mailbox(op),
-            _ => self.prepare_register(op, value),
+            InFlight::Mailbox(op) => self.prepare_mailbox(op),
+            _ => self.prepare_register(op),
         }
     }
 
     /// A register access of the plan: event mask, reads, PDI control, AL status code and status.
-    fn prepare_register(&mut self, op: Op, value: u32) -> Access<'_> {
+    fn prepare_register(&mut self, op: InFlight) -> Access<'_> {
+        // The address, the length and, for a write, the value.
         let (address, len, write) = match op {
-            Op::WriteEventMask => (register::AL_EVENT_MASK, 4, true),
-            Op::ReadSyncManagers => {
-                let [start, end, ..] = value.to_le_bytes();
-                (
-                    register::SM_BASE + u16::from(start),
-                    usize::from(end.saturating_sub(start)),
-                    false,
-                )
-            }
-            Op::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, false),
-            Op::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, false),
-            Op::ReadDc => (register::DC_ACTIVATION, self.dc_read_len(), false),
-            Op::ReadAlControl => (register::AL_CONTROL, 2, false),
-            Op::WritePdiControl(n) => (
-                register::sync_manager(n) + Channel::PDI_CONTROL_OFFSET,
-                1,
-                true,
+            InFlight::WriteEventMask(mask) => (register::AL_EVENT_MASK, 4, Some(mask)),
+            InFlight::ReadSyncManagers { start, end, .. } => (
+                register::SM_BASE + u16::from(start),
+                usize::from(end.saturating_sub(start)),
+                None,
             ),
-            Op::WriteStatusCode => (register::AL_STATUS_CODE, 2, true),
-            Op::WriteStatus => (register::AL_STATUS, 2, true),
-            Op::Mailbox(_) => (0, 0, false),
+            InFlight::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, None),
+            InFlight::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, None),
+            InFlight::ReadDc => (register::DC_ACTIVATION, self.dc_read_len(), None),
+            InFlight::ReadAlControl => (register::AL_CONTROL, 2, None),
+            InFlight::WritePdiControl { sm, value } => (
+                register::sync_manager(sm) + Channel::PDI_CONTROL_OFFSET,
+                1,
+                Some(u32::from(value)),
+            ),
+            InFlight::WriteStatusCode(code) => (register::AL_STATUS_CODE, 2, Some(u32::from(code))),
+            InFlight::WriteStatus(status) => (register::AL_STATUS, 2, Some(u32::from(status))),
+            InFlight::Mailbox(_) => (0, 0, None),
         };
         let buf = self.buf.get_mut(..len).unwrap_or_default();
-        if write {
+        if let Some(value) = write {
             let bytes = value.to_le_bytes();
             for (dst, src) in buf.iter_mut().zip(bytes) {
                 *dst = src;
@@ -312,32 +330,32 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Completes a register access (the mailbox's are completed in [`SubDevice::access_done`]);
     /// kept out of line, away from the mailbox's path.
     #[inline(never)]
-    fn complete_register(&mut self, now: Instant, op: Op, value: u32) {
+    fn complete_register(&mut self, now: Instant, op: InFlight) {
         match op {
-            Op::Mailbox(_) => {}
-            Op::WriteEventMask => self.written.event_mask = value,
-            Op::WritePdiControl(n) => {
-                if let Some(slot) = self.written.pdi_control.get_mut(usize::from(n)) {
-                    *slot = u8::try_from(value).unwrap_or(Written::UNKNOWN);
+            InFlight::Mailbox(_) => {}
+            InFlight::WriteEventMask(mask) => self.written.event_mask = mask,
+            InFlight::WritePdiControl { sm, value } => {
+                if let Some(slot) = self.written.pdi_control.get_mut(usize::from(sm)) {
+                    *slot = value;
                 }
             }
-            Op::WriteStatusCode => self.written.status_code = value,
-            Op::WriteStatus => self.written.status = value,
-            Op::ReadWatchdog => {
+            InFlight::WriteStatusCode(code) => self.written.status_code = u32::from(code),
+            InFlight::WriteStatus(status) => self.written.status = u32::from(status),
+            InFlight::ReadWatchdog => {
                 self.reads &= !read::WATCHDOG;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
             }
-            Op::ReadDc => {
+            InFlight::ReadDc => {
                 self.reads &= !read::DC;
                 let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
                 let dc = DcSettings::from_bytes(bytes);
                 if dc != self.dc {
-                    self.pd_stale = true;
+                    self.due.refresh = true;
                     self.targets_changed();
                     self.dc = dc;
                 }
             }
-            Op::ReadWatchdogStatus => {
+            InFlight::ReadWatchdogStatus => {
                 self.reads &= !read::WATCHDOG_STATUS;
                 let running = self.buf[0] & 1 != 0;
                 if !running && self.state == AlState::Op {
@@ -345,13 +363,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     self.fail(AlStatusCode::SM_WATCHDOG, AlState::SafeOp);
                 }
             }
-            Op::ReadSyncManagers => {
-                if value & SM_READ_OVERTAKEN != 0 {
+            InFlight::ReadSyncManagers {
+                start, overtaken, ..
+            } => {
+                if overtaken {
                     // An SM-change or AL control event came while the chunk was in flight: the
                     // reads start over.
                     return;
                 }
-                let [start, ..] = value.to_le_bytes();
                 self.sm_unread = start;
                 if self.sm_unread > 0 {
                     // A chunk beyond SM3: read for its activation bytes only.
@@ -367,7 +386,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     self.check_sm_change();
                 }
             }
-            Op::ReadAlControl => {
+            InFlight::ReadAlControl => {
                 self.reads &= !read::AL_CONTROL;
                 let control = AlControl::from_le_bytes([self.buf[0], self.buf[1]]);
                 self.on_control(now, control);

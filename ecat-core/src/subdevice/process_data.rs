@@ -1,8 +1,8 @@
 //! The process-data side: where the image lives, its sizes from the PDO configuration, and
 //! the outputs that let SAFEOP→OP complete.
 
-use super::SubDevice;
 use super::targets::Stale;
+use super::{CycleSigns, SubDevice};
 use crate::al::{AlEvent, AlState, AlStatusCode};
 use crate::device::{Area, ProcessDataSizes};
 use crate::dictionary::ObjectDictionary;
@@ -50,9 +50,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The process-data side received valid outputs (the MainDevice wrote SM2) since SAFEOP was
     /// entered: a SAFEOP→OP transition the application accepted may complete.
     pub fn outputs_received(&mut self) {
-        self.outputs_received = true;
+        self.received.outputs = true;
         if let Some(p) = &mut self.pending {
-            p.needs_outputs = false;
+            p.awaits.outputs = false;
         }
         self.complete_when_fed();
     }
@@ -60,7 +60,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Completes a SAFEOP→OP the application accepted once the process data it waits for came.
     pub(super) fn complete_when_fed(&mut self) {
         let Some(p) = self.pending else { return };
-        if p.accepted && !p.needs_outputs && !p.needs_sync {
+        if p.accepted && p.awaits == CycleSigns::default() {
             self.stale = Stale::ALL;
             self.finish_transition(p.transition, Ok(()));
         }
@@ -80,7 +80,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[inline]
     pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
         // Inline: it is called after every AL event and rarely has anything to do.
-        if core::mem::take(&mut self.pd_stale) {
+        if core::mem::take(&mut self.due.refresh) {
             self.refresh(od);
         }
     }

@@ -54,9 +54,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The process-data side ran a SYNC0-triggered cycle (DC mode) since SAFEOP was entered: a
     /// SAFEOP→OP in DC mode may complete (with its outputs, if the device has any).
     pub fn sync_received(&mut self) {
-        self.sync_received = true;
+        self.received.sync0 = true;
         if let Some(p) = &mut self.pending {
-            p.needs_sync = false;
+            p.awaits.sync0 = false;
         }
         self.complete_when_fed();
     }

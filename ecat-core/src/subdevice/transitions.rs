@@ -1,9 +1,9 @@
 //! The EtherCAT state machine: AL control handled, transitions begun, verified against the
 //! SyncManagers, completed, refused or timed out (ETG.1000.6 §6.4).
 
-use super::plan::Op;
+use super::plan::InFlight;
 use super::targets::Stale;
-use super::{Event, Pending, SubDevice};
+use super::{CycleSigns, Event, Pending, SubDevice};
 use crate::al::{AlControl, AlState, AlStatusCode};
 use crate::esm::{self, Decision, Transition};
 use crate::process_data::Writes;
@@ -25,9 +25,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         {
             // SAFEOP→OP in DC mode without any SYNC0 is a missing sync; without outputs an SM
             // watchdog case (SSC); anything else the application left unanswered.
-            let code = if p.needs_sync {
+            let code = if p.awaits.sync0 {
                 AlStatusCode::NO_SYNC_ERROR
-            } else if p.needs_outputs {
+            } else if p.awaits.outputs {
                 AlStatusCode::SM_WATCHDOG
             } else {
                 AlStatusCode::UNSPECIFIED_ERROR
@@ -48,7 +48,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let waits = match &mut self.pending {
             Some(p) if p.transition == transition && !p.accepted => {
                 p.accepted = result.is_ok();
-                p.needs_outputs || p.needs_sync
+                p.awaits != CycleSigns::default()
             }
             _ => return,
         };
@@ -95,9 +95,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return;
         }
         self.targets_changed();
-        self.error = false;
+        self.indication.error = false;
         self.code = AlStatusCode::NO_ERROR;
-        self.id_requested = control.device_id_request();
+        self.indication.id_requested = control.device_id_request();
         match decision {
             Decision::Ignore | Decision::Stay => {}
             Decision::Refuse(code) => self.fail(code, self.state),
@@ -117,10 +117,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             transition: t,
             deadline,
             accepted: false,
-            needs_outputs: t.to == AlState::Op && outputs && !self.outputs_received,
-            needs_sync: t.to == AlState::Op
-                && self.sync() == SyncType::DcSync0
-                && !self.sync_received,
+            awaits: CycleSigns {
+                outputs: t.to == AlState::Op && outputs && !self.received.outputs,
+                sync0: t.to == AlState::Op
+                    && self.sync() == SyncType::DcSync0
+                    && !self.received.sync0,
+            },
         });
         self.events.push(Event::TransitionRequested(t));
     }
@@ -156,7 +158,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// After an SM-change event: the configuration must still be valid for the current state
     /// (0x0016 and back to INIT for the mailboxes, 0x001D/0x001E and back to PREOP for process data).
     pub(super) fn check_sm_change(&mut self) {
-        if !core::mem::take(&mut self.sm_changed) {
+        if !core::mem::take(&mut self.due.sm_check) {
             return;
         }
         if let Err((code, fallback)) = self.verify(self.state) {
@@ -175,7 +177,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             });
         }
         self.targets_changed();
-        self.error = true;
+        self.indication.error = true;
         self.code = code;
     }
 
@@ -184,20 +186,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         self.targets_changed();
         self.state = t.to;
         if t.to == AlState::SafeOp {
-            self.outputs_received = false;
-            self.sync_received = false;
+            self.received = CycleSigns::default();
         }
         if t.from.has_mailbox() != t.to.has_mailbox() {
             // The mailbox starts or stops: either way from nothing in flight (`Mailbox::start`
             // takes a stopped one). An SM0 read or SM1 write made due by an event or a service
             // (`mailbox_due`) before a call that stopped the mailbox is moot.
             self.mailbox.stop();
-            if let Some((Op::Mailbox(_), _)) = self.in_flight {
+            if let Some(InFlight::Mailbox(_)) = self.in_flight {
                 self.in_flight = None;
             }
         }
         if !t.from.has_mailbox() && t.to.has_mailbox() {
-            self.pd_stale = true;
+            self.due.refresh = true;
             self.writes = Writes::default();
             let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
             self.mailbox.start(self.active_mailbox(), repeat);
