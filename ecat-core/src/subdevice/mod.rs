@@ -1,6 +1,7 @@
 //! The sans-IO SubDevice: AL events in, register accesses and application events out.
 //!
-//! The driver's loop, in the shape of `quinn-proto`:
+//! The driver's loop, in the shape of `quinn-proto` ([`SubDevice`] lists every method in
+//! call order):
 //!
 //! ```text
 //! loop {
@@ -19,6 +20,19 @@
 //! the MainDevice wrote before it. It writes AL status code before AL status, so a MainDevice that
 //! sees the error indication always reads the matching code. Each call does a bounded amount of
 //! work; nothing panics.
+//!
+//! One `impl` block per concern, one file each (smoltcp's `iface/interface` layout):
+//!
+//! | file | concern |
+//! |---|---|
+//! | `mod.rs` | the struct, construction, what the core presents, application events, timeouts |
+//! | `events.rs` | AL events in: what each event bit makes due |
+//! | `plan.rs` | the register plan: the next access, prepared into the core's buffer, completed |
+//! | `targets.rs` | the registers the core keeps at a value, and what it last wrote there |
+//! | `transitions.rs` | the state machine: AL control, transitions verified, completed, refused |
+//! | `process_data.rs` | the process-data areas and sizes, outputs received |
+//! | `sync_mode.rs` | the synchronisation mode in effect, its checks, SYNC0 and sync errors |
+//! | `mailbox.rs` | the SM0/SM1 accesses, serving the mailbox, emergencies |
 
 use crate::al::{AlEvent, AlState, AlStatus, AlStatusCode};
 use crate::device::{DeviceConfig, ProcessDataSizes};
@@ -173,6 +187,38 @@ struct Due {
 
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
 /// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
+///
+/// # Methods in call order
+///
+/// Like `quinn-proto`'s `Connection`, every method says when the driver (or the application)
+/// calls it. In the order of one pass of the driver's loop:
+///
+/// 1. **Once:** [`new`](Self::new) (a SubDevice in INIT); [`set_device_id`](Self::set_device_id)
+///    whenever the device ID changes (e.g. rotary switches).
+/// 2. **Before AL events are handled:** [`refresh_process_data`](Self::refresh_process_data)
+///    with the dictionary (cheap when nothing changed), then what the process-data side
+///    reported since the last pass: [`outputs_received`](Self::outputs_received),
+///    [`sync_received`](Self::sync_received), [`sync_lost`](Self::sync_lost),
+///    [`sync_error`](Self::sync_error), and the application's [`emergency`](Self::emergency).
+/// 3. **After an AL event** (the IRQ, or the AL event register that came back with an access):
+///    [`handle_al_event`](Self::handle_al_event).
+/// 4. **Until [`poll_access`](Self::poll_access) returns `None`:** perform the access, then
+///    [`access_done`](Self::access_done) with the AL event register seen during it. After
+///    each access the process-data side may look at [`process_data`](Self::process_data) and
+///    [`event_mask`](Self::event_mask).
+/// 5. **Serve the mailbox:** [`service_mailbox`](Self::service_mailbox) until it returns
+///    `false`, with step 4 after each `true`.
+/// 6. **Application events:** [`poll_event`](Self::poll_event) until `None`; answer
+///    [`Event::TransitionRequested`] with [`complete_transition`](Self::complete_transition)
+///    (step 4 again after it). [`pending_transition`](Self::pending_transition) and
+///    [`awaits_application`](Self::awaits_application) tell whether an answer is still wanted.
+/// 7. **Wait** for the IRQ or [`poll_timeout`](Self::poll_timeout), whichever comes first; at
+///    the deadline [`handle_timeout`](Self::handle_timeout), then step 4.
+///
+/// What the core presents, at any time: [`state`](Self::state),
+/// [`al_status`](Self::al_status), [`al_status_code`](Self::al_status_code),
+/// [`sync_managers`](Self::sync_managers), [`config`](Self::config),
+/// [`emergencies_dropped`](Self::emergencies_dropped).
 #[derive(Debug)]
 // `repr(C)`: the fields stay in this order, the small ones the state machine reads and writes
 // most first (the pending transition, the access in flight, the flags and bytes, then
@@ -307,12 +353,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         &self.channels
     }
 
-    /// The next application event.
+    /// The next application event. Call it after the accesses are done, until it returns
+    /// `None`.
     pub fn poll_event(&mut self) -> Option<Event> {
         self.events.pop()
     }
 
-    /// When [`SubDevice::handle_timeout`] must be called next, if ever.
+    /// When [`SubDevice::handle_timeout`] must be called next, if ever. Ask before each wait:
+    /// every call may move it.
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         let transition = self.pending.map(|p| p.deadline);
