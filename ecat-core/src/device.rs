@@ -5,7 +5,7 @@
 //! MainDevice reads (mailbox words 0x0018..0x001B, SM category), so what the device checks and what
 //! it advertises cannot disagree.
 
-use crate::sync::SupportedSync;
+use crate::sync_mode::SupportedSync;
 use crate::time::Duration;
 use crate::{AlStatusCode, register};
 

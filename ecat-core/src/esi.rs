@@ -734,7 +734,10 @@ fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails) -> fmt::Result {
 /// mode (`AssignActivate` #x0300, SYNC0 cycle = the bus cycle).
 fn dc<W: Write>(x: &mut Xml<'_, W>, config: &DeviceConfig) -> fmt::Result {
     x.open("Dc", &[])?;
-    if config.sync.supports(crate::sync::SyncType::SmSynchronous) {
+    if config
+        .sync
+        .supports(crate::sync_mode::SyncType::SmSynchronous)
+    {
         x.open("OpMode", &[])?;
         x.leaf("Name", "SM")?;
         x.leaf("Desc", "SM-Synchron")?;

@@ -67,6 +67,7 @@ pub mod subdevice;
 pub mod sync;
 pub mod sync_error;
 pub mod sync_manager;
+pub mod sync_mode;
 pub mod time;
 
 pub use al::{AlControl, AlEvent, AlState, AlStatus, AlStatusCode};

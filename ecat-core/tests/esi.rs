@@ -8,7 +8,7 @@ use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{Bits, VisibleString};
 use ecat_core::esi::{self, Description, EsiError};
 use ecat_core::sii::Names;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSync;
 use proptest::prelude::*;
 
 struct Flags {

@@ -6,7 +6,7 @@ use ecat_core::DeviceConfig;
 use ecat_core::chip::Chip;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::{self, Names};
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSync;
 
 const IDENTITY: Identity = Identity {
     vendor_id: 0xE000_0001,

@@ -28,7 +28,8 @@ use ecat_core::mailbox::MailboxType;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-use ecat_core::sync::{CycleMonitor, CycleReport, SupportedSync};
+use ecat_core::sync::{CycleMonitor, CycleReport};
+use ecat_core::sync_mode::SupportedSync;
 use ecat_core::{
     Access, AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Instant, SubDevice, register,
 };

@@ -5,7 +5,7 @@
 //! next to the stack's and shows the difference.
 
 use ecat_core::chip::{Chip, ConfigArea, SpiMode};
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSync;
 use ecat_embassy::Pdi;
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi, Config};
 use ecat_embassy::spi::lan9252;

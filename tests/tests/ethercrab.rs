@@ -4,7 +4,7 @@
 //! PREOP → SAFEOP → OP, cyclic LRW with the working counter asserted and the data checked end to
 //! end, and a refused transition surfacing its AL status code at the MainDevice.
 
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSync;
 use ecat_emu::devices;
 use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;

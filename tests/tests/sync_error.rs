@@ -9,7 +9,7 @@ use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::register;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSync;
 use ecat_embassy::{Application, CycleHandler};
 use ecat_emu::coe_client::SdoError;
 use ecat_emu::devices::Drive;

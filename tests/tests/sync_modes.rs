@@ -10,7 +10,7 @@ use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectHooks;
 use ecat_core::register;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSync;
 use ecat_embassy::{Application, CycleHandler};
 use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::devices::Drive;

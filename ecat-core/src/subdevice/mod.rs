@@ -40,8 +40,9 @@ use crate::esm::Transition;
 use crate::mailbox::Mailbox;
 use crate::process_data::Writes;
 use crate::ring::Ring;
-use crate::sync::{self, DcSettings, SyncType};
+use crate::sync::{self, DcSettings};
 use crate::sync_manager::check::Channels;
+use crate::sync_mode::SyncType;
 use crate::time::Instant;
 
 mod events;

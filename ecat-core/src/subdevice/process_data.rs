@@ -9,8 +9,9 @@ use crate::dictionary::ObjectDictionary;
 use crate::pdo::Direction;
 use crate::pdo::layout::Layout as PdoLayout;
 use crate::process_data::{Clock, Layout};
-use crate::sync::{self, SyncType};
+use crate::sync;
 use crate::sync_manager::Channel;
+use crate::sync_mode::SyncType;
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Where the process data lives, in SAFEOP and OP.

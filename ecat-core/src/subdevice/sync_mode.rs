@@ -5,7 +5,8 @@ use super::SubDevice;
 use super::targets::Stale;
 use crate::al::{AlState, AlStatusCode};
 use crate::device::ProcessDataSizes;
-use crate::sync::{self, DcSettings, SyncType};
+use crate::sync::{self, DcSettings};
+use crate::sync_mode::SyncType;
 
 /// What [`SubDevice::sync`] says when the dictionary's sync type cannot be: an unknown type, which
 /// no device supports (so `sync::requested` never yields it) and no mode of the stack matches.

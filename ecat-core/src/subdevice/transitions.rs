@@ -7,9 +7,9 @@ use super::{CycleSigns, Event, Pending, SubDevice};
 use crate::al::{AlControl, AlState, AlStatusCode};
 use crate::esm::{self, Decision, Transition};
 use crate::process_data::Writes;
-use crate::sync::SyncType;
 use crate::sync_manager::Channel;
 use crate::sync_manager::check;
+use crate::sync_mode::SyncType;
 use crate::time::Instant;
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
