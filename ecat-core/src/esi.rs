@@ -17,7 +17,7 @@
 //! | `Fmmu`, `Sm` | [`sii::fmmus`], [`sii::sync_managers`] (the SII FMMU and SyncManager categories) |
 //! | `RxPdo`, `TxPdo` | the default assignment and mapping ([`sii::for_each_pdo`]) |
 //! | `Mailbox/CoE` | [`sii::coe_details`] (the SII General category's CoE details) |
-//! | `Dc/OpMode` | when [`DeviceConfig::sync`] supports DC SYNC0 |
+//! | `Dc/OpMode` | when [`DeviceConfig::sync_modes`] supports DC SYNC0 |
 //! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!
 //! Every text and attribute value is XML-escaped. The writer needs no heap and never panics: it
@@ -121,7 +121,7 @@ pub fn write<D: ObjectDictionary>(
     pdos(&mut x, od, Direction::Rx)?;
     pdos(&mut x, od, Direction::Tx)?;
     mailbox(&mut x, sii::coe_details(od))?;
-    if device.config.sync.dc() {
+    if device.config.sync_modes.dc() {
         dc(&mut x, device.config)?;
     }
     eeprom(&mut x, sii)?;
@@ -735,8 +735,8 @@ fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails) -> fmt::Result {
 fn dc<W: Write>(x: &mut Xml<'_, W>, config: &DeviceConfig) -> fmt::Result {
     x.open("Dc", &[])?;
     if config
-        .sync
-        .supports(crate::sync_mode::SyncType::SmSynchronous)
+        .sync_modes
+        .supports(crate::sync_mode::SyncMode::SmSynchronous)
     {
         x.open("OpMode", &[])?;
         x.leaf("Name", "SM")?;

@@ -2,11 +2,11 @@
 //! value of 0x1C32:01 / 0x1C33:01 and the modes a device supports (0x1C32:04).
 //!
 //! A leaf of the crate: the device description ([`crate::device`]) and the synchronisation
-//! parameter objects ([`crate::sync`]) build on it; it imports nothing of the crate.
+//! parameter objects ([`crate::sync_parameters`]) build on it; it imports nothing of the crate.
 
-/// The sync type of 0x1C32:01 / 0x1C33:01 (ETG.1000.6 Table 74).
+/// The sync mode of 0x1C32:01 / 0x1C33:01 (ETG.1000.6 Table 74).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SyncType {
+pub enum SyncMode {
     /// 0: free-run, cycles on a local timer.
     FreeRun,
     /// 1: synchronous with the SM2 event (SM3 for an input-only device).
@@ -21,7 +21,7 @@ pub enum SyncType {
     Unknown(u16),
 }
 
-impl SyncType {
+impl SyncMode {
     /// The type of the 0x1C32:01 value `code`.
     pub const fn from_code(code: u16) -> Self {
         match code {
@@ -47,11 +47,11 @@ impl SyncType {
     }
 }
 
-/// The sync types a device supports: 0x1C32:04 (ETG.1000.6 Table 74).
+/// The sync modes a device supports: 0x1C32:04 (ETG.1000.6 Table 74).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct SupportedSync(pub u16);
+pub struct SupportedSyncModes(pub u16);
 
-impl SupportedSync {
+impl SupportedSyncModes {
     /// Bit 0: free-run.
     pub const FREE_RUN: u16 = 0x0001;
     /// Bit 1: SM-synchronous.
@@ -63,12 +63,12 @@ impl SupportedSync {
 
     /// Whether the outputs (0x1C32:01) may run with `sync`. DC SYNC1 never may: the stack has no
     /// SYNC1-triggered cycle; 0x22 is a value of 0x1C33 only (inputs latched with the SM2 event).
-    pub const fn supports(self, sync: SyncType) -> bool {
+    pub const fn supports(self, sync: SyncMode) -> bool {
         let bit = match sync {
-            SyncType::FreeRun => Self::FREE_RUN,
-            SyncType::SmSynchronous => Self::SM,
-            SyncType::DcSync0 => Self::SYNC0,
-            SyncType::DcSync1 | SyncType::Sm2Synchronous | SyncType::Unknown(_) => return false,
+            SyncMode::FreeRun => Self::FREE_RUN,
+            SyncMode::SmSynchronous => Self::SM,
+            SyncMode::DcSync0 => Self::SYNC0,
+            SyncMode::DcSync1 | SyncMode::Sm2Synchronous | SyncMode::Unknown(_) => return false,
         };
         self.0 & bit != 0
     }

@@ -5,7 +5,7 @@ use core::cell::RefCell;
 use core::pin::pin;
 
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{Access, AlEvent, AlStatusCode, Event, SubDevice, Transition};
+use ecat_core::{AlEvent, AlStatusCode, Event, RegisterAccess, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::RawMutex;
@@ -149,10 +149,10 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
 ) {
     let notes = esc.take_notes();
     if notes.contains(Notes::SYNC_RECEIVED) {
-        sub.sync_received();
+        sub.sync0_received();
     }
     if notes.contains(Notes::SYNC_LOST) {
-        sub.sync_lost();
+        sub.sync0_lost();
     }
     if notes.contains(Notes::SYNC_ERROR) {
         sub.sync_error();
@@ -192,14 +192,14 @@ fn sync<'a, M: RawMutex, P: Pdi, const MBX: usize>(
 }
 
 /// An access of the core as the PDI performs it: address, data, the address of a last byte to
-/// write after the data ([`Access::Send`]), the AL event bits it clears. Taken apart here so
+/// write after the data ([`RegisterAccess::Send`]), the AL event bits it clears. Taken apart here so
 /// that the runner's future keeps the parts, not the access.
-fn pdi_access(access: Access<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
+fn pdi_access(access: RegisterAccess<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
     let clears = access.clears();
     match access {
-        Access::Read { address, buf, .. } => (address, Data::Read(buf), None, clears),
-        Access::Write { address, data, .. } => (address, Data::Write(data), None, clears),
-        Access::Send {
+        RegisterAccess::Read { address, buf, .. } => (address, Data::Read(buf), None, clears),
+        RegisterAccess::Write { address, data, .. } => (address, Data::Write(data), None, clears),
+        RegisterAccess::Send {
             address,
             data,
             last,

@@ -7,7 +7,8 @@ use crate::al::{AlEvent, AlState};
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Takes the AL event register value the driver saw (with the bits its own access cleared
-    /// removed, see [`Access::clears`](super::Access::clears)). Bits the state machine does not handle are ignored.
+    /// removed, see [`RegisterAccess::clears`](super::RegisterAccess::clears)). Bits the state machine does
+    /// not handle are ignored.
     #[inline]
     pub fn handle_al_event(&mut self, event: AlEvent) {
         // Inline: most accesses bring no news.

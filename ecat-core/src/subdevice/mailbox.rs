@@ -2,7 +2,7 @@
 
 use super::plan::InFlight;
 use super::targets::Stale;
-use super::{Access, MAILBOX_EVENTS, SubDevice};
+use super::{MAILBOX_EVENTS, RegisterAccess, SubDevice};
 use crate::al::{AlEvent, AlState};
 use crate::coe::Emergency;
 use crate::coe::sdo::Context;
@@ -15,7 +15,8 @@ use crate::time::Instant;
 pub(super) enum MailboxOp {
     /// Read SM0 whole (the request).
     Read,
-    /// Write the message into SM1, and SM1's last byte after a shorter one ([`Access::Send`]).
+    /// Write the message into SM1, and SM1's last byte after a shorter one
+    /// ([`RegisterAccess::Send`]).
     Write,
 }
 
@@ -70,7 +71,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The mailbox part of the plan alone ([`SubDevice::next_op`] when nothing else is stale).
-    pub(super) fn mailbox_access(&mut self) -> Option<Access<'_>> {
+    pub(super) fn mailbox_access(&mut self) -> Option<RegisterAccess<'_>> {
         self.stale = Stale::NONE;
         let op = self.next_mailbox_op()?;
         self.in_flight = Some(InFlight::Mailbox(op));
@@ -93,12 +94,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The SM0 read or SM1 write of `op`.
     #[inline]
-    pub(super) fn prepare_mailbox(&mut self, op: MailboxOp) -> Access<'_> {
+    pub(super) fn prepare_mailbox(&mut self, op: MailboxOp) -> RegisterAccess<'_> {
         let clears = op.clears();
         match op {
             MailboxOp::Read => {
                 let (address, buf) = self.mailbox.rx_buffer();
-                Access::Read {
+                RegisterAccess::Read {
                     address,
                     buf,
                     clears,
@@ -106,7 +107,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             MailboxOp::Write => {
                 let (address, data, last) = self.mailbox.message();
-                Access::Send {
+                RegisterAccess::Send {
                     address,
                     data,
                     last,

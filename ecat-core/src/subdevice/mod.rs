@@ -40,9 +40,9 @@ use crate::esm::Transition;
 use crate::mailbox::Mailbox;
 use crate::process_data::Writes;
 use crate::ring::Ring;
-use crate::sync::{self, DcSettings};
 use crate::sync_manager::check::Channels;
-use crate::sync_mode::SyncType;
+use crate::sync_mode::SyncMode;
+use crate::sync_parameters::{self, DcSettings};
 use crate::time::Instant;
 
 mod events;
@@ -81,14 +81,14 @@ const BUF_LEN: usize = if SM_CHUNK > DcSettings::READ_LEN {
 /// One register access the driver must perform for the core, then report with
 /// [`SubDevice::access_done`].
 #[derive(Debug, PartialEq, Eq)]
-pub enum Access<'a> {
+pub enum RegisterAccess<'a> {
     /// Read `buf.len()` bytes at `address` into `buf`.
     Read {
         /// ESC address of the first byte.
         address: u16,
         /// Where the bytes go; the core reads them in `access_done`.
         buf: &'a mut [u8],
-        /// The AL event bits this access clears (see [`Access::clears`]).
+        /// The AL event bits this access clears (see [`RegisterAccess::clears`]).
         clears: AlEvent,
     },
     /// Write `data` at `address`.
@@ -97,7 +97,7 @@ pub enum Access<'a> {
         address: u16,
         /// The bytes to write.
         data: &'a [u8],
-        /// The AL event bits this access clears (see [`Access::clears`]).
+        /// The AL event bits this access clears (see [`RegisterAccess::clears`]).
         clears: AlEvent,
     },
     /// Write a mailbox message into SM1: `data` at `address`, then, when the message is shorter
@@ -112,21 +112,21 @@ pub enum Access<'a> {
         data: &'a [u8],
         /// SM1's last byte, when the message ends before it.
         last: Option<u16>,
-        /// The AL event bits this access clears (see [`Access::clears`]).
+        /// The AL event bits this access clears (see [`RegisterAccess::clears`]).
         clears: AlEvent,
     },
 }
 
-impl Access<'_> {
+impl RegisterAccess<'_> {
     /// The AL event bits this access clears in the ESC (reading AL control clears bit 0,
     /// reading the SyncManager activation registers bit 4, reading SM0's buffer bit 8, writing
     /// SM1's buffer bit 9). An SPI ESC samples the AL event register before the access, so
     /// these bits in the value it returns are stale and must not be taken as news.
     pub fn clears(&self) -> AlEvent {
         match self {
-            Access::Read { clears, .. }
-            | Access::Write { clears, .. }
-            | Access::Send { clears, .. } => *clears,
+            RegisterAccess::Read { clears, .. }
+            | RegisterAccess::Write { clears, .. }
+            | RegisterAccess::Send { clears, .. } => *clears,
         }
     }
 }
@@ -138,10 +138,11 @@ pub enum Event {
     /// consent: answer with [`SubDevice::complete_transition`] before [`SubDevice::poll_timeout`].
     TransitionRequested(Transition),
     /// A transition waiting for the application ended without its answer: it timed out (the
-    /// MainDevice got [`AlStatusCode::UNSPECIFIED_ERROR`]), or a new request or an error replaced it.
+    /// MainDevice got [`AlStatusCode::UNSPECIFIED_ERROR`]), or a new request or an error replaced
+    /// it.
     TransitionAborted(Transition),
-    /// The state changed: an accepted upward transition, a downward transition, or a fall back after
-    /// an error.
+    /// The state changed: an accepted upward transition, a downward transition, or a fall back
+    /// after an error.
     StateChanged(Transition),
 }
 
@@ -199,7 +200,7 @@ struct Due {
 /// 2. **Before AL events are handled:** [`refresh_process_data`](Self::refresh_process_data)
 ///    with the dictionary (cheap when nothing changed), then what the process-data side
 ///    reported since the last pass: [`outputs_received`](Self::outputs_received),
-///    [`sync_received`](Self::sync_received), [`sync_lost`](Self::sync_lost),
+///    [`sync0_received`](Self::sync0_received), [`sync0_lost`](Self::sync0_lost),
 ///    [`sync_error`](Self::sync_error), and the application's [`emergency`](Self::emergency).
 /// 3. **After an AL event** (the IRQ, or the AL event register that came back with an access):
 ///    [`handle_al_event`](Self::handle_al_event).
@@ -253,8 +254,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     pd_unusable: AlStatusCode,
     /// The process-image sizes of the current PDO configuration (none when it is unusable).
     pd_sizes: ProcessDataSizes,
-    /// The sync type the dictionary asks for, or why it cannot be.
-    sync: Result<sync::Requested, AlStatusCode>,
+    /// The sync mode the dictionary asks for, or why it cannot be.
+    sync_mode: Result<sync_parameters::Requested, AlStatusCode>,
     config: &'c DeviceConfig,
     written: Written,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
@@ -300,8 +301,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 sm_check: false,
             },
             received: CycleSigns::default(),
-            sync: Ok(sync::Requested {
-                sync: SyncType::SmSynchronous,
+            sync_mode: Ok(sync_parameters::Requested {
+                mode: SyncMode::SmSynchronous,
                 chosen: false,
             }),
             writes: Writes::default(),

@@ -3,12 +3,12 @@
 
 use super::mailbox::MailboxOp;
 use super::targets::Stale;
-use super::{Access, ESM_EVENTS, SM_CHUNK, SubDevice};
+use super::{ESM_EVENTS, RegisterAccess, SM_CHUNK, SubDevice};
 use crate::al::{AlControl, AlEvent, AlState, AlStatusCode};
 use crate::register;
-use crate::sync::DcSettings;
 use crate::sync_manager::Channel;
 use crate::sync_manager::check::Channels;
+use crate::sync_parameters::DcSettings;
 use crate::time::Instant;
 
 /// The register access in flight, in the order the plan makes them, with what its completion
@@ -83,7 +83,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The next register access the core needs, or `None` when it has nothing to do. Until
     /// [`SubDevice::access_done`] is called the same access is returned again.
     #[inline]
-    pub fn poll_access(&mut self) -> Option<Access<'_>> {
+    pub fn poll_access(&mut self) -> Option<RegisterAccess<'_>> {
         match self.in_flight {
             // Settled: the answer costs the driver's loop a test, not a call.
             None if self.stale == Stale::NONE => None,
@@ -96,7 +96,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    fn next_access(&mut self) -> Option<Access<'_>> {
+    fn next_access(&mut self) -> Option<RegisterAccess<'_>> {
         let op = match self.in_flight {
             Some(in_flight) => in_flight,
             None => self.next_op()?,
@@ -190,7 +190,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         None
     }
 
-    /// The PDI control write due, deactivations first ([`Written::pdi_control_due`](super::targets::Written::pdi_control_due)).
+    /// The PDI control write due, deactivations first
+    /// ([`Written::pdi_control_due`](super::targets::Written::pdi_control_due)).
     fn next_pdi_control(&self) -> Option<InFlight> {
         let (sm, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
         Some(InFlight::WritePdiControl { sm, value })
@@ -277,7 +278,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         [mailbox, mailbox | ack, process, process]
     }
 
-    fn prepare(&mut self, op: InFlight) -> Access<'_> {
+    fn prepare(&mut self, op: InFlight) -> RegisterAccess<'_> {
         match op {
             InFlight::Mailbox(op) => self.prepare_mailbox(op),
             _ => self.prepare_register(op),
@@ -285,7 +286,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// A register access of the plan: event mask, reads, PDI control, AL status code and status.
-    fn prepare_register(&mut self, op: InFlight) -> Access<'_> {
+    fn prepare_register(&mut self, op: InFlight) -> RegisterAccess<'_> {
         // The address, the length and, for a write, the value.
         let (address, len, write) = match op {
             InFlight::WriteEventMask(mask) => (register::AL_EVENT_MASK, 4, Some(mask)),
@@ -313,13 +314,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             for (dst, src) in buf.iter_mut().zip(bytes) {
                 *dst = src;
             }
-            Access::Write {
+            RegisterAccess::Write {
                 address,
                 data: buf,
                 clears: op.clears(),
             }
         } else {
-            Access::Read {
+            RegisterAccess::Read {
                 address,
                 buf,
                 clears: op.clears(),

@@ -7,27 +7,27 @@ use crate::al::{AlEvent, AlState, AlStatusCode};
 use crate::device::{Area, ProcessDataSizes};
 use crate::dictionary::ObjectDictionary;
 use crate::pdo::Direction;
-use crate::pdo::layout::Layout as PdoLayout;
-use crate::process_data::{Clock, Layout};
-use crate::sync;
+use crate::pdo::layout::Layout;
+use crate::process_data::{Clock, Setup};
 use crate::sync_manager::Channel;
-use crate::sync_mode::SyncType;
+use crate::sync_mode::SyncMode;
+use crate::sync_parameters;
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Where the process data lives, in SAFEOP and OP.
-    pub fn process_data(&self) -> Option<Layout> {
+    pub fn process_data(&self) -> Option<Setup> {
         if !self.state.has_process_data() {
             return None;
         }
         let sizes = self.pd_sizes;
         let area =
             |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
-        Some(Layout {
+        Some(Setup {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
-            clock: match self.sync() {
-                SyncType::FreeRun => Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config)),
-                SyncType::DcSync0 => Clock::Sync0(self.dc.sync0_cycle()),
+            clock: match self.sync_mode() {
+                SyncMode::FreeRun => Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config)),
+                SyncMode::DcSync0 => Clock::Sync0(self.dc.sync0_cycle()),
                 _ => Clock::Event(self.process_data_trigger()),
             },
             outputs_active: self.state == AlState::Op,
@@ -37,7 +37,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     pub(super) fn process_data_trigger(&self) -> AlEvent {
         let sizes = self.pd_sizes;
-        if matches!(self.sync(), SyncType::FreeRun | SyncType::DcSync0) {
+        if matches!(self.sync_mode(), SyncMode::FreeRun | SyncMode::DcSync0) {
             AlEvent::NONE
         } else if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
@@ -74,10 +74,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// configuration's fixed sizes apply. An unusable mapping answers PREOP→SAFEOP with 0x0025
     /// (outputs) or 0x0024 (inputs).
     ///
-    /// It also takes the sync type the MainDevice chose (0x1C32:01, see [`crate::sync`]) and
-    /// fills what the stack knows into 0x1C32 and 0x1C33 ([`sync::fill`]): the supported types
-    /// (SI4), the minimum cycle (SI5), the cycle time (SI2, free-run and DC) and 0x1C33's sync
-    /// type (SI1).
+    /// It also takes the sync mode the MainDevice chose (0x1C32:01, see [`crate::sync_parameters`])
+    /// and fills what the stack knows into 0x1C32 and 0x1C33 ([`sync_parameters::fill`]): the
+    /// supported types (SI4), the minimum cycle (SI5), the cycle time (SI2, free-run and DC) and
+    /// 0x1C33's sync type (SI1).
     #[inline]
     pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
         // Inline: it is called after every AL event and rarely has anything to do.
@@ -89,9 +89,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`SubDevice::refresh_process_data`] when the configuration may have changed.
     fn refresh<D: ObjectDictionary>(&mut self, od: &mut D) {
         self.targets_changed();
-        self.sync = sync::requested(od, self.config, self.writes.chosen);
+        self.sync_mode = sync_parameters::requested(od, self.config, self.writes.chosen);
         let fixed = self.config.process_data;
-        let size = |direction, fixed| match PdoLayout::of(od, direction) {
+        let size = |direction, fixed| match Layout::of(od, direction) {
             Ok(Some(layout)) => Ok(layout.bytes()),
             Ok(None) => Ok(fixed),
             Err(code) => Err(code),
@@ -107,8 +107,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             Err(code) => (ProcessDataSizes::default(), code),
         };
         let has_outputs = self.pd_sizes.outputs > 0;
-        let active = self.sync.is_ok().then(|| self.sync());
+        let active = self.sync_mode.is_ok().then(|| self.sync_mode());
         let chosen_cycle = self.writes.chosen.cycle_ns();
-        sync::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
+        sync_parameters::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
     }
 }

@@ -9,7 +9,7 @@ use crate::esm::{self, Decision, Transition};
 use crate::process_data::Writes;
 use crate::sync_manager::Channel;
 use crate::sync_manager::check;
-use crate::sync_mode::SyncType;
+use crate::sync_mode::SyncMode;
 use crate::time::Instant;
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -120,7 +120,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             awaits: CycleSigns {
                 outputs: t.to == AlState::Op && outputs && !self.received.outputs,
                 sync0: t.to == AlState::Op
-                    && self.sync() == SyncType::DcSync0
+                    && self.sync_mode() == SyncMode::DcSync0
                     && !self.received.sync0,
             },
         });
@@ -148,7 +148,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             let sizes = self.pd_sizes;
             check::process_data(&self.channels, sizes, self.config)
                 .map_err(|c| (c, AlState::PreOp))?;
-            self.check_sync(sizes).map_err(|c| (c, AlState::PreOp))?;
+            self.check_sync_mode(sizes)
+                .map_err(|c| (c, AlState::PreOp))?;
             check::watchdog(&self.channels, sizes, self.watchdog_time)
                 .map_err(|c| (c, AlState::PreOp))?;
         }
@@ -156,7 +157,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// After an SM-change event: the configuration must still be valid for the current state
-    /// (0x0016 and back to INIT for the mailboxes, 0x001D/0x001E and back to PREOP for process data).
+    /// (0x0016 and back to INIT for the mailboxes, 0x001D/0x001E and back to PREOP for process
+    /// data).
     pub(super) fn check_sm_change(&mut self) {
         if !core::mem::take(&mut self.due.sm_check) {
             return;

@@ -124,7 +124,7 @@ async fn process_data(
         outputs: &mut outputs,
         inputs: &mut inputs,
     };
-    // The device runs SM-synchronous (DEVICE.sync has no DC SYNC0): SYNC0 only latches the
+    // The device runs SM-synchronous (DEVICE.sync_modes has no DC SYNC0): SYNC0 only latches the
     // inputs, in its own task below.
     let mut no_sync0 = NoSync0::new();
     let error = run_process_data(esc, &mut irq, &mut no_sync0, &mut io, od, buffers).await;
