@@ -42,7 +42,7 @@ impl Area {
 
 /// Whether two spans of bytes (the first, one past the last) share a byte; an empty span shares
 /// none.
-pub const fn spans_overlap(a: (u32, u32), b: (u32, u32)) -> bool {
+pub(crate) const fn spans_overlap(a: (u32, u32), b: (u32, u32)) -> bool {
     a.0 < b.1 && b.0 < a.1
 }
 
@@ -207,13 +207,13 @@ impl DeviceConfig {
     }
 
     /// Whether `area` lies inside the process RAM.
-    pub const fn in_process_ram(&self, area: Area) -> bool {
+    pub(crate) const fn in_process_ram(&self, area: Area) -> bool {
         area.start >= register::PROCESS_RAM && area.end() <= self.process_ram_end
     }
 
     /// The mailbox configuration checked when entering `boot` (true) or PREOP (false), with the
     /// code that reports a mismatch. `None` when BOOT is requested but not supported.
-    pub const fn mailbox_for(&self, boot: bool) -> Option<(&MailboxConfig, AlStatusCode)> {
+    pub(crate) const fn mailbox_for(&self, boot: bool) -> Option<(&MailboxConfig, AlStatusCode)> {
         if !boot {
             return Some((&self.mailbox, AlStatusCode::INVALID_MAILBOX_CONFIG));
         }

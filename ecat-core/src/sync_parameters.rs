@@ -10,7 +10,7 @@
 //! | 3 DC SYNC1 | not supported: refused with 0x0028 |
 //!
 //! The SubDevice reads the DC activation (0x0981) with every AL control event, and a device that
-//! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them ([`check_dc`];
+//! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them (`check_dc`;
 //! a device without DC refuses any activation with 0x0030).
 //!
 //! 0x1C32 and 0x1C33 are records of [`SyncParameters`] with SSC's subindices, part of the
@@ -61,7 +61,7 @@ pub struct SyncParameters {
     /// the application; 0 when unknown.
     pub delay_time: u32,
     /// SI 0x0A: the SYNC0 cycle time in ns the ESC runs (0x09A0) while the device runs DC
-    /// SYNC0, else 0 (filled by [`fill`]).
+    /// SYNC0, else 0 (filled by `fill`).
     pub sync0_cycle_time: u32,
     /// SI 0x0B: SM events missed.
     pub sm_event_missed: u16,
@@ -135,7 +135,7 @@ impl SyncParameters {
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how
-    /// the stack fills the read-only entries ([`fill`], [`CycleMonitor`]).
+    /// the stack fills the read-only entries (`fill`, [`CycleMonitor`]).
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         fn put<T: Value + PartialOrd>(slot: &mut T, data: &[u8]) -> Result<(), AbortCode> {
             write_value(slot, data, None, None)
@@ -301,24 +301,24 @@ const fn sync_entry(
 /// What the MainDevice configured in the ESC's DC SYNC unit (ESC datasheet section II,
 /// 0x0981 and 0x09A0), as the SubDevice read it with the last AL control event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct DcSettings {
+pub(crate) struct DcSettings {
     /// 0x0981.
-    pub activation: DcActivation,
+    pub(crate) activation: DcActivation,
     /// 0x09A0: the SYNC0 cycle in ns.
-    pub sync0_cycle_ns: u32,
+    pub(crate) sync0_cycle_ns: u32,
 }
 
 impl DcSettings {
     /// The bytes the SubDevice reads: 0x0981 up to the end of 0x09A0.
-    pub const READ_LEN: usize = 0x09A4 - 0x0981;
+    pub(crate) const READ_LEN: usize = 0x09A4 - 0x0981;
 
     /// The SYNC0 cycle (µs resolution).
-    pub const fn sync0_cycle(self) -> Duration {
+    pub(crate) const fn sync0_cycle(self) -> Duration {
         Duration::from_micros(self.sync0_cycle_ns as u64 / 1_000)
     }
 
     /// The settings in the bytes read from 0x0981 on.
-    pub fn from_bytes(bytes: &[u8]) -> Self {
+    pub(crate) fn from_bytes(bytes: &[u8]) -> Self {
         let cycle = bytes
             .get(0x09A0 - 0x0981..)
             .and_then(|b| b.first_chunk())
@@ -337,7 +337,11 @@ impl DcSettings {
 /// SM-synchronous: 0x0030 (ETG.1000.6 Table 11 "invalid DC SYNC configuration"; SSC 5.12
 /// `ecatslv.c` `CheckDcSettings` refuses a SYNC signal the supported sync modes lack with the
 /// same code); a SYNC0 cycle of 0 (single shot) or below the device's minimum cycle: 0x0036.
-pub fn check_dc(sync: SyncMode, dc: DcSettings, device: &DeviceConfig) -> Result<(), AlStatusCode> {
+pub(crate) fn check_dc(
+    sync: SyncMode,
+    dc: DcSettings,
+    device: &DeviceConfig,
+) -> Result<(), AlStatusCode> {
     let bits = dc.activation.0;
     let cyclic = bits & DcActivation::CYCLIC_OPERATION != 0;
     let sync0 = bits & DcActivation::SYNC0 != 0;
@@ -397,7 +401,7 @@ pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
 /// free-run, the SYNC0 cycle in DC mode), the SYNC0 cycle time (SI 0x0A: the ESC's 0x09A0 while
 /// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync mode (SI1,
 /// [`input_sync_type`]) of the `active` sync mode.
-pub fn fill<D: ObjectDictionary>(
+pub(crate) fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
     active: Option<SyncMode>,
@@ -486,19 +490,19 @@ impl Chosen {
 
 /// What the dictionary's 0x1C32 says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Requested {
+pub(crate) struct Requested {
     /// The synchronisation mode.
-    pub mode: SyncMode,
+    pub(crate) mode: SyncMode,
     /// The MainDevice chose it: it wrote 0x1C32:01, or 0x1C32:01 differs from its declared
     /// default. Otherwise the SubDevice follows the ESC: DC SYNC0 when the MainDevice activated
     /// SYNC0 (as SSC does for MainDevices that configure DC but never write 0x1C32, e.g.
     /// ethercrab).
-    pub chosen: bool,
+    pub(crate) chosen: bool,
 }
 
 impl Requested {
     /// The sync mode in effect with the DC unit as `dc` says.
-    pub fn effective(self, dc: DcSettings, device: &DeviceConfig) -> SyncMode {
+    pub(crate) fn effective(self, dc: DcSettings, device: &DeviceConfig) -> SyncMode {
         let follow_dc = !self.chosen && dc.activation.sync0() && device.sync_modes.dc();
         if follow_dc {
             SyncMode::DcSync0
@@ -512,7 +516,7 @@ impl Requested {
 /// (conformance.md "Sync parameters"): unsupported free-run is 0x0027, any other unsupported type
 /// 0x0028. `chosen` tells whether the MainDevice wrote it. Without 0x1C32 the device runs
 /// SM-synchronous when it supports it, else free-run.
-pub fn requested<D: ObjectDictionary>(
+pub(crate) fn requested<D: ObjectDictionary>(
     od: &D,
     device: &DeviceConfig,
     chosen: Chosen,
@@ -547,7 +551,7 @@ pub fn requested<D: ObjectDictionary>(
 /// sync mode in effect (conformance.md AL status codes): in free-run or SM-synchronous mode below
 /// the device's minimum cycle (SI5) 0x002E, in free-run also below the local timer's 1 µs; in DC
 /// SYNC0 mode other than the SYNC0 cycle 0x0035.
-pub fn check_cycle(
+pub(crate) fn check_cycle(
     sync: SyncMode,
     cycle_ns: Option<u32>,
     dc: DcSettings,
@@ -571,7 +575,7 @@ pub fn check_cycle(
 /// Watches the process-data cycles and keeps the diagnostic entries of 0x1C32/0x1C33 (ETG.1020
 /// §6.3, conformance.md "Sync parameters") up to date:
 /// - SI2 in SM-synchronous mode: the measured time between the last two cycles (in free-run and
-///   DC mode SI2 is the configured cycle, see [`fill`]);
+///   DC mode SI2 is the configured cycle, see `fill`);
 /// - SI 0x0B, SM-event missed: DC-mode cycles in OP for which the MainDevice had not written new
 ///   outputs (SM2) since the previous SYNC0;
 /// - SI 0x0C, cycle time too small: clocked cycles (free-run, SYNC0) that started more than 1.5

@@ -57,7 +57,7 @@ use plan::InFlight;
 use targets::{Stale, Written};
 
 /// The AL events of the state machine proper (the mailbox adds SM0/SM1 while it needs them).
-pub const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+pub(crate) const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 // Every AL event mask the core writes carries them: 0 can stand for "not written yet".
 const _: () = assert!(!ESM_EVENTS.is_empty());
 

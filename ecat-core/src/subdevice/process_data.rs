@@ -75,7 +75,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// (outputs) or 0x0024 (inputs).
     ///
     /// It also takes the sync mode the MainDevice chose (0x1C32:01, see [`crate::sync_parameters`])
-    /// and fills what the stack knows into 0x1C32 and 0x1C33 ([`sync_parameters::fill`]): the
+    /// and fills what the stack knows into 0x1C32 and 0x1C33 (`sync_parameters::fill`): the
     /// supported types (SI4), the minimum cycle (SI5), the cycle time (SI2, free-run and DC) and
     /// 0x1C33's sync type (SI1).
     #[inline]
