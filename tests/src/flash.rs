@@ -31,10 +31,12 @@ pub mod layout {
     pub const BOOTLOADER: Range<usize> = 0..0x4000;
     /// The bootloader's state: swap magic and progress.
     pub const STATE: Range<usize> = 0x4000..0x5000;
+    /// The stored parameters (0x1010), untouched by updates.
+    pub const PARAMETERS: Range<usize> = 0x5000..0x7000;
     /// The image that runs.
-    pub const ACTIVE: Range<usize> = 0x5000..0x42000;
+    pub const ACTIVE: Range<usize> = 0x7000..0x43000;
     /// The image being received; one page larger than ACTIVE.
-    pub const DFU: Range<usize> = 0x42000..0x80000;
+    pub const DFU: Range<usize> = 0x43000..0x80000;
     /// The whole flash: 512 KiB.
     pub const SIZE: usize = 0x80000;
 }
