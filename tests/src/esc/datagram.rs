@@ -290,10 +290,10 @@ impl Esc {
 /// `bits` of a byte-aligned `fmmu`, when they are whole bytes of it: they move as they are,
 /// without the bit-by-bit copy (same result).
 fn whole_bytes(fmmu: &Fmmu, bits: &core::ops::Range<u64>, offset: u64) -> Option<Range<usize>> {
-    let aligned = fmmu.byte_aligned() && bits.start % 8 == 0 && bits.end % 8 == 0;
+    let aligned = fmmu.byte_aligned() && bits.start.is_multiple_of(8) && bits.end.is_multiple_of(8);
     let start = usize::try_from((bits.start.checked_sub(offset)?) / 8).ok()?;
     let end = usize::try_from((bits.end.checked_sub(offset)?) / 8).ok()?;
-    (aligned && offset % 8 == 0).then_some(start..end)
+    (aligned && offset.is_multiple_of(8)).then_some(start..end)
 }
 
 /// Bit `bit` of `bytes` (LSB first); 0 beyond them.
