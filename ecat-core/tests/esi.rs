@@ -424,3 +424,28 @@ fn explicit_device_id_is_advertised_in_device_info() {
 ",
     );
 }
+
+/// A device with a bootstrap mailbox serves FoE in BOOT and says so in `Mailbox/FoE` (after
+/// `CoE`, ETG.2000), as the SII's mailbox protocols word does (bit 3); others have no `FoE`.
+#[test]
+fn a_device_with_boot_advertises_foe() {
+    assert!(!sm_only().contains("<FoE"));
+    let mut config = config(SupportedSync::SM);
+    config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
+    let description = Description {
+        vendor: "v",
+        names: &NAMES,
+        identity: &IDENTITY,
+        config: &config,
+    };
+    let mut xml = String::new();
+    esi::write(&mut xml, &description, &Od::default(), &SII).unwrap();
+    has(
+        &xml,
+        "        <Mailbox>
+          <CoE SdoInfo=\"true\" PdoAssign=\"false\" PdoConfig=\"false\" CompleteAccess=\"true\"/>
+          <FoE/>
+        </Mailbox>
+",
+    );
+}

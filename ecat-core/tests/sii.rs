@@ -16,7 +16,8 @@ const IDENTITY: Identity = Identity {
 };
 
 /// Words 0x14..0x17 describe the bootstrap mailbox (receive offset and size, send offset and
-/// size), 0x18..0x1B the standard mailbox, 0x1C the mailbox protocols (CoE, bit 2); without a
+/// size), 0x18..0x1B the standard mailbox, 0x1C the mailbox protocols (CoE, bit 2; FoE, bit 3,
+/// with the bootstrap mailbox: BOOT serves FoE); without a
 /// bootstrap mailbox 0x14..0x17 are 0.
 #[test]
 fn the_bootstrap_and_standard_mailbox_words() {
@@ -43,7 +44,7 @@ fn the_bootstrap_and_standard_mailbox_words() {
     config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
     assert_eq!(
         words(&config),
-        [0x1800, 256, 0x1900, 256, 0x1000, 128, 0x1080, 128, 0x0004]
+        [0x1800, 256, 0x1900, 256, 0x1000, 128, 0x1080, 128, 0x000C]
     );
 }
 
