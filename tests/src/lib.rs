@@ -10,6 +10,7 @@
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
 //! | [`fuzz`] | a SubDevice session driven by arbitrary bytes: the fuzz target of the core |
+//! | [`fuzz_foe`] | the FoE parser and server driven by arbitrary bytes: the fuzz target of FoE |
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
@@ -21,6 +22,7 @@ pub mod emulator;
 pub mod esc;
 pub mod frame;
 pub mod fuzz;
+pub mod fuzz_foe;
 pub mod harness;
 pub mod line;
 pub mod master;

@@ -80,14 +80,11 @@ pub trait Handler {
 /// The handlers a firmware serves beside CoE: `()`, one handler `(foe,)`, or a handler and more
 /// `(foe, (eoe,))`. Each call goes to the first handler whose type matches.
 pub trait Handlers {
-    /// Serves a request of `kind`; `None` when no handler speaks it in `env.state`.
-    fn request(
-        &mut self,
-        kind: MailboxType,
-        env: Env,
-        payload: &[u8],
-        reply: &mut [u8],
-    ) -> Option<Reply>;
+    /// Whether there are no handlers (`()`): the mailbox then skips their bookkeeping.
+    const NONE: bool = false;
+    /// Serves a request of the mailbox type `code` (4 bits); `None` when no handler speaks it in
+    /// `env.state`.
+    fn request(&mut self, code: u8, env: Env, payload: &[u8], reply: &mut [u8]) -> Option<Reply>;
     /// Whether one of the handlers has a message of its own.
     fn has_message(&self) -> bool;
     /// The next message of a handler's own: its type and length.
@@ -101,7 +98,8 @@ pub trait Handlers {
 }
 
 impl Handlers for () {
-    fn request(&mut self, _: MailboxType, _: Env, _: &[u8], _: &mut [u8]) -> Option<Reply> {
+    const NONE: bool = true;
+    fn request(&mut self, _: u8, _: Env, _: &[u8], _: &mut [u8]) -> Option<Reply> {
         None
     }
     fn has_message(&self) -> bool {
@@ -118,14 +116,9 @@ impl Handlers for () {
 }
 
 impl<A: Handler> Handlers for (A,) {
-    fn request(
-        &mut self,
-        kind: MailboxType,
-        env: Env,
-        payload: &[u8],
-        reply: &mut [u8],
-    ) -> Option<Reply> {
-        (kind == A::KIND && self.0.serves(env.state)).then(|| self.0.request(env, payload, reply))
+    fn request(&mut self, code: u8, env: Env, payload: &[u8], reply: &mut [u8]) -> Option<Reply> {
+        (code == A::KIND.code() && self.0.serves(env.state))
+            .then(|| self.0.request(env, payload, reply))
     }
     fn has_message(&self) -> bool {
         self.0.has_message()
@@ -148,17 +141,11 @@ impl<A: Handler> Handlers for (A,) {
 }
 
 impl<A: Handler, B: Handlers> Handlers for (A, B) {
-    fn request(
-        &mut self,
-        kind: MailboxType,
-        env: Env,
-        payload: &[u8],
-        reply: &mut [u8],
-    ) -> Option<Reply> {
-        if kind == A::KIND && self.0.serves(env.state) {
+    fn request(&mut self, code: u8, env: Env, payload: &[u8], reply: &mut [u8]) -> Option<Reply> {
+        if code == A::KIND.code() && self.0.serves(env.state) {
             return Some(self.0.request(env, payload, reply));
         }
-        self.1.request(kind, env, payload, reply)
+        self.1.request(code, env, payload, reply)
     }
     fn has_message(&self) -> bool {
         self.0.has_message() || self.1.has_message()
@@ -186,14 +173,8 @@ impl<A: Handler, B: Handlers> Handlers for (A, B) {
 }
 
 impl<P: Handlers> Handlers for &mut P {
-    fn request(
-        &mut self,
-        kind: MailboxType,
-        env: Env,
-        payload: &[u8],
-        reply: &mut [u8],
-    ) -> Option<Reply> {
-        (**self).request(kind, env, payload, reply)
+    fn request(&mut self, code: u8, env: Env, payload: &[u8], reply: &mut [u8]) -> Option<Reply> {
+        (**self).request(code, env, payload, reply)
     }
     fn has_message(&self) -> bool {
         (**self).has_message()

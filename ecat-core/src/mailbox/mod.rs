@@ -61,14 +61,21 @@ mod flag {
     pub const REPEAT_PENDING: u8 = 1 << 4;
     /// The repeat acknowledge bit as last written to SM1's PDI control.
     pub const REPEAT_ACK: u8 = 1 << 5;
-    /// The handlers beside CoE have not been reset since the mailbox stopped.
-    pub const RESET_HANDLERS: u8 = 1 << 6;
     /// One of the handlers beside CoE had a message of its own after the last service.
-    pub const HANDLER_MESSAGE: u8 = 1 << 7;
+    pub const HANDLER_MESSAGE: u8 = 1 << 6;
     /// What keeps a request in SM0: its answer could not be written at once.
     pub const BLOCKING: u8 = RX_PENDING | TX_PENDING | SEND_BUSY | REPEAT_PENDING;
     /// What keeps SM1 from taking a new message.
     pub const SM1_TAKEN: u8 = TX_PENDING | SEND_BUSY | REPEAT_PENDING;
+}
+
+/// What the handlers beside CoE need from the next service whether SM1 is free or not: a byte
+/// of its own beside [`flag`], so that a device without such handlers tests nothing more.
+mod due {
+    /// The handlers have not been reset since the mailbox stopped.
+    pub const RESET: u8 = 1 << 0;
+    /// A handler's timeout passed.
+    pub const TIMEOUT: u8 = 1 << 1;
 }
 
 /// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes: the
@@ -89,6 +96,8 @@ struct Link<const N: usize> {
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
+    /// What the handlers beside CoE need from the next service ([`due`]).
+    handler_due: u8,
     /// The counter of the last message received (0: none).
     rx_counter: u8,
     /// The counter of the last message sent (0: none).
@@ -121,7 +130,8 @@ impl<const N: usize> Mailbox<N> {
                 tx_len: 0,
                 receive: Area::new(0, 0),
                 send: Area::new(0, 0),
-                flags: flag::RESET_HANDLERS,
+                flags: 0,
+                handler_due: due::RESET,
                 rx_counter: 0,
                 tx_counter: 0,
                 handler_timeout: None,
@@ -142,7 +152,7 @@ impl<const N: usize> Mailbox<N> {
         self.link.receive = clamp(config.receive);
         self.link.send = clamp(config.send);
         if repeat_request {
-            self.link.flags |= flag::REPEAT_ACK;
+            self.link.flags = flag::REPEAT_ACK;
         }
     }
 
@@ -303,16 +313,19 @@ impl<const N: usize> Mailbox<N> {
     /// that passed makes work for the next service, which hands it on.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.coe.handle_timeout(now);
+        if self.link.handler_timeout.is_some_and(|t| t <= now) {
+            self.link.handler_due |= due::TIMEOUT;
+        }
     }
 
-    /// Whether the mailbox has anything to serve at `now`: a handler's timeout passed, or SM1 is
-    /// free and a request or a message of a handler's own (SDO Information fragment, emergency)
-    /// waits for it.
-    pub fn has_work(&self, now: Instant) -> bool {
+    /// Whether the mailbox has anything to serve: SM1 is free and a request or a message of a
+    /// handler's own (SDO Information fragment, emergency) waits for it, or a handler's timeout
+    /// passed.
+    pub fn has_work(&self) -> bool {
         let free = self.link.flags & flag::SM1_TAKEN == 0;
         let messages = flag::RX_PENDING | flag::HANDLER_MESSAGE;
-        self.link.handler_timeout.is_some_and(|t| t <= now)
-            || free && (self.link.flags & messages != 0 || self.coe.has_message())
+        free && (self.link.flags & messages != 0 || self.coe.has_message())
+            || self.link.handler_due & due::TIMEOUT != 0
     }
 
     /// Serves what is due, once [`Mailbox::has_work`] says there is something: the received
@@ -328,17 +341,25 @@ impl<const N: usize> Mailbox<N> {
             now: cx.now,
             max_request: self.link.receive_size().saturating_sub(MailboxHeader::SIZE),
         };
-        if self.link.flags & flag::RESET_HANDLERS != 0 {
+        if P::NONE {
+            return self
+                .link
+                .serve_handlers(&mut (self.coe.handler(cx), handlers), env);
+        }
+        if self.link.handler_due & due::RESET != 0 {
             handlers.reset();
         }
-        if self.link.handler_timeout.is_some_and(|t| t <= env.now) {
+        if self.link.handler_due & due::TIMEOUT != 0 {
             handlers.handle_timeout(env.now);
         }
-        let built = self
-            .link
-            .serve_handlers(&mut (self.coe.handler(cx), &mut *handlers), env);
+        self.link.handler_due = 0;
+        // SM1 may be taken: the service may be for a timeout alone.
+        let built = self.link.flags & flag::SM1_TAKEN == 0
+            && self
+                .link
+                .serve_handlers(&mut (self.coe.handler(cx), &mut *handlers), env);
         self.link.handler_timeout = handlers.poll_timeout();
-        self.link.flags &= !(flag::RESET_HANDLERS | flag::HANDLER_MESSAGE);
+        self.link.flags &= !flag::HANDLER_MESSAGE;
         if handlers.has_message() {
             self.link.flags |= flag::HANDLER_MESSAGE;
         }
@@ -356,9 +377,6 @@ impl<const N: usize> Link<N> {
     }
 
     fn serve_handlers<P: Handlers>(&mut self, handlers: &mut P, env: Env) -> bool {
-        if self.flags & flag::SM1_TAKEN != 0 {
-            return false;
-        }
         if self.flags & flag::RX_PENDING != 0 {
             self.flags &= !flag::RX_PENDING;
             return self.serve_request(handlers, env);
@@ -369,7 +387,7 @@ impl<const N: usize> Link<N> {
             .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
             .unwrap_or_default();
         match handlers.message(env, out) {
-            Some((kind, len)) => self.build(kind, len),
+            Some((kind, len)) => self.build(kind.code(), len),
             None => false,
         }
     }
@@ -396,8 +414,9 @@ impl<const N: usize> Link<N> {
         let payload = self.rx.get(start..start + length).unwrap_or_default();
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self.tx.get_mut(start..start + capacity).unwrap_or_default();
-        match handlers.request(header.kind, env, payload, out) {
-            Some(Reply::Send(len)) => self.build(header.kind, len),
+        let code = header.kind.code();
+        match handlers.request(code, env, payload, out) {
+            Some(Reply::Send(len)) => self.build(code, len),
             Some(Reply::Silent) => false,
             Some(Reply::Error(error)) => self.build_error(error),
             None => self.build_error(MailboxError::UNSUPPORTED_PROTOCOL),
@@ -420,14 +439,14 @@ impl<const N: usize> Link<N> {
         {
             dst.copy_from_slice(&payload);
         }
-        self.build(MailboxType::Error, payload.len())
+        self.build(MailboxType::Error.code(), payload.len())
     }
 
     /// Puts the header in front of `len` bytes already in `tx`, with the next counter.
-    fn build(&mut self, kind: MailboxType, len: usize) -> bool {
+    fn build(&mut self, code: u8, len: usize) -> bool {
         self.tx_counter = next_counter(self.tx_counter);
         let length = u16::try_from(len).unwrap_or(u16::MAX);
-        let header = MailboxHeader::new(kind, length, self.tx_counter).to_bytes();
+        let header = header::bytes(code, length, self.tx_counter);
         if let Some(dst) = self.tx.get_mut(..MailboxHeader::SIZE) {
             dst.copy_from_slice(&header);
         }
