@@ -87,12 +87,15 @@ const SII: [u8; 20] = [
 ];
 
 fn esi(sync: u16) -> String {
-    let config = config(sync);
+    esi_of(&config(sync))
+}
+
+fn esi_of(config: &DeviceConfig) -> String {
     let description = Description {
         vendor: "ACME <test>",
         names: &NAMES,
         identity: &IDENTITY,
-        config: &config,
+        config,
     };
     let mut out = String::new();
     esi::write(&mut out, &description, &Od::default(), &SII).unwrap();
@@ -432,16 +435,8 @@ fn a_device_with_boot_advertises_foe() {
     assert!(!sm_only().contains("<FoE"));
     let mut config = config(SupportedSync::SM);
     config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
-    let description = Description {
-        vendor: "v",
-        names: &NAMES,
-        identity: &IDENTITY,
-        config: &config,
-    };
-    let mut xml = String::new();
-    esi::write(&mut xml, &description, &Od::default(), &SII).unwrap();
     has(
-        &xml,
+        &esi_of(&config),
         "        <Mailbox>
           <CoE SdoInfo=\"true\" PdoAssign=\"false\" PdoConfig=\"false\" CompleteAccess=\"true\"/>
           <FoE/>

@@ -179,17 +179,7 @@ impl<F: Files> Foe<F> {
     }
 
     fn write_request(&mut self, frame: &Packet<&[u8]>, reply: &mut [u8]) -> usize {
-        if self.in_progress() {
-            return self.fail(reply, FoeError::ILLEGAL);
-        }
-        self.transfer = Transfer::Idle;
-        let name = file_name(frame.data());
-        let opened = if name.is_empty() {
-            Err(FoeError::NOT_FOUND)
-        } else {
-            self.files.open_write(name, frame.value())
-        };
-        match opened {
+        match self.open(frame, F::open_write) {
             Ok(()) => {
                 self.transfer = Transfer::Writing {
                     packet: 0,
@@ -198,6 +188,24 @@ impl<F: Files> Foe<F> {
                 write_header(reply, OpCode::Ack, 0)
             }
             Err(error) => write_error(reply, error),
+        }
+    }
+
+    /// What a read or write request must pass: no transfer in progress (0x8004, which ends the
+    /// transfer), a file name (0x8001), and `open`, the files' consent to the name and password.
+    fn open(
+        &mut self,
+        frame: &Packet<&[u8]>,
+        open: impl FnOnce(&mut F, &[u8], u32) -> Result<(), FoeError>,
+    ) -> Result<(), FoeError> {
+        if self.in_progress() {
+            self.abandon();
+            return Err(FoeError::ILLEGAL);
+        }
+        self.transfer = Transfer::Idle;
+        match file_name(frame.data()) {
+            [] => Err(FoeError::NOT_FOUND),
+            name => open(&mut self.files, name, frame.value()),
         }
     }
 
@@ -247,17 +255,7 @@ impl<F: Files> Foe<F> {
     }
 
     fn read_request(&mut self, frame: &Packet<&[u8]>, reply: &mut [u8]) -> usize {
-        if self.in_progress() {
-            return self.fail(reply, FoeError::ILLEGAL);
-        }
-        self.transfer = Transfer::Idle;
-        let name = file_name(frame.data());
-        let opened = if name.is_empty() {
-            Err(FoeError::NOT_FOUND)
-        } else {
-            self.files.open_read(name, frame.value())
-        };
-        match opened {
+        match self.open(frame, F::open_read) {
             Ok(()) => self.send(0, 0, reply),
             Err(error) => write_error(reply, error),
         }
