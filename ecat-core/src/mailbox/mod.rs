@@ -79,7 +79,7 @@ mod due {
 }
 
 /// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes: the
-/// framing ([`Link`]) and CoE's state.
+/// framing (`Link`) and CoE's state.
 #[derive(Debug)]
 // `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
 #[repr(C)]
