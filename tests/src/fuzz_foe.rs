@@ -44,7 +44,7 @@ impl Files for FuzzFiles {
 
     fn write(&mut self, offset: u32, data: &[u8]) -> Result<Progress, FoeError> {
         self.writes += 1;
-        if self.writes % 5 == 0 {
+        if self.writes.is_multiple_of(5) {
             return Ok(Progress::Busy { done: 1, entire: 2 });
         }
         assert_eq!(offset as usize, self.written, "in order, each byte once");
