@@ -4,7 +4,8 @@
 //! - the 6-byte [`MailboxHeader`]; a message with length 0 or longer than the mailbox is
 //!   answered with a mailbox error reply ([`MailboxError`]), and so is a CoE payload shorter
 //!   than its service needs (0x0008: an SDO request under 8 bytes, an SDO Information request
-//!   without its header and the fixed part of its opcode, [`InfoRequest::parse`]);
+//!   without its header and the fixed part of its opcode,
+//!   [`InfoRequest::parse`](crate::coe::sdo_info::InfoRequest::parse));
 //! - counters: a message whose non-zero counter equals the previous one is a repeat and is
 //!   dropped; the SubDevice numbers its own messages 1..=7;
 //! - the channel (header byte 4, bits 0..5) is reserved and 0 (ETG.1000.4 Table 29): a new
@@ -18,7 +19,7 @@
 //!   fragments, emergencies) waits until SM1 is free;
 //! - repeat: when the MainDevice toggles SM1's repeat request, the last message is written again
 //!   before the acknowledge bit follows it;
-//! - dispatch by protocol ([`handler`]): CoE ([`crate::coe::server`]) and the handlers the
+//! - dispatch by protocol ([`Handler`]): CoE (`coe::server`) and the handlers the
 //!   firmware adds ([`Handlers`], e.g. [`crate::foe::Foe`]); a protocol without a handler, or one
 //!   its handler does not speak in the current state, gets "protocol not supported" (0x0002). In
 //!   BOOT only FoE is served (ETG.1000.6 §6.4.1, conformance.md "ESM").
