@@ -11,7 +11,7 @@
 //! | 0x08..0x0F | identity: vendor ID, product code, revision, serial number |
 //! | 0x14..0x17 | bootstrap mailbox (receive offset/size, send offset/size), zero without BOOT |
 //! | 0x18..0x1B | standard mailbox |
-//! | 0x1C | mailbox protocols ([`mailbox_protocols`]): CoE, and FoE with BOOT |
+//! | 0x1C | mailbox protocols ([`mailbox_protocols`]): CoE, and FoE with BOOT (then also the General category's FoE details) |
 //! | 0x3E, 0x3F | EEPROM size (16 Kbit → 15), version 1 |
 //! | 0x40.. | categories: Strings (10), General (30), FMMU (40), SyncManager (41), TxPDO (50), RxPDO (51), DC (60, DC SYNC0 devices), end 0xFFFF |
 //!
@@ -113,8 +113,9 @@ pub fn write<D: ObjectDictionary>(
     w.words(&[SIZE_KBIT_MINUS_ONE, 1]);
     let strings = Strings::new(names, od)?;
     w.category(CAT_STRINGS, |w| strings.write(w, od));
+    let foe = u8::from(mailbox_protocols(config) & PROTOCOL_FOE != 0);
     w.category(CAT_GENERAL, |w| {
-        general(w, coe_details(od), general_flags(config))
+        general(w, coe_details(od), foe, general_flags(config))
     });
     w.category(CAT_FMMU, |w| {
         for fmmu in fmmus(config, od) {
@@ -317,9 +318,10 @@ pub fn general_flags(config: &DeviceConfig) -> u8 {
     }
 }
 
-/// The General category (ETG.2010 Table 6), 32 bytes.
-fn general(w: &mut Writer<'_>, coe: CoeDetails, flags: u8) {
-    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, 0, 0, 0, 0, 0, flags]);
+/// The General category (ETG.2010 Table 6), 32 bytes; `foe` is its "FoE Details" byte (bit 0:
+/// FoE supported).
+fn general(w: &mut Writer<'_>, coe: CoeDetails, foe: u8, flags: u8) {
+    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, foe, 0, 0, 0, 0, flags]);
     w.u16(0); // current on E-bus
     w.bytes(&[GROUP, 0]); // group index (compatibility), reserved
     w.u16(0x0011); // physical ports 0 and 1: MII

@@ -124,3 +124,36 @@ fn the_general_flags_advertise_an_explicit_device_id() {
     assert_eq!(flags(true), 0x08);
     assert_eq!(sii::FLAG_IDENT_AL_STATUS, 1 << 3);
 }
+
+/// The General category's "FoE Details" byte (ETG.2010 Table 6, byte 6: bit 0 FoE supported)
+/// follows the mailbox protocols word: 1 with a bootstrap mailbox, 0 without.
+#[test]
+fn the_general_category_enables_foe_with_boot() {
+    let names = Names {
+        name: "Boot",
+        order_code: "B-1",
+        group: "Test",
+    };
+    let mut config = DeviceConfig::new(
+        MailboxConfig::contiguous(0x1000, 128),
+        ProcessDataSizes::default(),
+    );
+    let foe_details = |config: &DeviceConfig| {
+        let mut image = [0u8; sii::MAX_SIZE];
+        sii::write(&names, &IDENTITY, config, &Chip::ET1100, &(), &mut image).unwrap();
+        // Categories from word 0x40: type, size in words, data.
+        let mut at = 0x80;
+        loop {
+            let kind = u16::from_le_bytes([image[at], image[at + 1]]);
+            let words = usize::from(u16::from_le_bytes([image[at + 2], image[at + 3]]));
+            assert_ne!(kind, 0xFFFF, "a General category");
+            if kind == 30 {
+                return image[at + 4 + 6];
+            }
+            at += 4 + 2 * words;
+        }
+    };
+    assert_eq!(foe_details(&config), 0);
+    config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
+    assert_eq!(foe_details(&config), 1);
+}
