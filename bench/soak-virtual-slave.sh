@@ -8,21 +8,25 @@
 # of OP (checked every second) are counted and brought back. Exit status 1 when any cycle was
 # lost, late or wrong, or a SubDevice left OP. Needs root (netns, raw sockets).
 #
+# Ends with the RSS at the start and the end, the lost and late cycles, and whether every
+# SubDevice stayed in OP throughout; then the virtual slave's own summary (frames lost on the
+# line). Both processes run at SCHED_FIFO 20 when allowed, as EtherCAT MainDevices and
+# soft-real-time SubDevices do on Linux (a shared machine's other jobs then do not delay them).
+#
 # Usage: bench/soak-virtual-slave.sh [DURATION_S [N [DEVICE]]]
-#   NICE=-15 (default 0) runs both processes at that niceness on a shared machine.
+#   RT=0 runs them with normal scheduling instead; NICE=-15 (default 0) at that niceness.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 duration=${1:-3600}
 count=${2:-64}
 device=${3:-dio}
 nice_level=${NICE:-0}
+rt="chrt -f 20"
+[ "${RT:-1}" = 0 ] && rt=
+[ -z "$rt" ] || $rt true 2>/dev/null || rt=
 
 command -v ip >/dev/null || { apt-get update -qq && apt-get install -y -qq iproute2 >/dev/null; }
-venv=${CARGO_TARGET_DIR:-target}/soem-venv
-if [ ! -x "$venv/bin/python" ]; then
-    python3 -m venv "$venv"
-    "$venv/bin/pip" install -q --disable-pip-version-check pysoem==1.1.13 pytest==8.3.3
-fi
+venv=$(.ci/soem-venv)
 cargo build --locked --release -q -p ecat-examples --bin ecat-virtual-slave
 bin=${CARGO_TARGET_DIR:-target}/release
 
@@ -44,7 +48,7 @@ ip link add "$master_if" type veth peer name "$slave_if" netns "$ns"
 ip link set "$master_if" up
 ip netns exec "$ns" ip link set "$slave_if" up
 
-ip netns exec "$ns" nice -n "$nice_level" "$bin/ecat-virtual-slave" --iface "$slave_if" \
+ip netns exec "$ns" nice -n "$nice_level" $rt "$bin/ecat-virtual-slave" --iface "$slave_if" \
     --device "$device" --count "$count" >"$work/slave.log" 2>&1 &
 slave_pid=$!
 for _ in $(seq 100); do
@@ -53,9 +57,9 @@ for _ in $(seq 100); do
     sleep 0.1
 done
 
-echo "soak: $count × $device, $duration s at 1 kHz, nice $nice_level; load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "soak: $count × $device, $duration s at 1 kHz, nice $nice_level, ${rt:-normal scheduling}; load $(cut -d' ' -f1-3 /proc/loadavg)"
 status=0
-nice -n "$nice_level" "$venv/bin/python" bench/soem_cycle.py --iface "$master_if" --count "$count" \
+nice -n "$nice_level" $rt "$venv/bin/python" bench/soem_cycle.py --iface "$master_if" --count "$count" \
     --seconds "$duration" --sample 60 --pid "$slave_pid" || status=$?
 echo "load at the end $(cut -d' ' -f1-3 /proc/loadavg)"
 kill -TERM "$slave_pid"

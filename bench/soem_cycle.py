@@ -227,6 +227,16 @@ def main():
         f"{totals['fallbacks']}; samples not all in OP: {totals['not_op']}; {rss}",
         flush=True,
     )
+    in_op = totals["fallbacks"] == 0 and totals["not_op"] == 0
+    for p in args.pid:
+        print(f"RSS of {p}: {rss0[p]} kB at the start, {rss_kb(p)} kB at the end, {rss_max[p]} kB at most")
+    print(
+        f"lost: {totals['lost']}, late: {totals['late']} of {totals['cycles']} cycles; "
+        f"wrong WKC: {totals['wrong']}; every SubDevice in OP throughout: "
+        f"{'yes' if in_op else 'no'} (OP checked every second, AL status of all every "
+        f"{args.sample:.0f} s)",
+        flush=True,
+    )
     m.state = pysoem.INIT_STATE
     m.write_state()
     m.close()

@@ -8,8 +8,10 @@
 //! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
+//! | [`flash`] | a device's NOR flash in the bootloader's layout, with the power cut at any erase or write |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
 //! | [`fuzz`] | a SubDevice session driven by arbitrary bytes: the fuzz target of the core |
+//! | [`fuzz_foe`] | the FoE parser and server driven by arbitrary bytes: the fuzz target of FoE |
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
@@ -19,8 +21,10 @@ pub mod coe_client;
 pub mod devices;
 pub mod emulator;
 pub mod esc;
+pub mod flash;
 pub mod frame;
 pub mod fuzz;
+pub mod fuzz_foe;
 pub mod harness;
 pub mod line;
 pub mod master;

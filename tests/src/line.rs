@@ -274,8 +274,8 @@ impl Line {
     }
 
     /// What a MainDevice does first: sets each ESC's configured station address (0x0010) to
-    /// [`FIRST_STATION`] + its position, one APWR per ESC (ETG.1000.4 §5.4). Returns whether
-    /// every ESC took it.
+    /// [`FIRST_STATION`] + its position, one APWR per ESC (ETG.1000.4 §5.4), 64 to a frame (the
+    /// datagrams of a frame hold at most 2 047 bytes). Returns whether every ESC took it.
     pub fn address(&self) -> bool {
         let datagrams: Vec<Datagram> = (0..self.escs.len())
             .map(|n| {
@@ -290,7 +290,7 @@ impl Line {
                 )
             })
             .collect();
-        self.all_counted(&datagrams)
+        datagrams.chunks(64).all(|frame| self.all_counted(frame))
     }
 
     /// Maps the process data as a MainDevice does before SAFEOP: on each addressed ESC `n`,

@@ -71,6 +71,11 @@ struct Ready {
     interrupt: VecDeque<usize>,
     thread: VecDeque<usize>,
     queued: Vec<bool>,
+    /// The executor waits on [`Queues::woken`]: only then does a wake need to notify it. Most
+    /// wakes come from the executor's own thread, inside a poll, and a notification is a
+    /// system call (a futex wake) whether anyone waits or not: thousands a frame on a line of
+    /// 256 SubDevices.
+    sleeping: bool,
 }
 
 struct TaskWaker {
@@ -98,7 +103,9 @@ impl Wake for TaskWaker {
                 ready.thread.push_back(self.index);
             }
         }
-        self.queues.woken.notify_one();
+        if ready.sleeping {
+            self.queues.woken.notify_one();
+        }
     }
 }
 
@@ -139,10 +146,12 @@ pub fn run(tasks: Vec<Task>, scheduler: Scheduler) {
                     ready.queued[index] = false;
                     break index;
                 }
+                ready.sleeping = true;
                 ready = queues
                     .woken
                     .wait(ready)
                     .unwrap_or_else(PoisonError::into_inner);
+                ready.sleeping = false;
             }
         };
         let Some(future) = futures[next].as_mut() else {

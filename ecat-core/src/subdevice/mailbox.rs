@@ -8,6 +8,7 @@ use crate::coe::Emergency;
 use crate::coe::sdo::Context;
 use crate::device::MailboxConfig;
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
+use crate::mailbox::Handlers;
 use crate::time::Instant;
 
 /// The SM0/SM1 accesses of the mailbox.
@@ -154,6 +155,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
+        self.service_mailbox_with(now, od, hooks, &mut ())
+    }
+
+    /// [`SubDevice::service_mailbox`] with mailbox protocols beside CoE: `handlers` is a tuple
+    /// of [`crate::mailbox::Handler`]s (e.g. `(foe,)` with a [`crate::foe::Foe`]). Pass the same
+    /// handlers on every call: the mailbox keeps no reference to them between calls.
+    #[inline]
+    pub fn service_mailbox_with<D: ObjectDictionary, H: ObjectHooks<D>, P: Handlers>(
+        &mut self,
+        now: Instant,
+        od: &mut D,
+        hooks: &mut H,
+        handlers: &mut P,
+    ) -> bool {
         // Nothing due, nothing changed. Nothing is served either while an access is in flight:
         // an SM0 read the request's event made due (`mailbox_due`) goes first, so that the
         // request's answer finds SM1 free.
@@ -169,7 +184,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             writes: &mut self.writes,
             device: Some(self.config),
         };
-        let built = self.mailbox.serve(&mut cx);
+        let built = self.mailbox.serve(&mut cx, handlers);
         self.due.refresh |= core::mem::take(&mut self.writes.configured);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the

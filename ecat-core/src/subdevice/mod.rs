@@ -208,8 +208,9 @@ struct Due {
 ///    [`access_done`](Self::access_done) with the AL event register seen during it. After
 ///    each access the process-data side may look at [`process_data`](Self::process_data) and
 ///    [`event_mask`](Self::event_mask).
-/// 5. **Serve the mailbox:** [`service_mailbox`](Self::service_mailbox) until it returns
-///    `false`, with step 4 after each `true`.
+/// 5. **Serve the mailbox:** [`service_mailbox`](Self::service_mailbox) (or
+///    [`service_mailbox_with`](Self::service_mailbox_with), with FoE or other protocol handlers)
+///    until it returns `false`, with step 4 after each `true`.
 /// 6. **Application events:** [`poll_event`](Self::poll_event) until `None`; answer
 ///    [`Event::TransitionRequested`] with [`complete_transition`](Self::complete_transition)
 ///    (step 4 again after it). [`pending_transition`](Self::pending_transition) and

@@ -460,8 +460,17 @@ impl Host for NetHost {
             return false;
         }
         let at = self.start + Duration::from_micros(deadline.as_micros());
-        *ALARM.lock().unwrap_or_else(PoisonError::into_inner) = Some(at);
-        ALARM_CHANGED.notify_all();
+        let earlier = {
+            let mut alarm = ALARM.lock().unwrap_or_else(PoisonError::into_inner);
+            let earlier = alarm.is_none_or(|set| at < set);
+            *alarm = Some(at);
+            earlier
+        };
+        // A later alarm needs no wake-up of the alarm thread (a system call and a context
+        // switch per frame): it wakes at the earlier time, finds the new one and sleeps on.
+        if earlier {
+            ALARM_CHANGED.notify_all();
+        }
         WAKE.wait().await;
         !STOP.load(Ordering::SeqCst)
     }

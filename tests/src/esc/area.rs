@@ -25,6 +25,7 @@ pub(super) enum Area {
 }
 
 /// The areas of the address space as the SyncManager registers define them at one instant.
+#[derive(Debug, Clone, Default)]
 pub(super) struct AreaMap {
     /// First address after the process RAM.
     ram_end: usize,
@@ -33,6 +34,10 @@ pub(super) struct AreaMap {
     buffers: [Option<Buffer>; MAX_CHANNELS],
     /// The areas the PDI locked by deactivating their channel.
     locked: [Option<core::ops::Range<usize>>; MAX_CHANNELS],
+    /// The addresses where an area may begin or end, ascending: the start of the process RAM,
+    /// its end, and both ends of every channel's buffer and locked area. Between two
+    /// neighbours the area is the same for every address.
+    boundaries: Vec<usize>,
 }
 
 impl AreaMap {
@@ -43,10 +48,26 @@ impl AreaMap {
         buffers: [Option<Buffer>; MAX_CHANNELS],
         locked: [Option<core::ops::Range<usize>>; MAX_CHANNELS],
     ) -> Self {
+        let buffer_ends = buffers
+            .iter()
+            .flatten()
+            .flat_map(|buffer| [buffer.start(), buffer.start() + buffer.length()]);
+        let locked_ends = locked
+            .iter()
+            .flatten()
+            .flat_map(|area| [area.start, area.end]);
+        let mut boundaries: Vec<usize> = [usize::from(register::PROCESS_RAM), ram_end]
+            .into_iter()
+            .chain(buffer_ends)
+            .chain(locked_ends)
+            .collect();
+        boundaries.sort_unstable();
+        boundaries.dedup();
         Self {
             ram_end,
             buffers,
             locked,
+            boundaries,
         }
     }
 
@@ -73,13 +94,29 @@ impl AreaMap {
             .unwrap_or(Area::Ram)
     }
 
+    /// The buffer channel `n` guards, if it is effective.
+    pub(super) fn buffer(&self, n: u8) -> Option<Buffer> {
+        self.buffers.get(usize::from(n)).copied().flatten()
+    }
+
     /// The area of `start` and the end of the run of bytes from `start` (before `end`) that
     /// belong to it.
     pub(super) fn run(&self, start: usize, end: usize) -> (Area, usize) {
         let area = self.area(start);
-        let run_end = (start + 1..end)
-            .find(|&address| self.area(address) != area)
-            .unwrap_or(end);
-        (area, run_end)
+        let mut at = start;
+        loop {
+            // The area can change only at a boundary.
+            let next = self
+                .boundaries
+                .iter()
+                .copied()
+                .find(|&boundary| boundary > at)
+                .unwrap_or(end)
+                .min(end);
+            if next >= end || self.area(next) != area {
+                return (area, next);
+            }
+            at = next;
+        }
     }
 }

@@ -17,6 +17,8 @@
 //! [`Esc::ecat_read`] / [`Esc::ecat_write`]; accesses they refuse do not count. An ESC without
 //! distributed clocks does not count (and does not perform) accesses to 0x0900..0x09FF.
 
+use core::ops::Range;
+
 use ecat_core::register;
 
 use super::Esc;
@@ -166,10 +168,8 @@ impl Esc {
     /// it arrived.
     fn logical(&mut self, op: Operation, address: u32, data: &mut [u8]) -> u16 {
         let datagram = u64::from(address) * 8..(u64::from(address) + data.len() as u64) * 8;
-        let arrived = data.to_vec();
         let mapped: Vec<(Fmmu, core::ops::Range<u64>)> = self
             .fmmus()
-            .into_iter()
             .filter(|fmmu| fmmu.active)
             .map(|fmmu| {
                 let bits = fmmu.logical_bits();
@@ -179,6 +179,17 @@ impl Esc {
             .filter(|(_, overlap)| !overlap.is_empty())
             .collect();
         let offset = datagram.start;
+        // The writes take the data as it arrived: the bytes they map, kept before the reads
+        // replace them (only those: a line's image is long, an ESC maps a few bytes of it).
+        let byte = |bit: u64| usize::try_from((bit - offset) / 8).unwrap_or(usize::MAX);
+        let written_bytes = mapped
+            .iter()
+            .filter(|(f, _)| f.write)
+            .map(|(_, overlap)| byte(overlap.start)..byte(overlap.end - 1) + 1)
+            .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end))
+            .unwrap_or_default();
+        let arrived_at = offset + written_bytes.start as u64 * 8;
+        let arrived = data.get(written_bytes).unwrap_or_default().to_vec();
         // All reads see the memory before any write of this datagram, as on a physical
         // read-write.
         let mut read = false;
@@ -190,7 +201,7 @@ impl Esc {
         let mut written = false;
         if op != Operation::Read {
             for (fmmu, overlap) in mapped.iter().filter(|(f, _)| f.write) {
-                written |= self.map_write(fmmu, overlap.clone(), offset, &arrived);
+                written |= self.map_write(fmmu, overlap.clone(), arrived_at, &arrived);
             }
         }
         let write_weight = if op == Operation::ReadWrite { 2 } else { 1 };
@@ -198,17 +209,15 @@ impl Esc {
     }
 
     /// The FMMU entities.
-    fn fmmus(&self) -> Vec<Fmmu> {
-        (0..usize::from(self.config.fmmus))
-            .map(|n| {
-                let mut bytes = [0; Fmmu::SIZE];
-                self.memory.read(
-                    usize::from(register::FMMU_BASE) + n * Fmmu::SIZE,
-                    &mut bytes,
-                );
-                Fmmu::from_bytes(&bytes)
-            })
-            .collect()
+    fn fmmus(&self) -> impl Iterator<Item = Fmmu> + '_ {
+        (0..usize::from(self.config.fmmus)).map(|n| {
+            let mut bytes = [0; Fmmu::SIZE];
+            self.memory.read(
+                usize::from(register::FMMU_BASE) + n * Fmmu::SIZE,
+                &mut bytes,
+            );
+            Fmmu::from_bytes(&bytes)
+        })
     }
 
     /// Copies the logical bits `bits` (absolute; the datagram's data starts at bit `offset`)
@@ -223,6 +232,12 @@ impl Esc {
         let (physical, mut buf) = self.physical_bytes(fmmu, &bits);
         if !self.ecat_read(physical, &mut buf) {
             return false;
+        }
+        if let Some(bytes) = whole_bytes(fmmu, &bits, offset) {
+            if let Some(data) = data.get_mut(bytes) {
+                data.copy_from_slice(buf.get(..data.len()).unwrap_or_default());
+            }
+            return true;
         }
         let base = u64::from(physical) * 8;
         for bit in bits {
@@ -247,10 +262,15 @@ impl Esc {
         if !fmmu.byte_aligned() && !self.ecat_read(physical, &mut buf) {
             return false;
         }
-        let base = u64::from(physical) * 8;
-        for bit in bits {
-            let value = get_bit(data, bit - offset);
-            set_bit(&mut buf, fmmu.physical_bit(bit) - base, value);
+        match whole_bytes(fmmu, &bits, offset).and_then(|bytes| data.get(bytes)) {
+            Some(bytes) if bytes.len() == buf.len() => buf.copy_from_slice(bytes),
+            _ => {
+                let base = u64::from(physical) * 8;
+                for bit in bits {
+                    let value = get_bit(data, bit - offset);
+                    set_bit(&mut buf, fmmu.physical_bit(bit) - base, value);
+                }
+            }
         }
         self.ecat_write(physical, &buf)
     }
@@ -264,6 +284,16 @@ impl Esc {
         let len = usize::try_from(last + 1).unwrap_or(usize::MAX) - usize::from(first);
         (first, vec![0; len.min(0x1_0000)])
     }
+}
+
+/// The bytes of the data (which starts at logical bit `offset`) that hold the logical bits
+/// `bits` of a byte-aligned `fmmu`, when they are whole bytes of it: they move as they are,
+/// without the bit-by-bit copy (same result).
+fn whole_bytes(fmmu: &Fmmu, bits: &core::ops::Range<u64>, offset: u64) -> Option<Range<usize>> {
+    let aligned = fmmu.byte_aligned() && bits.start.is_multiple_of(8) && bits.end.is_multiple_of(8);
+    let start = usize::try_from((bits.start.checked_sub(offset)?) / 8).ok()?;
+    let end = usize::try_from((bits.end.checked_sub(offset)?) / 8).ok()?;
+    (aligned && offset.is_multiple_of(8)).then_some(start..end)
 }
 
 /// Bit `bit` of `bytes` (LSB first); 0 beyond them.

@@ -19,6 +19,8 @@ mod sync_manager;
 #[cfg(test)]
 mod tests;
 
+use core::cell::{Ref, RefCell};
+
 use ecat_core::chip::{Chip, ConfigArea};
 use ecat_core::{AlEvent, register};
 
@@ -148,6 +150,10 @@ pub struct Esc {
     local_time_ns: u64,
     /// SYNC0 in acknowledge mode (pulse length 0) is active until the PDI reads 0x098E.
     sync0_active: bool,
+    /// The area map as the SyncManager registers defined it at a [`Memory::channels_version`]:
+    /// rebuilt only when they changed, not on every access.
+    /// `None`: not built yet.
+    areas: RefCell<(Option<u64>, AreaMap)>,
 }
 
 impl Esc {
@@ -168,6 +174,7 @@ impl Esc {
             previous_sii_status: 0,
             local_time_ns: 0,
             sync0_active: false,
+            areas: RefCell::new((None, AreaMap::default())),
         };
         if let Some(area) = config.eeprom {
             esc.load_eeprom(area.bytes().to_vec());
@@ -221,11 +228,12 @@ impl Esc {
         if self.watchdog_event {
             event |= AlEvent::WATCHDOG_PROCESS_DATA;
         }
+        let areas = self.area_map();
         for (n, state) in (0..self.config.sync_managers).zip(&self.channels) {
             if state.changed {
                 event |= AlEvent::SM_CHANGE;
             }
-            let buffer = Buffer::effective(self.memory.channel(n));
+            let buffer = areas.buffer(n);
             if buffer.is_some_and(|buffer| state.pdi_event(&buffer)) {
                 event |= AlEvent::sync_manager(n);
             }
@@ -303,7 +311,17 @@ impl Esc {
     }
 
     /// The areas as the SyncManager registers define them now.
-    fn area_map(&self) -> AreaMap {
+    fn area_map(&self) -> Ref<'_, AreaMap> {
+        let version = self.memory.channels_version();
+        if self.areas.borrow().0 != Some(version) {
+            let map = self.build_area_map();
+            *self.areas.borrow_mut() = (Some(version), map);
+        }
+        Ref::map(self.areas.borrow(), |(_, map)| map)
+    }
+
+    /// The areas as the SyncManager registers define them, computed afresh.
+    fn build_area_map(&self) -> AreaMap {
         let mut buffers = [None; MAX_CHANNELS];
         let mut locked = [const { None }; MAX_CHANNELS];
         for ((buffer, lock), n) in buffers

@@ -103,6 +103,11 @@ impl Buffer {
             .is_some_and(|offset| offset < self.length)
     }
 
+    /// The first byte of the area.
+    pub(super) fn start(&self) -> usize {
+        self.start
+    }
+
     /// Bytes in one buffer.
     pub(super) fn length(&self) -> usize {
         self.length
