@@ -97,13 +97,21 @@ pub const DEFAULT_CHUNK: u16 = 32;
 /// Locks the application with its dictionary: the one place the runners and the [`Control`]s
 /// borrow them (one borrow check and one panic location for all; the lock makes the borrow
 /// always free).
-pub(crate) struct AppCell<A, D>(BlockingMutex<CriticalSectionRawMutex, RefCell<(A, D)>>);
+pub(crate) struct AppCell<A, D>(BlockingMutex<CriticalSectionRawMutex, RefCell<Parts<A, D>>>);
+
+/// The application and its dictionary, the dictionary first.
+// `repr(C)`: docs/performance.md, "Codegen rules".
+#[repr(C)]
+struct Parts<A, D> {
+    od: D,
+    app: A,
+}
 
 impl<A, D> AppCell<A, D> {
     /// Runs `f` on the application and the dictionary, locked.
     pub(crate) fn lock<R>(&self, f: impl FnOnce(&mut A, &mut D) -> R) -> R {
         self.0.lock(|cell| {
-            let (app, od) = &mut *cell.borrow_mut();
+            let Parts { od, app } = &mut *cell.borrow_mut();
             f(app, od)
         })
     }
@@ -135,7 +143,7 @@ where
         Self {
             config: &config.device,
             esc: SharedEsc::with_chunk(pdi, DEFAULT_CHUNK),
-            app: AppCell(BlockingMutex::new(RefCell::new((app, od)))),
+            app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
             outputs: [0; OUT],
             inputs: [0; IN],
         }
