@@ -1,14 +1,19 @@
-//! The entry point of `ecat-embassy`: what `Config` checks and takes from the PDI driver, and
-//! both runners in one task (`StateMachineRunner::run_with`, what `Resources::run` does).
+//! The entry point of `ecat-embassy`: what `Config` checks and takes from the PDI driver, both
+//! runners in one task (`StateMachineRunner::run_with`, what `Resources::run` does), and the safe
+//! state when the process-data runner stops.
 
 mod common;
 
+use std::cell::Cell;
+use std::rc::Rc;
+
 use common::walk_to;
 use ecat_core::device::Area;
-use ecat_core::{AlState, DeviceConfig};
-use ecat_embassy::Config;
+use ecat_core::{AlEvent, AlState, DeviceConfig};
+use ecat_embassy::pdi::Data;
 use ecat_embassy::spi::beckhoff::BeckhoffSpi;
 use ecat_embassy::spi::lan9252::Lan9252;
+use ecat_embassy::{Application, Config, Pdi};
 use ecat_emu::emulator::EmulatedPdi;
 use ecat_emu::harness::{self, AcceptAll, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL};
@@ -93,5 +98,61 @@ fn one_task_runs_the_state_machine_and_the_exchange() {
         assert!(master.write(0x1100, &outputs));
         master.settle().await;
         assert_eq!(master.read(0x1180, 11), Some(outputs[..11].to_vec()));
+    });
+}
+
+/// The PDI of the emulated ESC until `fail` is set; then every access fails.
+struct Failing {
+    inner: EmulatedPdi,
+    fail: Rc<Cell<bool>>,
+}
+
+impl Pdi for Failing {
+    type Error = ();
+
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, ()> {
+        if self.fail.get() {
+            return Err(());
+        }
+        Ok(self
+            .inner
+            .access(address, data)
+            .await
+            .unwrap_or(AlEvent::NONE))
+    }
+}
+
+/// Outputs whose safe state is a panic: the test sees whether the runner asked for it.
+struct Outputs;
+
+impl Application for Outputs {
+    fn safe_state(&mut self, _: &mut ()) {
+        panic!("safe state of the outputs");
+    }
+}
+
+#[test]
+#[should_panic(expected = "safe state of the outputs")]
+fn the_process_data_runner_puts_the_outputs_in_their_safe_state_when_it_stops_in_op() {
+    let fail = Rc::new(Cell::new(false));
+    let device = Device::new(common::drive(), AcceptAll, Outputs);
+    let make_pdi = {
+        let fail = fail.clone();
+        move |emu: &ecat_emu::emulator::Emulator| Failing {
+            inner: emu.pdi(),
+            fail,
+        }
+    };
+    harness::run_with_pdi(device, make_pdi, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        master.configure_sm(2, 0x1100, 12, SM2_CONTROL, true);
+        master.configure_sm(3, 0x1180, 11, SM3_CONTROL, true);
+        assert_eq!(master.request(0x04).await, (0x04, 0));
+        assert!(master.write(0x1100, &[0; 12]));
+        master.settle().await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        fail.set(true);
+        assert!(master.write(0x1100, &[1; 12]));
+        master.settle().await;
     });
 }
