@@ -68,7 +68,7 @@ enum Driver {
 struct Case {
     driver: Driver,
     mailbox: u16,
-    /// `SharedEsc::with_chunk` (0: whole accesses, as before issue #21).
+    /// `Resources::with_chunk` (0: whole accesses, as before issue #21).
     chunk: u16,
     scheduler: Scheduler,
 }
