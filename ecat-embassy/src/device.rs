@@ -121,7 +121,6 @@ impl<A, D> AppCell<A, D> {
 /// the routing of its AL events, the application `A` with its dictionary `D`, the device's
 /// description and the process-data buffers (`OUT`, `IN` bytes; `MBX`: the mailbox buffers of
 /// the state-machine runner, see [`Config`]).
-///
 pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usize = 128> {
     config: &'static DeviceConfig,
     esc: SharedEsc<P>,

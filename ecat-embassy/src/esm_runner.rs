@@ -6,6 +6,7 @@ use core::pin::pin;
 use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::{Access, AlEvent, AlStatusCode, DeviceConfig, Event, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
+use embedded_hal_async::digital::Wait;
 
 use crate::device::AppCell;
 use crate::or_never::OrNever;
@@ -14,7 +15,6 @@ use crate::pdi::Data;
 use crate::shared::{Indication, Reports, Runner, SharedEsc};
 use crate::time::{now, until};
 use crate::{Application, Pdi};
-use embedded_hal_async::digital::Wait;
 
 /// Runs the state machine and the mailbox of the SubDevice: made by
 /// [`Resources::split`](crate::Resources::split), for the thread executor.
