@@ -85,9 +85,9 @@ impl<D: ObjectDictionary> Layout<D> {
             Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
             Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
         };
-        let Some(assignment) = D::object(direction.assignment()) else {
+        if D::object(direction.assignment()).is_none() {
             return Ok(None);
-        };
+        }
         let mut layout = Self {
             offsets: D::UNMAPPED,
             bits: 0,
@@ -95,15 +95,12 @@ impl<D: ObjectDictionary> Layout<D> {
             repeats: D::NO_REPEATS,
             repeat_count: 0,
         };
-        for pdo in 1..=count(od, assignment) {
-            let index = read_u16(od, assignment, pdo).ok_or(invalid)?;
-            let mapping = D::object(index)
-                .filter(|_| direction.is_mapping(index))
-                .ok_or(invalid)?;
-            for sub in 1..=count(od, mapping) {
-                let entry = MappingEntry(read_u32(od, mapping, sub).ok_or(invalid)?);
-                layout.push(entry, direction).ok_or(invalid)?;
-            }
+        let mut valid = true;
+        walk(od, direction, None, &mut |entry| {
+            valid &= entry.and_then(|e| layout.push(e, direction)).is_some();
+        });
+        if !valid {
+            return Err(invalid);
         }
         layout.gaps |= !layout.bits.is_multiple_of(8);
         Ok(Some(layout))
@@ -277,6 +274,59 @@ const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usiz
     Err(n)
 }
 
+/// A PDO configuration object's value that a walk ([`walk`]) takes instead of the
+/// dictionary's: SI0 of object `index` about to become `count`, its entry n `entry(n)` (the
+/// checks of a download before it stores, [`check_length`](super::check_length)).
+pub(crate) struct Pending<'a> {
+    /// The mapping or assignment object.
+    pub index: u16,
+    /// Its new SI0.
+    pub count: u8,
+    /// Its entries, by subindex.
+    pub entry: &'a dyn Fn(u8) -> Option<u32>,
+}
+
+/// Walks the image `direction` describes: the PDOs the assignment object names, in order, and
+/// the entries each maps, in order, with `pending` in place of the dictionary's value of its
+/// object. `visit` sees each mapping entry; `None` where the configuration is broken: an
+/// assignment entry that cannot be read, a PDO that does not exist or is of the other
+/// direction, a mapping entry that cannot be read. The one walk behind [`Layout::of`],
+/// [`is_mapped`] and the length check of a PDO configuration write: out of line, one copy per
+/// dictionary.
+#[inline(never)]
+pub(crate) fn walk<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    pending: Option<&Pending<'_>>,
+    visit: &mut dyn FnMut(Option<MappingEntry>),
+) {
+    let Some(assignment) = D::object(direction.assignment()) else {
+        return;
+    };
+    let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
+    let assigned = pending_of(assignment);
+    let pdos = assigned.map_or_else(|| count(od, assignment), |p| p.count);
+    for pdo in 1..=pdos {
+        let index = match assigned {
+            Some(p) => (p.entry)(pdo).and_then(|v| u16::try_from(v).ok()),
+            None => read_u16(od, assignment, pdo),
+        };
+        let Some(mapping) = index.filter(|i| direction.is_mapping(*i)).and_then(D::object) else {
+            visit(None);
+            continue;
+        };
+        let changed = pending_of(mapping);
+        let entries = changed.map_or_else(|| count(od, mapping), |p| p.count);
+        for sub in 1..=entries {
+            let value = match changed {
+                Some(p) => (p.entry)(sub),
+                None => read_u32(od, mapping, sub),
+            };
+            visit(value.map(MappingEntry));
+        }
+    }
+}
+
 /// Whether `index:sub` is mapped in a PDO assigned for `direction`: a walk of the assignment
 /// object and the mapping objects it names, without a layout. Where a layout exists (a valid
 /// configuration, as in SAFEOP and OP) it answers as [`Layout::offset`] does.
@@ -286,21 +336,11 @@ pub(crate) fn is_mapped<D: ObjectDictionary>(
     index: u16,
     sub: u8,
 ) -> bool {
-    let Some(assignment) = D::object(direction.assignment()) else {
-        return false;
-    };
-    (1..=count(od, assignment)).any(|pdo| {
-        read_u16(od, assignment, pdo)
-            .and_then(D::object)
-            .is_some_and(|mapping| {
-                (1..=count(od, mapping)).any(|n| {
-                    read_u32(od, mapping, n).is_some_and(|raw| {
-                        let entry = MappingEntry(raw);
-                        entry.index() == index && entry.sub() == sub
-                    })
-                })
-            })
-    })
+    let mut mapped = false;
+    walk(od, direction, None, &mut |entry| {
+        mapped |= entry.is_some_and(|e| e.index() == index && e.sub() == sub);
+    });
+    mapped
 }
 
 pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {

@@ -364,7 +364,7 @@ pub fn check_length<D: ObjectDictionary>(
     room: u32,
     index: u16,
     count: u8,
-    entry: impl Fn(u8) -> Option<u32>,
+    entry: &dyn Fn(u8) -> Option<u32>,
 ) -> Result<(), AbortCode> {
     let direction = match (
         Direction::of_mapping(index),
@@ -373,29 +373,15 @@ pub fn check_length<D: ObjectDictionary>(
         (Some(d), _) | (_, Some(d)) => d,
         _ => return Ok(()),
     };
-    let Some(assignment) = D::object(direction.assignment()) else {
-        return Ok(());
+    let pending = layout::Pending {
+        index,
+        count,
+        entry,
     };
-    let changed = |object: u16| (object == index).then_some(count);
-    let pdos = changed(assignment.info.index).unwrap_or_else(|| layout::count(od, assignment));
     let mut bits = 0u32;
-    for p in 1..=pdos {
-        let pdo = match changed(assignment.info.index) {
-            Some(_) => entry(p).and_then(|v| u16::try_from(v).ok()),
-            None => layout::read_u16(od, assignment, p),
-        };
-        let Some(mapping) = pdo.filter(|i| direction.is_mapping(*i)).and_then(D::object) else {
-            continue;
-        };
-        let entries = changed(mapping.info.index).unwrap_or_else(|| layout::count(od, mapping));
-        for sub in 1..=entries {
-            let value = match changed(mapping.info.index) {
-                Some(_) => entry(sub),
-                None => layout::read_u32(od, mapping, sub),
-            };
-            bits += value.map_or(0, |v| u32::from(MappingEntry(v).bit_len()));
-        }
-    }
+    layout::walk(od, direction, Some(&pending), &mut |e| {
+        bits += e.map_or(0, |e| u32::from(e.bit_len()));
+    });
     let bytes = bits.div_ceil(8);
     if bits > u32::from(u16::MAX) || bytes.saturating_mul(3) > room {
         return Err(AbortCode::PDO_TOO_LONG);

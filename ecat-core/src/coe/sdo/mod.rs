@@ -663,7 +663,7 @@ fn check_pdo_length<D: ObjectDictionary, H>(
         Some(_) => pdo::layout::read_u16(od, object, sub).map(u32::from),
         None => pdo::layout::read_u32(od, object, sub),
     };
-    pdo::check_length(od, process_ram(cx.device), index, n, entry)
+    pdo::check_length(od, process_ram(cx.device), index, n, &entry)
 }
 
 /// A complete-access download (ETG.1000.6 §5.6.2.1.2). With a writable SI0 (PDO configuration
@@ -747,7 +747,7 @@ fn check_configuration<D: ObjectDictionary>(
         crate::bytes::copy(&mut bytes, value.get(..len)?);
         Some(u32::from_le_bytes(bytes))
     };
-    pdo::check_length(od, process_ram, object.info.index, n, entry)
+    pdo::check_length(od, process_ram, object.info.index, n, &entry)
 }
 
 /// A complete-access image of `len` bytes from `from` must be the whole object, or, when the
