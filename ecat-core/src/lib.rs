@@ -47,6 +47,7 @@
     )
 )]
 
+pub mod abort;
 pub mod al;
 mod bytes;
 pub mod chip;

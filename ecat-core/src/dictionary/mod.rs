@@ -91,7 +91,7 @@ pub use object::{
 };
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::pdo::layout::Repeat;
 
 /// A dictionary: the `const` table of its objects. Implemented by [`dictionary!`](crate::dictionary!).

@@ -18,7 +18,7 @@
 pub mod image;
 pub mod layout;
 
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{Access, ObjectDictionary};
 

@@ -7,7 +7,7 @@
 //! entries, a gap nothing. Variable-length entries (strings, domains) make
 //! an object unfit for complete access (0x06010004).
 
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo};
 
 /// One entry's place in the complete-access image.
