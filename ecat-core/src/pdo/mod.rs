@@ -19,7 +19,7 @@ pub mod image;
 pub mod layout;
 
 use crate::abort::AbortCode;
-use crate::device::DeviceConfig;
+use crate::device::{DeviceConfig, MailboxConfig};
 use crate::dictionary::{Access, ObjectDictionary};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
@@ -335,14 +335,10 @@ pub fn check_counted_write(
 /// 8-aligned byte after the mailboxes (where the SII places SM2, `sii::sync_managers`) to
 /// [`DeviceConfig::process_ram_end`].
 pub fn process_ram(config: &DeviceConfig) -> u32 {
-    let mailboxes = [Some(&config.mailbox), config.bootstrap_mailbox.as_ref()];
-    let end = mailboxes
-        .into_iter()
-        .flatten()
-        .map(|m| m.receive.end().max(m.send.end()))
-        .max()
-        .unwrap_or(0);
-    config.process_ram_end.saturating_sub(end.div_ceil(8) * 8)
+    let end = |m: &MailboxConfig| m.receive.end().max(m.send.end());
+    let bootstrap = config.bootstrap_mailbox.as_ref().map_or(0, end);
+    let last = end(&config.mailbox).max(bootstrap);
+    config.process_ram_end.saturating_sub(last.div_ceil(8) * 8)
 }
 
 /// The 0x06040042 check of a PDO configuration write (ETG.1000.6 Table 41 "the number and

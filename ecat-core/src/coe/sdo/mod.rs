@@ -524,10 +524,11 @@ fn check_complete<D>(
 /// The entries `target` reads or writes, with their subindices: a complete access's from its
 /// subindex on (SI0 aside: it carries the count), a single access's one.
 fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8, &EntryInfo)> {
-    let single = object.info.entry(target.sub).map(|e| (target.sub, e));
-    complete_access::entries(&object.info, target.sub)
-        .filter(move |(s, _)| *s > 0 && target.complete)
-        .chain(single.filter(|_| !target.complete))
+    let (first, last) = match target.complete {
+        true => (target.sub.max(1), object.info.max_sub),
+        false => (target.sub, target.sub),
+    };
+    (first..=last).filter_map(|s| Some((s, object.info.entry(s)?)))
 }
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
