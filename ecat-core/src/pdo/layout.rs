@@ -11,7 +11,7 @@
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{Object, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{EntryInfo, Object, ObjectDictionary, ObjectInfo};
 
 /// The offset of an entry the configuration does not map.
 pub const UNMAPPED: u16 = u16::MAX;
@@ -113,9 +113,10 @@ impl<D: ObjectDictionary> Layout<D> {
             self.gaps = true;
             return Some(());
         }
-        let info = D::object(entry.index())?.info.entry(entry.sub())?;
-        let mappable = direction.allows(info.access) && info.bit_len == entry.bit_len().into();
-        let number = number::<D>(entry.index(), entry.sub()).filter(|_| mappable)?;
+        let (info, number) = find::<D>(entry.index(), entry.sub())?;
+        if !direction.allows(info.access) || info.bit_len != entry.bit_len().into() {
+            return None;
+        }
         let offset = self.offsets.as_mut().get_mut(number)?;
         let first = core::mem::replace(offset, stored(at));
         if direction == Direction::Tx && first != UNMAPPED {
@@ -153,7 +154,7 @@ impl<D: ObjectDictionary> Layout<D> {
     /// The bit offset of `index:sub` in the image, `None` if the layout does not map it (for a
     /// TxPDO entry mapped more than once: its first place).
     pub fn offset(&self, index: u16, sub: u8) -> Option<u16> {
-        let number = number::<D>(index, sub)?;
+        let (_, number) = find::<D>(index, sub)?;
         self.offsets
             .as_ref()
             .get(number)
@@ -219,6 +220,17 @@ pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
         }
     }
     None
+}
+
+/// The description of the PDO-mappable entry `index:sub` and its [number](number): one
+/// search at run time, where [`number`] serves the `const` code of `dictionary!`.
+fn find<D: ObjectDictionary>(index: u16, sub: u8) -> Option<(&'static EntryInfo, usize)> {
+    let i = D::OBJECTS
+        .binary_search_by_key(&index, |o| o.info.index)
+        .ok()?;
+    let info = &D::OBJECTS.get(i)?.info;
+    let number = D::FIRST_ENTRIES.get(i)? + position_in(info, sub)?;
+    Some((info.entry(sub)?, number))
 }
 
 /// The number of each object's first mappable entry (the count of mappable entries before it):
