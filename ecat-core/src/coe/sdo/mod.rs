@@ -18,8 +18,10 @@
 
 mod command;
 pub mod complete_access;
+mod frame;
 
 use command::{Request, response};
+use frame::Frame;
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
@@ -132,13 +134,12 @@ impl<const N: usize> SdoServer<N> {
         request: &[u8],
         out: &mut [u8],
     ) -> usize {
-        // The mailbox hands over at least the 8 bytes of an SDO header; anything shorter is no
-        // request a server knows.
-        let &[command, i0, i1, sub, ..] = request else {
-            return abort(out, 0, 0, AbortCode::COMMAND_SPECIFIER);
+        let frame = match Frame::new_checked(request) {
+            Ok(frame) => frame,
+            Err(code) => return abort(out, 0, 0, code),
         };
-        let index = u16::from_le_bytes([i0, i1]);
-        let result = match Request::from_byte(command) {
+        let (index, sub) = (frame.index(), frame.sub());
+        let result = match Request::from_byte(frame.command()) {
             Request::Upload { complete } => self.upload(cx, Target::new(index, sub, complete), out),
             Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
             Request::Download {
@@ -151,7 +152,7 @@ impl<const N: usize> SdoServer<N> {
                 self.download(
                     cx,
                     target,
-                    request,
+                    &frame,
                     (expedited, size_indicated, unused),
                     out,
                 )
@@ -160,7 +161,7 @@ impl<const N: usize> SdoServer<N> {
                 toggle,
                 unused,
                 last,
-            } => self.download_segment(cx, toggle, segment_data(request, unused), last, out),
+            } => self.download_segment(cx, toggle, segment_data(&frame, unused), last, out),
             Request::Abort => {
                 self.transfer = None;
                 return 0;
@@ -284,7 +285,7 @@ impl<const N: usize> SdoServer<N> {
         &mut self,
         cx: &mut Context<'_, D, H>,
         target: Target,
-        request: &[u8],
+        frame: &Frame<&[u8]>,
         (expedited, size_indicated, unused): (bool, bool, u8),
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
@@ -298,16 +299,10 @@ impl<const N: usize> SdoServer<N> {
             } else {
                 expedited_size(object, target)
             };
-            request.get(4..4 + size).ok_or(AbortCode::LENGTH_MISMATCH)?
+            frame.expedited(size).ok_or(AbortCode::LENGTH_MISMATCH)?
         } else {
-            let size = u32::from_le_bytes([
-                byte(request, 4),
-                byte(request, 5),
-                byte(request, 6),
-                byte(request, 7),
-            ]);
-            let size = usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
-            let here = request.get(SDO_HEADER..).unwrap_or_default();
+            let size = usize::try_from(frame.size()).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+            let here = frame.payload();
             let here = here.get(..size).unwrap_or(here);
             if here.len() < size {
                 return self.begin_segmented_download(cx, object, target, size, here, out);
@@ -798,8 +793,8 @@ fn expedited_size<D>(object: &Object<D>, target: Target) -> usize {
 
 /// The data of a download segment: what the mailbox carries after the command, or 7 − unused
 /// bytes of a minimum-size segment.
-fn segment_data(request: &[u8], unused: u8) -> &[u8] {
-    let data = request.get(SEGMENT_HEADER..).unwrap_or_default();
+fn segment_data<'a>(frame: &'a Frame<&[u8]>, unused: u8) -> &'a [u8] {
+    let data = frame.segment();
     if data.len() == MIN_SEGMENT_DATA {
         data.get(..MIN_SEGMENT_DATA - usize::from(unused))
             .unwrap_or_default()
@@ -874,9 +869,6 @@ fn body_of(out: &mut [u8]) -> &mut [u8] {
     out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
 }
 
-fn byte(bytes: &[u8], i: usize) -> u8 {
-    bytes.get(i).copied().unwrap_or(0)
-}
 
 #[cfg(test)]
 mod tests {
