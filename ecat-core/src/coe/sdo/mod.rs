@@ -706,9 +706,8 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         }
         None => {}
     }
-    for (sub, _) in
-        complete_access::entries(&object.info, from).filter(|(s, _)| (1..=last).contains(s))
-    {
+    // A gap of a sparse RECORD has no value in the image.
+    for sub in (from.max(1)..=last).filter(|s| object.info.entry(*s).is_some()) {
         let (value, len) = value_of(sub)?;
         store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
     }
