@@ -241,7 +241,7 @@ macro_rules! __ecat_impl {
                 "only numeric and bit types may be PDO-mappable"
             );
             assert!(
-                $crate::dictionary::pdo_configuration_preop_only(objects),
+                $crate::pdo::configuration_preop_only(objects),
                 "PDO mapping and assignment objects may be writable in PREOP only"
             );
             $crate::__ecat_mandatory!($mode, objects);
@@ -459,7 +459,7 @@ macro_rules! __ecat_object {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
-                code: $crate::dictionary::pdo_object_code($index),
+                code: $crate::pdo::object_code($index),
                 name: $name,
                 max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field.items),
                 entries: &[

@@ -20,7 +20,7 @@ pub mod layout;
 
 use crate::abort::AbortCode;
 use crate::device::{DeviceConfig, MailboxConfig};
-use crate::dictionary::{Access, ObjectDictionary};
+use crate::dictionary::{Access, Object, ObjectCode, ObjectDictionary};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -182,6 +182,43 @@ impl Direction {
             Self::Tx => access.txpdo(),
         }
     }
+}
+
+/// The object code of the `pdo` kind at `index`: RECORD for a PDO mapping object (its data
+/// type is 0x0021, [`ObjectInfo::data_type`](crate::dictionary::ObjectInfo::data_type)), ARRAY of UNSIGNED16 for an assignment object
+/// (ETG.1000.6 §5.6.7.4, as SSC's object descriptions and ESI files give them).
+#[doc(hidden)]
+pub const fn object_code(index: u16) -> ObjectCode {
+    match Direction::of_mapping(index) {
+        Some(_) => ObjectCode::Record,
+        None => ObjectCode::Array,
+    }
+}
+
+/// `const` check that the PDO configuration objects (mappings 0x1600..0x17FF and
+/// 0x1A00..0x1BFF, assignments 0x1C12/0x1C13) are written in PREOP only: none of their entries
+/// is writable in SAFEOP or OP, where the process data runs on them (ETG.1000.6 §5.6.7,
+/// conformance.md "CoE SDO").
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn configuration_preop_only<D>(objects: &[Object<D>]) -> bool {
+    use crate::AlState;
+    let mut i = 0;
+    while i < objects.len() {
+        let index = objects[i].info.index;
+        let configures =
+            Direction::of_mapping(index).is_some() || Direction::of_assignment(index).is_some();
+        let entries = objects[i].info.entries;
+        let mut j = 0;
+        while configures && j < entries.len() {
+            let access = entries[j].access;
+            if access.writable_in(AlState::SafeOp) || access.writable_in(AlState::Op) {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
 }
 
 /// Checks a mapping entry written into mapping object `mapping` (ETG.1000.6 PDO rules).
