@@ -114,20 +114,18 @@ impl ObjectInfo {
 
     /// The description of subindex `sub`, `None` if it does not exist.
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
-        match self.code {
-            ObjectCode::Var => self.entries.first().filter(|_| sub == 0),
-            ObjectCode::Array if sub == 0 => self.entries.first(),
-            ObjectCode::Array if sub <= self.max_sub => self.entries.get(1),
-            ObjectCode::Array => None,
-            // Most records are dense (subindex n at position n): a look there saves the search.
-            ObjectCode::Record => match self.entries.get(usize::from(sub)) {
-                Some(entry) if entry.sub == sub => Some(entry),
-                _ if self.is_uniform() => self.entries.get(1).filter(|_| sub <= self.max_sub),
-                _ => {
-                    let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
-                    self.entries.get(i)
-                }
-            },
+        if sub > self.max_sub {
+            return None;
+        }
+        match self.entries.get(usize::from(sub)) {
+            // SI0, and most records are dense (subindex n at position n): a look there saves
+            // the search.
+            Some(entry) if entry.sub == sub => Some(entry),
+            _ if self.is_uniform() => self.entries.get(1),
+            _ => {
+                let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
+                self.entries.get(i)
+            }
         }
     }
 
