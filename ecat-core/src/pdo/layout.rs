@@ -229,8 +229,11 @@ fn find<D: ObjectDictionary>(index: u16, sub: u8) -> Option<(&'static EntryInfo,
         .binary_search_by_key(&index, |o| o.info.index)
         .ok()?;
     let info = &D::OBJECTS.get(i)?.info;
-    let number = D::FIRST_ENTRIES.get(i)? + position_in(info, sub)?;
-    Some((info.entry(sub)?, number))
+    let first = *D::FIRST_ENTRIES.get(i)?;
+    match mappable_position(info, Some(sub)) {
+        Ok((position, entry)) => Some((entry, first + position)),
+        Err(_) => None,
+    }
 }
 
 /// The number of each object's first mappable entry (the count of mappable entries before it):
@@ -251,21 +254,25 @@ pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [usize; 
 /// How many mappable entries `info` has.
 const fn mappable_in(info: &ObjectInfo) -> usize {
     match mappable_position(info, None) {
-        Ok(n) | Err(n) => n,
+        Ok((n, _)) | Err(n) => n,
     }
 }
 
 /// The position of `sub` among the mappable entries of `info`, `None` if it is not one.
 const fn position_in(info: &ObjectInfo, sub: u8) -> Option<usize> {
     match mappable_position(info, Some(sub)) {
-        Ok(position) => Some(position),
+        Ok((position, _)) => Some(position),
         Err(_) => None,
     }
 }
 
-/// `Ok(position)` of `wanted` among the mappable entries of `info`, or `Err(count of them)`.
+/// `Ok((position, its description))` of `wanted` among the mappable entries of `info`, or
+/// `Err(count of them)`.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition
-const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usize, usize> {
+const fn mappable_position(
+    info: &ObjectInfo,
+    wanted: Option<u8>,
+) -> Result<(usize, &EntryInfo), usize> {
     let mut n = 0;
     let mut j = 0;
     while j < info.entries.len() {
@@ -277,7 +284,7 @@ const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usiz
                 && sub >= entry.sub
                 && sub - entry.sub < count
             {
-                return Ok(n + (sub - entry.sub) as usize);
+                return Ok((n + (sub - entry.sub) as usize, entry));
             }
             n += count as usize;
         }
