@@ -48,6 +48,7 @@
     )
 )]
 
+pub mod abort;
 pub mod al;
 mod bytes;
 pub mod chip;
