@@ -49,6 +49,7 @@
     )
 )]
 
+pub mod abort;
 pub mod al;
 mod bytes;
 pub mod chip;
