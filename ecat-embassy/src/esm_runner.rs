@@ -4,7 +4,9 @@
 use core::pin::pin;
 
 use ecat_core::dictionary::ObjectDictionary;
-use ecat_core::{RegisterAccess, AlEvent, AlStatusCode, DeviceConfig, Event, SubDevice, Transition};
+use ecat_core::{
+    AlEvent, AlStatusCode, DeviceConfig, Event, RegisterAccess, SubDevice, Transition,
+};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embedded_hal_async::digital::Wait;
 

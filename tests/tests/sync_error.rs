@@ -37,7 +37,8 @@ fn drop_one_in(n: u32, cycles: u32) -> (Option<u32>, u16, u16, u16, Vec<u8>) {
     let result = std::rc::Rc::new(std::cell::RefCell::new(None));
     let out = result.clone();
     let mut device = Device::new(common::drive(), App, Idle).with_dictionary(Drive::default());
-    device.config.sync_modes = SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
+    device.config.sync_modes =
+        SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
     harness::run(device, move |master: TestMaster| async move {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);

@@ -602,7 +602,8 @@ fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode()
 /// SII image is written for DC SYNC0: the ESC's SYNC out unit is on.
 fn input_only_dc(start_in: Duration, expected: (u16, u16)) {
     let mut sample = ecat_emu::devices::sensor();
-    sample.device.config.sync_modes = SupportedSyncModes(sample.device.config.sync_modes.0 | SupportedSyncModes::SYNC0);
+    sample.device.config.sync_modes =
+        SupportedSyncModes(sample.device.config.sync_modes.0 | SupportedSyncModes::SYNC0);
     sample.device.eeprom = sample.eeprom();
     harness::run(sample.device, move |master| async move {
         master.configure_mailbox(&ecat_core::device::MailboxConfig::contiguous(0x1000, 128));
