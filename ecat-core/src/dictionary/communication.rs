@@ -28,7 +28,7 @@ use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, 
 use crate::abort::AbortCode;
 use crate::device::Identity;
 use crate::sii;
-use crate::sync::SyncParameters;
+use crate::sync_parameters::SyncParameters;
 
 /// The description constants of the communication area, one `const` per device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
