@@ -330,7 +330,10 @@ pub(crate) fn walk<D: ObjectDictionary>(
             Some(p) => (p.entry)(pdo).and_then(|v| u16::try_from(v).ok()),
             None => read_u16(od, assignment, pdo),
         };
-        let Some(mapping) = index.filter(|i| direction.is_mapping(*i)).and_then(D::object) else {
+        let Some(mapping) = index
+            .filter(|i| direction.is_mapping(*i))
+            .and_then(D::object)
+        else {
             visit(None);
             continue;
         };

@@ -149,13 +149,7 @@ impl<const N: usize> SdoServer<N> {
                 complete,
             } => {
                 let target = Target::new(index, sub, complete);
-                self.download(
-                    cx,
-                    target,
-                    &frame,
-                    (expedited, size_indicated, unused),
-                    out,
-                )
+                self.download(cx, target, &frame, (expedited, size_indicated, unused), out)
             }
             Request::DownloadSegment {
                 toggle,
@@ -867,7 +861,6 @@ fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
 fn body_of(out: &mut [u8]) -> &mut [u8] {
     out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
 }
-
 
 #[cfg(test)]
 mod tests {
