@@ -127,6 +127,12 @@ pub trait ObjectDictionary: Sized + 'static {
     /// [`Mapped::pack`](crate::pdo::image::Mapped::pack) per field).
     fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]);
 
+    /// The diagnosis history (0x10F3) the stack logs its events into, when the dictionary
+    /// declares one (`dictionary!`'s `diagnosis` item).
+    fn diagnosis(&mut self) -> Option<crate::diagnosis::History<'_>> {
+        None
+    }
+
     /// The object at `index`, by binary search.
     fn object(index: u16) -> Option<&'static Object<Self>> {
         let i = Self::OBJECTS

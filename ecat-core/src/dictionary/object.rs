@@ -122,10 +122,12 @@ impl ObjectInfo {
             // the search.
             Some(entry) if entry.sub == sub => Some(entry),
             _ if self.is_uniform() => self.entries.get(1),
-            _ => {
-                let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
-                self.entries.get(i)
-            }
+            // A RECORD's entries beyond the last declared repeat it (0x10F3's messages).
+            _ => match self.entries.binary_search_by_key(&sub, |e| e.sub) {
+                Ok(i) => self.entries.get(i),
+                Err(i) if i == self.entries.len() => self.entries.last(),
+                Err(_) => None,
+            },
         }
     }
 
@@ -143,11 +145,20 @@ impl ObjectInfo {
     }
 
     /// The subindices that exist, in order: 0..=max_sub for VAR, ARRAY and a uniform RECORD,
-    /// the declared ones for another RECORD.
+    /// the declared ones for another RECORD, then those up to `max_sub` its last entry
+    /// describes.
     pub fn subindices(&self) -> impl Iterator<Item = u8> + '_ {
         let dense = self.is_uniform() || self.code != ObjectCode::Record;
         let declared = self.entries.iter().map(|e| e.sub).filter(move |_| !dense);
-        (0..=self.max_sub).filter(move |_| dense).chain(declared)
+        // The entries beyond the last declared, which repeat it.
+        let last = self.entries.last().map_or(0, |e| e.sub);
+        let tail = (last..=self.max_sub)
+            .skip(1)
+            .filter(move |_| !dense && last > 0);
+        (0..=self.max_sub)
+            .filter(move |_| dense)
+            .chain(declared)
+            .chain(tail)
     }
 }
 
