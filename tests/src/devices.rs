@@ -19,6 +19,7 @@ use ecat_core::sii::{self, Names};
 use ecat_embassy::Application;
 
 use crate::harness::{AcceptAll, Device};
+use ecat_core::diagnosis::DiagnosisHistory;
 
 /// A CiA402-like drive's process data: RxPDO 0x1600 = controlword, target position, target
 /// velocity, mode of operation (11 bytes); TxPDO 0x1A00 = statusword, actual position, actual
@@ -57,6 +58,8 @@ pub struct Drive {
     /// 0x2001: a CiA 301 error code a MainDevice writes to make the drive report it in an
     /// emergency ([`DriveApp`]), for testing a MainDevice's emergency handling.
     pub simulated_error: u16,
+    /// 0x10F3: the diagnosis history the stack logs its AL status codes into.
+    pub history: DiagnosisHistory<8>,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -78,6 +81,7 @@ pub const DRIVE_TX: [MappingEntry; 4] = [
 ecat_core::dictionary! {
     Drive {
         communication(area, DRIVE_INFO);
+        0x10F3 => diagnosis(history);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_RX));
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
