@@ -112,6 +112,14 @@ impl ObjectInfo {
         }
     }
 
+    /// Whether `sub` shares its description with other subindices: an entry of a uniform
+    /// object, or one of a RECORD's entries from its last declared on when `max_sub` is beyond
+    /// it (0x10F3's messages).
+    pub fn is_repeated(&self, sub: u8) -> bool {
+        let last = self.entries.last().map_or(0, |e| e.sub);
+        sub > 0 && (self.is_uniform() || (last < self.max_sub && sub >= last))
+    }
+
     /// The description of subindex `sub`, `None` if it does not exist.
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
         if sub > self.max_sub {

@@ -629,7 +629,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             for (((sub, entry), item), offset) in entries.iter().zip(&items).zip(&offsets) {
                 assert_eq!(number(text(*item, "SubIdx")), u64::from(*sub));
                 let name = match *sub {
-                    1.. if info.is_uniform() => format!("SubIndex {sub:03}"),
+                    _ if info.is_repeated(*sub) => format!("SubIndex {sub:03}"),
                     _ => entry.name.to_owned(),
                 };
                 assert_eq!(text(*item, "Name"), name);
@@ -661,7 +661,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
                 assert_eq!(text(*item, "Name"), si0.name);
             } else {
                 check_values::<D>(values, info.index, *sub);
-                let expected = match info.is_uniform() {
+                let expected = match info.is_repeated(*sub) {
                     true => format!("SubIndex {sub:03}"),
                     false => info.entry(*sub).unwrap().name.to_owned(),
                 };
