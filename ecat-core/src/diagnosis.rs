@@ -240,6 +240,19 @@ pub struct History<'a> {
     pub messages: &'a mut [Message],
 }
 
+impl History<'_> {
+    /// Stores `message` ([`Log::push`]). `None` when it was not stored; else `Some`, with the
+    /// emergency to raise when 0x10F3:05 bit 0 asks for one ([`Message::emergency`], error
+    /// register `register`).
+    pub fn log(&mut self, message: Message, register: u8) -> Option<Option<Emergency>> {
+        if !self.log.push(self.messages, message) {
+            return None;
+        }
+        let announce = self.log.flags.has(Flags::EMERGENCY);
+        Some(announce.then(|| message.emergency(register)))
+    }
+}
+
 impl Log {
     /// The flags (0x10F3:05).
     pub const fn flags(&self) -> Flags {
@@ -567,6 +580,24 @@ mod tests {
         assert_eq!(
             (read(&h, 2), read(&h, 5), read(&h, 6)),
             (vec![0], vec![0x10, 0], vec![])
+        );
+    }
+
+    #[test]
+    fn log_returns_the_emergency_flags_bit_0_asks_for() {
+        let mut h = DiagnosisHistory::<1>::new();
+        assert_eq!(h.history().log(msg(0x1A), 0x11), Some(None));
+        h.log.flags = Flags(Flags::EMERGENCY | Flags::ACKNOWLEDGE_MODE);
+        h.log.write(&h.messages, 3, &[0]).unwrap();
+        let e = h.history().log(msg(0x1B), 0x11).unwrap().unwrap();
+        assert_eq!(
+            e.to_bytes(),
+            [0x00, 0xFF, 0x11, 0x1B, 0x00, 0x12, 0x00, 0x00]
+        );
+        assert_eq!(
+            h.history().log(msg(0x1C), 0x11),
+            None,
+            "full, unacknowledged"
         );
     }
 

@@ -1,7 +1,7 @@
 //! Emergency messages (ETG.1000.6 §5.6.4, Table 54): CoE service 1 with 8 data bytes; the
 //! ones the stack raises for its own errors ([`Emergency::for_al_status_code`]).
 
-use crate::al::{AlState, AlStatusCode};
+use crate::al::{AlState, AlStatus, AlStatusCode};
 
 /// One emergency: CiA 301 error code, error register (0x1001), 5 manufacturer-specific bytes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -61,6 +61,19 @@ impl Emergency {
             code: error,
             register,
             data: [c[0], c[1], 0, 0, 0],
+        }
+    }
+}
+
+impl Emergency {
+    /// The error register (0x1001) of a SubDevice presenting `status` with `code`: 0 without
+    /// the error indication, else the register of the code's emergency
+    /// ([`Emergency::for_al_status_code`]).
+    pub const fn error_register(status: AlStatus, code: AlStatusCode) -> u8 {
+        if status.error {
+            Self::for_al_status_code(code, status.state).register
+        } else {
+            0
         }
     }
 }

@@ -4,7 +4,7 @@
 
 use super::{Logged, SubDevice};
 use crate::coe::Emergency;
-use crate::diagnosis::{Flags, Message};
+use crate::diagnosis::Message;
 use crate::dictionary::ObjectDictionary;
 use crate::time::{Duration, Instant};
 
@@ -17,25 +17,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// and 0x10F3:05 bit 0 is set, raises its emergency ([`Message::emergency`]). Returns
     /// whether it was stored.
     pub fn diagnose<D: ObjectDictionary>(&mut self, od: &mut D, message: Message) -> bool {
-        let Some(history) = od.diagnosis() else {
+        let register = self.error_register();
+        let Some(logged) = od.diagnosis().and_then(|mut h| h.log(message, register)) else {
             return false;
         };
-        let stored = history.log.push(history.messages, message);
-        if stored && history.log.flags().0 & Flags::EMERGENCY != 0 {
-            let register = self.error_register();
-            self.emergency(message.emergency(register));
+        if let Some(emergency) = logged {
+            self.emergency(emergency);
         }
-        stored
+        true
     }
 
-    /// The error register (0x1001) as the emergencies carry it: 0 without an error indicated,
-    /// else that of the AL status code's emergency ([`Emergency::for_al_status_code`]).
+    /// The error register (0x1001) as the emergencies carry it
+    /// ([`Emergency::error_register`]).
     pub fn error_register(&self) -> u8 {
-        if self.indication.error {
-            Emergency::for_al_status_code(self.code, self.state).register
-        } else {
-            0
-        }
+        Emergency::error_register(self.al_status(), self.code)
     }
 
     /// Logs the AL status codes set since the last call, stamped `now` (the stack sets them
