@@ -712,7 +712,7 @@ fn profile_and_pdo_flags_of_the_samples() {
         "0x1600 is RW_PREOP: not fixed"
     );
     assert!(axis.contains(
-        "<CoE SdoInfo=\"true\" PdoAssign=\"true\" PdoConfig=\"true\" CompleteAccess=\"true\"/>"
+        "<CoE SdoInfo=\"true\" PdoAssign=\"true\" PdoConfig=\"true\" CompleteAccess=\"true\" DiagHistory=\"true\"/>"
     ));
     let sensor = xml("sensor");
     assert!(
