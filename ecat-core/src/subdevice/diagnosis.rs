@@ -38,6 +38,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`LOGGED`](super::LOGGED), for the next mailbox service): each raises its emergency
     /// ([`Emergency::for_al_status_code`]) unless the same code raised one less than
     /// [`EMERGENCY_PERIOD`] before, then goes into the diagnosis history.
+    #[inline(never)] // rare: off the mailbox service's path
     pub(super) fn log_diagnosis<D: ObjectDictionary>(&mut self, now: Instant, od: &mut D) {
         while let Some(Logged { code, state }) = self.logged.pop() {
             let (last, at) = self.last_emergency;
