@@ -33,10 +33,14 @@ fn u16_of(bytes: Result<Vec<u8>, SdoError>) -> u16 {
 /// in OP; then `cycles` SYNC0 cycles in which the MainDevice's output frame is lost every
 /// `n`th time. Returns the cycle (1-based) after which the SubDevice was no longer in OP, and
 /// AL status, AL status code, 0x1C32:0B and 0x1C32:20 at the end.
-fn drop_one_in(n: u32, cycles: u32) -> (Option<u32>, u16, u16, u16, Vec<u8>) {
+fn drop_one_in(n: u32, cycles: u32) -> Outcome {
     let (result, _) = drop_one_in_diagnosed(n, cycles);
     result
 }
+
+/// The cycle after which the SubDevice left OP, AL status, AL status code, 0x1C32:0B and
+/// 0x1C32:20.
+type Outcome = (Option<u32>, u16, u16, u16, Vec<u8>);
 
 /// What the MainDevice saw of the diagnosis after [`drop_one_in`]'s scenario: the emergencies
 /// and 0x10F3:02, 0x10F3:04 and the newest message.
@@ -48,10 +52,7 @@ struct Diagnosis {
 }
 
 /// [`drop_one_in`] and what the MainDevice then reads of the diagnosis.
-fn drop_one_in_diagnosed(
-    n: u32,
-    cycles: u32,
-) -> ((Option<u32>, u16, u16, u16, Vec<u8>), Diagnosis) {
+fn drop_one_in_diagnosed(n: u32, cycles: u32) -> (Outcome, Diagnosis) {
     let result = std::rc::Rc::new(std::cell::RefCell::new(None));
     let out = result.clone();
     let mut device = Device::new(common::drive(), App, Idle).with_dictionary(Drive::default());
