@@ -7,6 +7,7 @@
 //! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events |
 //! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
+//! | [`foe_client`] | an FoE client for the test MainDevice: file writes and reads, the mailbox repeat |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
 //! | [`flash`] | a device's NOR flash in the bootloader's layout, with the power cut at any erase or write |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
@@ -22,6 +23,7 @@ pub mod devices;
 pub mod emulator;
 pub mod esc;
 pub mod flash;
+pub mod foe_client;
 pub mod frame;
 pub mod fuzz;
 pub mod fuzz_foe;
