@@ -17,6 +17,7 @@
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
 //! | [`harness`] | runs the real runners with the mock time driver, the process-data runner at interrupt level |
+//! | [`update`] | a device's firmware update: FoE files into the flash's DFU partition, the bootloader's reset |
 //! | [`scheduler`] | the harness's executor: a pended interrupt's priority on one host thread |
 pub mod coe_client;
 pub mod devices;
@@ -34,3 +35,4 @@ pub mod pcap;
 pub mod real_master;
 pub mod scheduler;
 pub mod spi;
+pub mod update;
