@@ -143,7 +143,11 @@ fn update_swaps_in_b_and_confirmed_b_stays() {
     confirm(&flash);
     assert_eq!(boot(&flash).unwrap(), State::Boot);
     assert!(runs(&flash, &b));
-    assert_eq!(flash.bytes(layout::PARAMETERS), parameters, "the stored parameters survive");
+    assert_eq!(
+        flash.bytes(layout::PARAMETERS),
+        parameters,
+        "the stored parameters survive"
+    );
 }
 
 #[test]
