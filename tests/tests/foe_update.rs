@@ -5,6 +5,9 @@
 //! the image) is the new version. It confirms itself in PREOP, or is rolled back at the next
 //! reset. Refused files change nothing.
 
+use std::cell::RefCell;
+use std::rc::Rc;
+
 use ecat_core::device::MailboxConfig;
 use ecat_emu::coe_client::SdoClient;
 use ecat_emu::devices::{BOOT_MAILBOX, UPDATE_PASSWORD, dio_update};
@@ -190,4 +193,49 @@ fn foe_outside_boot_is_bootstrap_only() {
         );
     });
     assert_eq!(state(&flash).unwrap(), State::Boot);
+}
+
+/// The power fails at each flash operation of an update in turn (an erase or a write of DFU
+/// while the file arrives, or of the state while BOOT is left): the device always boots a whole
+/// image, the old one unless the new one was completely written and marked.
+#[test]
+fn a_power_cut_at_any_flash_operation_of_the_update_leaves_a_whole_image() {
+    let new = image(2, 9_000);
+    let update_file = file(&new);
+    let total = {
+        let flash = version_1();
+        let (before, update_file) = (flash.operations(), update_file.clone());
+        start(&flash, async move |master| {
+            update(master, FILE_NAME, UPDATE_PASSWORD, &update_file)
+                .await
+                .unwrap();
+        });
+        flash.operations() - before
+    };
+    assert_eq!(
+        total, 9,
+        "3 page erases and writes of DFU; the state's progress mark, erase and magic"
+    );
+    for cut in 0..total {
+        let flash = version_1();
+        flash.cut_after(cut);
+        let outcome = Rc::new(RefCell::new(None));
+        let (seen, update_file) = (outcome.clone(), update_file.clone());
+        start(&flash, async move |master| {
+            let result = update(master, FILE_NAME, UPDATE_PASSWORD, &update_file).await;
+            *seen.borrow_mut() = Some(result);
+        });
+        assert!(flash.power_on(), "cut {cut}: the power was cut");
+        let written = outcome.borrow().clone().unwrap();
+        let state = reset(&flash).unwrap();
+        match (written, state) {
+            (Err(FoeFailure::Error(0x8000)), State::Boot) => {
+                assert_eq!(running_version(&flash), 1, "cut {cut}")
+            }
+            // Cut while BOOT was left: the image is whole, marked or not.
+            (Ok(()), State::Boot) => assert_eq!(running_version(&flash), 1, "cut {cut}"),
+            (Ok(()), State::Swap) => assert_eq!(running_version(&flash), 2, "cut {cut}"),
+            other => panic!("cut {cut} of {total}: {other:?}"),
+        }
+    }
 }
