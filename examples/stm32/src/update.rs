@@ -9,7 +9,10 @@
 //! synchronous and run with the application locked; the flash is written by the task [`run`]:
 //! the image is handed to it [`CHUNK`] bytes at a time, and the segment that filled a chunk is
 //! answered busy until that chunk is in flash (FoE's busy: the MainDevice sends the segment
-//! again). After the last chunk the task reads DFU back and checks the CRC. Codes: another file
+//! again). After the last chunk the task reads DFU back and checks the CRC. (In single-bank mode
+//! the G474 stalls instruction fetches from flash while a page is erased or written, whatever
+//! the driver: the async one keeps the lock and the executor free between operations, not the
+//! bus during one.) Codes: another file
 //! name 0x8001, a wrong password 0x800A, an image longer than ACTIVE 0x8003, no magic, a CRC or
 //! length that does not match or a flash error 0x8000.
 
