@@ -23,7 +23,7 @@
 /// [`Communication`](crate::dictionary::Communication) field: 0x1000 device type, 0x1008/0x1009/
 /// 0x100A names and versions, 0x1018 identity (initialised from `DEVICE_INFO.identity`, the same
 /// constant the SII image and the ESI file are generated from), 0x1C00 SyncManager types
-/// ([`sii::SM_TYPES`](crate::sii::SM_TYPES), as the SII and ESI give them), and 0x1C32/0x1C33,
+/// ([`STANDARD_KINDS`](crate::sync_manager::STANDARD_KINDS), as the SII and ESI give them), and 0x1C32/0x1C33,
 /// SSC's sync parameter records with the entries the stack fills (SI1 sync type: writable in
 /// PREOP, default 1 for the outputs, 0x22 for the inputs — the inputs' type follows the
 /// outputs' ([`sync_parameters::input_sync_type`](crate::sync_parameters::input_sync_type)), so a value a MainDevice
