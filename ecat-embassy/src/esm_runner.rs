@@ -1,5 +1,6 @@
 //! The state-machine and mailbox runner: AL control, SyncManager checks, application hooks, the
-//! mailbox with CoE. Runs in the low-priority (thread) executor.
+//! mailbox with CoE and the application's other protocols ([`Application::mailbox`]). Runs in
+//! the low-priority (thread) executor.
 
 use core::pin::pin;
 
@@ -159,7 +160,10 @@ fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize>(
     app: &AppCell<A, D>,
 ) -> bool {
     app.lock(|app, od| {
-        let served = sub.service_mailbox(now(), od, &mut app.object_hooks());
+        let served = {
+            let (mut hooks, mut handlers) = app.mailbox();
+            sub.service_mailbox_with(now(), od, &mut hooks, &mut handlers)
+        };
         if served {
             while let Some(emergency) = app.take_emergency() {
                 sub.emergency(emergency);

@@ -31,6 +31,8 @@ variant "digital I/O, no dictionary (\`no-dictionary\`)" --bin ecat-stm32 --feat
 variant "digital I/O, SOES's dictionary, no LED task (\`no-leds\`)" --bin ecat-stm32 --features no-leds
 variant "axis, its dictionary (\`axis\`)" --bin axis
 variant "digital I/O, LAN9252" --bin ecat-stm32 --no-default-features --features lan9252
+# Under examples/stm32-bootloader, linked at ACTIVE: FoE in BOOT writes an update into DFU.
+variant "digital I/O, SOES's dictionary, firmware update (\`bootloader\`)" --bin ecat-stm32 --features bootloader
 # Last, so the binary left behind is the default firmware.
 variant "**digital I/O, SOES's dictionary (\`ecat-stm32\`)**" --bin ecat-stm32
 if [ "${1:-}" = --top ] && command -v llvm-nm >/dev/null; then

@@ -14,6 +14,7 @@ use std::sync::{Mutex, PoisonError};
 
 use ecat_core::coe::Emergency;
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
+use ecat_core::mailbox::Handlers;
 use ecat_core::{AlStatusCode, DeviceConfig, Transition};
 use ecat_embassy::{Application, Config, Pdi, Resources, Status};
 use embassy_futures::select::select;
@@ -218,7 +219,7 @@ impl<D> Application<D> for Loopback {
 }
 
 /// One [`Application`] made of two, as the tests write them: `hooks`'s transition, state-change,
-/// SDO and emergency hooks, `cycle`'s cycle and safe state.
+/// SDO, mailbox and emergency hooks, `cycle`'s cycle and safe state.
 pub struct Pair<A, C> {
     /// The state-machine side.
     pub hooks: A,
@@ -248,6 +249,10 @@ impl<A: Application<D>, C: Application<D>, D> Application<D> for Pair<A, C> {
 
     fn object_hooks(&mut self) -> impl ObjectHooks<D> + '_ {
         self.hooks.object_hooks()
+    }
+
+    fn mailbox(&mut self) -> (impl ObjectHooks<D> + '_, impl Handlers + '_) {
+        self.hooks.mailbox()
     }
 
     fn take_emergency(&mut self) -> Option<Emergency> {

@@ -7,6 +7,7 @@
 //! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events |
 //! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
+//! | [`foe_client`] | an FoE client for the test MainDevice: file writes and reads, the mailbox repeat |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |
 //! | [`flash`] | a device's NOR flash in the bootloader's layout, with the power cut at any erase or write |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
@@ -16,12 +17,14 @@
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
 //! | [`harness`] | runs the real runners with the mock time driver, the process-data runner at interrupt level |
+//! | [`update`] | a device's firmware update: FoE files into the flash's DFU partition, the bootloader's reset |
 //! | [`scheduler`] | the harness's executor: a pended interrupt's priority on one host thread |
 pub mod coe_client;
 pub mod devices;
 pub mod emulator;
 pub mod esc;
 pub mod flash;
+pub mod foe_client;
 pub mod frame;
 pub mod fuzz;
 pub mod fuzz_foe;
@@ -32,3 +35,4 @@ pub mod pcap;
 pub mod real_master;
 pub mod scheduler;
 pub mod spi;
+pub mod update;

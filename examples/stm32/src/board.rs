@@ -20,6 +20,8 @@ bind_interrupts!(struct Irqs {
     DMA1_CHANNEL2 => dma::InterruptHandler<peripherals::DMA1_CH2>;
     EXTI9_5 => exti::InterruptHandler<interrupt::typelevel::EXTI9_5>;
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
+    #[cfg(feature = "bootloader")]
+    FLASH => embassy_stm32::flash::InterruptHandler;
 });
 
 /// SPI1 with DMA and the ESC's chip select: the bus the PDI driver owns.
@@ -62,6 +64,9 @@ pub struct Board {
     pub io: DigitalIo,
     /// The RUN and ERR LEDs.
     pub leds: Leds,
+    /// The chip's flash, for the firmware update (feature `bootloader`).
+    #[cfg(feature = "bootloader")]
+    pub flash: embassy_stm32::flash::Flash<'static>,
 }
 
 impl Board {
@@ -114,6 +119,8 @@ impl Board {
                 run: Output::new(p.PB10, Level::Low, Speed::Low),
                 err: Output::new(p.PA9, Level::Low, Speed::Low),
             },
+            #[cfg(feature = "bootloader")]
+            flash: embassy_stm32::flash::Flash::new(p.FLASH, Irqs),
         }
     }
 }
