@@ -17,6 +17,7 @@
 //! | `Fmmu`, `Sm` | [`sii::fmmus`], [`sii::sync_managers`] (the SII FMMU and SyncManager categories) |
 //! | `RxPdo`, `TxPdo` | the default assignment and mapping ([`sii::for_each_pdo`]) |
 //! | `Mailbox/CoE` | [`sii::coe_details`] (the SII General category's CoE details) |
+//! | `Mailbox/FoE` | [`sii::mailbox_protocols`]: with a bootstrap mailbox (BOOT) |
 //! | `Dc/OpMode` | when [`DeviceConfig::sync`] supports DC SYNC0 |
 //! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!
@@ -120,7 +121,8 @@ pub fn write<D: ObjectDictionary>(
     sync_managers(&mut x, device.config, od)?;
     pdos(&mut x, od, Direction::Rx)?;
     pdos(&mut x, od, Direction::Tx)?;
-    mailbox(&mut x, sii::coe_details(od))?;
+    let protocols = sii::mailbox_protocols(device.config);
+    mailbox(&mut x, sii::coe_details(od), protocols)?;
     if device.config.sync.dc() {
         dc(&mut x, device.config)?;
     }
@@ -714,8 +716,9 @@ fn pdos<D: ObjectDictionary, W: Write>(
     result
 }
 
-/// `Mailbox/CoE` with the SII General category's CoE details.
-fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails) -> fmt::Result {
+/// `Mailbox/CoE` with the SII General category's CoE details, and `Mailbox/FoE` when the SII's
+/// mailbox protocols word has FoE ([`sii::mailbox_protocols`]).
+fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails, protocols: u16) -> fmt::Result {
     let flag = |bit| if coe.has(bit) { "true" } else { "false" };
     x.open("Mailbox", &[])?;
     x.empty(
@@ -727,6 +730,9 @@ fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails) -> fmt::Result {
             ("CompleteAccess", &flag(CoeDetails::COMPLETE_ACCESS)),
         ],
     )?;
+    if protocols & sii::PROTOCOL_FOE != 0 {
+        x.empty("FoE", &[])?;
+    }
     x.close("Mailbox")
 }
 

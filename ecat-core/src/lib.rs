@@ -19,7 +19,8 @@
 //! | [`esm`] | the EtherCAT state machine transition rules (ETG.1000.6 §6.4) |
 //! | [`dictionary`](mod@dictionary) | the CoE object dictionary: metadata, typed values, the `dictionary!` declaration (ETG.1000.6 §5.6.3) |
 //! | [`coe`] | CANopen over EtherCAT: SDO abort codes, … (ETG.1000.6 §5.6) |
-//! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control (ETG.1000.4 §5.6) |
+//! | [`mailbox`] | the mailbox: header, counters, repeat, error replies, flow control, dispatch to protocol handlers (ETG.1000.4 §5.6) |
+//! | [`foe`] | File access over EtherCAT: the FoE frame, error codes, the server over the application's files (ETG.1000.6 §5.9) |
 //! | [`pdo`] | PDO mapping and assignment objects, the process-image layout, pack/unpack (ETG.1000.6 §5.6.7) |
 //! | [`device`] | the static description of a device: mailbox, process-data sizes, BOOT support |
 //! | [`chip`] | ESC chips (ET1100, AX58100, LAN9252): DL information, SPI PDI, the EEPROM configuration area (ETG.1000.6 §5.4) |
@@ -47,6 +48,7 @@
     )
 )]
 
+pub mod abort;
 pub mod al;
 mod bytes;
 pub mod chip;
@@ -56,6 +58,7 @@ pub mod device;
 pub mod dictionary;
 pub mod esi;
 pub mod esm;
+pub mod foe;
 pub mod indicator;
 pub mod mailbox;
 pub mod pdo;

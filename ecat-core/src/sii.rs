@@ -11,7 +11,7 @@
 //! | 0x08..0x0F | identity: vendor ID, product code, revision, serial number |
 //! | 0x14..0x17 | bootstrap mailbox (receive offset/size, send offset/size), zero without BOOT |
 //! | 0x18..0x1B | standard mailbox |
-//! | 0x1C | mailbox protocols: CoE |
+//! | 0x1C | mailbox protocols ([`mailbox_protocols`]): CoE, and FoE with BOOT (then also the General category's FoE details) |
 //! | 0x3E, 0x3F | EEPROM size (16 Kbit → 15), version 1 |
 //! | 0x40.. | categories: Strings (10), General (30), FMMU (40), SyncManager (41), TxPDO (50), RxPDO (51), DC (60, DC SYNC0 devices), end 0xFFFF |
 //!
@@ -48,8 +48,10 @@ pub enum SiiError {
     TooManyStrings,
 }
 
-/// Mailbox protocol CoE (word 0x1C).
+/// Mailbox protocol CoE (word 0x1C, bit 2).
 const PROTOCOL_COE: u16 = 0x0004;
+/// Mailbox protocol FoE (word 0x1C, bit 3).
+pub const PROTOCOL_FOE: u16 = 0x0008;
 /// SyncManager control bytes: mailbox out/in, 3-buffer out with watchdog, 3-buffer in.
 const SM_CONTROL: [u8; 4] = [0x26, 0x22, 0x64, 0x20];
 /// Category types (ETG.2010 Table 3).
@@ -68,6 +70,17 @@ pub const ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
 const SIZE_KBIT_MINUS_ONE: u16 = 15;
 /// Largest image: 16 Kbit.
 pub const MAX_SIZE: usize = 2048;
+
+/// The mailbox protocols word (0x1C; ETG.2010 Table 2, bit 2 CoE, bit 3 FoE): CoE always, FoE
+/// when the device supports BOOT, whose only protocol FoE is (ETG.1000.6 §6.4.1). A device with
+/// a bootstrap mailbox serves FoE ([`crate::foe::Foe`] among its mailbox handlers).
+pub const fn mailbox_protocols(config: &DeviceConfig) -> u16 {
+    if config.bootstrap_mailbox.is_some() {
+        PROTOCOL_COE | PROTOCOL_FOE
+    } else {
+        PROTOCOL_COE
+    }
+}
 
 /// Writes the SII image of the device on `chip` into `out`; returns its length in bytes.
 pub fn write<D: ObjectDictionary>(
@@ -95,13 +108,14 @@ pub fn write<D: ObjectDictionary>(
     w.words(&[0; 4]);
     w.mailbox(config.bootstrap_mailbox.as_ref());
     w.mailbox(Some(&config.mailbox));
-    w.u16(PROTOCOL_COE);
+    w.u16(mailbox_protocols(config));
     w.fill_to(0x3E * 2);
     w.words(&[SIZE_KBIT_MINUS_ONE, 1]);
     let strings = Strings::new(names, od)?;
     w.category(CAT_STRINGS, |w| strings.write(w, od));
+    let foe = u8::from(mailbox_protocols(config) & PROTOCOL_FOE != 0);
     w.category(CAT_GENERAL, |w| {
-        general(w, coe_details(od), general_flags(config))
+        general(w, coe_details(od), foe, general_flags(config))
     });
     w.category(CAT_FMMU, |w| {
         for fmmu in fmmus(config, od) {
@@ -304,9 +318,10 @@ pub fn general_flags(config: &DeviceConfig) -> u8 {
     }
 }
 
-/// The General category (ETG.2010 Table 6), 32 bytes.
-fn general(w: &mut Writer<'_>, coe: CoeDetails, flags: u8) {
-    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, 0, 0, 0, 0, 0, flags]);
+/// The General category (ETG.2010 Table 6), 32 bytes; `foe` is its "FoE Details" byte (bit 0:
+/// FoE supported).
+fn general(w: &mut Writer<'_>, coe: CoeDetails, foe: u8, flags: u8) {
+    w.bytes(&[GROUP, 0, ORDER, NAME, 0, coe.0, foe, 0, 0, 0, 0, flags]);
     w.u16(0); // current on E-bus
     w.bytes(&[GROUP, 0]); // group index (compatibility), reserved
     w.u16(0x0011); // physical ports 0 and 1: MII

@@ -26,7 +26,7 @@ use crate::coe::sdo::Context;
 use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes};
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
 use crate::esm::{self, Decision, Transition};
-use crate::mailbox::Mailbox;
+use crate::mailbox::{Handlers, Mailbox};
 use crate::pdo::Direction;
 use crate::pdo::layout::Layout as PdoLayout;
 use crate::process_data::{Clock, Layout, Writes};
@@ -1175,6 +1175,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         hooks: &mut H,
     ) -> bool {
+        self.service_mailbox_with(now, od, hooks, &mut ())
+    }
+
+    /// [`SubDevice::service_mailbox`] with mailbox protocols beside CoE: `handlers` is a tuple
+    /// of [`crate::mailbox::Handler`]s (e.g. `(foe,)` with a [`crate::foe::Foe`]). Pass the same
+    /// handlers on every call: the mailbox keeps no reference to them between calls.
+    #[inline]
+    pub fn service_mailbox_with<D: ObjectDictionary, H: ObjectHooks<D>, P: Handlers>(
+        &mut self,
+        now: Instant,
+        od: &mut D,
+        hooks: &mut H,
+        handlers: &mut P,
+    ) -> bool {
         // Nothing due, nothing changed. Nothing is served either while an access is in flight:
         // an SM0 read the request's event made due (`mailbox_due`) goes first, so that the
         // request's answer finds SM1 free.
@@ -1190,7 +1204,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             writes: &mut self.writes,
             device: Some(self.config),
         };
-        let built = self.mailbox.serve(&mut cx);
+        let built = self.mailbox.serve(&mut cx, handlers);
         self.pd_stale |= core::mem::take(&mut self.writes.configured);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the

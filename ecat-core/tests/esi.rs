@@ -87,12 +87,15 @@ const SII: [u8; 20] = [
 ];
 
 fn esi(sync: u16) -> String {
-    let config = config(sync);
+    esi_of(&config(sync))
+}
+
+fn esi_of(config: &DeviceConfig) -> String {
     let description = Description {
         vendor: "ACME <test>",
         names: &NAMES,
         identity: &IDENTITY,
-        config: &config,
+        config,
     };
     let mut out = String::new();
     esi::write(&mut out, &description, &Od::default(), &SII).unwrap();
@@ -421,6 +424,23 @@ fn explicit_device_id_is_advertised_in_device_info() {
           <IdentificationReg134>true</IdentificationReg134>
         </Info>
         <GroupType>Test &amp; measurement</GroupType>
+",
+    );
+}
+
+/// A device with a bootstrap mailbox serves FoE in BOOT and says so in `Mailbox/FoE` (after
+/// `CoE`, ETG.2000), as the SII's mailbox protocols word does (bit 3); others have no `FoE`.
+#[test]
+fn a_device_with_boot_advertises_foe() {
+    assert!(!sm_only().contains("<FoE"));
+    let mut config = config(SupportedSync::SM);
+    config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
+    has(
+        &esi_of(&config),
+        "        <Mailbox>
+          <CoE SdoInfo=\"true\" PdoAssign=\"false\" PdoConfig=\"false\" CompleteAccess=\"true\"/>
+          <FoE/>
+        </Mailbox>
 ",
     );
 }

@@ -15,35 +15,54 @@ const IDENTITY: Identity = Identity {
     serial: 1,
 };
 
-/// Words 0x14..0x17 describe the bootstrap mailbox (receive offset and size, send offset and
-/// size), 0x18..0x1B the standard mailbox, 0x1C the mailbox protocols (CoE, bit 2); without a
-/// bootstrap mailbox 0x14..0x17 are 0.
-#[test]
-fn the_bootstrap_and_standard_mailbox_words() {
-    let names = Names {
-        name: "Boot",
-        order_code: "B-1",
-        group: "Test",
-    };
+const BOOT_NAMES: Names = Names {
+    name: "Boot",
+    order_code: "B-1",
+    group: "Test",
+};
+
+/// A device with a 128-byte standard mailbox, and a 256-byte bootstrap mailbox when `boot`.
+fn mailbox_device(boot: bool) -> DeviceConfig {
     let mut config = DeviceConfig::new(
         MailboxConfig::contiguous(0x1000, 128),
         ProcessDataSizes::default(),
     );
-    let words = |config: &DeviceConfig| {
-        let mut image = [0u8; sii::MAX_SIZE];
-        let n = sii::write(&names, &IDENTITY, config, &Chip::ET1100, &(), &mut image).unwrap();
+    if boot {
+        config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
+    }
+    config
+}
+
+/// The SII image of `config` (with [`BOOT_NAMES`]).
+fn image(config: &DeviceConfig) -> [u8; sii::MAX_SIZE] {
+    let mut image = [0u8; sii::MAX_SIZE];
+    let n = sii::write(
+        &BOOT_NAMES,
+        &IDENTITY,
+        config,
+        &Chip::ET1100,
+        &(),
+        &mut image,
+    )
+    .unwrap();
+    assert!(n > 0x40 * 2);
+    image
+}
+
+/// Words 0x14..0x17 describe the bootstrap mailbox (receive offset and size, send offset and
+/// size), 0x18..0x1B the standard mailbox, 0x1C the mailbox protocols (CoE, bit 2; FoE, bit 3,
+/// with the bootstrap mailbox: BOOT serves FoE); without a bootstrap mailbox 0x14..0x17 are 0.
+#[test]
+fn the_bootstrap_and_standard_mailbox_words() {
+    let words = |boot: bool| {
+        let image = image(&mailbox_device(boot));
         let word = |w: usize| u16::from_le_bytes([image[2 * w], image[2 * w + 1]]);
-        assert!(n > 0x40 * 2);
         (0x14..=0x1C).map(word).collect::<Vec<_>>()
     };
+    assert_eq!(words(false), [0, 0, 0, 0, 0x1000, 128, 0x1080, 128, 0x0004]);
     assert_eq!(
-        words(&config),
-        [0, 0, 0, 0, 0x1000, 128, 0x1080, 128, 0x0004]
-    );
-    config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
-    assert_eq!(
-        words(&config),
-        [0x1800, 256, 0x1900, 256, 0x1000, 128, 0x1080, 128, 0x0004]
+        words(true),
+        [0x1800, 256, 0x1900, 256, 0x1000, 128, 0x1080, 128, 0x000C]
     );
 }
 
@@ -122,4 +141,26 @@ fn the_general_flags_advertise_an_explicit_device_id() {
     assert_eq!(flags(false), 0x00);
     assert_eq!(flags(true), 0x08);
     assert_eq!(sii::FLAG_IDENT_AL_STATUS, 1 << 3);
+}
+
+/// The General category's "FoE Details" byte (ETG.2010 Table 6, byte 6: bit 0 FoE supported)
+/// follows the mailbox protocols word: 1 with a bootstrap mailbox, 0 without.
+#[test]
+fn the_general_category_enables_foe_with_boot() {
+    let foe_details = |boot: bool| {
+        let image = image(&mailbox_device(boot));
+        // Categories from word 0x40: type, size in words, data.
+        let mut at = 0x80;
+        loop {
+            let kind = u16::from_le_bytes([image[at], image[at + 1]]);
+            let words = usize::from(u16::from_le_bytes([image[at + 2], image[at + 3]]));
+            assert_ne!(kind, 0xFFFF, "a General category");
+            if kind == 30 {
+                return image[at + 4 + 6];
+            }
+            at += 4 + 2 * words;
+        }
+    };
+    assert_eq!(foe_details(false), 0);
+    assert_eq!(foe_details(true), 1);
 }

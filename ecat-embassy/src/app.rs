@@ -1,28 +1,49 @@
-//! What the firmware author implements.
+//! What the firmware author implements: one trait, [`Application`], every method with a default.
 //!
-//! Two traits, because the two runners live in two executors: the state hooks run in the
-//! low-priority thread executor next to the mailbox, the cycle in the process-data interrupt
-//! executor. Data both need is shared by the application through its own
-//! `CriticalSectionRawMutex` cell.
+//! The application lives with its object dictionary behind one critical-section mutex
+//! ([`Resources`](crate::Resources)): the state-machine runner (thread executor) calls the state
+//! and SDO hooks, the process-data runner (interrupt executor) the cycle, and any other task
+//! reaches it through a [`Control`](crate::Control). Each call has the dictionary at hand and
+//! holds the lock for its duration: keep them short.
 
 use ecat_core::coe::Emergency;
+use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{AlStatusCode, Transition};
 
-/// State-machine hooks, called by [`run_esm`](crate::run_esm).
-pub trait Application {
+/// A SubDevice's application over its object dictionary `D` (`()`: none, raw process images).
+/// Every method has a default: an application implements only what it uses.
+pub trait Application<D = ()> {
+    /// One process-data cycle, in the interrupt executor. In OP the outputs the MainDevice wrote
+    /// are already unpacked into their mapped entries of `od`; after the call the mapped input
+    /// entries are packed into the input image. `outputs` (`Some` only in OP) and `inputs` are
+    /// the raw images, for devices whose process data is not mapped through the dictionary. The
+    /// default does nothing.
+    fn cycle(&mut self, od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
+        let _ = (od, outputs, inputs);
+    }
+
+    /// Outputs stopped being applied (OP left by request, SM watchdog or error, or the
+    /// process-data runner stopped): put the outputs of the device into their safe state now.
+    /// Called once per departure from OP.
+    fn safe_state(&mut self, od: &mut D) {
+        let _ = od;
+    }
+
     /// An upward transition (INIT→PREOP, PREOP→SAFEOP, SAFEOP→OP, INIT→BOOT) passed the
-    /// SyncManager checks. Return `Ok` to accept, `Err(code)` to refuse with that AL status code.
+    /// SyncManager checks. The future's `Ok` accepts, `Err(code)` refuses with that AL status
+    /// code.
     ///
-    /// The future may take time (the transition is "pending" meanwhile): if it is not done within
-    /// the device's `transition_timeout`, the MainDevice gets 0x0001 and the future is dropped. It is
-    /// also dropped when the MainDevice replaces the request. Implement it as an `async fn`.
+    /// The future may take time (the transition is "pending" meanwhile): if it is not done
+    /// within the device's `transition_timeout`, the MainDevice gets 0x0001 and the future is
+    /// dropped; it is also dropped when the MainDevice replaces the request. It does not borrow
+    /// the application (the runner does not hold the lock while it waits): copy in what it
+    /// needs, or a [`Control`](crate::Control) to lock the application with.
     ///
-    /// The default accepts at once, with a future that has no state machine of its own and no
-    /// panic path (`core::future::ready` panics with a message when polled again).
+    /// The default accepts at once (a `poll_fn`: docs/performance.md, "Codegen rules").
     fn on_transition(
         &mut self,
         transition: Transition,
-    ) -> impl Future<Output = Result<(), AlStatusCode>> {
+    ) -> impl Future<Output = Result<(), AlStatusCode>> + use<Self, D> {
         let _ = transition;
         core::future::poll_fn(|_| core::task::Poll::Ready(Ok(())))
     }
@@ -32,28 +53,15 @@ pub trait Application {
         let _ = transition;
     }
 
+    /// The application's say in SDO access to `D` (veto a write, refresh a value before a read,
+    /// DOMAIN contents). The default has none: `()`.
+    fn object_hooks(&mut self) -> impl ObjectHooks<D> + '_ {}
+
     /// An emergency (ETG.1000.6 §5.6.4) the application wants sent, asked after every mailbox
-    /// message the runner served, until it returns `None`: what an SDO write hook of the
-    /// application ([`ObjectHooks`](ecat_core::dictionary::ObjectHooks)) raised. Elsewhere
-    /// (the process-data cycle, a task) raise one with
-    /// [`SharedEsc::raise_emergency`](crate::SharedEsc::raise_emergency). The default has none.
+    /// message the runner served, until it returns `None`: what an SDO hook of the application
+    /// raised. Elsewhere (the cycle, a task) raise one with
+    /// [`Control::raise_emergency`](crate::Control::raise_emergency). The default has none.
     fn take_emergency(&mut self) -> Option<Emergency> {
         None
-    }
-}
-
-/// The process-data cycle, called by [`run_process_data`](crate::run_process_data).
-pub trait CycleHandler<D> {
-    /// One cycle, with the dictionary `od` locked. In OP the outputs the MainDevice wrote are
-    /// already unpacked into their mapped entries; after the call the mapped input entries are
-    /// packed into the input image. `outputs` (`Some` only in OP) and `inputs` are the raw images,
-    /// for devices whose process data is not mapped through the dictionary (a fixed layout).
-    /// Keep it short: it runs in the interrupt executor with the dictionary locked.
-    fn cycle(&mut self, od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]);
-
-    /// Outputs stopped being applied (OP left: by request, SM watchdog, or error): put the
-    /// outputs of the device into their safe state now. Called once per departure from OP.
-    fn safe_state(&mut self, od: &mut D) {
-        let _ = od;
     }
 }

@@ -1,59 +1,94 @@
 //! The state-machine and mailbox runner: AL control, SyncManager checks, application hooks, the
 //! mailbox with CoE. Runs in the low-priority (thread) executor.
 
-use core::cell::RefCell;
 use core::pin::pin;
 
-use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{Access, AlEvent, AlStatusCode, Event, SubDevice, Transition};
+use ecat_core::dictionary::ObjectDictionary;
+use ecat_core::{Access, AlEvent, AlStatusCode, DeviceConfig, Event, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
-use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
-use embassy_sync::blocking_mutex::raw::RawMutex;
+use embedded_hal_async::digital::Wait;
 
-use crate::maybe::Maybe;
+use crate::device::AppCell;
+use crate::or_never::OrNever;
+use crate::pd_runner::{Error, ProcessDataRunner};
 use crate::pdi::Data;
-use crate::shared::{Indication, Notes, Runner};
+use crate::shared::{Indication, Reports, Runner, SharedEsc};
 use crate::time::{now, until};
-use crate::{Application, Pdi, SharedEsc};
+use crate::{Application, Pdi};
 
-/// The object dictionary as both runners share it: behind a blocking mutex, locked only for
-/// the CPU work of one mailbox message (no `.await` inside).
-pub type SharedDictionary<M, D> = BlockingMutex<M, RefCell<D>>;
-
-/// Runs `f` on the dictionary, locked: the one place the runners borrow it (one borrow check
-/// and one panic location for all of them; the lock makes the borrow always free).
-pub(crate) fn with_dictionary<M: RawMutex, D, R>(
-    od: &SharedDictionary<M, D>,
-    f: impl FnOnce(&mut D) -> R,
-) -> R {
-    od.lock(|cell| f(&mut cell.borrow_mut()))
+/// Runs the state machine and the mailbox of the SubDevice: made by
+/// [`Resources::split`](crate::Resources::split), for the thread executor.
+pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128> {
+    esc: &'a SharedEsc<P>,
+    app: &'a AppCell<A, D>,
+    sub: SubDevice<'a, MBX>,
 }
 
-/// Runs the state machine and the mailbox of `sub` on `esc` until the PDI fails; returns the PDI
-/// error. SDO requests are served from `od`, with `app` as the [`ObjectHooks`].
-///
-/// Woken only by AL events the process-data runner routes to it, by emergencies the application
-/// raises and by the core's deadlines; never polls the ESC. Each mailbox message costs one PDI
-/// read of SM0 and one or two writes of SM1, each moved in chunks ([`SharedEsc::with_chunk`]):
-/// the process-data runner takes the PDI at the next chunk boundary.
-///
-/// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
-/// the ones the loop works on.
-#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
-pub fn run_esm<M, P, A, D, const MBX: usize>(
-    esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_, MBX>,
-    app: &mut A,
-    od: &SharedDictionary<M, D>,
-) -> impl Future<Output = P::Error>
+impl<'a, P, A, D, const MBX: usize> StateMachineRunner<'a, P, A, D, MBX>
 where
-    M: RawMutex,
     P: Pdi,
-    A: Application + ObjectHooks<D>,
+    A: Application<D>,
+    D: ObjectDictionary,
+{
+    pub(crate) fn new(
+        esc: &'a SharedEsc<P>,
+        app: &'a AppCell<A, D>,
+        config: &'a DeviceConfig,
+    ) -> Self {
+        Self {
+            esc,
+            app,
+            sub: SubDevice::new(config),
+        }
+    }
+
+    /// Shows `id` as the explicit device ID (`DeviceConfig::explicit_device_id`), e.g. read from
+    /// switches at start-up.
+    pub fn set_device_id(&mut self, id: u16) {
+        self.sub.set_device_id(id);
+    }
+
+    /// Runs until the PDI fails; returns the PDI error. SDO requests are served from the
+    /// dictionary, with the application's [`object_hooks`](Application::object_hooks).
+    ///
+    /// Woken only by AL events the process-data runner routes to it, by emergencies the
+    /// application raises and by the core's deadlines; never polls the ESC. Each mailbox message
+    /// costs one PDI read of SM0 and one or two writes of SM1, each moved in chunks
+    /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): the process-data runner takes
+    /// the PDI at the next chunk boundary.
+    pub fn run(self) -> impl Future<Output = P::Error> + 'a {
+        run(self.esc, self.sub, self.app)
+    }
+
+    /// Runs this runner and `process_data` in one task, for a first device in one executor
+    /// ([`Resources::run`](crate::Resources::run)); returns the error of the one that stopped.
+    pub async fn run_with<I: Wait>(
+        self,
+        process_data: ProcessDataRunner<'a, P, A, D>,
+        irq: I,
+    ) -> Error<P::Error, I::Error> {
+        match select(self.run(), process_data.run(irq)).await {
+            Either::First(e) => Error::Pdi(e),
+            Either::Second(e) => e,
+        }
+    }
+}
+
+/// The loop of [`StateMachineRunner::run`].
+#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+fn run<'a, P, A, D, const MBX: usize>(
+    esc: &'a SharedEsc<P>,
+    mut sub: SubDevice<'a, MBX>,
+    app: &'a AppCell<A, D>,
+) -> impl Future<Output = P::Error> + 'a
+where
+    P: Pdi,
+    A: Application<D>,
     D: ObjectDictionary,
 {
     async move {
-        catch_up(esc, sub, od);
+        let sub = &mut sub;
+        take_outside_news(esc, sub, app);
         let mut step = Step::Serve;
         loop {
             // Every step is followed by the accesses it asks for: the only place they are made,
@@ -65,10 +100,7 @@ where
                 // Each message served, or request dropped (which re-arms SM0), makes its
                 // accesses due; the serve that finds nothing to do changed nothing.
                 Step::Serve => {
-                    if with_dictionary(od, |od| sub.service_mailbox(now(), od, app)) {
-                        while let Some(emergency) = app.take_emergency() {
-                            sub.emergency(emergency);
-                        }
+                    if serve_mailbox(sub, app) {
                         Step::Serve
                     } else {
                         Step::Events { any: false }
@@ -80,11 +112,11 @@ where
                         // request from the MainDevice or the deadline ends the wait and drops
                         // its future. Once it accepted, a SAFEOP→OP transition may still wait
                         // for the first outputs.
-                        let mut decision = pin!(app.on_transition(t));
+                        let mut decision = pin!(app.lock(|app, _| app.on_transition(t)));
                         while sub.pending_transition() == Some(t) {
                             // The application's decision only while the core waits for it.
                             let pending =
-                                Maybe(sub.awaits_application().then_some(decision.as_mut()));
+                                OrNever(sub.awaits_application().then_some(decision.as_mut()));
                             let timeout = until(sub.poll_timeout());
                             let outcome = select3(pending, timeout, esc.esm_events()).await;
                             answer(esc, sub, t, outcome);
@@ -95,27 +127,44 @@ where
                         Step::Events { any: true }
                     }
                     Some(Event::StateChanged(t)) => {
-                        app.on_state_change(t);
+                        app.lock(|app, _| app.on_state_change(t));
                         Step::Events { any: true }
                     }
                     Some(Event::TransitionAborted(_)) => Step::Events { any: true },
                     None => {
-                        // What events led to (a new state, emergencies absorbed while
-                        // answering) may have given the mailbox work: one more pass before
-                        // waiting.
+                        // What events led to (a new state, emergencies taken while answering)
+                        // may have given the mailbox work: one more pass before waiting.
                         if !any {
                             match select(esc.esm_events(), until(sub.poll_timeout())).await {
                                 Either::First(event) => sub.handle_al_event(event),
                                 Either::Second(()) => sub.handle_timeout(now()),
                             }
                         }
-                        catch_up(esc, sub, od);
+                        take_outside_news(esc, sub, app);
                         Step::Serve
                     }
                 },
             };
         }
     }
+}
+
+/// Serves one mailbox message, if any, with the application locked; then queues the emergencies
+/// its hooks raised. Whether a message was served (or a request dropped). The one call of the
+/// core's mailbox.
+fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize>(
+    sub: &mut SubDevice<'_, MBX>,
+    app: &AppCell<A, D>,
+) -> bool {
+    app.lock(|app, od| {
+        let served = sub.service_mailbox(now(), od, &mut app.object_hooks());
+        if served {
+            while let Some(emergency) = app.take_emergency() {
+                sub.emergency(emergency);
+            }
+        }
+        served
+    })
 }
 
 /// What the state-machine runner does after its accesses.
@@ -130,34 +179,31 @@ enum Step {
 }
 
 /// Takes what changed outside the core before it is served: the process-data configuration the
-/// dictionary holds, and what the rest of the firmware told the runner ([`absorb`]).
-fn catch_up<M: RawMutex, P: Pdi, D: ObjectDictionary, const MBX: usize>(
-    esc: &SharedEsc<M, P>,
+/// dictionary holds, and what the rest of the firmware reported ([`take_reports`]).
+fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize>(
+    esc: &SharedEsc<P>,
     sub: &mut SubDevice<'_, MBX>,
-    od: &SharedDictionary<M, D>,
+    app: &AppCell<A, D>,
 ) {
-    with_dictionary(od, |od| sub.refresh_process_data(od));
-    absorb(esc, sub);
+    app.lock(|_, od| sub.refresh_process_data(od));
+    take_reports(esc, sub);
 }
 
-/// Hands the core what the rest of the firmware told the runner: emergencies the application
-/// raised and outputs the process-data runner received. Taking them is what lets
-/// [`SharedEsc::esm_events`] wait again.
-fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
-    esc: &SharedEsc<M, P>,
-    sub: &mut SubDevice<'_, MBX>,
-) {
-    let notes = esc.take_notes();
-    if notes.contains(Notes::SYNC_RECEIVED) {
+/// Hands the core what the rest of the firmware reported to the runner: emergencies the
+/// application raised and what the process-data runner saw (outputs, SYNC0). Taking them is
+/// what lets [`SharedEsc::esm_events`] wait again.
+fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevice<'_, MBX>) {
+    let reports = esc.take_reports();
+    if reports.contains(Reports::SYNC_RECEIVED) {
         sub.sync_received();
     }
-    if notes.contains(Notes::SYNC_LOST) {
+    if reports.contains(Reports::SYNC_LOST) {
         sub.sync_lost();
     }
-    if notes.contains(Notes::SYNC_ERROR) {
+    if reports.contains(Reports::SYNC_ERROR) {
         sub.sync_error();
     }
-    if notes.contains(Notes::OUTPUTS_RECEIVED) {
+    if reports.contains(Reports::OUTPUTS_RECEIVED) {
         sub.outputs_received();
     }
     while let Some(emergency) = esc.take_emergency() {
@@ -166,10 +212,9 @@ fn absorb<M: RawMutex, P: Pdi, const MBX: usize>(
 }
 
 /// Performs every register access the core asks for, then publishes the process-data layout.
-/// An `async` block, which keeps no copy of its arguments beside them (as an `async fn` would).
-#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
-fn sync<'a, M: RawMutex, P: Pdi, const MBX: usize>(
-    esc: &'a SharedEsc<M, P>,
+#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+fn sync<'a, P: Pdi, const MBX: usize>(
+    esc: &'a SharedEsc<P>,
     sub: &'a mut SubDevice<'_, MBX>,
 ) -> impl Future<Output = Result<(), P::Error>> + 'a {
     async move {
@@ -210,8 +255,8 @@ fn pdi_access(access: Access<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
 
 /// Hands the core what ended a wait for the application's answer to `t`: the answer, the
 /// deadline, or an AL event (with whatever the rest of the firmware told the runner meanwhile).
-fn answer<M: RawMutex, P: Pdi, const MBX: usize>(
-    esc: &SharedEsc<M, P>,
+fn answer<P: Pdi, const MBX: usize>(
+    esc: &SharedEsc<P>,
     sub: &mut SubDevice<'_, MBX>,
     t: Transition,
     outcome: Either3<Result<(), AlStatusCode>, (), AlEvent>,
@@ -227,7 +272,7 @@ fn answer<M: RawMutex, P: Pdi, const MBX: usize>(
         }
         Either3::Third(event) => Some(event),
     };
-    absorb(esc, sub);
+    take_reports(esc, sub);
     if let Some(event) = event {
         sub.handle_al_event(event);
     }

@@ -1,5 +1,5 @@
 //! The RUN and ERR indicators of ETG.1300 on GPIO pins: a task that follows the AL status the
-//! state-machine runner publishes ([`SharedEsc`]) and sleeps until the next edge
+//! state-machine runner publishes ([`Status`]) and sleeps until the next edge
 //! ([`Indicators::poll_at`]) or the next change of the AL status, whichever comes first.
 //!
 //! The patterns, the code classes and the bicolour rule are [`ecat_core::indicator`]'s. What
@@ -18,11 +18,11 @@ use core::future::Future;
 use ecat_core::AlState;
 use ecat_core::indicator::{Colour, Indicators, Levels};
 use embassy_futures::select::{Either, select};
-use embassy_sync::blocking_mutex::raw::RawMutex;
 use embedded_hal::digital::{OutputPin, PinState};
 
+use crate::Pdi;
+use crate::shared::Status;
 use crate::time::{now, until};
-use crate::{Pdi, SharedEsc};
 
 /// Where the indicator levels go.
 pub trait Lamps {
@@ -93,22 +93,22 @@ impl<E: OutputPin> Lamps for ErrOnly<E> {
     }
 }
 
-/// Drives `lamps` from the AL status and code of the SubDevice behind `esc` for ever (the
+/// Drives `lamps` from the AL status and code of the SubDevice `status` tells
+/// ([`Control::status`](crate::Control::status)) for ever (the
 /// output type has no value). Before the state-machine runner's first access it shows INIT
 /// without error (both off).
 ///
 /// Wakes at each edge of a blinking pattern (`Timer::at` the next edge, never a polling loop)
 /// and at each change of the AL status or code; a steady state (INIT or OP without error)
-/// sleeps until the next change. An `async` block, which keeps no copy of its arguments beside
-/// them (as an `async fn` would).
-#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
-pub fn run_indicators<'a, M: RawMutex, P: Pdi, L: Lamps>(
-    esc: &'a SharedEsc<M, P>,
+/// sleeps until the next change.
+#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+pub fn run_indicators<'a, P: Pdi, L: Lamps>(
+    status: Status<'a, P>,
     lamps: &'a mut L,
 ) -> impl Future<Output = Infallible> + 'a {
     async move {
         let mut indicators = Indicators::new();
-        let mut seen = esc.indication();
+        let mut seen = status.indication();
         let mut shown = None;
         loop {
             let at = now();
@@ -122,7 +122,7 @@ pub fn run_indicators<'a, M: RawMutex, P: Pdi, L: Lamps>(
                 shown = Some(levels);
             }
             if let Either::Second(news) =
-                select(until(indicators.poll_at(at)), esc.indication_since(seen)).await
+                select(until(indicators.poll_at(at)), status.indication_since(seen)).await
             {
                 seen = news;
             }

@@ -13,18 +13,17 @@ use ecat_core::process_data::{Clock, Layout};
 use ecat_core::register::AL_EVENT_REQUEST;
 use ecat_core::sync::{CycleMonitor, CycleReport};
 use embassy_futures::select::{Either4, select4};
-use embassy_sync::blocking_mutex::raw::RawMutex;
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
-use crate::esm_runner::with_dictionary;
-use crate::maybe::Maybe;
+use crate::device::AppCell;
+use crate::or_never::OrNever;
 use crate::pdi::Data;
-use crate::shared::{Notes, Runner};
+use crate::shared::{Reports, Runner, SharedEsc};
 use crate::time::{now, to_embassy, until_instant as until};
-use crate::{CycleHandler, Pdi, SharedDictionary, SharedEsc};
+use crate::{Application, Pdi};
 
-/// Why the process-data runner stopped.
+/// Why a runner stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum Error<P, I> {
@@ -32,61 +31,103 @@ pub enum Error<P, I> {
     Pdi(P),
     /// Waiting on the IRQ pin failed.
     Irq(I),
-    /// The MainDevice configured a process image larger than the buffers given to the runner.
+    /// The MainDevice configured a process image larger than the buffers of the
+    /// [`Resources`](crate::Resources).
     BufferTooSmall,
 }
 
 /// The buffers the process image passes through, sized for the device's images.
-pub struct Buffers<'b> {
+struct Buffers<'b> {
     /// Receives the output image (SM2).
-    pub outputs: &'b mut [u8],
+    outputs: &'b mut [u8],
     /// Holds the input image (SM3).
-    pub inputs: &'b mut [u8],
+    inputs: &'b mut [u8],
 }
 
-/// Runs the process-data exchange of `esc` until something fails.
-///
-/// `irq` is the ESC's IRQ pin (active low, e.g. an `ExtiInput`). In SAFEOP and OP each trigger
-/// (SM2 written by the MainDevice, or SM3 read by it for an input-only device) costs a read of
-/// the AL event alone (an empty read), a read of the output area and a write of the input area.
-/// Between the last two, under one short lock of `od`: the outputs are unpacked into their
-/// mapped entries (in OP only), the application's cycle runs, the mapped input entries are
-/// packed.
-///
-/// The output area is read only after an AL event read showed the trigger (the runner's own on
-/// the IRQ, or an access of the other runner): reading it takes the newest SM2 buffer and clears
-/// the SM2 event, so a read made on the IRQ of another event (a mailbox's) would take a buffer
-/// that arrived after the AL event was sampled, with nothing left to report it: a lost cycle.
-/// Sampled first, a buffer that arrives later keeps its event, and the IRQ line, until the next
-/// wake-up.
-///
-/// `sync0` is the ESC's SYNC0 output (a pulse per DC cycle; its rising edge starts a cycle when
-/// the MainDevice chose DC SYNC0 mode). A device without DC passes [`NoSync0`].
-///
-/// An `async` block rather than an `async fn`, which would keep a copy of its arguments beside
-/// the ones the loop works on.
-#[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
-pub fn run_process_data<M, P, I, S, C, D>(
-    esc: &SharedEsc<M, P>,
-    irq: &mut I,
-    sync0: &mut S,
-    app: &mut C,
-    od: &SharedDictionary<M, D>,
-    buffers: Buffers<'_>,
-) -> impl Future<Output = Error<P::Error, I::Error>>
+/// Runs the process-data exchange: made by [`Resources::split`](crate::Resources::split), for an
+/// `InterruptExecutor` above the state-machine runner's executor. It owns the ESC's IRQ line.
+pub struct ProcessDataRunner<'a, P, A, D> {
+    esc: &'a SharedEsc<P>,
+    app: &'a AppCell<A, D>,
+    buffers: Buffers<'a>,
+}
+
+impl<'a, P, A, D> ProcessDataRunner<'a, P, A, D>
 where
-    M: RawMutex,
     P: Pdi,
-    I: Wait,
-    S: Wait<Error = I::Error>,
-    C: CycleHandler<D>,
+    A: Application<D>,
+    D: ObjectDictionary,
+{
+    pub(crate) fn new(
+        esc: &'a SharedEsc<P>,
+        app: &'a AppCell<A, D>,
+        outputs: &'a mut [u8],
+        inputs: &'a mut [u8],
+    ) -> Self {
+        Self {
+            esc,
+            app,
+            buffers: Buffers { outputs, inputs },
+        }
+    }
+
+    /// Runs until something fails, for a device without distributed clocks (or whose SYNC0
+    /// does not start the cycle); returns why it stopped, after the application's
+    /// [`safe_state`](Application::safe_state) if outputs were applied. `irq` is the ESC's IRQ
+    /// pin (active low, e.g. an `ExtiInput`).
+    pub fn run<I: Wait + 'a>(self, irq: I) -> impl Future<Output = Error<P::Error, I::Error>> + 'a {
+        self.run_with_sync0(irq, NoSync0::new())
+    }
+
+    /// [`ProcessDataRunner::run`] with the ESC's SYNC0 output `sync0` (a pulse per DC cycle;
+    /// its rising edge starts a cycle when the MainDevice chose DC SYNC0 mode).
+    ///
+    /// In SAFEOP and OP each trigger (SM2 written by the MainDevice, or SM3 read by it for an
+    /// input-only device) costs a read of the AL event alone (an empty read), a read of the
+    /// output area and a write of the input area. Between the last two, with the application
+    /// locked: the outputs are unpacked into their mapped entries (in OP only), the
+    /// application's [`cycle`](Application::cycle) runs, the mapped input entries are packed.
+    ///
+    /// The output area is read only after an AL event read showed the trigger (the runner's
+    /// own on the IRQ, or an access of the other runner): reading it takes the newest SM2 buffer
+    /// and clears the SM2 event, so a read made on the IRQ of another event (a mailbox's) would
+    /// take a buffer that arrived after the AL event was sampled, with nothing left to report
+    /// it: a lost cycle. Sampled first, a buffer that arrives later keeps its event, and the IRQ
+    /// line, until the next wake-up.
+    pub fn run_with_sync0<I, S>(
+        self,
+        irq: I,
+        sync0: S,
+    ) -> impl Future<Output = Error<P::Error, I::Error>> + 'a
+    where
+        I: Wait + 'a,
+        S: Wait<Error = I::Error> + 'a,
+    {
+        run(self.esc, irq, sync0, self.app, self.buffers)
+    }
+}
+
+/// The loop of [`ProcessDataRunner::run_with_sync0`].
+#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+fn run<'a, P, I, S, A, D>(
+    esc: &'a SharedEsc<P>,
+    mut irq: I,
+    mut sync0: S,
+    app: &'a AppCell<A, D>,
+    buffers: Buffers<'a>,
+) -> impl Future<Output = Error<P::Error, I::Error>> + 'a
+where
+    P: Pdi,
+    I: Wait + 'a,
+    S: Wait<Error = I::Error> + 'a,
+    A: Application<D>,
     D: ObjectDictionary,
 {
     async move {
+        let (irq, sync0) = (&mut irq, &mut sync0);
         let mut exchange = Exchange {
             esc,
             app,
-            od,
             buffers,
             images: None,
             monitor: CycleMonitor::default(),
@@ -99,11 +140,11 @@ where
         let mut tick: Option<Instant> = None;
         // Every way out of the loop ends here: the state-machine runner stops giving way.
         let error = 'run: loop {
-            // What woke the runner and what follows; the news and its copy of the layout end here,
+            // What woke the runner and what follows; the view and its copy of the layout end here,
             // so only `current` lives on across the exchange.
             let plan = {
-                let news = esc.pd_news(current);
-                let layout = news.layout;
+                let view = esc.pd_view(current);
+                let layout = view.layout;
                 let sampled = core::mem::take(&mut exchange.trigger_sampled);
                 if layout != current {
                     let was_active = current.is_some_and(|l| l.outputs_active);
@@ -113,17 +154,17 @@ where
                     }
                     tick = layout.and_then(first_deadline);
                     exchange.on_new_layout(layout)
-                } else if sampled || !news.pd_events.is_empty() {
+                } else if sampled || !view.pd_events.is_empty() {
                     Some(exchange.on_trigger(layout, true))
                 } else {
                     let sync0_on = layout.is_some_and(|l| l.sync0());
                     let mut irq_low = pin!(irq.wait_for_low());
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
-                        Maybe(news.irq_free.then_some(irq_low.as_mut())),
-                        esc.pd_news_since(news.generation),
+                        OrNever(view.irq_free.then_some(irq_low.as_mut())),
+                        esc.pd_changed_since(view.generation),
                         until(tick),
-                        Maybe(sync0_on.then_some(sync0_edge.as_mut())),
+                        OrNever(sync0_on.then_some(sync0_edge.as_mut())),
                     )
                     .await
                     {
@@ -165,6 +206,9 @@ where
             }
         };
         esc.pd_stopped();
+        if current.is_some_and(|l| l.outputs_active) {
+            exchange.safe_state();
+        }
         error
     }
 }
@@ -217,10 +261,9 @@ type InputWrite<'b> = Option<(u16, &'b [u8])>;
 type ExchangeAccess<'b> = Option<(u16, Data<'b>, AlEvent)>;
 
 /// What one exchange needs.
-struct Exchange<'a, M: RawMutex, P, C, D: ObjectDictionary> {
-    esc: &'a SharedEsc<M, P>,
-    app: &'a mut C,
-    od: &'a SharedDictionary<M, D>,
+struct Exchange<'a, P, A, D: ObjectDictionary> {
+    esc: &'a SharedEsc<P>,
+    app: &'a AppCell<A, D>,
     buffers: Buffers<'a>,
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
@@ -239,18 +282,17 @@ struct Reported {
     sync: bool,
 }
 
-impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, M, P, C, D> {
+impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// Tells the state-machine runner that outputs arrived, once per layout.
     fn report_outputs(&mut self) {
         if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.esc.note(Notes::OUTPUTS_RECEIVED);
+            self.esc.report(Reports::OUTPUTS_RECEIVED);
         }
     }
 
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
-        let app = &mut *self.app;
-        with_dictionary(self.od, |od| app.safe_state(od));
+        self.app.lock(|app, od| app.safe_state(od));
     }
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
@@ -264,7 +306,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         if self.images.is_none() {
             self.monitor.reset();
         }
-        self.images = with_dictionary(self.od, |od| {
+        self.images = self.app.lock(|_, od| {
             Some(Images {
                 outputs: PdoLayout::of(&*od, Direction::Rx).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
@@ -283,7 +325,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
         let layout = layout?;
         if layout.sync0() {
             *tick = None;
-            self.esc.note(Notes::SYNC_LOST);
+            self.esc.report(Reports::SYNC_LOST);
             return None;
         }
         if let Some(period) = layout.period() {
@@ -295,7 +337,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
     fn on_sync0(&mut self, layout: Option<Layout>) -> Option<Plan> {
         let layout = layout.filter(Layout::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
-            self.esc.note(Notes::SYNC_RECEIVED);
+            self.esc.report(Reports::SYNC_RECEIVED);
         }
         Some(Self::clocked(layout))
     }
@@ -415,14 +457,14 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             .inputs
             .get_mut(..in_len)
             .ok_or(Error::BufferTooSmall)?;
-        let (app, images, monitor) = (&mut *self.app, &self.images, &mut self.monitor);
+        let (images, monitor) = (&self.images, &mut self.monitor);
         let report = new_outputs.map(|new_outputs| CycleReport {
             now: now(),
             nominal: layout.period(),
             expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
-        let sync_error = with_dictionary(self.od, |od| {
+        let sync_error = self.app.lock(|app, od| {
             let sync_error = report.is_some_and(|report| monitor.cycle(od, report));
             let pdo = images.as_ref();
             if let (true, Some(rx)) = (apply_outputs, pdo.and_then(|i| i.outputs.as_ref())) {
@@ -435,7 +477,7 @@ impl<M: RawMutex, P: Pdi, C: CycleHandler<D>, D: ObjectDictionary> Exchange<'_, 
             sync_error
         });
         if sync_error {
-            self.esc.note(Notes::SYNC_ERROR);
+            self.esc.report(Reports::SYNC_ERROR);
         }
         Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }
@@ -460,18 +502,12 @@ fn first_deadline(layout: Layout) -> Option<Instant> {
 }
 
 /// The SYNC0 input of a device without distributed clocks: it never pulses.
-pub struct NoSync0<E = core::convert::Infallible>(core::marker::PhantomData<E>);
+struct NoSync0<E = core::convert::Infallible>(core::marker::PhantomData<E>);
 
 impl<E> NoSync0<E> {
     /// No SYNC0 pin.
-    pub const fn new() -> Self {
+    const fn new() -> Self {
         Self(core::marker::PhantomData)
-    }
-}
-
-impl<E> Default for NoSync0<E> {
-    fn default() -> Self {
-        Self::new()
     }
 }
 
@@ -479,7 +515,7 @@ impl<E: embedded_hal::digital::Error> embedded_hal::digital::ErrorType for NoSyn
     type Error = E;
 }
 
-/// Each wait is a future that never completes, without a state machine of its own.
+/// Each wait is a future that never completes (docs/performance.md, "Codegen rules").
 impl<E: embedded_hal::digital::Error> Wait for NoSync0<E> {
     fn wait_for_high(&mut self) -> impl Future<Output = Result<(), E>> {
         core::future::pending()

@@ -2,6 +2,7 @@
 //! process RAM.
 
 use ecat_core::AlEvent;
+use ecat_core::chip::Chip;
 
 /// The data of one PDI access: the buffer a read fills, or the bytes a write sends.
 #[derive(Debug)]
@@ -75,12 +76,17 @@ pub trait Pdi {
     /// A bus error; the runners stop and hand it to the firmware.
     type Error: core::fmt::Debug;
 
+    /// The ESC the driver talks to, when the driver knows it: the
+    /// [`Resources`](crate::Resources) take its SyncManager count and process RAM
+    /// ([`Chip::fit`]). `None` (the default) keeps the device description's.
+    const CHIP: Option<Chip> = None;
+
     /// Reads into or writes from `data`, starting at `address`, in one transaction.
     async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error>;
 
     /// How many of the `len` bytes at `address` (more than 0) the next chunk of a state-machine
     /// access moves, given the chunk size `chunk` the firmware configured
-    /// ([`SharedEsc::with_chunk`](crate::SharedEsc::with_chunk)): a driver cuts at its own
+    /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): a driver cuts at its own
     /// boundaries. The default is `chunk` bytes.
     fn chunk(&self, address: u16, len: usize, chunk: usize) -> usize {
         let _ = address;
@@ -88,7 +94,7 @@ pub trait Pdi {
     }
 
     /// What the AL event the next access reports must be: called before each chunk of a
-    /// state-machine access ([`SharedEsc`](crate::SharedEsc)). The default does nothing: a
+    /// state-machine access. The default does nothing: a
     /// driver whose every access samples the AL event (the Beckhoff SPI's address phase) needs
     /// no hint.
     fn sample(&mut self, sample: Sample) {

@@ -10,7 +10,7 @@ use ecat_core::process_data::Layout;
 use ecat_core::ring::Ring;
 use ecat_core::{AlEvent, AlStatus, AlStatusCode};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
-use embassy_sync::blocking_mutex::raw::RawMutex;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex as Cs;
 use embassy_sync::mutex::Mutex;
 use embassy_sync::waitqueue::WakerRegistration;
 
@@ -29,8 +29,7 @@ pub(crate) enum Runner {
 /// What the runners know about each other, behind a short critical section. Every field is a
 /// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
 /// flag or carries its panic path.
-// `repr(C)`: the flags first, then the words, the queue and the layout last, so that Thumb's
-// 16-bit loads and stores reach the fields every access asks about.
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules").
 #[repr(C)]
 struct Routing {
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
@@ -39,8 +38,8 @@ struct Routing {
     /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
     /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
     esm_started: Cell<bool>,
-    /// What the process-data runner noted and the state-machine runner has not heard of.
-    notes: Cell<Notes>,
+    /// What the process-data runner reported and the state-machine runner has not taken yet.
+    reports: Cell<Reports>,
     /// State-machine events seen by the process-data runner and not yet taken.
     esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
@@ -51,13 +50,14 @@ struct Routing {
     mask: Cell<AlEvent>,
     /// The AL event seen by the last access of either runner.
     last_event: Cell<AlEvent>,
-    /// Bumped whenever something changes for the process-data runner.
-    pd_news: Cell<u32>,
+    /// Bumped whenever something changes for the process-data runner: its trigger was seen, the
+    /// IRQ line is free again, the layout changed.
+    pd_generation: Cell<u32>,
     /// The process-data runner waits for the PDI: the state-machine runner does not take it
     /// before the process-data runner had it (see [`SharedEsc::access`]), nor while the
-    /// process-data runner has news it has not looked at (`pd_seen` is not `pd_news`).
+    /// process-data runner has news it has not looked at (`pd_seen` is not `pd_generation`).
     pd_waiting: Cell<bool>,
-    /// The `pd_news` the process-data runner looked at last.
+    /// The `pd_generation` the process-data runner looked at last.
     pd_seen: Cell<u32>,
     /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
     pd_stopped: Cell<bool>,
@@ -89,9 +89,9 @@ impl Routing {
             .difference(self.trigger())
     }
 
-    /// Re-judges whether state-machine events hold the IRQ line, from the last AL event seen
+    /// Updates whether state-machine events hold the IRQ line, from the last AL event seen
     /// and the current mask; tells the process-data runner when the line is free again.
-    fn judge_irq(&self) {
+    fn update_irq_holder(&self) {
         let holds =
             !self.esm_share(self.last_event.get()).is_empty() || !self.esm_events.get().is_empty();
         let was_holding = self.esm_holds_irq.replace(holds);
@@ -101,7 +101,8 @@ impl Routing {
     }
 
     fn notify_pd(&self) {
-        self.pd_news.set(self.pd_news.get().wrapping_add(1));
+        self.pd_generation
+            .set(self.pd_generation.get().wrapping_add(1));
         self.pd_waker.wake();
     }
 }
@@ -128,9 +129,9 @@ impl WakerCell {
     }
 }
 
-/// What the process-data runner learns from [`SharedEsc::pd_news`].
-pub(crate) struct PdNews {
-    /// The token for [`SharedEsc::pd_news_since`], taken with the rest.
+/// What the process-data runner looks at before it waits ([`SharedEsc::pd_view`]).
+pub(crate) struct PdView {
+    /// The token for [`SharedEsc::pd_changed_since`], taken with the rest.
     pub(crate) generation: u32,
     /// The process-data layout of the current state.
     pub(crate) layout: Option<Layout>,
@@ -141,11 +142,12 @@ pub(crate) struct PdNews {
     pub(crate) irq_free: bool,
 }
 
-/// What the process-data runner tells the state-machine runner besides AL events: a set of flags.
+/// What the process-data runner reports to the state-machine runner besides AL events: a set of
+/// flags.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) struct Notes(u8);
+pub(crate) struct Reports(u8);
 
-impl Notes {
+impl Reports {
     pub(crate) const NONE: Self = Self(0);
     /// Outputs arrived from the MainDevice.
     pub(crate) const OUTPUTS_RECEIVED: Self = Self(1);
@@ -192,31 +194,22 @@ impl Indication {
 /// many as wait in the mailbox, so both queues are one type.
 const EMERGENCIES: usize = ecat_core::mailbox::EMERGENCY_QUEUE;
 
-/// The default largest chunk of a state-machine access, in bytes (see [`SharedEsc::with_chunk`]).
-pub const DEFAULT_CHUNK: u16 = 32;
-
-/// The ESC shared by the two runners. `M` is `CriticalSectionRawMutex` in firmware, where the
-/// runners live in different executors.
+/// The ESC shared by the two runners, behind critical-section mutexes: the runners may live in
+/// different executors.
 ///
-/// The state-machine runner's accesses move in chunks of at most [`SharedEsc::with_chunk`]
-/// bytes, each under its own lock of the PDI, and a process-data access that waits for the PDI
+/// The state-machine runner's accesses move in chunks of at most
+/// [`Resources::with_chunk`](crate::Resources::with_chunk) bytes, each under its own lock of the PDI, and a process-data access that waits for the PDI
 /// takes it at the next chunk boundary: the process-data exchange never waits for more than
 /// one chunk of mailbox traffic (plus the transaction in flight), whatever the mailbox size and
 /// whether or not the runners share an executor.
-pub struct SharedEsc<M: RawMutex, P> {
-    pdi: Mutex<M, P>,
-    routing: BlockingMutex<M, Routing>,
+pub(crate) struct SharedEsc<P> {
+    pdi: Mutex<Cs, P>,
+    routing: BlockingMutex<Cs, Routing>,
     /// The largest chunk of a state-machine access, in bytes; 0: whole accesses.
-    chunk: u16,
+    pub(crate) chunk: u16,
 }
 
-impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
-    /// Wraps the PDI driver, with state-machine accesses in chunks of [`DEFAULT_CHUNK`] bytes.
-    /// `const`, so it can live in a `static` or a `StaticCell`.
-    pub const fn new(pdi: P) -> Self {
-        Self::with_chunk(pdi, DEFAULT_CHUNK)
-    }
-
+impl<P: Pdi> SharedEsc<P> {
     /// Wraps the PDI driver, with state-machine accesses (mailbox messages, registers) in chunks
     /// of at most `chunk` bytes (0: each access whole, as one transaction), which the driver may
     /// cut smaller at its own boundaries ([`Pdi::chunk`]). Smaller chunks bound the process-data
@@ -225,7 +218,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// docs/performance.md). A SyncManager's mailbox buffer is released when its last byte is
     /// read and marked full when its last byte is written, so a mailbox message moved in order,
     /// chunk by chunk, is handed over exactly as a whole one.
-    pub const fn with_chunk(pdi: P, chunk: u16) -> Self {
+    pub(crate) const fn with_chunk(pdi: P, chunk: u16) -> Self {
         Self {
             chunk,
             pdi: Mutex::new(pdi),
@@ -237,10 +230,10 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 mask: Cell::new(AlEvent::NONE),
                 last_event: Cell::new(AlEvent::NONE),
                 esm_started: Cell::new(false),
-                pd_news: Cell::new(0),
+                pd_generation: Cell::new(0),
                 indication: Cell::new(Indication(0)),
                 emergencies: Cell::new(Ring::new(Emergency::NONE)),
-                notes: Cell::new(Notes::NONE),
+                reports: Cell::new(Reports::NONE),
                 pd_waiting: Cell::new(false),
                 pd_seen: Cell::new(0),
                 pd_stopped: Cell::new(false),
@@ -267,10 +260,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
     /// lock and routed as an access of its own; it returns what its chunks saw (the union: the
     /// state-machine events are cleared only by that runner's own accesses, so none of them is
     /// stale but the bits the access itself clears).
-    ///
-    /// An `async` block, which keeps no copy of its arguments beside them (as an `async fn`
-    /// would), in the future each runner holds.
-    #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
     pub(crate) fn access(
         &self,
         runner: Runner,
@@ -338,7 +328,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                     r.pd_waiting.set(true);
                     return Poll::Ready(());
                 }
-                let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_news.get();
+                let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_generation.get();
                 if pd_turn && !r.pd_stopped.get() {
                     r.esm_pdi_waker.register(cx.waker());
                     Poll::Pending
@@ -374,7 +364,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 r.pd_events.set(r.pd_events.get() | pd);
                 r.notify_pd();
             }
-            r.judge_irq();
+            r.update_irq_holder();
         });
     }
 
@@ -386,7 +376,7 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 let emergencies = r.emergencies.get();
                 if r.esm_events.get().is_empty()
                     && emergencies.is_empty()
-                    && r.notes.get() == Notes::NONE
+                    && r.reports.get() == Reports::NONE
                 {
                     r.esm_waker.register(cx.waker());
                     Poll::Pending
@@ -397,11 +387,8 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         })
     }
 
-    /// Raises an emergency from anywhere in the application (either executor): the
-    /// state-machine runner queues it in the mailbox, which sends it when SM1 is free and the
-    /// SubDevice is in PREOP, SAFEOP or OP. At most 4 wait between two turns of that runner;
-    /// beyond that the oldest is dropped.
-    pub fn raise_emergency(&self, emergency: Emergency) {
+    /// Queues an emergency for the state-machine runner ([`Status::raise_emergency`]).
+    pub(crate) fn raise_emergency(&self, emergency: Emergency) {
         self.with(|r| {
             r.emergencies.update(|mut queue| {
                 queue.push(emergency);
@@ -411,17 +398,17 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
         });
     }
 
-    /// The process-data runner tells the state-machine runner `notes`.
-    pub(crate) fn note(&self, notes: Notes) {
+    /// The process-data runner reports `reports` to the state-machine runner.
+    pub(crate) fn report(&self, reports: Reports) {
         self.with(|r| {
-            r.notes.set(r.notes.get().union(notes));
+            r.reports.set(r.reports.get().union(reports));
             r.esm_waker.wake();
         });
     }
 
-    /// Takes what the process-data runner noted.
-    pub(crate) fn take_notes(&self) -> Notes {
-        self.with(|r| r.notes.replace(Notes::NONE))
+    /// Takes what the process-data runner reported.
+    pub(crate) fn take_reports(&self) -> Reports {
+        self.with(|r| r.reports.replace(Reports::NONE))
     }
 
     /// Takes the oldest emergency the application raised. One at a time, so the queue is
@@ -450,18 +437,18 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
                 r.esm_started.set(true);
                 r.notify_pd();
             }
-            r.judge_irq();
+            r.update_irq_holder();
         });
     }
 
     /// What the process-data runner looks at before it waits, in one critical section: the
     /// layout of the current state, the trigger events seen by the state-machine runner (taken
     /// only while `current` is still the layout), whether the IRQ line is free for it, and the
-    /// token for [`SharedEsc::pd_news_since`].
-    pub(crate) fn pd_news(&self, current: Option<Layout>) -> PdNews {
-        self.with(|r| PdNews {
+    /// token for [`SharedEsc::pd_changed_since`].
+    pub(crate) fn pd_view(&self, current: Option<Layout>) -> PdView {
+        self.with(|r| PdView {
             generation: {
-                let generation = r.pd_news.get();
+                let generation = r.pd_generation.get();
                 if r.pd_seen.replace(generation) != generation {
                     r.esm_pdi_waker.wake();
                 }
@@ -493,32 +480,13 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     /// Waits until something changed for the process-data runner since `seen` was taken: its
     /// trigger was seen, the state-machine events released the IRQ line, or the layout changed.
-    pub(crate) fn pd_news_since(&self, seen: u32) -> impl Future<Output = ()> + '_ {
+    pub(crate) fn pd_changed_since(&self, seen: u32) -> impl Future<Output = ()> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                if r.pd_news.get() != seen {
+                if r.pd_generation.get() != seen {
                     Poll::Ready(())
                 } else {
                     r.pd_waker.register(cx.waker());
-                    Poll::Pending
-                }
-            })
-        })
-    }
-
-    /// The AL status and code last published, once it differs from `seen`: for the indicator
-    /// task, which waits here between two edges.
-    pub(crate) fn indication_since(
-        &self,
-        seen: Indication,
-    ) -> impl Future<Output = Indication> + '_ {
-        poll_fn(move |cx| {
-            self.with(|r| {
-                let now = r.indication.get();
-                if now != seen {
-                    Poll::Ready(now)
-                } else {
-                    r.led_waker.register(cx.waker());
                     Poll::Pending
                 }
             })
@@ -532,5 +500,52 @@ impl<M: RawMutex, P: Pdi> SharedEsc<M, P> {
 
     fn with<R>(&self, f: impl FnOnce(&Routing) -> R) -> R {
         self.routing.lock(f)
+    }
+}
+
+/// The SubDevice as the rest of the firmware sees it: its AL status for the indicators
+/// ([`run_indicators`](crate::run_indicators)) and emergencies to send. A reference, `Copy`:
+/// hand it to any task of either executor.
+pub struct Status<'a, P>(pub(crate) &'a SharedEsc<P>);
+
+impl<P> Clone for Status<'_, P> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<P> Copy for Status<'_, P> {}
+
+impl<'a, P: Pdi> Status<'a, P> {
+    /// Raises an emergency (ETG.1000.6 §5.6.4) from anywhere in the firmware: the state-machine
+    /// runner queues it in the mailbox, which sends it when SM1 is free and the SubDevice is in
+    /// PREOP, SAFEOP or OP. At most 4 wait between two turns of that runner; beyond that the
+    /// oldest is dropped.
+    pub fn raise_emergency(self, emergency: Emergency) {
+        self.0.raise_emergency(emergency);
+    }
+
+    /// The AL status and code last published.
+    pub(crate) fn indication(self) -> Indication {
+        self.0.indication()
+    }
+
+    /// The AL status and code last published, once it differs from `seen`: for the indicator
+    /// task, which waits here between two edges.
+    pub(crate) fn indication_since(
+        self,
+        seen: Indication,
+    ) -> impl Future<Output = Indication> + 'a {
+        poll_fn(move |cx| {
+            self.0.with(|r| {
+                let now = r.indication.get();
+                if now != seen {
+                    Poll::Ready(now)
+                } else {
+                    r.led_waker.register(cx.waker());
+                    Poll::Pending
+                }
+            })
+        })
     }
 }

@@ -2,7 +2,7 @@
 
 use embassy_time::Timer;
 
-use crate::maybe::Maybe;
+use crate::or_never::OrNever;
 
 /// The current time as the core takes it.
 pub(crate) fn now() -> ecat_core::Instant {
@@ -15,11 +15,11 @@ pub(crate) fn to_embassy(duration: ecat_core::Duration) -> embassy_time::Duratio
 }
 
 /// Completes at the Embassy `deadline`, or never when there is none.
-pub(crate) fn until_instant(deadline: Option<embassy_time::Instant>) -> Maybe<Timer> {
-    Maybe(deadline.map(Timer::at))
+pub(crate) fn until_instant(deadline: Option<embassy_time::Instant>) -> OrNever<Timer> {
+    OrNever(deadline.map(Timer::at))
 }
 
 /// Completes at `deadline`, or never when there is none.
-pub(crate) fn until(deadline: Option<ecat_core::Instant>) -> Maybe<Timer> {
+pub(crate) fn until(deadline: Option<ecat_core::Instant>) -> OrNever<Timer> {
     until_instant(deadline.map(|at| embassy_time::Instant::from_micros(at.as_micros())))
 }

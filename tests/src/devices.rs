@@ -16,7 +16,7 @@ use ecat_core::dictionary::{
 };
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::{self, Names};
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 
 use crate::harness::{AcceptAll, Device};
 
@@ -195,7 +195,7 @@ fn sample<A, C, D: ObjectDictionary + Default>(
 /// Echoes the set-points of [`Drive`] as its actual values.
 pub struct DriveEcho;
 
-impl CycleHandler<Drive> for DriveEcho {
+impl Application<Drive> for DriveEcho {
     fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.statusword = od.controlword;
         od.position = od.target_position;
@@ -211,13 +211,17 @@ pub struct DriveApp {
     emergency: Option<Emergency>,
 }
 
-impl Application for DriveApp {
+impl Application<Drive> for DriveApp {
+    fn object_hooks(&mut self) -> impl ObjectHooks<Drive> + '_ {
+        self
+    }
+
     fn take_emergency(&mut self) -> Option<Emergency> {
         self.emergency.take()
     }
 }
 
-impl ObjectHooks<Drive> for DriveApp {
+impl ObjectHooks<Drive> for &mut DriveApp {
     fn after_write(&mut self, od: &mut Drive, index: u16, _sub: u8) {
         if index == 0x2001 && od.simulated_error != 0 {
             self.emergency = Some(Emergency {
@@ -290,7 +294,7 @@ ecat_core::dictionary! {
 /// The outputs of [`Dio`] wired to its inputs.
 pub struct DioLoop;
 
-impl CycleHandler<Dio> for DioLoop {
+impl Application<Dio> for DioLoop {
     fn cycle(&mut self, od: &mut Dio, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.inputs = od.outputs;
     }
@@ -343,7 +347,7 @@ ecat_core::dictionary! {
 /// Counts the cycles in the sensor's value; status 0x0001 = "valid".
 pub struct SensorCounter;
 
-impl CycleHandler<Sensor> for SensorCounter {
+impl Application<Sensor> for SensorCounter {
     fn cycle(&mut self, od: &mut Sensor, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.value = od.value.wrapping_add(1);
         od.status = 0x0001;

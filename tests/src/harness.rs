@@ -12,15 +12,11 @@ use core::pin::Pin;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Mutex, PoisonError};
 
+use ecat_core::coe::Emergency;
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_core::{DeviceConfig, SubDevice};
-use ecat_embassy::pd_runner::Buffers;
-use ecat_embassy::{
-    Application, CycleHandler, Pdi, SharedDictionary, SharedEsc, run_esm, run_process_data,
-};
+use ecat_core::{AlStatusCode, DeviceConfig, Transition};
+use ecat_embassy::{Application, Config, Pdi, Resources, Status};
 use embassy_futures::select::select;
-use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
-use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_time::MockDriver;
 
 use crate::emulator::{EmulatedPdi, Emulator};
@@ -116,9 +112,9 @@ pub fn runner_polls() -> u64 {
 pub struct Device<A, C, D = ()> {
     /// The description the SubDevice checks against.
     pub config: DeviceConfig,
-    /// The state hooks.
+    /// The state, SDO and emergency side of the application ([`Pair`]).
     pub app: A,
-    /// The process-data cycle.
+    /// The process-data side of the application: its cycle and safe state ([`Pair`]).
     pub cycle: C,
     /// The emulated ESC's hardware.
     pub esc: EscConfig,
@@ -130,10 +126,13 @@ pub struct Device<A, C, D = ()> {
     pub od: D,
     /// The SII EEPROM image the ESC loads at power-on (empty: no EEPROM).
     pub eeprom: Vec<u8>,
-    /// The largest chunk of a state-machine access (`SharedEsc::with_chunk`; 0: whole accesses).
+    /// The largest chunk of a state-machine access (`Resources::with_chunk`; 0: whole accesses).
     pub chunk: u16,
     /// How the harness orders the runners ([`run`] and [`run_with_pdi`]).
     pub scheduler: Scheduler,
+    /// Both runners in one task (`Resources::run`, no SYNC0), as a first device in one executor
+    /// runs them.
+    pub one_task: bool,
 }
 
 impl<A, C> Device<A, C, ()> {
@@ -148,8 +147,9 @@ impl<A, C> Device<A, C, ()> {
             before_start: |_| {},
             od: (),
             eeprom: Vec::new(),
-            chunk: ecat_embassy::shared::DEFAULT_CHUNK,
+            chunk: ecat_embassy::device::DEFAULT_CHUNK,
             scheduler: Scheduler::Preemptive,
+            one_task: false,
         }
     }
 }
@@ -167,6 +167,7 @@ impl<A, C, D> Device<A, C, D> {
             eeprom,
             chunk,
             scheduler,
+            one_task,
             ..
         } = self;
         Device {
@@ -180,7 +181,14 @@ impl<A, C, D> Device<A, C, D> {
             eeprom,
             chunk,
             scheduler,
+            one_task,
         }
+    }
+
+    /// The same device with both runners in one task ([`Device::one_task`]).
+    pub fn in_one_task(mut self) -> Self {
+        self.one_task = true;
+        self
     }
 
     /// The same device with the SII EEPROM image `eeprom`.
@@ -193,14 +201,13 @@ impl<A, C, D> Device<A, C, D> {
 /// An [`Application`] that accepts every transition at once and has no object hooks.
 pub struct AcceptAll;
 
-impl Application for AcceptAll {}
+impl<D> Application<D> for AcceptAll {}
 
-impl<D> ObjectHooks<D> for AcceptAll {}
-
-/// A [`CycleHandler`] that copies the raw outputs to the raw inputs (as far as both reach).
+/// An [`Application`] whose cycle copies the raw outputs to the raw inputs (as far as both
+/// reach).
 pub struct Loopback;
 
-impl<D> CycleHandler<D> for Loopback {
+impl<D> Application<D> for Loopback {
     fn cycle(&mut self, _od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
         if let Some(outputs) = outputs {
             for (i, o) in inputs.iter_mut().zip(outputs) {
@@ -210,12 +217,50 @@ impl<D> CycleHandler<D> for Loopback {
     }
 }
 
+/// One [`Application`] made of two, as the tests write them: `hooks`'s transition, state-change,
+/// SDO and emergency hooks, `cycle`'s cycle and safe state.
+pub struct Pair<A, C> {
+    /// The state-machine side.
+    pub hooks: A,
+    /// The process-data side.
+    pub cycle: C,
+}
+
+impl<A: Application<D>, C: Application<D>, D> Application<D> for Pair<A, C> {
+    fn cycle(&mut self, od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
+        self.cycle.cycle(od, outputs, inputs);
+    }
+
+    fn safe_state(&mut self, od: &mut D) {
+        self.cycle.safe_state(od);
+    }
+
+    fn on_transition(
+        &mut self,
+        transition: Transition,
+    ) -> impl Future<Output = Result<(), AlStatusCode>> + use<A, C, D> {
+        self.hooks.on_transition(transition)
+    }
+
+    fn on_state_change(&mut self, transition: Transition) {
+        self.hooks.on_state_change(transition);
+    }
+
+    fn object_hooks(&mut self) -> impl ObjectHooks<D> + '_ {
+        self.hooks.object_hooks()
+    }
+
+    fn take_emergency(&mut self) -> Option<Emergency> {
+        self.hooks.take_emergency()
+    }
+}
+
 /// Runs `script` against `device` until the script ends, then stops the runners. The runners
 /// reach the emulated ESC through [`EmulatedPdi`].
 pub fn run<A, C, D, F>(device: Device<A, C, D>, script: impl FnOnce(TestMaster) -> F)
 where
-    A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler<D> + 'static,
+    A: Application<D> + 'static,
+    C: Application<D> + 'static,
     D: ObjectDictionary,
     F: Future<Output = ()> + 'static,
 {
@@ -229,8 +274,8 @@ pub fn run_with_pdi<A, C, D, P, F>(
     make_pdi: impl FnOnce(&Emulator) -> P,
     script: impl FnOnce(TestMaster) -> F,
 ) where
-    A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler<D> + 'static,
+    A: Application<D> + 'static,
+    C: Application<D> + 'static,
     D: ObjectDictionary,
     P: Pdi + 'static,
     F: Future<Output = ()> + 'static,
@@ -239,8 +284,8 @@ pub fn run_with_pdi<A, C, D, P, F>(
     execute(Some(HANG_LIMIT), scheduler, |stop| {
         let emu = device.emulator();
         let pdi = make_pdi(&emu);
-        let (mut futures, shared) = device.runners(&emu, pdi, stop);
-        let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
+        let (mut futures, status) = device.runners(&emu, pdi, stop);
+        let master = TestMaster::new(emu.clone()).with_firmware(move |e| status.raise_emergency(e));
         futures.push(Task::thread(scenario(
             stop,
             TestMaster::new(emu),
@@ -251,33 +296,33 @@ pub fn run_with_pdi<A, C, D, P, F>(
 }
 
 /// Like [`run`], with more tasks beside the runners (e.g. the indicator task), which `extra`
-/// builds on the ESC handle the runners share; they stop when the script ends. Each waits for
+/// builds on the SubDevice's [`Status`]; they stop when the script ends. Each waits for
 /// that on a signal of its own: tasks waiting on one [`Signal`](embassy_sync::signal::Signal) wake each other (it keeps one
 /// waker and wakes the one it replaces), which would hide whether a task wakes only when it
 /// should.
 pub fn run_with_tasks<A, C, D, F>(
     device: Device<A, C, D>,
-    extra: impl FnOnce(&'static SharedEsc<CriticalSectionRawMutex, EmulatedPdi>) -> Vec<BoxedTask>,
+    extra: impl FnOnce(Status<'static, EmulatedPdi>) -> Vec<BoxedTask>,
     script: impl FnOnce(TestMaster) -> F,
 ) where
-    A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler<D> + 'static,
+    A: Application<D> + 'static,
+    C: Application<D> + 'static,
     D: ObjectDictionary,
     F: Future<Output = ()> + 'static,
 {
     let scheduler = device.scheduler;
     execute(Some(HANG_LIMIT), scheduler, |stop| {
         let emu = device.emulator();
-        let (mut futures, shared) = device.runners(&emu, emu.pdi(), stop);
+        let (mut futures, status) = device.runners(&emu, emu.pdi(), stop);
         let mut ends: Vec<&'static Stop> = Vec::new();
-        for task in extra(shared) {
+        for task in extra(status) {
             let end: &'static Stop = Box::leak(Box::new(Stop::default()));
             ends.push(end);
             futures.push(Task::thread(async move {
                 select(task, end.wait()).await;
             }));
         }
-        let master = TestMaster::new(emu.clone()).with_firmware(move |e| shared.raise_emergency(e));
+        let master = TestMaster::new(emu.clone()).with_firmware(move |e| status.raise_emergency(e));
         let script = scenario(stop, TestMaster::new(emu), script(master));
         futures.push(Task::thread(async move {
             script.await;
@@ -393,8 +438,8 @@ pub trait Spawn {
 
 impl<A, C, D> Spawn for Device<A, C, D>
 where
-    A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler<D> + 'static,
+    A: Application<D> + 'static,
+    C: Application<D> + 'static,
     D: ObjectDictionary,
 {
     fn emulator(&self) -> Emulator {
@@ -408,8 +453,8 @@ where
 
 impl<A, C, D> Device<A, C, D>
 where
-    A: Application + ObjectHooks<D> + 'static,
-    C: CycleHandler<D> + 'static,
+    A: Application<D> + 'static,
+    C: Application<D> + 'static,
     D: ObjectDictionary,
 {
     /// A new emulated ESC for the device: its EEPROM loaded, then what the MainDevice did
@@ -423,29 +468,49 @@ where
         emu
     }
 
-    /// The state-machine and process-data runners of this device on `pdi`, and the shared ESC
-    /// handle they use.
+    /// The state-machine and process-data runners of this device on `pdi`, made as firmware
+    /// makes them, and the SubDevice's [`Status`].
     fn runners<P: Pdi + 'static>(
         self,
         emu: &Emulator,
         pdi: P,
         stop: &'static Stop,
-    ) -> (Vec<Task>, &'static SharedEsc<CriticalSectionRawMutex, P>) {
-        let shared: &'static SharedEsc<CriticalSectionRawMutex, P> =
-            Box::leak(Box::new(SharedEsc::with_chunk(pdi, self.chunk)));
-        let od: &'static SharedDictionary<CriticalSectionRawMutex, D> =
-            Box::leak(Box::new(BlockingMutex::new(RefCell::new(self.od))));
+    ) -> (Vec<Task>, Status<'static, P>) {
+        let app = Pair {
+            hooks: self.app,
+            cycle: self.cycle,
+        };
+        let config = Box::leak(Box::new(
+            Config::<P, MAX_IMAGE, MAX_IMAGE, MAX_MAILBOX>::at_most(self.config),
+        ));
+        let resources = Box::leak(Box::new(
+            Resources::new(config, pdi, app, self.od).with_chunk(self.chunk),
+        ));
+        let (irq, sync0) = (emu.irq_pin(), emu.sync0_pin());
+        let (mut state_machine, process_data, control) = resources.split();
+        state_machine.set_device_id(self.device_id);
+        if self.one_task {
+            let task = Task::thread(stoppable(stop, async move {
+                let error = state_machine.run_with(process_data, irq).await;
+                panic!("runners stopped: {error:?}");
+            }));
+            return (vec![task], control.status());
+        }
         let futures = vec![
-            Task::thread(stoppable(
-                stop,
-                esm(shared, od, self.config, self.app, self.device_id),
-            )),
-            Task::interrupt(stoppable(
-                stop,
-                process_data(shared, od, emu.clone(), self.cycle),
-            )),
+            Task::thread(stoppable(stop, async move {
+                // In firmware the process-data runner's interrupt executor runs first; make that
+                // so here whatever order the scheduler polls its tasks in (the cooperative one:
+                // wake order).
+                embassy_futures::yield_now().await;
+                let error = state_machine.run().await;
+                panic!("state-machine runner stopped: {error:?}");
+            })),
+            Task::interrupt(stoppable(stop, async move {
+                let error = process_data.run_with_sync0(irq, sync0).await;
+                panic!("process-data runner stopped: {error:?}");
+            })),
         ];
-        (futures, shared)
+        (futures, control.status())
     }
 }
 
@@ -482,37 +547,4 @@ async fn scenario(stop: &'static Stop, master: TestMaster, script: impl Future<O
     master.settle().await;
     script.await;
     stop.signal();
-}
-
-async fn esm<P: Pdi, D: ObjectDictionary>(
-    shared: &'static SharedEsc<CriticalSectionRawMutex, P>,
-    od: &'static SharedDictionary<CriticalSectionRawMutex, D>,
-    config: DeviceConfig,
-    mut app: impl Application + ObjectHooks<D>,
-    device_id: u16,
-) {
-    // In firmware the process-data runner's interrupt executor runs first; make that so here
-    // whatever order the scheduler polls its tasks in (the cooperative one: wake order).
-    embassy_futures::yield_now().await;
-    let config = Box::leak(Box::new(config));
-    let mut sub = SubDevice::<'_, MAX_MAILBOX>::new(config);
-    sub.set_device_id(device_id);
-    let error = run_esm(shared, &mut sub, &mut app, od).await;
-    panic!("state-machine runner stopped: {error:?}");
-}
-
-async fn process_data<P: Pdi, D: ObjectDictionary>(
-    shared: &'static SharedEsc<CriticalSectionRawMutex, P>,
-    od: &'static SharedDictionary<CriticalSectionRawMutex, D>,
-    emu: Emulator,
-    mut cycle: impl CycleHandler<D>,
-) {
-    let (mut outputs, mut inputs) = (vec![0; MAX_IMAGE], vec![0; MAX_IMAGE]);
-    let buffers = Buffers {
-        outputs: &mut outputs,
-        inputs: &mut inputs,
-    };
-    let (mut irq, mut sync0) = (emu.irq_pin(), emu.sync0_pin());
-    let error = run_process_data(shared, &mut irq, &mut sync0, &mut cycle, od, buffers).await;
-    panic!("process-data runner stopped: {error:?}");
 }

@@ -11,6 +11,7 @@
 //! | [`flash`] | a device's NOR flash in the bootloader's layout, with the power cut at any erase or write |
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
 //! | [`fuzz`] | a SubDevice session driven by arbitrary bytes: the fuzz target of the core |
+//! | [`fuzz_foe`] | the FoE parser and server driven by arbitrary bytes: the fuzz target of FoE |
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
@@ -23,6 +24,7 @@ pub use ecat_esc as esc;
 pub mod flash;
 pub mod frame;
 pub mod fuzz;
+pub mod fuzz_foe;
 pub mod harness;
 pub mod line;
 pub mod master;

@@ -52,7 +52,7 @@ impl TestMaster {
     }
 
     /// Makes the firmware raise `emergency` (as its application would through
-    /// `SharedEsc::raise_emergency`). Panics when the harness did not connect the firmware.
+    /// `Control::raise_emergency`). Panics when the harness did not connect the firmware.
     pub fn raise_emergency(&self, emergency: Emergency) {
         match &self.firmware {
             Some(raise) => raise(emergency),

@@ -167,19 +167,18 @@ fn three_subdevices_reach_op_and_exchange_10000_cycles() {
 /// Refuses PREOP→SAFEOP as a device whose inputs are misconfigured would.
 struct RefuseSafeOp;
 
-impl ecat_embassy::Application for RefuseSafeOp {
-    async fn on_transition(
+impl<D> ecat_embassy::Application<D> for RefuseSafeOp {
+    fn on_transition(
         &mut self,
         t: ecat_core::Transition,
-    ) -> Result<(), ecat_core::AlStatusCode> {
-        match t.to {
+    ) -> impl Future<Output = Result<(), ecat_core::AlStatusCode>> + use<D> {
+        let answer = match t.to {
             ecat_core::AlState::SafeOp => Err(ecat_core::AlStatusCode::INVALID_INPUT_CONFIG),
             _ => Ok(()),
-        }
+        };
+        async move { answer }
     }
 }
-
-impl<D> ecat_core::dictionary::ObjectHooks<D> for RefuseSafeOp {}
 
 #[test]
 fn a_refused_transition_surfaces_its_al_status_code_at_the_maindevice() {

@@ -117,15 +117,10 @@ impl<F: Future> Future for Counted<F> {
 fn indicator_task<L: Lamps + 'static>(
     lamps: L,
     polls: Rc<Cell<u32>>,
-) -> impl FnOnce(
-    &'static ecat_embassy::SharedEsc<
-        embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex,
-        ecat_emu::emulator::EmulatedPdi,
-    >,
-) -> Vec<BoxedTask> {
-    move |esc| {
+) -> impl FnOnce(ecat_embassy::Status<'static, ecat_emu::emulator::EmulatedPdi>) -> Vec<BoxedTask> {
+    move |status| {
         let lamps = Box::leak(Box::new(lamps));
-        let inner = Box::pin(async move { match run_indicators(esc, lamps).await {} });
+        let inner = Box::pin(async move { match run_indicators(status, lamps).await {} });
         vec![Box::pin(Counted { inner, polls })]
     }
 }

@@ -469,15 +469,19 @@ fn an_emergency_during_a_pending_transition_waits_its_turn() {
 
     #[derive(Clone, Default)]
     struct Slow;
-    impl Application for Slow {
-        async fn on_transition(&mut self, t: Transition) -> Result<(), AlStatusCode> {
-            if t.to == AlState::SafeOp {
-                Timer::after(Duration::from_millis(50)).await;
+    impl Application<TestOd> for Slow {
+        fn on_transition(
+            &mut self,
+            t: Transition,
+        ) -> impl Future<Output = Result<(), AlStatusCode>> + use<> {
+            async move {
+                if t.to == AlState::SafeOp {
+                    Timer::after(Duration::from_millis(50)).await;
+                }
+                Ok(())
             }
-            Ok(())
         }
     }
-    impl ecat_core::dictionary::ObjectHooks<TestOd> for Slow {}
 
     let device = Device::new(common::drive(), Slow, Loopback).with_dictionary(TestOd::default());
     harness::run(device, |master| async move {

@@ -7,24 +7,22 @@ use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
-use ecat_core::dictionary::ObjectHooks;
 use ecat_core::mailbox::MailboxType;
 use ecat_core::pdo::MappingEntry;
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::devices::{DRIVE_TX, Drive};
 use ecat_emu::harness::{self, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
 
 struct App;
-impl Application for App {}
-impl ObjectHooks<Drive> for App {}
+impl<D> Application<D> for App {}
 
 /// A drive whose cycle echoes through the dictionary: statusword = controlword, actual position
 /// = target position, actual velocity = target velocity, mode display = mode.
 struct Echo;
 
-impl CycleHandler<Drive> for Echo {
+impl Application<Drive> for Echo {
     fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.statusword = od.controlword;
         od.position = od.target_position;

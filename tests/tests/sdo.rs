@@ -545,8 +545,7 @@ fn strings_shorten_on_a_shorter_download() {
 
 /// The drive's application: accepts everything.
 struct DriveApp;
-impl ecat_embassy::Application for DriveApp {}
-impl ecat_core::dictionary::ObjectHooks<ecat_emu::devices::Drive> for DriveApp {}
+impl<D> ecat_embassy::Application<D> for DriveApp {}
 
 /// What SOEM's `ecx_readOE` (`slaveinfo -sdo`, pysoem's `slave.od`) does with 0x1C32 through the
 /// runners: an entry description of every subindex 0..=0x20 (value info 7, as SOEM sends it).

@@ -21,7 +21,7 @@ use ecat_core::mailbox::{MailboxHeader, MailboxType, next_counter};
 use ecat_core::{AlEvent, DeviceConfig};
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
 use ecat_embassy::spi::lan9252::{self, Lan9252};
-use ecat_embassy::{CycleHandler, Pdi};
+use ecat_embassy::{Application, Pdi};
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
 use ecat_emu::harness::{self, AcceptAll, Device};
@@ -37,7 +37,7 @@ const IMAGE: u16 = 12;
 #[derive(Clone, Default)]
 struct Recorder(Rc<RefCell<Vec<Vec<u8>>>>);
 
-impl<D> CycleHandler<D> for Recorder {
+impl<D> Application<D> for Recorder {
     fn cycle(&mut self, _od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
         if let Some(outputs) = outputs {
             self.0.borrow_mut().push(outputs.to_vec());

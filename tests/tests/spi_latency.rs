@@ -25,7 +25,7 @@ use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
 use ecat_embassy::spi::lan9252::{self, Lan9252};
-use ecat_embassy::{CycleHandler, Pdi};
+use ecat_embassy::{Application, Pdi};
 use ecat_emu::coe_client::SdoClient;
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
@@ -48,7 +48,7 @@ const BYTES_PER_MS_AT_10_MHZ: usize = 1_250;
 #[derive(Clone, Default)]
 struct Recorder(Rc<RefCell<Vec<Vec<u8>>>>);
 
-impl<D> CycleHandler<D> for Recorder {
+impl<D> Application<D> for Recorder {
     fn cycle(&mut self, _od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
         if let Some(outputs) = outputs {
             self.0.borrow_mut().push(outputs.to_vec());
@@ -68,7 +68,7 @@ enum Driver {
 struct Case {
     driver: Driver,
     mailbox: u16,
-    /// `SharedEsc::with_chunk` (0: whole accesses, as before issue #21).
+    /// `Resources::with_chunk` (0: whole accesses, as before issue #21).
     chunk: u16,
     scheduler: Scheduler,
 }
@@ -379,7 +379,7 @@ fn check(driver: Driver, mailbox: u16, worst: usize) {
     let case = Case {
         driver,
         mailbox,
-        chunk: ecat_embassy::shared::DEFAULT_CHUNK,
+        chunk: ecat_embassy::device::DEFAULT_CHUNK,
         scheduler: Scheduler::Preemptive,
     };
     let figures = measure(case);

@@ -7,10 +7,9 @@ mod common;
 
 use common::{client, walk_to};
 use ecat_core::AlState;
-use ecat_core::dictionary::ObjectHooks;
 use ecat_core::register;
 use ecat_core::sync::SupportedSync;
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 use ecat_emu::coe_client::SdoError;
 use ecat_emu::devices::Drive;
 use ecat_emu::harness::{self, Device};
@@ -18,11 +17,10 @@ use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
 use embassy_time::{Duration, Instant};
 
 struct App;
-impl Application for App {}
-impl ObjectHooks<Drive> for App {}
+impl<D> Application<D> for App {}
 
 struct Idle;
-impl CycleHandler<Drive> for Idle {
+impl Application<Drive> for Idle {
     fn cycle(&mut self, _od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {}
 }
 

@@ -8,10 +8,9 @@ use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
-use ecat_core::dictionary::ObjectHooks;
 use ecat_core::register;
 use ecat_core::sync::SupportedSync;
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::devices::Drive;
 use ecat_emu::harness::{self, Device};
@@ -19,13 +18,12 @@ use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
 use embassy_time::{Duration, Instant};
 
 struct App;
-impl Application for App {}
-impl ObjectHooks<Drive> for App {}
+impl<D> Application<D> for App {}
 
 /// Counts its cycles in the statusword (0x6041, the first two bytes of the TxPDO image).
 struct Counter;
 
-impl CycleHandler<Drive> for Counter {
+impl Application<Drive> for Counter {
     fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.statusword = od.statusword.wrapping_add(1);
     }

@@ -7,7 +7,6 @@ use std::cell::RefCell;
 use std::rc::Rc;
 
 use common::walk_to;
-use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{AlState, AlStatusCode, Duration as CoreDuration, Transition};
 use ecat_embassy::Application;
 use ecat_emu::harness::{self, Device, Loopback};
@@ -37,27 +36,31 @@ impl Drop for DropFlag {
     }
 }
 
-impl<D> ObjectHooks<D> for Scripted {}
-
-impl Application for Scripted {
-    async fn on_transition(&mut self, t: Transition) -> Result<(), AlStatusCode> {
-        self.log
-            .borrow_mut()
-            .push(format!("ask {}->{}", t.from, t.to));
-        let answer = if t.to == AlState::SafeOp {
-            self.answer.borrow().unwrap_or(Answer::Accept)
-        } else {
-            Answer::Accept
-        };
-        let _flag = DropFlag(self.log.clone());
-        match answer {
-            Answer::Accept => Ok(()),
-            Answer::Refuse(code) => Err(AlStatusCode(code)),
-            Answer::After(ms) => {
-                Timer::after(Duration::from_millis(ms)).await;
-                Ok(())
+impl<D> Application<D> for Scripted {
+    /// The future does not borrow the application: it takes its own handles on the log and the
+    /// scripted answer, and starts when first polled (as an `async fn`'s body would).
+    fn on_transition(
+        &mut self,
+        t: Transition,
+    ) -> impl Future<Output = Result<(), AlStatusCode>> + use<D> {
+        let (log, answer) = (self.log.clone(), self.answer.clone());
+        async move {
+            log.borrow_mut().push(format!("ask {}->{}", t.from, t.to));
+            let answer = if t.to == AlState::SafeOp {
+                answer.borrow().unwrap_or(Answer::Accept)
+            } else {
+                Answer::Accept
+            };
+            let _flag = DropFlag(log.clone());
+            match answer {
+                Answer::Accept => Ok(()),
+                Answer::Refuse(code) => Err(AlStatusCode(code)),
+                Answer::After(ms) => {
+                    Timer::after(Duration::from_millis(ms)).await;
+                    Ok(())
+                }
+                Answer::Never => core::future::pending().await,
             }
-            Answer::Never => core::future::pending().await,
         }
     }
 

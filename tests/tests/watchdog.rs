@@ -9,7 +9,7 @@ use std::rc::Rc;
 
 use common::{send_outputs, walk_to};
 use ecat_core::AlState;
-use ecat_embassy::CycleHandler;
+use ecat_embassy::Application;
 use ecat_emu::harness::{self, AcceptAll, Device};
 use embassy_time::Duration;
 
@@ -20,7 +20,7 @@ struct Outputs {
     applied: Rc<RefCell<u32>>,
 }
 
-impl<D> CycleHandler<D> for Outputs {
+impl<D> Application<D> for Outputs {
     fn cycle(&mut self, _od: &mut D, outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         if outputs.is_some() {
             *self.applied.borrow_mut() += 1;

@@ -241,7 +241,7 @@ macro_rules! __ecat_impl {
                 "only numeric and bit types may be PDO-mappable"
             );
             assert!(
-                $crate::dictionary::pdo_configuration_preop_only(objects),
+                $crate::pdo::configuration_preop_only(objects),
                 "PDO mapping and assignment objects may be writable in PREOP only"
             );
             $crate::__ecat_mandatory!($mode, objects);
@@ -459,7 +459,7 @@ macro_rules! __ecat_object {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
-                code: $crate::dictionary::pdo_object_code($index),
+                code: $crate::pdo::object_code($index),
                 name: $name,
                 max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field.items),
                 entries: &[
@@ -504,14 +504,14 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
                 0 => Ok($crate::dictionary::read_value(&$crate::dictionary::last_sub(&[$($sub),+]), offset, out)),
                 $( $sub => Ok($crate::dictionary::read_value(&d.$field.$sfield, offset, out)), )+
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+                _ => Err($crate::abort::AbortCode::NO_SUBINDEX),
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
-                0 => Err($crate::coe::AbortCode::READ_ONLY),
+                0 => Err($crate::abort::AbortCode::READ_ONLY),
                 $( $sub => $crate::dictionary::write_value(
                     &mut d.$field.$sfield, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
                 ), )+
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+                _ => Err($crate::abort::AbortCode::NO_SUBINDEX),
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
                 let _ = (&which, &out);

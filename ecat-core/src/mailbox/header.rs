@@ -101,17 +101,24 @@ impl MailboxHeader {
 
     /// The six bytes on the wire (byte 5 bit 7 reserved, 0).
     pub const fn to_bytes(self) -> [u8; 6] {
-        let l = self.length.to_le_bytes();
+        let [l0, l1, _, _, _, b5] = bytes(self.kind.code(), self.length, self.counter);
         let a = self.address.to_le_bytes();
         [
-            l[0],
-            l[1],
+            l0,
+            l1,
             a[0],
             a[1],
             (self.channel & 0x3F) | (self.priority << 6),
-            self.kind.code() | ((self.counter & 0x07) << 4),
+            b5,
         ]
     }
+}
+
+/// The header the SubDevice puts in front of its messages: type `code` (4 bits), `length`,
+/// `counter`, address, channel and priority 0.
+pub(crate) const fn bytes(code: u8, length: u16, counter: u8) -> [u8; 6] {
+    let l = length.to_le_bytes();
+    [l[0], l[1], 0, 0, 0, (code & 0x0F) | ((counter & 0x07) << 4)]
 }
 
 /// The mailbox counter sequence 1..=7 (0 is "no counter"; ETG.1000.4 §5.6.3).

@@ -4,7 +4,8 @@
 //! - the 6-byte [`MailboxHeader`]; a message with length 0 or longer than the mailbox is
 //!   answered with a mailbox error reply ([`MailboxError`]), and so is a CoE payload shorter
 //!   than its service needs (0x0008: an SDO request under 8 bytes, an SDO Information request
-//!   without its header and the fixed part of its opcode, [`InfoRequest::parse`]);
+//!   without its header and the fixed part of its opcode,
+//!   [`InfoRequest::parse`](crate::coe::sdo_info::InfoRequest::parse));
 //! - counters: a message whose non-zero counter equals the previous one is a repeat and is
 //!   dropped; the SubDevice numbers its own messages 1..=7;
 //! - the channel (header byte 4, bits 0..5) is reserved and 0 (ETG.1000.4 Table 29): a new
@@ -18,24 +19,25 @@
 //!   fragments, emergencies) waits until SM1 is free;
 //! - repeat: when the MainDevice toggles SM1's repeat request, the last message is written again
 //!   before the acknowledge bit follows it;
-//! - dispatch by protocol: CoE (SDO, SDO Information); every other protocol gets "protocol not
-//!   supported" (0x0002). In BOOT only FoE would be served (ETG.1000.6 §6.4.1, conformance.md
-//!   "ESM"), and FoE is not implemented: in BOOT every protocol, FoE included, gets 0x0002.
+//! - dispatch by protocol ([`Handler`]): CoE (`coe::server`) and the handlers the
+//!   firmware adds ([`Handlers`], e.g. [`crate::foe::Foe`]); a protocol without a handler, or one
+//!   its handler does not speak in the current state, gets "protocol not supported" (0x0002). In
+//!   BOOT only FoE is served (ETG.1000.6 §6.4.1, conformance.md "ESM").
 
 mod error;
+mod handler;
 mod header;
 
 pub use error::MailboxError;
+pub use handler::{Env, Handler, Handlers, Reply};
 pub use header::{MailboxHeader, MailboxType, next_counter};
 
 use crate::AlEvent;
-use crate::AlState;
-use crate::coe::sdo::{self, Context, SdoServer};
-use crate::coe::sdo_info::{InfoRequest, SdoInfo};
-use crate::coe::{AbortCode, CoeHeader, Emergency, Service};
+use crate::coe::Emergency;
+use crate::coe::sdo::Context;
+use crate::coe::server::CoeServer;
 use crate::device::{Area, MailboxConfig};
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
-use crate::ring::Ring;
 use crate::time::Instant;
 
 /// How many emergencies wait for SM1 at most; when full the oldest is dropped and counted.
@@ -60,20 +62,43 @@ mod flag {
     pub const REPEAT_PENDING: u8 = 1 << 4;
     /// The repeat acknowledge bit as last written to SM1's PDI control.
     pub const REPEAT_ACK: u8 = 1 << 5;
+    /// One of the handlers beside CoE had a message of its own after the last service.
+    pub const HANDLER_MESSAGE: u8 = 1 << 6;
     /// What keeps a request in SM0: its answer could not be written at once.
     pub const BLOCKING: u8 = RX_PENDING | TX_PENDING | SEND_BUSY | REPEAT_PENDING;
     /// What keeps SM1 from taking a new message.
     pub const SM1_TAKEN: u8 = TX_PENDING | SEND_BUSY | REPEAT_PENDING;
 }
 
-/// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes.
+/// What the handlers beside CoE need from the next service whether SM1 is free or not: a byte
+/// of its own beside [`flag`], so that a device without such handlers tests nothing more.
+mod due {
+    /// The handlers have not been reset since the mailbox stopped.
+    pub const RESET: u8 = 1 << 0;
+    /// A handler's timeout passed.
+    pub const TIMEOUT: u8 = 1 << 1;
+}
+
+/// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes: the
+/// framing (`Link`) and CoE's state.
 #[derive(Debug)]
 // `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
 #[repr(C)]
 pub struct Mailbox<const N: usize> {
+    link: Link<N>,
+    coe: CoeServer<N>,
+}
+
+/// The framing of the mailbox: what SM0 and SM1 hold, counters, the repeat handshake and the
+/// buffers.
+#[derive(Debug)]
+#[repr(C)]
+struct Link<const N: usize> {
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
+    /// What the handlers beside CoE need from the next service ([`due`]).
+    handler_due: u8,
     /// The counter of the last message received (0: none).
     rx_counter: u8,
     /// The counter of the last message sent (0: none).
@@ -84,9 +109,8 @@ pub struct Mailbox<const N: usize> {
     send: Area,
     /// Length of the last message built in `tx` (header included).
     tx_len: usize,
-    emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
-    sdo_info: SdoInfo,
-    sdo: SdoServer<N>,
+    /// The earliest timeout of the handlers beside CoE after the last service.
+    handler_timeout: Option<Instant>,
     rx: [u8; N],
     tx: [u8; N],
 }
@@ -101,17 +125,19 @@ impl<const N: usize> Mailbox<N> {
     /// An idle mailbox.
     pub const fn new() -> Self {
         Self {
-            rx: [0; N],
-            tx: [0; N],
-            tx_len: 0,
-            receive: Area::new(0, 0),
-            send: Area::new(0, 0),
-            flags: 0,
-            rx_counter: 0,
-            tx_counter: 0,
-            sdo: SdoServer::new(),
-            sdo_info: SdoInfo::new(),
-            emergencies: Ring::new(Emergency::NONE),
+            link: Link {
+                rx: [0; N],
+                tx: [0; N],
+                tx_len: 0,
+                receive: Area::new(0, 0),
+                send: Area::new(0, 0),
+                flags: 0,
+                handler_due: due::RESET,
+                rx_counter: 0,
+                tx_counter: 0,
+                handler_timeout: None,
+            },
+            coe: CoeServer::new(),
         }
     }
 
@@ -124,10 +150,10 @@ impl<const N: usize> Mailbox<N> {
             let length = usize::from(area.length).min(N);
             Area::new(area.start, u16::try_from(length).unwrap_or(area.length))
         };
-        self.receive = clamp(config.receive);
-        self.send = clamp(config.send);
+        self.link.receive = clamp(config.receive);
+        self.link.send = clamp(config.send);
         if repeat_request {
-            self.flags = flag::REPEAT_ACK;
+            self.link.flags = flag::REPEAT_ACK;
         }
     }
 
@@ -138,26 +164,26 @@ impl<const N: usize> Mailbox<N> {
 
     /// The MainDevice filled SM0 (AL event bit 8).
     pub fn receive_event(&mut self) {
-        self.flags |= flag::RX_WAITING;
+        self.link.flags |= flag::RX_WAITING;
     }
 
     /// The MainDevice read SM1 (AL event bit 9).
     pub fn send_event(&mut self) {
-        self.flags &= !flag::SEND_BUSY;
+        self.link.flags &= !flag::SEND_BUSY;
     }
 
     /// SM1's activate register as last read: a toggled repeat request asks for the last message
     /// again.
     pub fn repeat_request(&mut self, request: bool) {
-        if request != self.repeat_ack() && self.tx_len != 0 {
+        if request != self.repeat_ack() && self.link.tx_len != 0 {
             // The acknowledge stays until the last message is written again.
-            self.flags |= flag::REPEAT_PENDING;
+            self.link.flags |= flag::REPEAT_PENDING;
         } else {
             // Acknowledged already (or toggled back), or nothing was ever sent: nothing to
             // repeat, the acknowledge follows at once.
-            self.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
+            self.link.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
             if request {
-                self.flags |= flag::REPEAT_ACK;
+                self.link.flags |= flag::REPEAT_ACK;
             }
         }
     }
@@ -177,18 +203,18 @@ impl<const N: usize> Mailbox<N> {
 
     /// Whether SM0 may be read now: its answer could be sent at once.
     pub fn can_receive(&self) -> bool {
-        self.flags & flag::BLOCKING == 0
+        self.link.flags & flag::BLOCKING == 0
     }
 
     /// Whether a repeat request waits for the last message to be written again.
     pub fn repeat_pending(&self) -> bool {
-        self.flags & flag::REPEAT_PENDING != 0
+        self.link.flags & flag::REPEAT_PENDING != 0
     }
 
     /// Whether the SM0 event belongs in the AL event mask: always, except while a request
     /// already waits in SM0 that cannot be read yet (its event would hold the IRQ line).
     pub fn wants_receive_event(&self) -> bool {
-        self.flags & flag::RX_WAITING == 0 || self.can_receive()
+        self.link.flags & flag::RX_WAITING == 0 || self.can_receive()
     }
 
     /// Whether the SM1 event belongs in the AL event mask: only while SM1 holds an unread message
@@ -196,43 +222,39 @@ impl<const N: usize> Mailbox<N> {
     /// request/answer rhythm the MainDevice reads SM1 before it writes the next request, and the
     /// SM1 bit, still latched in the AL event register, arrives with the SM0 event.
     pub fn wants_send_event(&self) -> bool {
-        let more = self.flags & (flag::TX_PENDING | flag::RX_WAITING) != 0
-            || self.sdo_info.is_pending()
-            || !self.emergencies.is_empty();
-        self.flags & flag::SEND_BUSY != 0 && more
+        let more = self.link.flags & (flag::TX_PENDING | flag::RX_WAITING | flag::HANDLER_MESSAGE)
+            != 0
+            || self.coe.has_message();
+        self.link.flags & flag::SEND_BUSY != 0 && more
     }
 
     /// Whether SM0 should be read now.
     pub fn read_due(&self) -> bool {
-        self.flags & (flag::RX_WAITING | flag::BLOCKING) == flag::RX_WAITING
+        self.link.flags & (flag::RX_WAITING | flag::BLOCKING) == flag::RX_WAITING
     }
 
     /// SM0's address and the receive buffer for reading it (SM0's length).
     pub fn rx_buffer(&mut self) -> (u16, &mut [u8]) {
-        let size = self.receive_size();
+        let size = self.link.receive_size();
         (
-            self.receive.start,
-            self.rx.get_mut(..size).unwrap_or_default(),
+            self.link.receive.start,
+            self.link.rx.get_mut(..size).unwrap_or_default(),
         )
-    }
-
-    fn receive_size(&self) -> usize {
-        usize::from(self.receive.length)
     }
 
     /// Whether a request read from SM0 waits to be served.
     pub fn request_pending(&self) -> bool {
-        self.flags & flag::RX_PENDING != 0
+        self.link.flags & flag::RX_PENDING != 0
     }
 
     /// SM0 was read into the receive buffer.
     pub fn received(&mut self) {
-        self.flags = (self.flags & !flag::RX_WAITING) | flag::RX_PENDING;
+        self.link.flags = (self.link.flags & !flag::RX_WAITING) | flag::RX_PENDING;
     }
 
     /// Whether a message must be written to SM1 now: the next message, or the last one again.
     pub fn write_due(&self) -> bool {
-        self.flags & (flag::TX_PENDING | flag::SEND_BUSY) == flag::TX_PENDING
+        self.link.flags & (flag::TX_PENDING | flag::SEND_BUSY) == flag::TX_PENDING
             || self.repeat_pending()
     }
 
@@ -240,17 +262,14 @@ impl<const N: usize> Mailbox<N> {
     /// and, when it is shorter than SM1, the address of SM1's last byte, whose write hands SM1
     /// to the MainDevice.
     pub fn message(&self) -> (u16, &[u8], Option<u16>) {
-        let message = self.tx.get(..self.tx_len).unwrap_or_default();
+        let message = self.link.tx.get(..self.link.tx_len).unwrap_or_default();
         let last = self
+            .link
             .send
             .start
-            .saturating_add(self.send.length.saturating_sub(1));
-        let short = message.len() < self.send_size();
-        (self.send.start, message, short.then_some(last))
-    }
-
-    fn send_size(&self) -> usize {
-        usize::from(self.send.length)
+            .saturating_add(self.link.send.length.saturating_sub(1));
+        let short = message.len() < self.link.send_size();
+        (self.link.send.start, message, short.then_some(last))
     }
 
     /// The message ([`Mailbox::message`]) is now in SM1.
@@ -261,75 +280,120 @@ impl<const N: usize> Mailbox<N> {
         } else {
             0
         };
-        self.flags ^= toggle;
-        self.flags &= !(flag::TX_PENDING | flag::REPEAT_PENDING);
-        self.flags |= flag::SEND_BUSY;
+        self.link.flags ^= toggle;
+        self.link.flags &= !(flag::TX_PENDING | flag::REPEAT_PENDING);
+        self.link.flags |= flag::SEND_BUSY;
     }
 
     /// The repeat acknowledge bit for SM1's PDI control.
     pub fn repeat_ack(&self) -> bool {
-        self.flags & flag::REPEAT_ACK != 0
+        self.link.flags & flag::REPEAT_ACK != 0
     }
 
     /// Queues an emergency; when the queue is full the oldest is dropped (see
     /// [`Mailbox::emergencies_dropped`]).
     pub fn emergency(&mut self, emergency: Emergency) {
-        self.emergencies.push(emergency);
+        self.coe.emergency(emergency);
     }
 
     /// Emergencies dropped because the queue was full.
     pub fn emergencies_dropped(&self) -> u16 {
-        self.emergencies.dropped()
+        self.coe.emergencies_dropped()
     }
 
-    /// When [`Mailbox::handle_timeout`] must be called.
+    /// When [`Mailbox::handle_timeout`] must be called: an SDO transfer's, or a handler's as of
+    /// the last service.
     pub fn poll_timeout(&self) -> Option<Instant> {
-        self.sdo.poll_timeout()
+        match (self.coe.poll_timeout(), self.link.handler_timeout) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
-    /// Expires an SDO transfer that waited too long for its next segment.
+    /// Expires an SDO transfer that waited too long for its next segment; a handler's timeout
+    /// that passed makes work for the next service, which hands it on.
     pub fn handle_timeout(&mut self, now: Instant) {
-        self.sdo.handle_timeout(now);
+        self.coe.handle_timeout(now);
+        if self.link.handler_timeout.is_some_and(|t| t <= now) {
+            self.link.handler_due |= due::TIMEOUT;
+        }
     }
 
-    /// Whether the mailbox has anything to serve: SM1 is free and a request, an SDO Information
-    /// fragment or an emergency waits for it.
+    /// Whether the mailbox has anything to serve: SM1 is free and a request or a message of a
+    /// handler's own (SDO Information fragment, emergency) waits for it, or a handler's timeout
+    /// passed.
     pub fn has_work(&self) -> bool {
-        let free = self.flags & flag::SM1_TAKEN == 0;
-        free && (self.request_pending()
-            || self.sdo_info.is_pending()
-            || !self.emergencies.is_empty())
+        let free = self.link.flags & flag::SM1_TAKEN == 0;
+        let messages = flag::RX_PENDING | flag::HANDLER_MESSAGE;
+        free && (self.link.flags & messages != 0 || self.coe.has_message())
+            || self.link.handler_due & due::TIMEOUT != 0
     }
 
     /// Serves what is due, once [`Mailbox::has_work`] says there is something: the received
-    /// message, or else the next fragment or emergency (SM1 is free then). Returns whether a
+    /// message, or else the next message of a handler's own (SM1 is free then). Returns whether a
     /// message was built (a request may be dropped without one). Bounded: one message per call.
-    pub(crate) fn serve<D: ObjectDictionary, H: ObjectHooks<D>>(
+    pub(crate) fn serve<D: ObjectDictionary, H: ObjectHooks<D>, P: Handlers>(
         &mut self,
         cx: &mut Context<'_, D, H>,
+        handlers: &mut P,
     ) -> bool {
-        if self.request_pending() {
+        let env = Env {
+            state: cx.state,
+            now: cx.now,
+            max_request: self.link.receive_size().saturating_sub(MailboxHeader::SIZE),
+        };
+        if P::NONE {
+            return self
+                .link
+                .serve_handlers(&mut (self.coe.handler(cx), handlers), env);
+        }
+        if self.link.handler_due & due::RESET != 0 {
+            handlers.reset();
+        }
+        if self.link.handler_due & due::TIMEOUT != 0 {
+            handlers.handle_timeout(env.now);
+        }
+        self.link.handler_due = 0;
+        // SM1 may be taken: the service may be for a timeout alone.
+        let built = self.link.flags & flag::SM1_TAKEN == 0
+            && self
+                .link
+                .serve_handlers(&mut (self.coe.handler(cx), &mut *handlers), env);
+        self.link.handler_timeout = handlers.poll_timeout();
+        self.link.flags &= !flag::HANDLER_MESSAGE;
+        if handlers.has_message() {
+            self.link.flags |= flag::HANDLER_MESSAGE;
+        }
+        built
+    }
+}
+
+impl<const N: usize> Link<N> {
+    fn receive_size(&self) -> usize {
+        usize::from(self.receive.length)
+    }
+
+    fn send_size(&self) -> usize {
+        usize::from(self.send.length)
+    }
+
+    fn serve_handlers<P: Handlers>(&mut self, handlers: &mut P, env: Env) -> bool {
+        if self.flags & flag::RX_PENDING != 0 {
             self.flags &= !flag::RX_PENDING;
-            return self.serve_request(cx);
+            return self.serve_request(handlers, env);
         }
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self
             .tx
             .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
             .unwrap_or_default();
-        if let Some(len) = self.sdo_info.next_fragment::<D>(out) {
-            return self.build(MailboxType::Coe, len);
-        }
-        match self.emergencies.pop() {
-            Some(emergency) => self.build_emergency(emergency),
+        match handlers.message(env, out) {
+            Some((kind, len)) => self.build(kind.code(), len),
             None => false,
         }
     }
 
-    fn serve_request<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-    ) -> bool {
+    fn serve_request<P: Handlers>(&mut self, handlers: &mut P, env: Env) -> bool {
         let Some(header) = MailboxHeader::parse(&self.rx) else {
             return false;
         };
@@ -337,7 +401,7 @@ impl<const N: usize> Mailbox<N> {
         if length == 0 {
             return self.build_error(MailboxError::INVALID_HEADER);
         }
-        if length > self.receive_size().saturating_sub(MailboxHeader::SIZE) {
+        if length > env.max_request {
             return self.build_error(MailboxError::INVALID_SIZE);
         }
         if header.counter != 0 && header.counter == self.rx_counter {
@@ -347,40 +411,17 @@ impl<const N: usize> Mailbox<N> {
         if header.channel != 0 {
             return self.refuse_channel();
         }
-        match header.kind {
-            MailboxType::Coe if cx.state != AlState::Boot => self.serve_coe(cx, length),
-            _ => self.build_error(MailboxError::UNSUPPORTED_PROTOCOL),
-        }
-    }
-
-    fn serve_coe<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-        length: usize,
-    ) -> bool {
         let start = MailboxHeader::SIZE;
-        let message = self.rx.get(start..start + length).unwrap_or_default();
-        let Some(coe) = CoeHeader::parse(message) else {
-            return self.build_error(MailboxError::INVALID_SIZE);
-        };
-        let payload = message.get(CoeHeader::SIZE..).unwrap_or_default();
+        let payload = self.rx.get(start..start + length).unwrap_or_default();
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self.tx.get_mut(start..start + capacity).unwrap_or_default();
-        let len = match coe.service {
-            Service::SdoRequest if payload.len() < 8 => {
-                return self.build_error(MailboxError::INVALID_SIZE);
-            }
-            Service::SdoRequest => self.sdo.request(cx, payload, out),
-            Service::SdoInformation => match InfoRequest::parse(payload) {
-                Some(request) => self.sdo_info.request::<D>(request, out),
-                None => {
-                    self.sdo_info.abandon();
-                    return self.build_error(MailboxError::INVALID_SIZE);
-                }
-            },
-            _ => sdo::abort(out, 0, 0, AbortCode::UNSUPPORTED_ACCESS),
-        };
-        len > 0 && self.build(MailboxType::Coe, len)
+        let code = header.kind.code();
+        match handlers.request(code, env, payload, out) {
+            Some(Reply::Send(len)) => self.build(code, len),
+            Some(Reply::Silent) => false,
+            Some(Reply::Error(error)) => self.build_error(error),
+            None => self.build_error(MailboxError::UNSUPPORTED_PROTOCOL),
+        }
     }
 
     /// The reply to a message on a channel other than 0: out of line, away from the requests'
@@ -399,27 +440,14 @@ impl<const N: usize> Mailbox<N> {
         {
             dst.copy_from_slice(&payload);
         }
-        self.build(MailboxType::Error, payload.len())
-    }
-
-    fn build_emergency(&mut self, emergency: Emergency) -> bool {
-        let start = MailboxHeader::SIZE;
-        let coe = CoeHeader::new(Service::Emergency).to_bytes();
-        if let Some(dst) = self.tx.get_mut(start..start + CoeHeader::SIZE) {
-            dst.copy_from_slice(&coe);
-        }
-        let data = start + CoeHeader::SIZE;
-        if let Some(dst) = self.tx.get_mut(data..data + Emergency::SIZE) {
-            dst.copy_from_slice(&emergency.to_bytes());
-        }
-        self.build(MailboxType::Coe, CoeHeader::SIZE + Emergency::SIZE)
+        self.build(MailboxType::Error.code(), payload.len())
     }
 
     /// Puts the header in front of `len` bytes already in `tx`, with the next counter.
-    fn build(&mut self, kind: MailboxType, len: usize) -> bool {
+    fn build(&mut self, code: u8, len: usize) -> bool {
         self.tx_counter = next_counter(self.tx_counter);
         let length = u16::try_from(len).unwrap_or(u16::MAX);
-        let header = MailboxHeader::new(kind, length, self.tx_counter).to_bytes();
+        let header = header::bytes(code, length, self.tx_counter);
         if let Some(dst) = self.tx.get_mut(..MailboxHeader::SIZE) {
             dst.copy_from_slice(&header);
         }

@@ -168,8 +168,7 @@ impl AddressPhase {
 }
 
 /// A [`Pdi`] over the Beckhoff ESC SPI protocol.
-// `repr(C)`: the configuration and the address phase before the SPI device, within reach of
-// Thumb's 16-bit loads and stores.
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules").
 #[repr(C)]
 pub struct BeckhoffSpi<S> {
     config: Config,
@@ -203,14 +202,13 @@ impl<S: SpiDevice> BeckhoffSpi<S> {
 impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
     type Error = S::Error;
 
+    /// The ET1100's SyncManagers and process RAM, which the AX58100 shares.
+    const CHIP: Option<Chip> = Some(Chip::ET1100);
+
     /// Performs the access as [`Config::transactions`] says; returns the AL event of the first
     /// address phase. An empty read is one NOP (2 bytes on the bus), an empty write costs
     /// nothing and reports no event.
-    ///
-    /// An `async` block rather than an `async fn`: the block works on its captured arguments
-    /// themselves, where an `async fn` keeps a copy of each beside it (18 bytes of a future each
-    /// runner holds).
-    #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
     fn access(
         &mut self,
         mut address: u16,

@@ -211,8 +211,7 @@ pub enum Error<E> {
 }
 
 /// A [`Pdi`] for the LAN9252 in SPI mode.
-// `repr(C)`: the events and the configuration before the SPI device, within reach of Thumb's
-// 16-bit loads and stores.
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules").
 #[repr(C)]
 pub struct Lan9252<S> {
     /// State-machine events of the last AL event value read, less those cleared since.
@@ -467,6 +466,9 @@ impl<S: SpiDevice> Lan9252<S> {
 impl<S: SpiDevice> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
+    /// 4 SyncManagers, 4 KiB of process RAM.
+    const CHIP: Option<Chip> = Some(Chip::LAN9252);
+
     /// ESC registers: one CSR command (the driver moves them one command at a time anyway, so
     /// the process-data runner may come in between any two). Process RAM: at most `chunk`
     /// bytes, ending on a DWORD boundary when the chunk is cut short, so that the next chunk
@@ -497,8 +499,7 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
     /// empty read: then it reports that one's), and so do an empty read (nothing else) and a read
     /// of 0x0220 itself; any other access reports the state-machine events known to be pending
     /// (see the module docs).
-    /// An `async` block rather than an `async fn`, which would keep a copy of its arguments.
-    #[allow(clippy::manual_async_fn)] // the async block keeps no copy of the arguments
+    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
     fn access(
         &mut self,
         address: u16,

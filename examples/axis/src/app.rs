@@ -12,13 +12,18 @@ use crate::AxisOd;
 /// 0x6098 homing method.
 const HOMING_METHOD: u16 = 0x6098;
 
-/// The axis' [`Application`]: accepts every ESM transition; refuses an SDO download of an
-/// unsupported mode to 0x6060 ([`mode::check_write`]) or of a reserved homing method to 0x6098
-/// ([`Method::of`]) with 0x06090030.
+/// The axis' SDO checks: refuses an SDO download of an unsupported mode to 0x6060
+/// ([`mode::check_write`]) or of a reserved homing method to 0x6098 ([`Method::of`]) with
+/// 0x06090030. As an [`Application`] of its own (accepting every ESM transition, no cycle) for
+/// hosts that pair it with the cycle of an [`Axis`](crate::Axis), which carries the same checks.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct AxisApp;
 
-impl Application for AxisApp {}
+impl Application<AxisOd> for AxisApp {
+    fn object_hooks(&mut self) -> impl ObjectHooks<AxisOd> + '_ {
+        *self
+    }
+}
 
 impl ObjectHooks<AxisOd> for AxisApp {
     fn before_write(

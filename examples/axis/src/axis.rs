@@ -18,15 +18,15 @@ use ecat_core::cia402::{
     Mode, Motion, OptionCodes, PowerDriveSystem, Ramp, SoftwarePositionLimit, State, halt, mode,
     statusword,
 };
-use ecat_embassy::CycleHandler;
+use ecat_embassy::Application;
 
-use crate::AxisOd;
 use crate::motor::{Machine, Motor, TORQUE_ACCELERATION, saturate};
+use crate::{AxisApp, AxisOd};
 
 /// The cycle time when 0x1C32:02 is 0 (no cycle configured): 1 ms.
 pub const DEFAULT_CYCLE_NS: u32 = 1_000_000;
 
-/// The controlword [`Axis::safe_state`](CycleHandler::safe_state) leaves in the dictionary:
+/// The controlword [`Axis::safe_state`](Application::safe_state) leaves in the dictionary:
 /// quick stop (IEC 61800-7-201 Table 28).
 const QUICK_STOP: u16 = 0x0002;
 
@@ -43,7 +43,8 @@ struct Report {
     torque: i16,
 }
 
-/// One axis: the [`CycleHandler`] of the drive.
+/// One axis: the [`Application`] of the drive (its cycle, safe state and SDO checks,
+/// [`AxisApp`]).
 #[derive(Debug, Clone, Default)]
 pub struct Axis {
     pds: PowerDriveSystem,
@@ -126,7 +127,7 @@ impl Axis {
         self.fault = Some(code);
     }
 
-    /// One cycle over the dictionary: the body of [`CycleHandler::cycle`].
+    /// One cycle over the dictionary: the body of [`Application::cycle`].
     pub fn step(&mut self, od: &mut AxisOd) {
         let dt = match cycle_time(od) {
             0 => DEFAULT_CYCLE_NS,
@@ -491,7 +492,11 @@ fn clamp(limit: SoftwarePositionLimit, position: i32) -> (i32, bool) {
     (clamped, clamped != position)
 }
 
-impl CycleHandler<AxisOd> for Axis {
+impl Application<AxisOd> for Axis {
+    fn object_hooks(&mut self) -> impl ecat_core::dictionary::ObjectHooks<AxisOd> + '_ {
+        AxisApp
+    }
+
     fn cycle(&mut self, od: &mut AxisOd, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         self.step(od);
     }

@@ -1,9 +1,8 @@
 //! # ecat-axis: a dummy CiA 402 servo axis
 //!
-//! The object dictionary of a CiA 402 drive ([`AxisOd`]) and its application: [`AxisApp`]
-//! (the ESM hooks and the SDO check of 0x6060) and [`Axis`] (the process-data cycle: the
-//! [`PowerDriveSystem`](ecat_core::cia402::PowerDriveSystem) decides, a simulated [`Motor`]
-//! moves). No std, no heap: the same code serves the host demo, a virtual SubDevice and the
+//! The object dictionary of a CiA 402 drive ([`AxisOd`]) and its application: [`Axis`] (the
+//! process-data cycle: the [`PowerDriveSystem`](ecat_core::cia402::PowerDriveSystem) decides, a
+//! simulated [`Motor`] moves; the safe state; the SDO checks of 0x6060 and 0x6098, [`AxisApp`]). No std, no heap: the same code serves the host demo, a virtual SubDevice and the
 //! STM32 firmware.
 //!
 //! Modes: profile position (1), profile velocity (3), homing (6) on a simulated machine

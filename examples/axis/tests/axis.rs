@@ -9,7 +9,7 @@ use ecat_core::cia402::objects;
 use ecat_core::cia402::{SoftwarePositionLimit, State};
 use ecat_core::coe::AbortCode;
 use ecat_core::dictionary::ObjectHooks;
-use ecat_embassy::CycleHandler;
+use ecat_embassy::Application;
 
 const CSP: i8 = 8;
 const CSV: i8 = 9;

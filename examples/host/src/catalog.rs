@@ -1,8 +1,8 @@
 //! The devices the host programs emulate, by name: the sample devices of `ecat_emu::devices` and
 //! the CiA402 dummy axis of `ecat-axis`, each with its SII image.
 
-use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
-use ecat_embassy::{Application, CycleHandler};
+use ecat_core::dictionary::ObjectDictionary;
+use ecat_embassy::Application;
 use ecat_emu::devices::{self, Sample};
 use ecat_emu::harness::Spawn;
 
@@ -30,8 +30,8 @@ pub trait Visit {
     /// Does it with `sample`.
     fn visit<A, C, D>(self, sample: Sample<A, C, D>) -> Self::Output
     where
-        A: Application + ObjectHooks<D> + 'static,
-        C: CycleHandler<D> + 'static,
+        A: Application<D> + 'static,
+        C: Application<D> + 'static,
         D: ObjectDictionary;
 }
 
@@ -53,8 +53,8 @@ impl Visit for Boxed {
     type Output = Box<dyn Spawn>;
     fn visit<A, C, D>(self, sample: Sample<A, C, D>) -> Self::Output
     where
-        A: Application + ObjectHooks<D> + 'static,
-        C: CycleHandler<D> + 'static,
+        A: Application<D> + 'static,
+        C: Application<D> + 'static,
         D: ObjectDictionary,
     {
         Box::new(sample.device)

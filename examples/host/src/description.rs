@@ -3,9 +3,9 @@
 //! [`DeviceConfig`](ecat_core::DeviceConfig) and dictionary. What `ecat-esi` writes.
 
 use ecat_core::chip::Chip;
-use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
+use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::esi::{self, EsiError};
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 use ecat_emu::devices::Sample;
 use ecat_emu::esc::EscConfig;
 
@@ -41,8 +41,8 @@ impl Visit for Describe {
     type Output = Result<Files, EsiError>;
     fn visit<A, C, D>(self, mut sample: Sample<A, C, D>) -> Self::Output
     where
-        A: Application + ObjectHooks<D> + 'static,
-        C: CycleHandler<D> + 'static,
+        A: Application<D> + 'static,
+        C: Application<D> + 'static,
         D: ObjectDictionary,
     {
         if let Some(chip) = self.0 {

@@ -6,10 +6,10 @@
 use ecat_core::DeviceConfig;
 use ecat_core::device::Identity;
 use ecat_core::dictionary::{
-    Access, DataType, EntryInfo, Limit, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
+    Access, DataType, EntryInfo, Limit, ObjectCode, ObjectDictionary, ObjectInfo,
 };
 use ecat_core::sii::{self, Names, SiiError};
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 use ecat_emu::devices::{self, Sample};
 use ecat_examples::catalog::{self, Visit};
 use ecat_examples::description;
@@ -302,8 +302,8 @@ impl Visit for Consistent {
     type Output = ();
     fn visit<A, C, D>(self, sample: Sample<A, C, D>)
     where
-        A: Application + ObjectHooks<D> + 'static,
-        C: CycleHandler<D> + 'static,
+        A: Application<D> + 'static,
+        C: Application<D> + 'static,
         D: ObjectDictionary,
     {
         let files = description::of(&sample).unwrap();

@@ -45,16 +45,19 @@ const fn spi_mode(mode: SpiMode) -> spi::Mode {
     }
 }
 
+/// An input line from the ESC (IRQ, SYNC0) with its EXTI interrupt.
+pub type Pin = ExtiInput<'static, Async>;
+
 /// What the firmware gets from the board.
 pub struct Board {
     /// The ESC's SPI bus.
     pub spi: EscSpi,
     /// The ESC's PDI interrupt line (active low).
-    pub irq: ExtiInput<'static, Async>,
+    pub irq: Pin,
     /// The ESC's SYNC0 output (from the distributed clock): push-pull, active high, as the SII
     /// image's configuration area sets it (0x0151 = 0x06, `ecat_core::chip`); the process-data
     /// runner waits for its rising edges.
-    pub sync0: ExtiInput<'static, Async>,
+    pub sync0: Pin,
     /// The application's pins.
     pub io: DigitalIo,
     /// The RUN and ERR LEDs.

@@ -6,16 +6,12 @@
 //! Inputs are sampled at SYNC0 when the MainDevice runs the distributed clock (DC-synchronous
 //! sampling: every SubDevice of the segment samples at the same instant), at the cycle otherwise.
 
-use core::cell::RefCell;
-use core::sync::atomic::{AtomicBool, AtomicU8, Ordering};
-
+use ecat_core::Transition;
 use ecat_core::device::Identity;
 use ecat_core::dictionary::{Communication, DeviceInfo};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
-use ecat_embassy::CycleHandler;
+use ecat_embassy::Application;
 use embassy_stm32::gpio::{Input, Level, Output};
-use embassy_sync::blocking_mutex::Mutex;
-use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 
 /// The communication area: CiA 401 generic I/O with digital inputs and outputs (0x1000 =
 /// 0x0003_0191), the identity the SII image must carry.
@@ -80,24 +76,25 @@ ecat_core::dictionary! {
     }
 }
 
-/// The input pins, sampled by the cycle and by the SYNC0 task.
-static INPUTS: Mutex<CriticalSectionRawMutex, RefCell<Option<[Input<'static>; 4]>>> =
-    Mutex::new(RefCell::new(None));
-/// The inputs as sampled at the last SYNC0.
-static LATCHED: AtomicU8 = AtomicU8::new(0);
-/// SYNC0 pulses arrive: the cycle sends [`LATCHED`].
-static SYNC0_ACTIVE: AtomicBool = AtomicBool::new(false);
-
-/// The pins: the outputs owned here, the inputs shared with the SYNC0 task.
+/// The pins, and the inputs as the SYNC0 task latched them.
 pub struct DigitalIo {
     outputs: [Output<'static>; 4],
+    inputs: [Input<'static>; 4],
+    /// The inputs as sampled at the last SYNC0.
+    latched: u8,
+    /// SYNC0 pulses arrive: the cycle sends `latched`.
+    sync0_active: bool,
 }
 
 impl DigitalIo {
     /// Takes the pins.
     pub fn new(outputs: [Output<'static>; 4], inputs: [Input<'static>; 4]) -> Self {
-        INPUTS.lock(|cell| cell.replace(Some(inputs)));
-        Self { outputs }
+        Self {
+            outputs,
+            inputs,
+            latched: 0,
+            sync0_active: false,
+        }
     }
 
     /// Applies the output image's low nibble.
@@ -106,52 +103,64 @@ impl DigitalIo {
             pin.set_level(Level::from(image >> bit & 1 != 0));
         }
     }
-}
 
-/// The input pins now (bit n = pin n high; the user button, active low, reads 1 when pressed).
-pub fn sample() -> u8 {
-    INPUTS.lock(|cell| {
-        cell.borrow().as_ref().map_or(0, |pins| {
-            pins.iter().enumerate().fold(0, |image, (bit, pin)| {
-                image | u8::from(pin.is_high() != (bit == 0)) << bit
-            })
+    /// The input pins now (bit n = pin n high; the user button, active low, reads 1 when
+    /// pressed).
+    pub fn sample(&self) -> u8 {
+        self.inputs.iter().enumerate().fold(0, |image, (bit, pin)| {
+            image | u8::from(pin.is_high() != (bit == 0)) << bit
         })
-    })
-}
+    }
 
-/// A SYNC0 pulse: latch the inputs for the next cycle.
-pub fn on_sync0() {
-    LATCHED.store(sample(), Ordering::Relaxed);
-    SYNC0_ACTIVE.store(true, Ordering::Relaxed);
-}
+    /// A SYNC0 pulse: latch the inputs for the next cycle.
+    pub fn on_sync0(&mut self) {
+        self.latched = self.sample();
+        self.sync0_active = true;
+    }
 
-/// The process data stopped (below SAFEOP): the next exchange samples at the cycle until SYNC0
-/// shows up again.
-pub fn on_process_data_stopped() {
-    SYNC0_ACTIVE.store(false, Ordering::Relaxed);
-}
+    /// The inputs of this cycle: latched at SYNC0 when it runs, sampled now otherwise.
+    fn sampled(&self) -> u8 {
+        if self.sync0_active {
+            self.latched
+        } else {
+            self.sample()
+        }
+    }
 
-/// Without a dictionary (feature `no-dictionary`, a size variant): output bits 0..3 drive the
-/// pins, input bits 0..3 are the pins, straight from and into the process images.
-impl CycleHandler<()> for DigitalIo {
-    fn cycle(&mut self, _: &mut (), outputs: Option<&[u8]>, inputs: &mut [u8]) {
-        self.apply(outputs.and_then(|o| o.first().copied()).unwrap_or(0));
-        if let Some(byte) = inputs.first_mut() {
-            *byte = sampled();
+    /// Logs the new state; below SAFEOP the next exchange samples at the cycle until SYNC0 shows
+    /// up again.
+    fn state_changed(&mut self, transition: Transition) {
+        defmt::info!(
+            "AL state {=u8:#x} -> {=u8:#x}",
+            transition.from as u8,
+            transition.to as u8
+        );
+        if !transition.to.has_process_data() {
+            self.sync0_active = false;
         }
     }
 }
 
-/// The inputs of this cycle: latched at SYNC0 when it runs, sampled now otherwise.
-fn sampled() -> u8 {
-    if SYNC0_ACTIVE.load(Ordering::Relaxed) {
-        LATCHED.load(Ordering::Relaxed)
-    } else {
-        sample()
+/// Without a dictionary (feature `no-dictionary`, a size variant): output bits 0..3 drive the
+/// pins, input bits 0..3 are the pins, straight from and into the process images.
+impl Application for DigitalIo {
+    fn cycle(&mut self, _: &mut (), outputs: Option<&[u8]>, inputs: &mut [u8]) {
+        self.apply(outputs.and_then(|o| o.first().copied()).unwrap_or(0));
+        if let Some(byte) = inputs.first_mut() {
+            *byte = self.sampled();
+        }
+    }
+
+    fn safe_state(&mut self, _: &mut ()) {
+        self.apply(0);
+    }
+
+    fn on_state_change(&mut self, transition: Transition) {
+        self.state_changed(transition);
     }
 }
 
-impl CycleHandler<IoOd> for DigitalIo {
+impl Application<IoOd> for DigitalIo {
     /// In OP the outputs arrive unpacked in 0x7000; the inputs leave packed from 0x6000.
     fn cycle(&mut self, od: &mut IoOd, outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         let image = match outputs {
@@ -160,10 +169,18 @@ impl CycleHandler<IoOd> for DigitalIo {
             None => 0,
         };
         self.apply(image);
-        let sampled = sampled();
+        let sampled = self.sampled();
         for (bit, input) in od.inputs.iter_mut().enumerate() {
             *input = sampled >> bit & 1 != 0;
         }
+    }
+
+    fn safe_state(&mut self, _: &mut IoOd) {
+        self.apply(0);
+    }
+
+    fn on_state_change(&mut self, transition: Transition) {
+        self.state_changed(transition);
     }
 }
 

@@ -10,17 +10,14 @@ pub mod esc;
 pub mod io;
 pub mod mem;
 
-/// The ETG.1300 RUN/ERR LEDs of the SubDevice behind `esc`, in the thread executor: woken only
-/// at a pattern's edges and when the AL status changes.
+/// The ETG.1300 RUN/ERR LEDs of the SubDevice whose `status` they show, in the thread executor:
+/// woken only at a pattern's edges and when the AL status changes.
 #[embassy_executor::task]
 pub async fn indicators(
-    esc: &'static ecat_embassy::SharedEsc<
-        embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex,
-        esc::Pdi,
-    >,
+    status: ecat_embassy::Status<'static, esc::Pdi>,
     mut leds: board::Leds,
 ) -> ! {
-    match ecat_embassy::run_indicators(esc, &mut leds).await {}
+    match ecat_embassy::run_indicators(status, &mut leds).await {}
 }
 
 /// Parks the calling task for good: what a firmware task does once its runner stopped (after

@@ -77,7 +77,11 @@ pub struct BlobApp {
     pub written: Rc<RefCell<Vec<(u16, u8)>>>,
 }
 
-impl Application for BlobApp {}
+impl Application<TestOd> for BlobApp {
+    fn object_hooks(&mut self) -> impl ObjectHooks<TestOd> + '_ {
+        self.clone()
+    }
+}
 
 impl ObjectHooks<TestOd> for BlobApp {
     fn before_write(

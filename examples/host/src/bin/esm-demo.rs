@@ -5,9 +5,8 @@
 //! `cargo run -p ecat-examples --bin esm-demo`
 
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::ObjectHooks;
 use ecat_core::{AlStatus, AlStatusCode, DeviceConfig, Transition};
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::Application;
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::TestMaster;
 use embassy_time::{Duration, Instant};
@@ -24,9 +23,12 @@ fn stamp() -> String {
 struct Hooks;
 
 impl Application for Hooks {
-    async fn on_transition(&mut self, t: Transition) -> Result<(), AlStatusCode> {
+    fn on_transition(
+        &mut self,
+        t: Transition,
+    ) -> impl Future<Output = Result<(), AlStatusCode>> + use<> {
         println!("{}  device  asked {} → {}: accepted", stamp(), t.from, t.to);
-        Ok(())
+        async { Ok(()) }
     }
 
     fn on_state_change(&mut self, t: Transition) {
@@ -34,12 +36,10 @@ impl Application for Hooks {
     }
 }
 
-impl ObjectHooks<()> for Hooks {}
-
 /// Inputs = outputs + 1 (as a little-endian u32), so the exchange is visible.
 struct Increment;
 
-impl CycleHandler<()> for Increment {
+impl Application for Increment {
     fn cycle(&mut self, _od: &mut (), outputs: Option<&[u8]>, inputs: &mut [u8]) {
         let value = outputs
             .and_then(|o| o.try_into().ok())

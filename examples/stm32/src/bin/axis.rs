@@ -8,34 +8,22 @@
 #![no_main]
 #![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
 
-use core::cell::RefCell;
-
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
-use ecat_axis::{Axis, AxisApp, AxisOd};
-use ecat_core::{DeviceConfig, SubDevice};
-use ecat_embassy::pd_runner::Buffers;
-use ecat_embassy::{SharedDictionary, SharedEsc, run_esm, run_process_data};
-use ecat_stm32::board::Board;
+use ecat_axis::{Axis, AxisOd};
+use ecat_embassy::{Config, ProcessDataRunner, Resources};
+use ecat_stm32::board::{Board, Pin};
 use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
-use embassy_stm32::exti::ExtiInput;
-
-use embassy_stm32::mode::Async;
-use embassy_sync::blocking_mutex::Mutex;
-use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use panic_probe as _;
 use static_cell::StaticCell;
 
-/// The axis's description (DC SYNC0 capable: the board wires SYNC0) on this ESC.
-const DEVICE: DeviceConfig = esc::fit(ecat_axis::DEVICE);
-const _: () = assert!(DEVICE.validate().is_ok());
+/// The axis's description (DC SYNC0 capable: the board wires SYNC0): 13 bytes of outputs, 19
+/// of inputs, 128-byte mailboxes.
+const DEVICE: Config<esc::Pdi, 13, 19> = Config::new(ecat_axis::DEVICE);
 
-type Esc = SharedEsc<CriticalSectionRawMutex, esc::Pdi>;
-type Dictionary = SharedDictionary<CriticalSectionRawMutex, AxisOd>;
-
-static ESC: StaticCell<Esc> = StaticCell::new();
-static DICTIONARY: StaticCell<Dictionary> = StaticCell::new();
+type Ecat = Resources<esc::Pdi, Axis, AxisOd, 13, 19>;
+static ECAT: StaticCell<Ecat> = StaticCell::new();
 ecat_stm32::executors!();
 
 #[cortex_m_rt::entry]
@@ -60,32 +48,25 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Some(pdi) = esc::start_logged(spi).await else {
         park().await
     };
-    let esc: &'static Esc = ESC.init(SharedEsc::new(pdi));
-    let od: &'static Dictionary = DICTIONARY.init(Mutex::new(RefCell::new(AxisOd::default())));
+    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));
+    let (state_machine, process_data, control) = ecat.split();
     let low = SendSpawner::for_current_executor().await;
-    low.spawn(unwrap!(ecat_stm32::indicators(esc, leds)));
-    high.spawn(unwrap!(process_data(esc, od, irq, sync0)));
-    let mut sub: SubDevice<'static> = SubDevice::new(&DEVICE);
-    let error = run_esm(esc, &mut sub, &mut AxisApp, od).await;
-    error!("PDI failed: {}", error);
+    low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
+    high.spawn(unwrap!(exchange(process_data, irq, sync0)));
+    error!("PDI failed: {}", state_machine.run().await);
     park().await
 }
 
 /// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines.
 #[embassy_executor::task]
-async fn process_data(
-    esc: &'static Esc,
-    od: &'static Dictionary,
-    mut irq: ExtiInput<'static, Async>,
-    mut sync0: ExtiInput<'static, Async>,
+async fn exchange(
+    runner: ProcessDataRunner<'static, esc::Pdi, Axis, AxisOd>,
+    irq: Pin,
+    sync0: Pin,
 ) -> ! {
-    let (mut outputs, mut inputs) = ([0; 32], [0; 32]);
-    let buffers = Buffers {
-        outputs: &mut outputs,
-        inputs: &mut inputs,
-    };
-    let mut axis = Axis::new();
-    let error = run_process_data(esc, &mut irq, &mut sync0, &mut axis, od, buffers).await;
-    error!("process data stopped: {}", error);
+    error!(
+        "process data stopped: {}",
+        runner.run_with_sync0(irq, sync0).await
+    );
     park().await
 }

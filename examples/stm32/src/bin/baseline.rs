@@ -6,16 +6,21 @@
 #![no_main]
 #![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
 
+use core::cell::RefCell;
+
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
-use ecat_stm32::board::{Board, EscSpi};
-use ecat_stm32::io::{self, DigitalIo};
-
-use embassy_stm32::exti::ExtiInput;
-
-use embassy_stm32::mode::Async;
+use ecat_stm32::board::{Board, EscSpi, Pin};
+use ecat_stm32::io::DigitalIo;
+use embassy_sync::blocking_mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embedded_hal_async::spi::SpiDevice;
 use panic_probe as _;
+
+/// The application, shared by the exchange and the SYNC0 task as the firmware's runners share
+/// it (a critical-section mutex).
+static IO: Mutex<CriticalSectionRawMutex, RefCell<Option<DigitalIo>>> =
+    Mutex::new(RefCell::new(None));
 
 ecat_stm32::executors!();
 
@@ -29,32 +34,40 @@ fn main() -> ! {
         leds: _,
     } = Board::init();
     info!("baseline starting");
+    IO.lock(|cell| cell.replace(Some(io)));
     run_executors(|high, spawner| {
-        high.spawn(unwrap!(exchange(spi, irq, io)));
+        high.spawn(unwrap!(exchange(spi, irq)));
         high.spawn(unwrap!(sync(sync0)));
         spawner.spawn(unwrap!(idle()));
     })
 }
 
 #[embassy_executor::task]
-async fn exchange(mut spi: EscSpi, mut irq: ExtiInput<'static, Async>, mut io: DigitalIo) {
+async fn exchange(mut spi: EscSpi, mut irq: Pin) {
     let mut frame = [0u8; 4];
     loop {
         irq.wait_for_low().await;
         if let Err(e) = spi.transfer_in_place(&mut frame).await {
             error!("SPI failed: {}", e);
         }
-        io.apply(frame[3]);
-        frame[0] = io::sample();
+        frame[0] = with_io(|io| {
+            io.apply(frame[3]);
+            io.sample()
+        });
     }
 }
 
 #[embassy_executor::task]
-async fn sync(mut sync0: ExtiInput<'static, Async>) {
+async fn sync(mut sync0: Pin) {
     loop {
         sync0.wait_for_falling_edge().await;
-        io::on_sync0();
+        with_io(DigitalIo::on_sync0);
     }
+}
+
+/// Runs `f` on the application, locked.
+fn with_io<R: Default>(f: impl FnOnce(&mut DigitalIo) -> R) -> R {
+    IO.lock(|cell| cell.borrow_mut().as_mut().map(f).unwrap_or_default())
 }
 
 #[embassy_executor::task]

@@ -5,13 +5,13 @@ use core::future::Future;
 use core::pin::Pin;
 use core::task::{Context, Poll};
 
-/// `Some(future)` completes with it; `None` never completes.
+/// `OrNever(Some(future))` completes with the future; `OrNever(None)` never completes.
 ///
-/// A plain wrapper instead of an `async` block: no state machine of its own around the future.
-/// A future that is not `Unpin` goes in as `Pin<&mut F>`, pinned by the caller.
-pub(crate) struct Maybe<F>(pub(crate) Option<F>);
+/// A plain wrapper, not an `async` block (docs/performance.md, "Codegen rules"). A future that
+/// is not `Unpin` goes in as `Pin<&mut F>`, pinned by the caller.
+pub(crate) struct OrNever<F>(pub(crate) Option<F>);
 
-impl<F: Future + Unpin> Future for Maybe<F> {
+impl<F: Future + Unpin> Future for OrNever<F> {
     type Output = F::Output;
 
     fn poll(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<F::Output> {

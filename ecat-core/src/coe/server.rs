@@ -1,0 +1,135 @@
+//! CoE as a mailbox protocol ([`Handler`] of type 3): the dispatch of a CoE message by its
+//! service (ETG.1000.6 Table 29) to the SDO server and SDO Information, and CoE's own messages
+//! (SDO Information fragments, emergencies).
+
+use super::sdo::{self, Context, SdoServer};
+use super::sdo_info::{InfoRequest, SdoInfo};
+use super::{AbortCode, CoeHeader, Emergency, Service};
+use crate::dictionary::{ObjectDictionary, ObjectHooks};
+use crate::mailbox::{EMERGENCY_QUEUE, Env, Handler, MailboxError, MailboxType, Reply};
+use crate::ring::Ring;
+use crate::time::Instant;
+
+/// The CoE state a mailbox of `N` bytes keeps between messages.
+#[derive(Debug)]
+// `repr(C)`: the small fields first, the SDO server's buffer last (see `SubDevice`).
+#[repr(C)]
+pub struct CoeServer<const N: usize> {
+    emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
+    sdo_info: SdoInfo,
+    sdo: SdoServer<N>,
+}
+
+impl<const N: usize> CoeServer<N> {
+    /// No transfer in progress, no emergency queued.
+    pub const fn new() -> Self {
+        Self {
+            sdo: SdoServer::new(),
+            sdo_info: SdoInfo::new(),
+            emergencies: Ring::new(Emergency::NONE),
+        }
+    }
+
+    /// CoE as a mailbox handler over the dictionary and hooks of `cx`, for one service call.
+    pub(crate) fn handler<'a, 'c, D: ObjectDictionary, H: ObjectHooks<D>>(
+        &'a mut self,
+        cx: &'a mut Context<'c, D, H>,
+    ) -> Coe<'a, 'c, N, D, H> {
+        Coe { server: self, cx }
+    }
+
+    /// Queues an emergency; when the queue is full the oldest is dropped.
+    pub fn emergency(&mut self, emergency: Emergency) {
+        self.emergencies.push(emergency);
+    }
+
+    /// Emergencies dropped because the queue was full.
+    pub fn emergencies_dropped(&self) -> u16 {
+        self.emergencies.dropped()
+    }
+
+    /// Whether an SDO Information fragment or an emergency waits for SM1.
+    pub fn has_message(&self) -> bool {
+        self.sdo_info.is_pending() || !self.emergencies.is_empty()
+    }
+
+    /// When an SDO transfer waiting for its next segment expires.
+    pub fn poll_timeout(&self) -> Option<Instant> {
+        self.sdo.poll_timeout()
+    }
+
+    /// Expires an SDO transfer that waited too long for its next segment.
+    pub fn handle_timeout(&mut self, now: Instant) {
+        self.sdo.handle_timeout(now);
+    }
+}
+
+impl<const N: usize> Default for CoeServer<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// CoE's [`Handler`]: the [`CoeServer`] with the dictionary and hooks of one service call.
+pub struct Coe<'a, 'c, const N: usize, D, H> {
+    server: &'a mut CoeServer<N>,
+    cx: &'a mut Context<'c, D, H>,
+}
+
+impl<const N: usize, D: ObjectDictionary, H: ObjectHooks<D>> Handler for Coe<'_, '_, N, D, H> {
+    const KIND: MailboxType = MailboxType::Coe;
+
+    fn request(&mut self, _: Env, payload: &[u8], reply: &mut [u8]) -> Reply {
+        let Some(coe) = CoeHeader::parse(payload) else {
+            return Reply::Error(MailboxError::INVALID_SIZE);
+        };
+        let payload = payload.get(CoeHeader::SIZE..).unwrap_or_default();
+        let server = &mut *self.server;
+        let len = match coe.service {
+            Service::SdoRequest if payload.len() < 8 => {
+                return Reply::Error(MailboxError::INVALID_SIZE);
+            }
+            Service::SdoRequest => server.sdo.request(&mut *self.cx, payload, reply),
+            Service::SdoInformation => match InfoRequest::parse(payload) {
+                Some(request) => server.sdo_info.request::<D>(request, reply),
+                None => {
+                    server.sdo_info.abandon();
+                    return Reply::Error(MailboxError::INVALID_SIZE);
+                }
+            },
+            _ => sdo::abort(reply, 0, 0, AbortCode::UNSUPPORTED_ACCESS),
+        };
+        match len {
+            0 => Reply::Silent,
+            len => Reply::Send(len),
+        }
+    }
+
+    fn has_message(&self) -> bool {
+        self.server.has_message()
+    }
+
+    /// The next SDO Information fragment, or else the oldest emergency.
+    fn message(&mut self, _: Env, out: &mut [u8]) -> usize {
+        if let Some(len) = self.server.sdo_info.next_fragment::<D>(out) {
+            return len;
+        }
+        match self.server.emergencies.pop() {
+            Some(emergency) => write_emergency(emergency, out),
+            None => 0,
+        }
+    }
+}
+
+/// An emergency message (CoE header, then the 8 bytes of [`Emergency`]) in `out`: its length, 0
+/// when `out` is too short.
+fn write_emergency(emergency: Emergency, out: &mut [u8]) -> usize {
+    let len = CoeHeader::SIZE + Emergency::SIZE;
+    let Some(dst) = out.get_mut(..len) else {
+        return 0;
+    };
+    let (coe, data) = dst.split_at_mut(CoeHeader::SIZE);
+    coe.copy_from_slice(&CoeHeader::new(Service::Emergency).to_bytes());
+    data.copy_from_slice(&emergency.to_bytes());
+    len
+}

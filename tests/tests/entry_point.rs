@@ -1,0 +1,158 @@
+//! The entry point of `ecat-embassy`: what `Config` checks and takes from the PDI driver, both
+//! runners in one task (`StateMachineRunner::run_with`, what `Resources::run` does), and the safe
+//! state when the process-data runner stops.
+
+mod common;
+
+use std::cell::Cell;
+use std::rc::Rc;
+
+use common::walk_to;
+use ecat_core::device::Area;
+use ecat_core::{AlEvent, AlState, DeviceConfig};
+use ecat_embassy::pdi::Data;
+use ecat_embassy::spi::beckhoff::BeckhoffSpi;
+use ecat_embassy::spi::lan9252::Lan9252;
+use ecat_embassy::{Application, Config, Pdi};
+use ecat_emu::emulator::EmulatedPdi;
+use ecat_emu::harness::{self, AcceptAll, Device, Loopback};
+use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL};
+use ecat_emu::spi::FakeSpi;
+use ecat_emu::spi::beckhoff::BeckhoffEsc;
+use ecat_emu::spi::lan9252::Lan9252Chip;
+
+type OnLan9252 = Lan9252<FakeSpi<Lan9252Chip>>;
+type OnEt1100 = BeckhoffSpi<FakeSpi<BeckhoffEsc>>;
+
+#[test]
+fn the_standard_device_has_its_sizes_from_the_buffers_and_its_chip_from_the_driver() {
+    const LAN: Config<OnLan9252, 2, 3> = Config::standard();
+    let device = LAN.device();
+    assert_eq!(
+        (device.process_data.outputs, device.process_data.inputs),
+        (2, 3)
+    );
+    assert_eq!(
+        (device.mailbox.receive, device.mailbox.send),
+        (Area::new(0x1000, 128), Area::new(0x1080, 128))
+    );
+    assert_eq!(
+        (device.sync_manager_count, device.process_ram_end),
+        (4, 0x2000),
+        "the LAN9252's 4 SyncManagers and 4 KiB"
+    );
+    const ET1100: Config<OnEt1100, 2, 3, 64> = Config::standard();
+    let device = ET1100.device();
+    assert_eq!(
+        (device.sync_manager_count, device.process_ram_end),
+        (8, 0x3000)
+    );
+    assert_eq!(device.mailbox.send, Area::new(0x1040, 64));
+}
+
+#[test]
+fn a_driver_without_a_chip_keeps_the_description_s_own() {
+    let mut description = common::drive();
+    description.sync_manager_count = 6;
+    let config = Config::<EmulatedPdi, 12, 11>::new(description);
+    assert_eq!(config.device().sync_manager_count, 6);
+}
+
+#[test]
+#[should_panic(expected = "`OUT` is not the output image's size")]
+fn buffers_other_than_the_images_are_refused() {
+    let _ = Config::<EmulatedPdi, 11, 11>::new(common::drive());
+}
+
+#[test]
+#[should_panic(expected = "a mailbox exceeds `MBX`")]
+fn a_mailbox_beyond_the_buffers_is_refused() {
+    let _ = Config::<EmulatedPdi, 12, 11, 64>::new(common::drive());
+}
+
+#[test]
+#[should_panic(expected = "the device description is invalid")]
+fn an_invalid_description_is_refused() {
+    let mut description: DeviceConfig = common::drive();
+    description.mailbox.send = description.mailbox.receive;
+    let _ = Config::<EmulatedPdi, 12, 11>::new(description);
+}
+
+#[test]
+fn one_task_runs_the_state_machine_and_the_exchange() {
+    let device = Device::new(common::drive(), AcceptAll, Loopback).in_one_task();
+    harness::run(device, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        master.configure_sm(2, 0x1100, 12, SM2_CONTROL, true);
+        master.configure_sm(3, 0x1180, 11, SM3_CONTROL, true);
+        assert_eq!(master.request(0x04).await, (0x04, 0));
+        let outputs = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12];
+        assert!(master.write(0x1100, &outputs));
+        master.settle().await;
+        assert_eq!(
+            master.read(0x1180, 11),
+            Some(vec![0; 11]),
+            "SAFEOP: no outputs applied"
+        );
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        assert!(master.write(0x1100, &outputs));
+        master.settle().await;
+        assert_eq!(master.read(0x1180, 11), Some(outputs[..11].to_vec()));
+    });
+}
+
+/// The PDI of the emulated ESC until `fail` is set; then every access fails.
+struct Failing {
+    inner: EmulatedPdi,
+    fail: Rc<Cell<bool>>,
+}
+
+impl Pdi for Failing {
+    type Error = ();
+
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, ()> {
+        if self.fail.get() {
+            return Err(());
+        }
+        Ok(self
+            .inner
+            .access(address, data)
+            .await
+            .unwrap_or(AlEvent::NONE))
+    }
+}
+
+/// Outputs whose safe state is a panic: the test sees whether the runner asked for it.
+struct Outputs;
+
+impl Application for Outputs {
+    fn safe_state(&mut self, _: &mut ()) {
+        panic!("safe state of the outputs");
+    }
+}
+
+#[test]
+#[should_panic(expected = "safe state of the outputs")]
+fn the_process_data_runner_puts_the_outputs_in_their_safe_state_when_it_stops_in_op() {
+    let fail = Rc::new(Cell::new(false));
+    let device = Device::new(common::drive(), AcceptAll, Outputs);
+    let make_pdi = {
+        let fail = fail.clone();
+        move |emu: &ecat_emu::emulator::Emulator| Failing {
+            inner: emu.pdi(),
+            fail,
+        }
+    };
+    harness::run_with_pdi(device, make_pdi, |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        master.configure_sm(2, 0x1100, 12, SM2_CONTROL, true);
+        master.configure_sm(3, 0x1180, 11, SM3_CONTROL, true);
+        assert_eq!(master.request(0x04).await, (0x04, 0));
+        assert!(master.write(0x1100, &[0; 12]));
+        master.settle().await;
+        assert_eq!(master.request(0x08).await, (0x08, 0));
+        fail.set(true);
+        assert!(master.write(0x1100, &[1; 12]));
+        master.settle().await;
+    });
+}
