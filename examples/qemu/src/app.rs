@@ -4,27 +4,16 @@
 
 use core::sync::atomic::{AtomicU32, Ordering};
 
-use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::OctetString;
-use ecat_core::DeviceConfig;
-use ecat_embassy::{Application, CycleHandler};
+use ecat_embassy::{Application, Config};
 
-use crate::esc::CHIP;
+use crate::esc::ModelPdi;
+
+/// Bytes of outputs and of inputs.
+pub const IMAGE: usize = 4;
 
 /// Mailboxes of 128 bytes at 0x1000/0x1080; 4 bytes of outputs, 4 bytes of inputs.
-pub const DEVICE: DeviceConfig = {
-    let mut config = DeviceConfig::new(
-        MailboxConfig::contiguous(0x1000, 128),
-        ProcessDataSizes {
-            outputs: 4,
-            inputs: 4,
-        },
-    );
-    config.sync_manager_count = CHIP.sync_managers;
-    config.process_ram_end = CHIP.process_ram_end();
-    config
-};
-const _: () = assert!(DEVICE.validate().is_ok());
+pub const DEVICE: Config<ModelPdi, IMAGE, IMAGE> = Config::standard();
 
 /// Size of [`BLOB`].
 pub const BLOB_LEN: usize = 1024;
@@ -65,10 +54,6 @@ ecat_core::dictionary! {
 /// The application: accepts every transition, answers the outputs.
 pub struct App;
 
-impl Application for App {}
-
-impl ecat_core::dictionary::ObjectHooks<Od> for App {}
-
 /// Cycles run while the state-machine runner was inside a chunked mailbox transfer.
 static CYCLES_INSIDE_TRANSFERS: AtomicU32 = AtomicU32::new(0);
 
@@ -78,7 +63,7 @@ pub fn cycles_inside_transfers() -> u32 {
     CYCLES_INSIDE_TRANSFERS.load(Ordering::Relaxed)
 }
 
-impl CycleHandler<Od> for App {
+impl Application<Od> for App {
     fn cycle(&mut self, _: &mut Od, outputs: Option<&[u8]>, inputs: &mut [u8]) {
         if crate::esc::inside_transfer() {
             CYCLES_INSIDE_TRANSFERS.fetch_add(1, Ordering::Relaxed);

@@ -69,7 +69,8 @@ impl ModelPdi {
             return;
         }
         let end = usize::from(address) + len;
-        for area in [DEVICE.mailbox.receive, DEVICE.mailbox.send] {
+        let mailbox = DEVICE.device().mailbox;
+        for area in [mailbox.receive, mailbox.send] {
             let (start, area_end) = (usize::from(area.start), usize::from(area.start) + usize::from(area.length));
             if usize::from(address) < area_end && end > start {
                 INSIDE_TRANSFER.store(end < area_end, Ordering::Relaxed);
@@ -80,6 +81,7 @@ impl ModelPdi {
 
 impl Pdi for ModelPdi {
     type Error = Infallible;
+    const CHIP: Option<Chip> = Some(CHIP);
 
     async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Infallible> {
         Self::track(address, data.len());

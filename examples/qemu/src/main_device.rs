@@ -236,7 +236,7 @@ impl MainDevice {
     fn entered(&mut self, state: u16) {
         match state {
             0x01 => {
-                configure_mailbox(&DEVICE.mailbox);
+                configure_mailbox(&DEVICE.device().mailbox);
                 configure_sm(2, OUTPUTS, SM2_CONTROL);
                 configure_sm(3, INPUTS, SM3_CONTROL);
                 self.request(0x02);
@@ -278,7 +278,7 @@ impl MainDevice {
         if let Upload::Receive { segment } = self.upload {
             let mut message = [0; 128];
             let full =
-                crate::esc::with(|esc| esc.ecat_read(DEVICE.mailbox.send.start, &mut message));
+                crate::esc::with(|esc| esc.ecat_read(DEVICE.device().mailbox.send.start, &mut message));
             if full {
                 match self.response(segment, &message) {
                     Ok(true) => self.upload = Upload::Send { segment: true },
@@ -309,7 +309,7 @@ impl MainDevice {
             // CoE header: SDO request (service 2).
             message[6..8].copy_from_slice(&0x2000u16.to_le_bytes());
             message[8..16].copy_from_slice(&sdo);
-            if write(DEVICE.mailbox.receive.start, &message) {
+            if write(DEVICE.device().mailbox.receive.start, &message) {
                 self.counter = self.counter % 7 + 1;
                 self.upload = Upload::Receive { segment };
             }
