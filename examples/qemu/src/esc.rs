@@ -8,18 +8,19 @@ use core::future::poll_fn;
 use core::sync::atomic::{AtomicBool, Ordering};
 use core::task::Poll;
 
+use cortex_m::peripheral::SCB;
+use cortex_m::peripheral::scb::VectActive;
 use critical_section::Mutex;
 use ecat_core::AlEvent;
 use ecat_core::chip::Chip;
 use ecat_embassy::Pdi;
 use ecat_embassy::pdi::Data;
-use cortex_m::peripheral::SCB;
-use cortex_m::peripheral::scb::VectActive;
 use ecat_esc::{Esc, EscConfig};
 use embassy_sync::waitqueue::AtomicWaker;
 
 use crate::app::DEVICE;
 use crate::irq::Irq;
+use crate::main_device::INPUTS;
 
 /// The chip the model is: an ET1100 (8 SyncManagers, 8 KiB of process RAM).
 pub const CHIP: Chip = Chip::ET1100;
@@ -37,9 +38,11 @@ pub fn init() {
 
 /// Runs `f` on the ESC in a critical section.
 pub fn with<R>(f: impl FnOnce(&mut Esc) -> R) -> R {
-    critical_section::with(|cs| match ESC.borrow_ref_mut(cs).as_mut() {
-        Some(esc) => f(esc),
-        None => panic!("the ESC is not powered on"),
+    critical_section::with(|cs| {
+        crate::figures::in_model(|| match ESC.borrow_ref_mut(cs).as_mut() {
+            Some(esc) => f(esc),
+            None => panic!("the ESC is not powered on"),
+        })
     })
 }
 
@@ -71,7 +74,10 @@ impl ModelPdi {
         let end = usize::from(address) + len;
         let mailbox = DEVICE.device().mailbox;
         for area in [mailbox.receive, mailbox.send] {
-            let (start, area_end) = (usize::from(area.start), usize::from(area.start) + usize::from(area.length));
+            let (start, area_end) = (
+                usize::from(area.start),
+                usize::from(area.start) + usize::from(area.length),
+            );
             if usize::from(address) < area_end && end > start {
                 INSIDE_TRANSFER.store(end < area_end, Ordering::Relaxed);
             }
@@ -85,10 +91,15 @@ impl Pdi for ModelPdi {
 
     async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Infallible> {
         Self::track(address, data.len());
-        Ok(with(|esc| match data {
+        let inputs = matches!(data, Data::Write(_)) && address == INPUTS.start;
+        let event = with(|esc| match data {
             Data::Read(buf) => esc.pdi_read(address, buf),
             Data::Write(data) => esc.pdi_write(address, data),
-        }))
+        });
+        if inputs {
+            crate::figures::inputs_written(inside_transfer());
+        }
+        Ok(event)
     }
 }
 

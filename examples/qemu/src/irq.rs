@@ -3,6 +3,8 @@
 
 use cortex_m::peripheral::NVIC;
 
+use crate::figures;
+
 /// External interrupts (QEMU hw/arm/mps2.c: 32 lines; the timers on 8 and 9, 29 and 31 free).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u16)]
@@ -62,20 +64,20 @@ unsafe extern "C" fn unused() {
 }
 
 unsafe extern "C" fn timer0() {
-    crate::time_driver::on_counter_wrap();
+    figures::TIMERS.measure(crate::time_driver::on_counter_wrap);
 }
 
 unsafe extern "C" fn timer1() {
-    crate::time_driver::on_alarm();
+    figures::TIMERS.measure(crate::time_driver::on_alarm);
 }
 
 unsafe extern "C" fn esc() {
-    crate::esc::on_irq();
+    figures::ESC_IRQ.measure(crate::esc::on_irq);
 }
 
 unsafe extern "C" fn executor() {
     // SAFETY: the interrupt executor was started on this vector; only this handler calls it.
-    unsafe { crate::EXECUTOR_HIGH.on_interrupt() }
+    figures::EXECUTOR.measure(|| unsafe { crate::EXECUTOR_HIGH.on_interrupt() })
 }
 
 /// The 32 external interrupt vectors, after cortex-m-rt's exception table.

@@ -4,7 +4,7 @@
 //! (the inputs read, the outputs written: what one LRW does) with every answer checked, while a
 //! CoE client uploads the 1 KiB object 0x2000 segmented, again and again, and checks its bytes.
 //!
-//! SysTick fires twice a cycle: a mailbox step (the last response read, the next request
+//! SysTick fires twice a cycle, on an absolute schedule (TIMER0 counts): a mailbox step (the last response read, the next request
 //! written), then, [`offset`] later, the exchange. The offset sweeps 1 µs to 41 µs after the
 //! request in 40 ns steps (a SysTick count; 40 instructions under `-icount shift=0`), so the
 //! outputs arrive at every point of the SubDevice's mailbox work: reading the request in chunks,
@@ -19,11 +19,11 @@ use crate::irq::Irq;
 
 /// The process-data cycle.
 pub const CYCLE_US: u32 = 500;
-/// SysTick counts per cycle.
+/// Timer counts (TIMER0, SysTick: the system clock) per cycle.
 const CYCLE_COUNTS: u32 = crate::SYSCLK_HZ / 1_000_000 * CYCLE_US;
 /// Offsets of the exchange after the mailbox step, in SysTick counts: 1 µs + 0..1000 (40 µs).
 const OFFSETS: u32 = 1000;
-/// The shortest offset: 1 µs (a SysTick reload of 0 would stop the counter).
+/// The shortest offset: 1 µs.
 const MIN_OFFSET: u32 = 25;
 /// Cycles exchanged in OP before the verdict.
 pub const OP_CYCLES: u32 = 4_000;
@@ -43,7 +43,7 @@ const SM1_CONTROL: u8 = 0x22;
 /// The output image (three buffers from here).
 const OUTPUTS: Area = Area::new(0x1100, 4);
 /// The input image.
-const INPUTS: Area = Area::new(0x1180, 4);
+pub const INPUTS: Area = Area::new(0x1180, 4);
 /// The object the client uploads.
 const BLOB_INDEX: u16 = 0x2000;
 
@@ -112,6 +112,8 @@ enum Upload {
 /// The MainDevice.
 pub struct MainDevice {
     tick: u32,
+    /// TIMER0's count at cycle 0 of the schedule.
+    epoch: Option<u32>,
     cycle: u32,
     phase: Phase,
     /// The inputs the next exchange must read.
@@ -131,6 +133,7 @@ impl MainDevice {
     pub const fn new() -> Self {
         Self {
             tick: 0,
+            epoch: None,
             cycle: 0,
             phase: Phase::Start,
             expected: None,
@@ -154,27 +157,40 @@ impl MainDevice {
         }
     }
 
-    /// One SysTick: returns the report once the run is over, and the SysTick reload value to
-    /// set now (it takes effect after the period that has just started).
-    pub fn on_tick(&mut self) -> (Option<Report>, u32) {
+    /// One SysTick at TIMER0 count `now`: returns the report once the run is over, and the
+    /// TIMER0 count of the next tick. The schedule is absolute (from the first tick on), so a
+    /// tick that comes late does not shift the ones after it.
+    pub fn on_tick(&mut self, now: u32) -> (Option<Report>, u32) {
         self.tick = self.tick.wrapping_add(1);
         let next = self.cycle.wrapping_add(1);
-        let (done, reload) = if self.tick % 2 == 0 {
+        let epoch = *self
+            .epoch
+            .get_or_insert(now.wrapping_sub(CYCLE_COUNTS - offset(1)));
+        let (done, deadline) = if self.tick.is_multiple_of(2) {
             self.cycle = next;
-            // After the coming period (to the mailbox step): the step to the next exchange.
-            (self.on_cycle(), offset(next.wrapping_add(1)))
+            // Next: the mailbox step before the next exchange.
+            let after = next.wrapping_add(1);
+            (
+                self.on_cycle(),
+                epoch
+                    .wrapping_add(after.wrapping_mul(CYCLE_COUNTS))
+                    .wrapping_sub(offset(after)),
+            )
         } else {
             if self.phase == Phase::Op {
                 self.mailbox_step();
             }
-            // After the coming period (to the exchange): the rest of that cycle.
-            (false, CYCLE_COUNTS - offset(next))
+            // Next: the exchange.
+            (false, epoch.wrapping_add(next.wrapping_mul(CYCLE_COUNTS)))
         };
         // What the writes did to the IRQ line reaches the NVIC, as the ESC's IRQ pin does.
         if crate::esc::with(|esc| esc.irq()) {
+            if self.tick.is_multiple_of(2) && self.phase == Phase::Op {
+                crate::figures::irq_raised();
+            }
             Irq::Esc.pend();
         }
-        (done.then_some(self.report), reload.saturating_sub(1))
+        (done.then_some(self.report), deadline)
     }
 
     /// The start of a cycle: the exchange, then the script.
@@ -193,7 +209,10 @@ impl MainDevice {
             Phase::Requested { state, since } => {
                 let status = read_u16(register::AL_STATUS);
                 if status == state {
-                    crate::log(format_args!("AL status {state:#04x} at cycle {}", self.cycle));
+                    crate::log(format_args!(
+                        "AL status {state:#04x} at cycle {}",
+                        self.cycle
+                    ));
                     self.entered(state);
                 } else if self.cycle.wrapping_sub(since) > REQUEST_CYCLES {
                     let code = read_u16(register::AL_STATUS_CODE);
@@ -210,7 +229,7 @@ impl MainDevice {
             }
             Phase::Op => {
                 self.report.op_cycles += 1;
-                if self.report.op_cycles % 1000 == 0 {
+                if self.report.op_cycles.is_multiple_of(1000) {
                     crate::log(format_args!("{} OP cycles", self.report.op_cycles));
                 }
                 if self.upload != Upload::Idle {
@@ -277,8 +296,9 @@ impl MainDevice {
     fn mailbox_step(&mut self) {
         if let Upload::Receive { segment } = self.upload {
             let mut message = [0; 128];
-            let full =
-                crate::esc::with(|esc| esc.ecat_read(DEVICE.device().mailbox.send.start, &mut message));
+            let full = crate::esc::with(|esc| {
+                esc.ecat_read(DEVICE.device().mailbox.send.start, &mut message)
+            });
             if full {
                 match self.response(segment, &message) {
                     Ok(true) => self.upload = Upload::Send { segment: true },
@@ -359,7 +379,10 @@ impl MainDevice {
         }
         self.received += data.len();
         let last = segment && command & 0x01 != 0;
-        match (last || !segment && self.received == BLOB_LEN, self.received == BLOB_LEN) {
+        match (
+            last || !segment && self.received == BLOB_LEN,
+            self.received == BLOB_LEN,
+        ) {
             (true, true) => Ok(false),
             (true, false) => Err("last segment before the end"),
             (false, _) => Ok(true),
@@ -377,12 +400,6 @@ impl MainDevice {
         self.report.longest_upload = self.report.longest_upload.max(cycles);
         self.upload = Upload::Idle;
     }
-}
-
-/// The SysTick reload value to start with: the first period, and the one after it, from the
-/// first mailbox step to the first exchange.
-pub fn first_reload() -> u32 {
-    offset(1) - 1
 }
 
 /// How long after the mailbox step of `cycle` its exchange comes, in SysTick counts: a sweep

@@ -48,6 +48,11 @@ embassy_time_driver::time_driver_impl!(static DRIVER: CmsdkTime = CmsdkTime {
     queue: Mutex::new(RefCell::new(Queue::new())),
 });
 
+/// TIMER0's count since `init`, the low 32 bits (wraps every 171 s).
+pub fn count() -> u32 {
+    u32::MAX - read(TIMER0, VALUE)
+}
+
 /// Starts the counter; enables both timers' interrupts.
 pub fn init() {
     write(TIMER0, RELOAD, u32::MAX);
