@@ -18,7 +18,7 @@
 //! | `RxPdo`, `TxPdo` | the default assignment and mapping ([`sii::for_each_pdo`]) |
 //! | `Mailbox/CoE` | [`sii::coe_details`] (the SII General category's CoE details) |
 //! | `Mailbox/FoE` | [`sii::mailbox_protocols`]: with a bootstrap mailbox (BOOT) |
-//! | `Dc/OpMode` | when [`DeviceConfig::sync`] supports DC SYNC0 |
+//! | `Dc/OpMode` | when [`DeviceConfig::sync_modes`] supports DC SYNC0 |
 //! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!
 //! Every text and attribute value is XML-escaped. The writer needs no heap and never panics: it
@@ -33,7 +33,8 @@ use crate::dictionary::{
     Access, DataType, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
 };
 use crate::pdo::Direction;
-use crate::sii::{self, ASSIGN_ACTIVATE_SYNC0, CoeDetails, Names, SmKind};
+use crate::sii::{self, ASSIGN_ACTIVATE_SYNC0, CoeDetails, Names};
+use crate::sync_manager::SmKind;
 
 /// What the ESI file describes besides the dictionary.
 #[derive(Debug, Clone, Copy)]
@@ -123,7 +124,7 @@ pub fn write<D: ObjectDictionary>(
     pdos(&mut x, od, Direction::Tx)?;
     let protocols = sii::mailbox_protocols(device.config);
     mailbox(&mut x, sii::coe_details(od), protocols)?;
-    if device.config.sync.dc() {
+    if device.config.sync_modes.dc() {
         dc(&mut x, device.config)?;
     }
     eeprom(&mut x, sii)?;
@@ -306,7 +307,7 @@ impl Display for ObjectType {
 /// `Profile`: profile number and additional info from 0x1000, then the dictionary.
 fn profile<D: ObjectDictionary, W: Write>(x: &mut Xml<'_, W>, od: &D) -> Result<(), EsiError> {
     x.open("Profile", &[])?;
-    if let Some(device_type) = D::object(0x1000).and_then(|o| read_u32(od, o)) {
+    if let Some(device_type) = D::object(0x1000).and_then(|o| o.read_u32(od, 0)) {
         x.leaf("ProfileNo", device_type & 0xFFFF)?;
         x.leaf("AddInfo", device_type >> 16)?;
     }
@@ -325,13 +326,6 @@ fn profile<D: ObjectDictionary, W: Write>(x: &mut Xml<'_, W>, od: &D) -> Result<
     x.close("Dictionary")?;
     x.close("Profile")?;
     Ok(())
-}
-
-/// The value of a 32-bit VAR (0x1000).
-fn read_u32<D>(od: &D, object: &Object<D>) -> Option<u32> {
-    let mut bytes = [0; 4];
-    let read = (object.read)(od, 0, 0, &mut bytes).ok()?;
-    (read.copied == 4).then(|| u32::from_le_bytes(bytes))
 }
 
 /// One `DataType` per distinct base type the entries use, in order of first use.
@@ -740,7 +734,10 @@ fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails, protocols: u16) -> fmt
 /// mode (`AssignActivate` #x0300, SYNC0 cycle = the bus cycle).
 fn dc<W: Write>(x: &mut Xml<'_, W>, config: &DeviceConfig) -> fmt::Result {
     x.open("Dc", &[])?;
-    if config.sync.supports(crate::sync::SyncType::SmSynchronous) {
+    if config
+        .sync_modes
+        .supports(crate::sync_mode::SyncMode::SmSynchronous)
+    {
         x.open("OpMode", &[])?;
         x.leaf("Name", "SM")?;
         x.leaf("Desc", "SM-Synchron")?;

@@ -4,9 +4,10 @@
 
 use ecat_core::DeviceConfig;
 use ecat_core::chip::Chip;
+use ecat_core::chip::crc8;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::{self, Names};
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 
 const IDENTITY: Identity = Identity {
     vendor_id: 0xE000_0001,
@@ -85,10 +86,10 @@ fn the_configuration_area_of_each_chip() {
         ProcessDataSizes::default(),
     );
     let mut area = |chip: &Chip, dc: bool| {
-        config.sync = if dc {
-            SupportedSync(SupportedSync::SM | SupportedSync::SYNC0)
+        config.sync_modes = if dc {
+            SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0)
         } else {
-            SupportedSync(SupportedSync::SM)
+            SupportedSyncModes(SupportedSyncModes::SM)
         };
         let mut image = [0u8; sii::MAX_SIZE];
         sii::write(&names, &IDENTITY, &config, chip, &(), &mut image).unwrap();
@@ -105,7 +106,7 @@ fn the_configuration_area_of_each_chip() {
     ];
     for (chip, dc, bytes) in expected {
         assert_eq!(area(chip, dc), bytes, "{} dc {dc}", chip.name);
-        assert_eq!(sii::crc8(&bytes[..14]), bytes[14]);
+        assert_eq!(crc8(&bytes[..14]), bytes[14]);
     }
 }
 

@@ -57,7 +57,9 @@
 //! counts (six scans for list type 0) and once to fill the message.
 
 use super::{AbortCode, CoeHeader, Service};
-use crate::dictionary::{Access, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{
+    Access, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
+};
 
 /// The SDO Information opcode (byte 0 of the SDO Information header, bits 0..6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -143,7 +143,11 @@ pub fn entry_value(
     }
     let mut value = [0u8; 8];
     copy_bits(data, slot.bit_offset, &mut value, 0, 0, slot.bit_len);
-    let len = if entry_sub == 0 { 1 } else { slot.bit_len.div_ceil(8) };
+    let len = if entry_sub == 0 {
+        1
+    } else {
+        slot.bit_len.div_ceil(8)
+    };
     Some((value, len))
 }
 

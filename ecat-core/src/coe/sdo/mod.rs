@@ -149,13 +149,7 @@ impl<const N: usize> SdoServer<N> {
                 complete,
             } => {
                 let target = Target::new(index, sub, complete);
-                self.download(
-                    cx,
-                    target,
-                    &frame,
-                    (expedited, size_indicated, unused),
-                    out,
-                )
+                self.download(cx, target, &frame, (expedited, size_indicated, unused), out)
             }
             Request::DownloadSegment {
                 toggle,
@@ -656,8 +650,8 @@ fn check_pdo_length<D: ObjectDictionary, H>(
     }
     let od = &*cx.od;
     let entry = |sub| match pdo::Direction::of_assignment(index) {
-        Some(_) => pdo::layout::read_u16(od, object, sub).map(u32::from),
-        None => pdo::layout::read_u32(od, object, sub),
+        Some(_) => object.read_u16(od, sub).map(u32::from),
+        None => object.read_u32(od, sub),
     };
     pdo::check_length(od, process_ram(cx.device), index, n, &entry)
 }
@@ -867,7 +861,6 @@ fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
 fn body_of(out: &mut [u8]) -> &mut [u8] {
     out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
 }
-
 
 #[cfg(test)]
 mod tests {
