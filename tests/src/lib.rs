@@ -4,7 +4,7 @@
 //!
 //! | module | what |
 //! |---|---|
-//! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events |
+//! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events (crate `ecat-esc`, `no_std`, shared with the QEMU firmware) |
 //! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
 //! | [`foe_client`] | an FoE client for the test MainDevice: file writes and reads, the mailbox repeat |
@@ -22,7 +22,7 @@
 pub mod coe_client;
 pub mod devices;
 pub mod emulator;
-pub mod esc;
+pub use ecat_esc as esc;
 pub mod flash;
 pub mod foe_client;
 pub mod frame;
