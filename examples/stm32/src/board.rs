@@ -10,8 +10,6 @@ use embassy_stm32::time::Hertz;
 use embassy_stm32::{bind_interrupts, dma, interrupt, peripherals};
 use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
-use crate::io::DigitalIo;
-
 /// The ETG.1300 RUN (green) and ERR (red) LEDs: PB10 (D6) and PA9 (D8), lit when high.
 pub type Leds = ecat_embassy::indicator::RunErr<Output<'static>, Output<'static>>;
 
@@ -21,6 +19,9 @@ bind_interrupts!(struct Irqs {
     EXTI9_5 => exti::InterruptHandler<interrupt::typelevel::EXTI9_5>;
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
 });
+
+/// The digital I/O application (`ecat_dio`) on this board's pins.
+pub type DigitalIo = ecat_dio::DigitalIo<Output<'static>, Input<'static>>;
 
 /// SPI1 with DMA and the ESC's chip select: the bus the PDI driver owns.
 pub type EscSpi = ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output<'static>, NoDelay>;
@@ -109,6 +110,8 @@ impl Board {
                     Input::new(p.PA1, Pull::Down),
                     Input::new(p.PA4, Pull::Down),
                 ],
+                // The user button B1 pulls PC13 low when pressed: input 0 reads 1 then.
+                0b0001,
             ),
             leds: Leds {
                 run: Output::new(p.PB10, Level::Low, Speed::Low),

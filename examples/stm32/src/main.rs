@@ -1,6 +1,7 @@
 //! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
 //! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its application and
-//! dictionary are `io::DigitalIo` and `io::IoOd` (SOES's sample digital I/O objects). Size
+//! dictionary are `ecat_dio::DigitalIo` and `ecat_dio::IoOd` (SOES's sample digital I/O objects,
+//! shared with the RP2040 firmware). Size
 //! variants: feature `no-dictionary` (the dictionary `()`, raw process images) and `no-leds` (no
 //! ETG.1300 LED task).
 //!
@@ -16,8 +17,7 @@
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_embassy::{Config, Control, ProcessDataRunner, Resources};
-use ecat_stm32::board::{Board, Pin};
-use ecat_stm32::io::DigitalIo;
+use ecat_stm32::board::{Board, DigitalIo, Pin};
 use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use panic_probe as _;
@@ -28,7 +28,7 @@ const DEVICE: Config<esc::Pdi, 1, 1> = Config::standard();
 
 /// SOES's sample digital I/O dictionary, or none (feature `no-dictionary`).
 #[cfg(not(feature = "no-dictionary"))]
-type Od = ecat_stm32::io::IoOd;
+type Od = ecat_dio::IoOd;
 #[cfg(feature = "no-dictionary")]
 type Od = ();
 

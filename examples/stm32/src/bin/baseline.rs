@@ -10,8 +10,7 @@ use core::cell::RefCell;
 
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
-use ecat_stm32::board::{Board, EscSpi, Pin};
-use ecat_stm32::io::DigitalIo;
+use ecat_stm32::board::{Board, DigitalIo, EscSpi, Pin};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embedded_hal_async::spi::SpiDevice;
