@@ -92,6 +92,7 @@
 //! | [`esm_runner`] | [`StateMachineRunner`]: the state machine and the mailbox, in the low-priority thread executor |
 //! | [`pd_runner`] | [`ProcessDataRunner`]: the process-data exchange, in an `InterruptExecutor`; owns the IRQ line |
 //! | [`spi`] | PDI drivers over `embedded-hal-async` SPI: Beckhoff ESC SPI protocol, Microchip LAN9252 |
+//! | [`mcu`] | the PDI driver over the ET1100/AX58100 16-bit asynchronous microcontroller interface (a memory controller such as the STM32's FMC), on a [`mcu::Bus16`] the firmware provides |
 //! | [`indicator`] | [`run_indicators`]: the ETG.1300 RUN/ERR LEDs on GPIO pins, from the AL status the state-machine runner publishes |
 //!
 //! ## Who wakes whom
@@ -114,6 +115,7 @@ pub mod app;
 pub mod device;
 pub mod esm_runner;
 pub mod indicator;
+pub mod mcu;
 mod or_never;
 pub mod pd_runner;
 pub mod pdi;
