@@ -1,5 +1,6 @@
 //! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
-//! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its application and
+//! `ax58100`, Beckhoff SPI protocol), a LAN9252 (feature `lan9252`) or an AX58100 on the FMC
+//! (feature `fmc`, its 16-bit asynchronous microcontroller interface); its application and
 //! dictionary are `ecat_dio::DigitalIo` and `ecat_dio::IoOd` (SOES's sample digital I/O objects,
 //! shared with the RP2040 firmware). Size
 //! variants: feature `no-dictionary` (the dictionary `()`, raw process images) and `no-leds` (no
@@ -49,13 +50,13 @@ fn main() -> ! {
 #[embassy_executor::task]
 async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
-        spi,
+        bus,
         irq,
         sync0,
         io,
         leds,
     } = board;
-    let Some(pdi) = esc::start_logged(spi).await else {
+    let Some(pdi) = esc::start_logged(bus).await else {
         park().await
     };
     let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, Od::default()));
