@@ -8,7 +8,9 @@ use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{
     Communication, DeviceInfo, Domain, ObjectDictionary, ObjectHooks, VisibleString,
 };
-use ecat_core::{Access, AlEvent, AlState, DeviceConfig, Instant, SubDevice, Transition, register};
+use ecat_core::{
+    AlEvent, AlState, DeviceConfig, Instant, RegisterAccess, SubDevice, Transition, register,
+};
 
 /// The benchmark device: `MBX`-byte mailboxes at 0x1000, no process data.
 pub const fn device(mailbox: u16) -> DeviceConfig {
@@ -137,12 +139,12 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         while let Some(access) = self.sub.poll_access() {
             let event = AlEvent(self.event);
             match access {
-                Access::Read { address, buf, .. } => {
+                RegisterAccess::Read { address, buf, .. } => {
                     let a = usize::from(address);
                     buf.copy_from_slice(&self.mem[a..a + buf.len()]);
                 }
-                Access::Write { address, data, .. } => put(&mut self.mem, address, data),
-                Access::Send {
+                RegisterAccess::Write { address, data, .. } => put(&mut self.mem, address, data),
+                RegisterAccess::Send {
                     address,
                     data,
                     last,

@@ -5,7 +5,7 @@
 //! MainDevice reads (mailbox words 0x0018..0x001B, SM category), so what the device checks and what
 //! it advertises cannot disagree.
 
-use crate::sync::SupportedSync;
+use crate::sync_mode::SupportedSyncModes;
 use crate::time::Duration;
 use crate::{AlStatusCode, register};
 
@@ -42,7 +42,7 @@ impl Area {
 
 /// Whether two spans of bytes (the first, one past the last) share a byte; an empty span shares
 /// none.
-pub const fn spans_overlap(a: (u32, u32), b: (u32, u32)) -> bool {
+pub(crate) const fn spans_overlap(a: (u32, u32), b: (u32, u32)) -> bool {
     a.0 < b.1 && b.0 < a.1
 }
 
@@ -105,7 +105,8 @@ pub enum ConfigError {
     MailboxOutsideRam,
     /// The receive and send mailboxes overlap.
     MailboxesOverlap,
-    /// DC SYNC1 is declared in [`DeviceConfig::sync`]: the stack has no SYNC1-triggered cycle.
+    /// DC SYNC1 is declared in [`DeviceConfig::sync_modes`]: the stack has no SYNC1-triggered
+    /// cycle.
     Sync1Unsupported,
     /// DC SYNC0 is declared with a minimum cycle time of 0: any SYNC0 cycle would be accepted.
     NoMinimumCycle,
@@ -127,8 +128,9 @@ pub struct DeviceConfig {
     /// ([`crate::sii::FLAG_IDENT_AL_STATUS`]) and the ESI (`Info/IdentificationReg134`) advertise
     /// it, so MainDevices use it. Default: false.
     pub explicit_device_id: bool,
-    /// The sync types the device supports (0x1C32:04). Default: free-run and SM-synchronous.
-    pub sync: SupportedSync,
+    /// The synchronisation modes the device supports (0x1C32:04). Default: free-run and
+    /// SM-synchronous.
+    pub sync_modes: SupportedSyncModes,
     /// Process-data image sizes.
     pub process_data: ProcessDataSizes,
     /// Standard mailbox (PREOP and above).
@@ -165,7 +167,7 @@ impl DeviceConfig {
             process_ram_end: Self::DEFAULT_PROCESS_RAM_END,
             sync_manager_count: 8,
             explicit_device_id: false,
-            sync: SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM),
+            sync_modes: SupportedSyncModes(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM),
             free_run_cycle: Duration::from_millis(1),
             min_cycle_time: Duration::from_micros(250),
             transition_timeout: Self::DEFAULT_TRANSITION_TIMEOUT,
@@ -175,10 +177,10 @@ impl DeviceConfig {
     /// Checks the description itself. Call it in a `const` to turn a bad description into a
     /// compile error: `const _: () = assert!(CONFIG.validate().is_ok());`.
     pub const fn validate(&self) -> Result<(), ConfigError> {
-        if self.sync.0 & SupportedSync::SYNC1 != 0 {
+        if self.sync_modes.0 & SupportedSyncModes::SYNC1 != 0 {
             return Err(ConfigError::Sync1Unsupported);
         }
-        if self.sync.dc() && self.min_cycle_time.as_micros() == 0 {
+        if self.sync_modes.dc() && self.min_cycle_time.as_micros() == 0 {
             return Err(ConfigError::NoMinimumCycle);
         }
         if let Err(e) = self.validate_mailbox(&self.mailbox) {
@@ -205,13 +207,13 @@ impl DeviceConfig {
     }
 
     /// Whether `area` lies inside the process RAM.
-    pub const fn in_process_ram(&self, area: Area) -> bool {
+    pub(crate) const fn in_process_ram(&self, area: Area) -> bool {
         area.start >= register::PROCESS_RAM && area.end() <= self.process_ram_end
     }
 
     /// The mailbox configuration checked when entering `boot` (true) or PREOP (false), with the
     /// code that reports a mismatch. `None` when BOOT is requested but not supported.
-    pub const fn mailbox_for(&self, boot: bool) -> Option<(&MailboxConfig, AlStatusCode)> {
+    pub(crate) const fn mailbox_for(&self, boot: bool) -> Option<(&MailboxConfig, AlStatusCode)> {
         if !boot {
             return Some((&self.mailbox, AlStatusCode::INVALID_MAILBOX_CONFIG));
         }
@@ -245,9 +247,11 @@ mod tests {
         c.mailbox.receive.start = 0x1000;
         assert_eq!(c.validate(), Err(ConfigError::MailboxesOverlap));
         let mut c = config();
-        c.sync = SupportedSync(SupportedSync::SM | SupportedSync::SYNC0 | SupportedSync::SYNC1);
+        c.sync_modes = SupportedSyncModes(
+            SupportedSyncModes::SM | SupportedSyncModes::SYNC0 | SupportedSyncModes::SYNC1,
+        );
         assert_eq!(c.validate(), Err(ConfigError::Sync1Unsupported));
-        c.sync = SupportedSync(SupportedSync::SM | SupportedSync::SYNC0);
+        c.sync_modes = SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
         assert_eq!(c.validate(), Ok(()));
         c.min_cycle_time = Duration::from_micros(0);
         assert_eq!(c.validate(), Err(ConfigError::NoMinimumCycle));

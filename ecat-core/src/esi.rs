@@ -18,7 +18,7 @@
 //! | `RxPdo`, `TxPdo` | the default assignment and mapping ([`sii::for_each_pdo`]) |
 //! | `Mailbox/CoE` | [`sii::coe_details`] (the SII General category's CoE details) |
 //! | `Mailbox/FoE` | [`sii::mailbox_protocols`]: with a bootstrap mailbox (BOOT) |
-//! | `Dc/OpMode` | when [`DeviceConfig::sync`] supports DC SYNC0 |
+//! | `Dc/OpMode` | when [`DeviceConfig::sync_modes`] supports DC SYNC0 |
 //! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!
 //! Every text and attribute value is XML-escaped. The writer needs no heap and never panics: it
@@ -123,7 +123,7 @@ pub fn write<D: ObjectDictionary>(
     pdos(&mut x, od, Direction::Tx)?;
     let protocols = sii::mailbox_protocols(device.config);
     mailbox(&mut x, sii::coe_details(od), protocols)?;
-    if device.config.sync.dc() {
+    if device.config.sync_modes.dc() {
         dc(&mut x, device.config)?;
     }
     eeprom(&mut x, sii)?;
@@ -740,7 +740,10 @@ fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails, protocols: u16) -> fmt
 /// mode (`AssignActivate` #x0300, SYNC0 cycle = the bus cycle).
 fn dc<W: Write>(x: &mut Xml<'_, W>, config: &DeviceConfig) -> fmt::Result {
     x.open("Dc", &[])?;
-    if config.sync.supports(crate::sync::SyncType::SmSynchronous) {
+    if config
+        .sync_modes
+        .supports(crate::sync_mode::SyncMode::SmSynchronous)
+    {
         x.open("OpMode", &[])?;
         x.leaf("Name", "SM")?;
         x.leaf("Desc", "SM-Synchron")?;

@@ -44,7 +44,7 @@ impl Transition {
 
 /// What the state machine does with one AL control write.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Decision {
+pub(crate) enum Decision {
     /// The error indication is set and the request neither acknowledges it nor asks for INIT:
     /// nothing changes, nothing is written.
     Ignore,
@@ -60,7 +60,7 @@ pub enum Decision {
 }
 
 /// Decides what the AL control write `control` does to a SubDevice whose AL status is `status`.
-pub fn decide(status: AlStatus, control: AlControl, boot_supported: bool) -> Decision {
+pub(crate) fn decide(status: AlStatus, control: AlControl, boot_supported: bool) -> Decision {
     let requested = control.requested();
     if status.error && !control.acknowledge() && requested != Some(AlState::Init) {
         return Decision::Ignore;

@@ -28,7 +28,8 @@
 //! | [`esi`] | the ESI XML file generated from the same description (ETG.2000) |
 //! | [`subdevice`] | the sans-IO SubDevice: AL events in, register accesses and application events out |
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
-//! | [`sync`] | sync types (free-run, SM-synchronous, DC), 0x1C32/0x1C33 parameters |
+//! | [`sync_mode`] | the synchronisation modes (free-run, SM-synchronous, DC SYNC0) and the modes a device supports (0x1C32:01, 0x1C32:04) |
+//! | [`sync_parameters`] | the 0x1C32/0x1C33 parameter objects, the DC settings and their checks |
 //! | [`sync_error`] | sync error supervision: the SM/SYNC-event-missed counter against 0x10F1:02 → SAFEOP + 0x001A (ETG.1020 §6.3) |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
@@ -48,6 +49,7 @@
     )
 )]
 
+pub mod abort;
 pub mod al;
 mod bytes;
 pub mod chip;
@@ -66,13 +68,14 @@ pub mod register;
 pub mod ring;
 pub mod sii;
 pub mod subdevice;
-pub mod sync;
 pub mod sync_error;
 pub mod sync_manager;
+pub mod sync_mode;
+pub mod sync_parameters;
 pub mod time;
 
 pub use al::{AlControl, AlEvent, AlState, AlStatus, AlStatusCode};
 pub use device::DeviceConfig;
 pub use esm::Transition;
-pub use subdevice::{Access, Event, SubDevice};
+pub use subdevice::{Event, RegisterAccess, SubDevice};
 pub use time::{Duration, Instant};

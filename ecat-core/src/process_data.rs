@@ -5,17 +5,17 @@
 use crate::AlEvent;
 use crate::device::Area;
 use crate::pdo::configures_process_data;
-use crate::sync::Chosen;
+use crate::sync_parameters::Chosen;
 use crate::time::Duration;
 
 /// What SDO writes changed of the process-data configuration: noted by the SDO server at each
 /// successful write (`coe::sdo::Context::writes`), in the SubDevice's own record.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Writes {
-    /// The MainDevice's choices in 0x1C32 (sync type, cycle time).
+    /// The MainDevice's choices in 0x1C32 (sync mode, cycle time).
     pub chosen: Chosen,
     /// A mapping, assignment or sync parameter object was written
-    /// ([`configures_process_data`]): the layout and the sync type are computed again.
+    /// ([`configures_process_data`]): the layout and the sync mode are computed again.
     pub configured: bool,
 }
 
@@ -43,7 +43,7 @@ pub enum Clock {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 // `repr(C)`: the flag and the areas first, the clock (8-aligned) last.
 #[repr(C)]
-pub struct Layout {
+pub struct Setup {
     /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
     /// moving, but never handed to the application.
     pub outputs_active: bool,
@@ -55,7 +55,7 @@ pub struct Layout {
     pub clock: Clock,
 }
 
-impl Layout {
+impl Setup {
     /// The AL event that starts a cycle; none in the clocked modes.
     pub fn trigger(&self) -> AlEvent {
         match self.clock {

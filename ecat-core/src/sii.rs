@@ -96,7 +96,7 @@ pub fn write<D: ObjectDictionary>(
         at: 0,
         overflow: false,
     };
-    w.bytes(&ConfigArea::new(chip, config.sync.dc()).bytes());
+    w.bytes(&ConfigArea::new(chip, config.sync_modes.dc()).bytes());
     for value in [
         identity.vendor_id,
         identity.product_code,
@@ -134,7 +134,7 @@ pub fn write<D: ObjectDictionary>(
             w.category(category, |w| pdos(w, od, direction));
         }
     }
-    if config.sync.dc() {
+    if config.sync_modes.dc() {
         w.category(CAT_DC, dc_sync0);
     }
     w.u16(CAT_END);

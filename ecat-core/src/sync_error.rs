@@ -32,7 +32,7 @@ pub const SYNC_ERROR_COUNTER_LIMIT: u8 = 2;
 /// The limit without 0x10F1: SSC's `MAX_SM_EVENT_MISSED`.
 pub const DEFAULT_LIMIT: u16 = 4;
 /// What one missed event adds to the counter.
-pub const MISSED_WEIGHT: u16 = 3;
+pub(crate) const MISSED_WEIGHT: u16 = 3;
 
 /// The sync error counter of one OP session.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -8,7 +8,7 @@ use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{Bits, VisibleString};
 use ecat_core::esi::{self, Description, EsiError};
 use ecat_core::sii::Names;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 use proptest::prelude::*;
 
 struct Flags {
@@ -76,7 +76,7 @@ fn config(sync: u16) -> DeviceConfig {
             inputs: 2,
         },
     );
-    config.sync = SupportedSync(sync);
+    config.sync_modes = SupportedSyncModes(sync);
     config
 }
 
@@ -103,7 +103,7 @@ fn esi_of(config: &DeviceConfig) -> String {
 }
 
 fn sm_only() -> String {
-    esi(SupportedSync::FREE_RUN | SupportedSync::SM)
+    esi(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM)
 }
 
 /// `fragment` occurs once, as whole lines.
@@ -298,8 +298,8 @@ fn dc_op_modes_only_with_sync0_support() {
           </OpMode>
         </Dc>
 ";
-    has(&esi(SupportedSync::SM | SupportedSync::SYNC0), dc);
-    let dc_only = esi(SupportedSync::SYNC0);
+    has(&esi(SupportedSyncModes::SM | SupportedSyncModes::SYNC0), dc);
+    let dc_only = esi(SupportedSyncModes::SYNC0);
     assert!(!dc_only.contains("<Name>SM</Name>"));
     has(&dc_only, "<Name>DC</Name>");
 }
@@ -339,7 +339,7 @@ ecat_core::dictionary! {
 
 #[test]
 fn a_value_longer_than_the_buffer_is_an_error() {
-    let config = config(SupportedSync::SM);
+    let config = config(SupportedSyncModes::SM);
     let description = Description {
         vendor: "v",
         names: &NAMES,
@@ -382,7 +382,7 @@ proptest! {
     fn a_refusing_writer_is_an_error_never_a_panic(share in 0.0f64..1.1) {
         let full = sm_only();
         let room = (full.len() as f64 * share) as usize;
-        let config = config(SupportedSync::FREE_RUN | SupportedSync::SM);
+        let config = config(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM);
         let description = Description {
             vendor: "ACME <test>",
             names: &NAMES,
@@ -407,7 +407,7 @@ proptest! {
 #[test]
 fn explicit_device_id_is_advertised_in_device_info() {
     assert!(!sm_only().contains("<IdentificationReg134>"));
-    let mut config = config(SupportedSync::SM);
+    let mut config = config(SupportedSyncModes::SM);
     config.explicit_device_id = true;
     let description = Description {
         vendor: "v",
@@ -433,7 +433,7 @@ fn explicit_device_id_is_advertised_in_device_info() {
 #[test]
 fn a_device_with_boot_advertises_foe() {
     assert!(!sm_only().contains("<FoE"));
-    let mut config = config(SupportedSync::SM);
+    let mut config = config(SupportedSyncModes::SM);
     config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
     has(
         &esi_of(&config),

@@ -6,7 +6,7 @@ use ecat_core::DeviceConfig;
 use ecat_core::chip::Chip;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::{self, Names};
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 
 const IDENTITY: Identity = Identity {
     vendor_id: 0xE000_0001,
@@ -85,10 +85,10 @@ fn the_configuration_area_of_each_chip() {
         ProcessDataSizes::default(),
     );
     let mut area = |chip: &Chip, dc: bool| {
-        config.sync = if dc {
-            SupportedSync(SupportedSync::SM | SupportedSync::SYNC0)
+        config.sync_modes = if dc {
+            SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0)
         } else {
-            SupportedSync(SupportedSync::SM)
+            SupportedSyncModes(SupportedSyncModes::SM)
         };
         let mut image = [0u8; sii::MAX_SIZE];
         sii::write(&names, &IDENTITY, &config, chip, &(), &mut image).unwrap();

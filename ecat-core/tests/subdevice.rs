@@ -7,8 +7,8 @@ use common::{DEVICE, Op, Regs, configure_all};
 use ecat_core::coe::Emergency;
 use ecat_core::device::MailboxConfig;
 use ecat_core::{
-    Access, AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Event, Instant, SubDevice,
-    Transition, register,
+    AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Event, Instant, RegisterAccess,
+    SubDevice, Transition, register,
 };
 
 const T0: Instant = Instant::from_micros(0);
@@ -125,7 +125,7 @@ fn an_sm_change_during_a_chunk_read_starts_the_reads_over() {
     let high = |sub: &mut SubDevice<'_>| {
         matches!(
             sub.poll_access(),
-            Some(Access::Read { address: 0x0820, buf, .. }) if buf.len() == 32
+            Some(RegisterAccess::Read { address: 0x0820, buf, .. }) if buf.len() == 32
         )
     };
     assert!(high(&mut sub), "SM4..SM7 first");

@@ -4,7 +4,9 @@
 use core::pin::pin;
 
 use ecat_core::dictionary::ObjectDictionary;
-use ecat_core::{Access, AlEvent, AlStatusCode, DeviceConfig, Event, SubDevice, Transition};
+use ecat_core::{
+    AlEvent, AlStatusCode, DeviceConfig, Event, RegisterAccess, SubDevice, Transition,
+};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embedded_hal_async::digital::Wait;
 
@@ -195,10 +197,10 @@ fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize>(
 fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevice<'_, MBX>) {
     let reports = esc.take_reports();
     if reports.contains(Reports::SYNC_RECEIVED) {
-        sub.sync_received();
+        sub.sync0_received();
     }
     if reports.contains(Reports::SYNC_LOST) {
-        sub.sync_lost();
+        sub.sync0_lost();
     }
     if reports.contains(Reports::SYNC_ERROR) {
         sub.sync_error();
@@ -237,14 +239,14 @@ fn sync<'a, P: Pdi, const MBX: usize>(
 }
 
 /// An access of the core as the PDI performs it: address, data, the address of a last byte to
-/// write after the data ([`Access::Send`]), the AL event bits it clears. Taken apart here so
+/// write after the data ([`RegisterAccess::Send`]), the AL event bits it clears. Taken apart here so
 /// that the runner's future keeps the parts, not the access.
-fn pdi_access(access: Access<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
+fn pdi_access(access: RegisterAccess<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
     let clears = access.clears();
     match access {
-        Access::Read { address, buf, .. } => (address, Data::Read(buf), None, clears),
-        Access::Write { address, data, .. } => (address, Data::Write(data), None, clears),
-        Access::Send {
+        RegisterAccess::Read { address, buf, .. } => (address, Data::Read(buf), None, clears),
+        RegisterAccess::Write { address, data, .. } => (address, Data::Write(data), None, clears),
+        RegisterAccess::Send {
             address,
             data,
             last,

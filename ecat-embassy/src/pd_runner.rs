@@ -9,9 +9,9 @@ use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
-use ecat_core::process_data::{Clock, Layout};
+use ecat_core::process_data::{Clock, Setup};
 use ecat_core::register::AL_EVENT_REQUEST;
-use ecat_core::sync::{CycleMonitor, CycleReport};
+use ecat_core::sync_parameters::{CycleMonitor, CycleReport};
 use embassy_futures::select::{Either4, select4};
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
@@ -134,7 +134,7 @@ where
             reported: Reported::default(),
             trigger_sampled: false,
         };
-        let mut current: Option<Layout> = None;
+        let mut current: Option<Setup> = None;
         // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
         // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
         let mut tick: Option<Instant> = None;
@@ -297,7 +297,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
     /// accepted, and valid inputs at once.
-    fn on_new_layout(&mut self, layout: Option<Layout>) -> Option<Plan> {
+    fn on_new_layout(&mut self, layout: Option<Setup>) -> Option<Plan> {
         self.reported = Reported::default();
         if layout.is_none() {
             self.images = None;
@@ -321,7 +321,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// Free-run: a cycle is due. It reads the outputs (their SM2 event, coming along, tells
     /// whether the MainDevice sent any) and runs; the next one is due one cycle later.
     /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
-    fn on_tick(&mut self, layout: Option<Layout>, tick: &mut Option<Instant>) -> Option<Plan> {
+    fn on_tick(&mut self, layout: Option<Setup>, tick: &mut Option<Instant>) -> Option<Plan> {
         let layout = layout?;
         if layout.sync0() {
             *tick = None;
@@ -334,8 +334,8 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         Some(Self::clocked(layout))
     }
 
-    fn on_sync0(&mut self, layout: Option<Layout>) -> Option<Plan> {
-        let layout = layout.filter(Layout::sync0)?;
+    fn on_sync0(&mut self, layout: Option<Setup>) -> Option<Plan> {
+        let layout = layout.filter(Setup::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
             self.esc.report(Reports::SYNC_RECEIVED);
         }
@@ -343,7 +343,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     }
 
     /// A cycle started by a clock: read the outputs, run the cycle.
-    fn clocked(layout: Layout) -> Plan {
+    fn clocked(layout: Setup) -> Plan {
         Plan {
             read: layout.outputs.map(Read::Outputs),
             then: Then::Clocked,
@@ -353,7 +353,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
     /// The outputs are read at once only when the trigger is known; on the IRQ the AL event is
     /// read first.
-    fn on_trigger(&mut self, layout: Option<Layout>, known: bool) -> Plan {
+    fn on_trigger(&mut self, layout: Option<Setup>, known: bool) -> Plan {
         match layout.filter(|l| l.period().is_none()) {
             Some(layout) => Plan {
                 read: Some(match layout.outputs {
@@ -394,7 +394,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         &mut self,
         then: Then,
         event: AlEvent,
-        layout: &Option<Layout>,
+        layout: &Option<Setup>,
     ) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
         let (layout, apply_outputs, new_outputs) = match (then, layout) {
             (Then::Nothing, _) | (_, None) => return Ok(None),
@@ -441,7 +441,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// for the cycle diagnostics. Returns the input area's address and image, to be written.
     fn cycle<I>(
         &mut self,
-        layout: &Layout,
+        layout: &Setup,
         apply_outputs: bool,
         new_outputs: Option<bool>,
     ) -> Result<InputWrite<'_>, Error<P::Error, I>> {
@@ -490,7 +490,7 @@ pub const SYNC0_LOSS_CYCLES: u32 = 10;
 /// The first deadline of a new layout or after a SYNC0 pulse: the next free-run cycle, or in DC
 /// SYNC0 mode in OP the instant SYNC0 counts as lost. A deadline beyond Embassy's clock is none
 /// (the checked arithmetic has no panic path).
-fn first_deadline(layout: Layout) -> Option<Instant> {
+fn first_deadline(layout: Setup) -> Option<Instant> {
     let now = Instant::now();
     match layout.clock {
         Clock::FreeRun(period) => now.checked_add(to_embassy(period)),

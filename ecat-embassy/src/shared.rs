@@ -6,7 +6,7 @@ use core::future::{Future, poll_fn};
 use core::task::{Poll, Waker};
 
 use ecat_core::coe::Emergency;
-use ecat_core::process_data::Layout;
+use ecat_core::process_data::Setup;
 use ecat_core::ring::Ring;
 use ecat_core::{AlEvent, AlStatus, AlStatusCode};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
@@ -73,7 +73,7 @@ struct Routing {
     /// Emergencies raised by the application, waiting for the state-machine runner.
     emergencies: Cell<Ring<Emergency, EMERGENCIES>>,
     /// The process-data layout published by the state-machine runner.
-    layout: Cell<Option<Layout>>,
+    layout: Cell<Option<Setup>>,
 }
 
 impl Routing {
@@ -134,7 +134,7 @@ pub(crate) struct PdView {
     /// The token for [`SharedEsc::pd_changed_since`], taken with the rest.
     pub(crate) generation: u32,
     /// The process-data layout of the current state.
-    pub(crate) layout: Option<Layout>,
+    pub(crate) layout: Option<Setup>,
     /// Process-data trigger events the state-machine runner saw.
     pub(crate) pd_events: AlEvent,
     /// No state-machine event may hold the IRQ line asserted: the process-data runner may wait
@@ -426,7 +426,7 @@ impl<P: Pdi> SharedEsc<P> {
     /// The core writes its mask before anything else, so from the first publication on, every
     /// masked event is one a runner clears.
     /// With them the AL status and code the SubDevice presents, for the indicators.
-    pub(crate) fn publish(&self, layout: Option<Layout>, mask: AlEvent, indication: Indication) {
+    pub(crate) fn publish(&self, layout: Option<Setup>, mask: AlEvent, indication: Indication) {
         self.with(|r| {
             r.mask.set(mask);
             if r.indication.replace(indication) != indication {
@@ -445,7 +445,7 @@ impl<P: Pdi> SharedEsc<P> {
     /// layout of the current state, the trigger events seen by the state-machine runner (taken
     /// only while `current` is still the layout), whether the IRQ line is free for it, and the
     /// token for [`SharedEsc::pd_changed_since`].
-    pub(crate) fn pd_view(&self, current: Option<Layout>) -> PdView {
+    pub(crate) fn pd_view(&self, current: Option<Setup>) -> PdView {
         self.with(|r| PdView {
             generation: {
                 let generation = r.pd_generation.get();

@@ -28,9 +28,11 @@ use ecat_core::mailbox::MailboxType;
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout as PdoLayout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-use ecat_core::sync::{CycleMonitor, CycleReport, SupportedSync};
+use ecat_core::sync_mode::SupportedSyncModes;
+use ecat_core::sync_parameters::{CycleMonitor, CycleReport};
 use ecat_core::{
-    Access, AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Instant, SubDevice, register,
+    AlEvent, AlState, AlStatusCode, DeviceConfig, Duration, Instant, RegisterAccess, SubDevice,
+    register,
 };
 
 /// A record with entries of several kinds.
@@ -164,7 +166,9 @@ pub const DEVICE: DeviceConfig = {
         },
     );
     device.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 128));
-    device.sync = SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM | SupportedSync::SYNC0);
+    device.sync_modes = SupportedSyncModes(
+        SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM | SupportedSyncModes::SYNC0,
+    );
     device.transition_timeout = Duration::from_millis(50);
     device
 };
@@ -560,13 +564,13 @@ impl Session<'_> {
             let event = AlEvent(self.event);
             let clears = access.clears();
             match access {
-                Access::Read { address, buf, .. } => {
+                RegisterAccess::Read { address, buf, .. } => {
                     buf.copy_from_slice(span(&mut self.mem, address, buf.len()))
                 }
-                Access::Write { address, data, .. } => {
+                RegisterAccess::Write { address, data, .. } => {
                     span(&mut self.mem, address, data.len()).copy_from_slice(data)
                 }
-                Access::Send {
+                RegisterAccess::Send {
                     address,
                     data,
                     last,

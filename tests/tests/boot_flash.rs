@@ -77,6 +77,20 @@ fn boot(flash: &Flash) -> Result<State, embassy_boot::BootError> {
     )
 }
 
+/// A flash with `a` running and `b` received and marked for swap.
+fn updated(a: &[u8], b: &[u8]) -> Flash {
+    let flash = flashed(a);
+    receive(&flash, b).unwrap();
+    flash
+}
+
+/// [`updated`], then reset once: `b` runs on trial.
+fn swapped(a: &[u8], b: &[u8]) -> Flash {
+    let flash = updated(a, b);
+    assert_eq!(boot(&flash).unwrap(), State::Swap);
+    flash
+}
+
 /// The running image confirms itself.
 fn confirm(flash: &Flash) {
     let mut aligned = [0; 8];
@@ -143,15 +157,17 @@ fn update_swaps_in_b_and_confirmed_b_stays() {
     confirm(&flash);
     assert_eq!(boot(&flash).unwrap(), State::Boot);
     assert!(runs(&flash, &b));
-    assert_eq!(flash.bytes(layout::PARAMETERS), parameters, "the stored parameters survive");
+    assert_eq!(
+        flash.bytes(layout::PARAMETERS),
+        parameters,
+        "the stored parameters survive"
+    );
 }
 
 #[test]
 fn unconfirmed_b_is_rolled_back_to_a() {
     let (a, b) = images();
-    let flash = flashed(&a);
-    receive(&flash, &b).unwrap();
-    assert_eq!(boot(&flash).unwrap(), State::Swap);
+    let flash = swapped(&a, &b);
     assert!(runs(&flash, &b));
     // B never reached PREOP: the next reset reverts.
     assert_eq!(boot(&flash).unwrap(), State::Revert);
@@ -192,17 +208,15 @@ fn power_cut_while_receiving_keeps_a() {
 #[test]
 fn power_cut_anywhere_in_the_swap_ends_in_b() {
     let (a, b) = images();
-    let updated = || {
-        let flash = flashed(&a);
-        receive(&flash, &b).unwrap();
-        flash
-    };
-    let total = operations_of(updated, |f| {
-        boot(f).unwrap();
-    });
+    let total = operations_of(
+        || updated(&a, &b),
+        |f| {
+            boot(f).unwrap();
+        },
+    );
     assert!(total >= 4 * 60, "{total} operations for 60 pages");
     for cut in 0..total {
-        let flash = updated();
+        let flash = updated(&a, &b);
         flash.cut_after(cut);
         assert!(boot(&flash).is_err(), "cut {cut} of {total}");
         // The next reset resumes the swap from its recorded progress.
@@ -217,17 +231,14 @@ fn power_cut_anywhere_in_the_swap_ends_in_b() {
 #[test]
 fn power_cut_anywhere_in_the_revert_ends_in_a() {
     let (a, b) = images();
-    let swapped = || {
-        let flash = flashed(&a);
-        receive(&flash, &b).unwrap();
-        assert_eq!(boot(&flash).unwrap(), State::Swap);
-        flash
-    };
-    let total = operations_of(swapped, |f| {
-        boot(f).unwrap();
-    });
+    let total = operations_of(
+        || swapped(&a, &b),
+        |f| {
+            boot(f).unwrap();
+        },
+    );
     for cut in 0..total {
-        let flash = swapped();
+        let flash = swapped(&a, &b);
         flash.cut_after(cut);
         assert!(boot(&flash).is_err(), "cut {cut} of {total}");
         // A whole A runs; only a cut of the last two operations (the state page's erase, the
@@ -246,15 +257,9 @@ fn power_cut_anywhere_in_the_revert_ends_in_a() {
 #[test]
 fn power_cut_while_confirming_keeps_b_or_reverts_to_a() {
     let (a, b) = images();
-    let swapped = || {
-        let flash = flashed(&a);
-        receive(&flash, &b).unwrap();
-        assert_eq!(boot(&flash).unwrap(), State::Swap);
-        flash
-    };
-    let total = operations_of(swapped, confirm);
+    let total = operations_of(|| swapped(&a, &b), confirm);
     for cut in 0..total {
-        let flash = swapped();
+        let flash = swapped(&a, &b);
         flash.cut_after(cut);
         let mut aligned = [0; 8];
         let confirmed = BlockingFirmwareState::new(flash.partition(layout::STATE), &mut aligned)

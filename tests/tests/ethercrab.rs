@@ -4,7 +4,7 @@
 //! PREOP → SAFEOP → OP, cyclic LRW with the working counter asserted and the data checked end to
 //! end, and a refused transition surfacing its AL status code at the MainDevice.
 
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_emu::devices;
 use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;
@@ -256,7 +256,7 @@ fn ethercrab_reads_an_image_advertising_an_explicit_device_id() {
 fn dc_line() -> Vec<Box<dyn Spawn>> {
     let (mut drive, mut sensor) = (devices::drive(), devices::sensor());
     for config in [&mut drive.device.config, &mut sensor.device.config] {
-        config.sync = SupportedSync(config.sync.0 | SupportedSync::SYNC0);
+        config.sync_modes = SupportedSyncModes(config.sync_modes.0 | SupportedSyncModes::SYNC0);
     }
     drive.device.eeprom = drive.eeprom();
     sensor.device.eeprom = sensor.eeprom();

@@ -8,7 +8,7 @@ mod common;
 use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::register;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_embassy::Application;
 use ecat_emu::coe_client::SdoError;
 use ecat_emu::devices::Drive;
@@ -37,7 +37,8 @@ fn drop_one_in(n: u32, cycles: u32) -> (Option<u32>, u16, u16, u16, Vec<u8>) {
     let result = std::rc::Rc::new(std::cell::RefCell::new(None));
     let out = result.clone();
     let mut device = Device::new(common::drive(), App, Idle).with_dictionary(Drive::default());
-    device.config.sync = SupportedSync(SupportedSync::SM | SupportedSync::SYNC0);
+    device.config.sync_modes =
+        SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
     harness::run(device, move |master: TestMaster| async move {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);

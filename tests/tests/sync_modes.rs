@@ -9,7 +9,7 @@ use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
 use ecat_core::register;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_embassy::Application;
 use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::devices::Drive;
@@ -34,7 +34,7 @@ const IN: Area = Area::new(0x1180, 11);
 
 fn run(sync: u16, script: impl AsyncFnOnce(TestMaster) + 'static) {
     let mut device = Device::new(common::drive(), App, Counter).with_dictionary(Drive::default());
-    device.config.sync = SupportedSync(sync);
+    device.config.sync_modes = SupportedSyncModes(sync);
     harness::run(device, |master| async move { script(master).await })
 }
 
@@ -49,7 +49,7 @@ fn cycles(master: &TestMaster) -> u16 {
     u16::from_le_bytes([image[0], image[1]])
 }
 
-const BOTH: u16 = SupportedSync::FREE_RUN | SupportedSync::SM;
+const BOTH: u16 = SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM;
 
 #[test]
 fn sm_synchronous_by_default_and_the_supported_types_are_readable() {
@@ -211,7 +211,7 @@ fn a_measured_cycle_does_not_replace_the_written_one() {
     });
 }
 
-const DC: u16 = BOTH | SupportedSync::SYNC0;
+const DC: u16 = BOTH | SupportedSyncModes::SYNC0;
 
 /// In DC SYNC0 mode a cycle time the MainDevice wrote must be the SYNC0 cycle: 0x0035.
 #[test]
@@ -394,7 +394,7 @@ fn safeop_to_op_without_sync0_is_0x002d_and_with_sync0_but_no_outputs_0x001b() {
 /// DC SYNC0 and leaves SYNC1 to the application.
 #[test]
 fn sync1_beside_sync0_is_accepted_where_supported() {
-    run(DC | SupportedSync::SYNC1, async |master| {
+    run(DC | SupportedSyncModes::SYNC1, async |master| {
         preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -403,7 +403,7 @@ fn sync1_beside_sync0_is_accepted_where_supported() {
 
 #[test]
 fn sync1_is_not_supported() {
-    run(DC | SupportedSync::SYNC1, async |master| {
+    run(DC | SupportedSyncModes::SYNC1, async |master| {
         preop_with_sync_type(&master, 3).await;
         program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0028));
@@ -446,7 +446,7 @@ fn the_timing_entries_are_readable() {
 
 #[test]
 fn free_run_on_a_device_without_it_is_0x0027() {
-    run(SupportedSync::SM, async |master| {
+    run(SupportedSyncModes::SM, async |master| {
         walk_to(&master, AlState::PreOp).await;
         client(&master)
             .download(0x1C32, 1, false, &[0, 0])
@@ -602,7 +602,8 @@ fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode()
 /// SII image is written for DC SYNC0: the ESC's SYNC out unit is on.
 fn input_only_dc(start_in: Duration, expected: (u16, u16)) {
     let mut sample = ecat_emu::devices::sensor();
-    sample.device.config.sync = SupportedSync(sample.device.config.sync.0 | SupportedSync::SYNC0);
+    sample.device.config.sync_modes =
+        SupportedSyncModes(sample.device.config.sync_modes.0 | SupportedSyncModes::SYNC0);
     sample.device.eeprom = sample.eeprom();
     harness::run(sample.device, move |master| async move {
         master.configure_mailbox(&ecat_core::device::MailboxConfig::contiguous(0x1000, 128));

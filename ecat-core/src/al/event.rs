@@ -5,7 +5,7 @@
 ///
 /// The same type describes the mask register 0x0204: the PDI IRQ line is asserted while
 /// `request & mask` is not empty. Each bit is cleared by the PDI access that reads its source
-/// (see [`Access::clears`](crate::Access::clears)).
+/// (see [`RegisterAccess::clears`](crate::RegisterAccess::clears)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct AlEvent(pub u32);
 

@@ -58,7 +58,7 @@ impl AlState {
 
     /// The rank of the state on the INIT → PREOP → SAFEOP → OP ladder (BOOT sits beside PREOP,
     /// reachable only from INIT). Used to tell upward from downward transitions.
-    pub const fn rank(self) -> u8 {
+    pub(crate) const fn rank(self) -> u8 {
         match self {
             Self::Init => 0,
             Self::PreOp | Self::Boot => 1,

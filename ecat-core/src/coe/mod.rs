@@ -4,13 +4,12 @@
 //! A CoE message is the payload of a mailbox message of type 3. It starts with a 2-byte CoE
 //! header (ETG.1000.6 Table 29): bits 0..8 a number (0 for SDO), bits 12..15 the service.
 
-mod abort;
 mod emergency;
 pub mod sdo;
 pub mod sdo_info;
 pub(crate) mod server;
 
-pub use abort::AbortCode;
+pub use crate::abort::AbortCode;
 pub use emergency::Emergency;
 
 /// The CoE service (ETG.1000.6 Table 29).

@@ -57,7 +57,9 @@
 //! counts (six scans for list type 0) and once to fill the message.
 
 use super::{AbortCode, CoeHeader, Service};
-use crate::dictionary::{EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{
+    Access, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
+};
 
 /// The SDO Information opcode (byte 0 of the SDO Information header, bits 0..6).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -243,15 +245,15 @@ impl ListType {
     /// Whether `object` is in this list: any of its entries carries the list's access flag.
     /// [`ListType::Lengths`] holds no object.
     pub fn contains(self, object: &ObjectInfo) -> bool {
-        let any = |flag: fn(&EntryInfo) -> bool| object.entries.iter().any(flag);
-        match self {
-            Self::Lengths => false,
-            Self::All => true,
-            Self::RxPdo => any(|e| e.access.rxpdo()),
-            Self::TxPdo => any(|e| e.access.txpdo()),
-            Self::Backup => any(|e| e.access.backup()),
-            Self::Settings => any(|e| e.access.settings()),
-        }
+        let flag = match self {
+            Self::Lengths => return false,
+            Self::All => return true,
+            Self::RxPdo => Access::RXPDO,
+            Self::TxPdo => Access::TXPDO,
+            Self::Backup => Access::BACKUP,
+            Self::Settings => Access::SETTINGS,
+        };
+        object.entries.iter().any(|e| e.access.0 & flag.0 != 0)
     }
 
     /// How many objects of `D` the list holds (list type 0: its five counts).

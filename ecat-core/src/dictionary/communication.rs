@@ -25,10 +25,10 @@
 //! have both assignment objects (empty for a direction without data): `dictionary!` asserts it.
 
 use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read, read_value};
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::device::Identity;
 use crate::sii;
-use crate::sync::SyncParameters;
+use crate::sync_parameters::SyncParameters;
 
 /// The description constants of the communication area, one `const` per device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

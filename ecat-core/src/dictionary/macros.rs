@@ -26,10 +26,10 @@
 /// ([`sii::SM_TYPES`](crate::sii::SM_TYPES), as the SII and ESI give them), and 0x1C32/0x1C33,
 /// SSC's sync parameter records with the entries the stack fills (SI1 sync type: writable in
 /// PREOP, default 1 for the outputs, 0x22 for the inputs — the inputs' type follows the
-/// outputs' ([`sync::input_sync_type`](crate::sync::input_sync_type)), so a value a MainDevice
+/// outputs' ([`sync_parameters::input_sync_type`](crate::sync_parameters::input_sync_type)), so a value a MainDevice
 /// writes there, as TwinCAT and SOEM setups do beside 0x1C32:01, is replaced by the type in
 /// effect when the configuration is next refreshed, and one that is no sync type is refused,
-/// [`sync::check_input_sync_write`](crate::sync::check_input_sync_write); SI2 cycle time
+/// [`sync_parameters::check_input_sync_write`](crate::sync_parameters::check_input_sync_write); SI2 cycle time
 /// writable in PREOP; SI8 get cycle time writable in every state; SI3..SI7, SI9, SI 0x0A..0x0D,
 /// 0x20 read-only; SI0 = 0x20). The area's objects are merged with the application's by index
 /// at compile time; the application may not declare them itself.
@@ -241,7 +241,7 @@ macro_rules! __ecat_impl {
                 "only numeric and bit types may be PDO-mappable"
             );
             assert!(
-                $crate::dictionary::pdo_configuration_preop_only(objects),
+                $crate::pdo::configuration_preop_only(objects),
                 "PDO mapping and assignment objects may be writable in PREOP only"
             );
             $crate::__ecat_mandatory!($mode, objects);
@@ -277,7 +277,7 @@ macro_rules! __ecat_mandatory {
 
 /// The objects of the communication area, ascending: thin calls into the shared code of
 /// [`dictionary::communication`](crate::dictionary::communication) and
-/// [`SyncParameters`](crate::sync::SyncParameters) with the place of the field.
+/// [`SyncParameters`](crate::sync_parameters::SyncParameters) with the place of the field.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_communication {
@@ -459,7 +459,7 @@ macro_rules! __ecat_object {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
-                code: $crate::dictionary::pdo_object_code($index),
+                code: $crate::pdo::object_code($index),
                 name: $name,
                 max_sub: $crate::dictionary::array_len_of(|d: &$dict| &d.$field.items),
                 entries: &[
@@ -504,14 +504,14 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
                 0 => Ok($crate::dictionary::read_value(&$crate::dictionary::last_sub(&[$($sub),+]), offset, out)),
                 $( $sub => Ok($crate::dictionary::read_value(&d.$field.$sfield, offset, out)), )+
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+                _ => Err($crate::abort::AbortCode::NO_SUBINDEX),
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
-                0 => Err($crate::coe::AbortCode::READ_ONLY),
+                0 => Err($crate::abort::AbortCode::READ_ONLY),
                 $( $sub => $crate::dictionary::write_value(
                     &mut d.$field.$sfield, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
                 ), )+
-                _ => Err($crate::coe::AbortCode::NO_SUBINDEX),
+                _ => Err($crate::abort::AbortCode::NO_SUBINDEX),
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
                 let _ = (&which, &out);
@@ -602,8 +602,8 @@ macro_rules! __ecat_default {
 }
 
 /// The record of a sync manager parameter object (0x1C32 outputs, 0x1C33 inputs; ETG.1000.6
-/// Table 74): the standard entries ([`sync::PARAMETER_ENTRIES`](crate::sync::PARAMETER_ENTRIES)),
-/// read and written by the non-generic [`SyncParameters`](crate::sync::SyncParameters) methods
+/// Table 74): the standard entries ([`sync_parameters::PARAMETER_ENTRIES`](crate::sync_parameters::PARAMETER_ENTRIES)),
+/// read and written by the non-generic [`SyncParameters`](crate::sync_parameters::SyncParameters) methods
 /// every dictionary shares (`$write`: `write`, or `write_input` for 0x1C33); `$limit` declares
 /// SI1's default.
 #[doc(hidden)]
@@ -615,12 +615,12 @@ macro_rules! __ecat_sync_parameters {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Record,
                 name: $name,
-                max_sub: $crate::sync::SyncParameters::MAX_SUB,
-                entries: $crate::sync::PARAMETER_ENTRIES,
+                max_sub: $crate::sync_parameters::SyncParameters::MAX_SUB,
+                entries: $crate::sync_parameters::PARAMETER_ENTRIES,
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| d.$($place).+.read(sub, offset, out),
             write: |d: &mut $dict, sub: u8, data: &[u8]| d.$($place).+.$write(sub, data),
-            limit: $crate::sync::$limit,
+            limit: $crate::sync_parameters::$limit,
         }
     };
 }

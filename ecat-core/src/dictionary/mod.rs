@@ -87,11 +87,10 @@ pub use communication::{Communication, DeviceInfo};
 pub use data_type::DataType;
 pub use object::{
     EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, is_well_formed, mappable_types_only,
-    pdo_configuration_preop_only, pdo_object_code,
 };
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::pdo::layout::Repeat;
 
 /// A dictionary: the `const` table of its objects. Implemented by [`dictionary!`](crate::dictionary!).

@@ -114,20 +114,18 @@ impl ObjectInfo {
 
     /// The description of subindex `sub`, `None` if it does not exist.
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
-        match self.code {
-            ObjectCode::Var => self.entries.first().filter(|_| sub == 0),
-            ObjectCode::Array if sub == 0 => self.entries.first(),
-            ObjectCode::Array if sub <= self.max_sub => self.entries.get(1),
-            ObjectCode::Array => None,
-            // Most records are dense (subindex n at position n): a look there saves the search.
-            ObjectCode::Record => match self.entries.get(usize::from(sub)) {
-                Some(entry) if entry.sub == sub => Some(entry),
-                _ if self.is_uniform() => self.entries.get(1).filter(|_| sub <= self.max_sub),
-                _ => {
-                    let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
-                    self.entries.get(i)
-                }
-            },
+        if sub > self.max_sub {
+            return None;
+        }
+        match self.entries.get(usize::from(sub)) {
+            // SI0, and most records are dense (subindex n at position n): a look there saves
+            // the search.
+            Some(entry) if entry.sub == sub => Some(entry),
+            _ if self.is_uniform() => self.entries.get(1),
+            _ => {
+                let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
+                self.entries.get(i)
+            }
         }
     }
 
@@ -164,17 +162,6 @@ const fn record_type(index: u16) -> u16 {
     }
 }
 
-/// The object code of the `pdo` kind at `index`: RECORD for a PDO mapping object (its data
-/// type is 0x0021, [`ObjectInfo::data_type`]), ARRAY of UNSIGNED16 for an assignment object
-/// (ETG.1000.6 §5.6.7.4, as SSC's object descriptions and ESI files give them).
-#[doc(hidden)]
-pub const fn pdo_object_code(index: u16) -> ObjectCode {
-    match crate::pdo::Direction::of_mapping(index) {
-        Some(_) => ObjectCode::Record,
-        None => ObjectCode::Array,
-    }
-}
-
 /// `const` check of a dictionary table: indices strictly ascending and every RECORD's entries
 /// strictly ascending by subindex. Used by [`dictionary!`](crate::dictionary!) in a `const`
 /// assertion, so a bad table does not compile.
@@ -189,33 +176,6 @@ pub const fn is_well_formed<D>(objects: &[super::Object<D>]) -> bool {
         let mut j = 1;
         while j < entries.len() {
             if entries[j - 1].sub >= entries[j].sub {
-                return false;
-            }
-            j += 1;
-        }
-        i += 1;
-    }
-    true
-}
-
-/// `const` check that the PDO configuration objects (mappings 0x1600..0x17FF and
-/// 0x1A00..0x1BFF, assignments 0x1C12/0x1C13) are written in PREOP only: none of their entries
-/// is writable in SAFEOP or OP, where the process data runs on them (ETG.1000.6 §5.6.7,
-/// conformance.md "CoE SDO").
-#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-pub const fn pdo_configuration_preop_only<D>(objects: &[super::Object<D>]) -> bool {
-    use crate::AlState;
-    use crate::pdo::Direction;
-    let mut i = 0;
-    while i < objects.len() {
-        let index = objects[i].info.index;
-        let configures =
-            Direction::of_mapping(index).is_some() || Direction::of_assignment(index).is_some();
-        let entries = objects[i].info.entries;
-        let mut j = 0;
-        while configures && j < entries.len() {
-            let access = entries[j].access;
-            if access.writable_in(AlState::SafeOp) || access.writable_in(AlState::Op) {
                 return false;
             }
             j += 1;

@@ -2,7 +2,7 @@
 //! little-endian encoding (ETG.1000.6 §5.6.2, CiA 301 §7.1).
 
 use super::DataType;
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 
 /// A type that can be an entry of the object dictionary.
 ///

@@ -11,7 +11,7 @@
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{Object, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{EntryInfo, Object, ObjectDictionary, ObjectInfo};
 
 /// The offset of an entry the configuration does not map.
 pub const UNMAPPED: u16 = u16::MAX;
@@ -85,9 +85,9 @@ impl<D: ObjectDictionary> Layout<D> {
             Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
             Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
         };
-        let Some(assignment) = D::object(direction.assignment()) else {
+        if D::object(direction.assignment()).is_none() {
             return Ok(None);
-        };
+        }
         let mut layout = Self {
             offsets: D::UNMAPPED,
             bits: 0,
@@ -95,15 +95,12 @@ impl<D: ObjectDictionary> Layout<D> {
             repeats: D::NO_REPEATS,
             repeat_count: 0,
         };
-        for pdo in 1..=count(od, assignment) {
-            let index = read_u16(od, assignment, pdo).ok_or(invalid)?;
-            let mapping = D::object(index)
-                .filter(|_| direction.is_mapping(index))
-                .ok_or(invalid)?;
-            for sub in 1..=count(od, mapping) {
-                let entry = MappingEntry(read_u32(od, mapping, sub).ok_or(invalid)?);
-                layout.push(entry, direction).ok_or(invalid)?;
-            }
+        let mut valid = true;
+        walk(od, direction, None, &mut |entry| {
+            valid &= entry.and_then(|e| layout.push(e, direction)).is_some();
+        });
+        if !valid {
+            return Err(invalid);
         }
         layout.gaps |= !layout.bits.is_multiple_of(8);
         Ok(Some(layout))
@@ -116,9 +113,10 @@ impl<D: ObjectDictionary> Layout<D> {
             self.gaps = true;
             return Some(());
         }
-        let info = D::object(entry.index())?.info.entry(entry.sub())?;
-        let mappable = direction.allows(info.access) && info.bit_len == entry.bit_len().into();
-        let number = number::<D>(entry.index(), entry.sub()).filter(|_| mappable)?;
+        let (info, number) = find::<D>(entry.index(), entry.sub())?;
+        if !direction.allows(info.access) || info.bit_len != entry.bit_len().into() {
+            return None;
+        }
         let offset = self.offsets.as_mut().get_mut(number)?;
         let first = core::mem::replace(offset, stored(at));
         if direction == Direction::Tx && first != UNMAPPED {
@@ -156,7 +154,7 @@ impl<D: ObjectDictionary> Layout<D> {
     /// The bit offset of `index:sub` in the image, `None` if the layout does not map it (for a
     /// TxPDO entry mapped more than once: its first place).
     pub fn offset(&self, index: u16, sub: u8) -> Option<u16> {
-        let number = number::<D>(index, sub)?;
+        let (_, number) = find::<D>(index, sub)?;
         self.offsets
             .as_ref()
             .get(number)
@@ -224,6 +222,20 @@ pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
     None
 }
 
+/// The description of the PDO-mappable entry `index:sub` and its [number](number): one
+/// search at run time, where [`number`] serves the `const` code of `dictionary!`.
+fn find<D: ObjectDictionary>(index: u16, sub: u8) -> Option<(&'static EntryInfo, usize)> {
+    let i = D::OBJECTS
+        .binary_search_by_key(&index, |o| o.info.index)
+        .ok()?;
+    let info = &D::OBJECTS.get(i)?.info;
+    let first = *D::FIRST_ENTRIES.get(i)?;
+    match mappable_position(info, Some(sub)) {
+        Ok((position, entry)) => Some((entry, first + position)),
+        Err(_) => None,
+    }
+}
+
 /// The number of each object's first mappable entry (the count of mappable entries before it):
 /// [`ObjectDictionary::FIRST_ENTRIES`], `N` = the number of objects.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
@@ -242,21 +254,25 @@ pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [usize; 
 /// How many mappable entries `info` has.
 const fn mappable_in(info: &ObjectInfo) -> usize {
     match mappable_position(info, None) {
-        Ok(n) | Err(n) => n,
+        Ok((n, _)) | Err(n) => n,
     }
 }
 
 /// The position of `sub` among the mappable entries of `info`, `None` if it is not one.
 const fn position_in(info: &ObjectInfo, sub: u8) -> Option<usize> {
     match mappable_position(info, Some(sub)) {
-        Ok(position) => Some(position),
+        Ok((position, _)) => Some(position),
         Err(_) => None,
     }
 }
 
-/// `Ok(position)` of `wanted` among the mappable entries of `info`, or `Err(count of them)`.
+/// `Ok((position, its description))` of `wanted` among the mappable entries of `info`, or
+/// `Err(count of them)`.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition
-const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usize, usize> {
+const fn mappable_position(
+    info: &ObjectInfo,
+    wanted: Option<u8>,
+) -> Result<(usize, &EntryInfo), usize> {
     let mut n = 0;
     let mut j = 0;
     while j < info.entries.len() {
@@ -268,13 +284,69 @@ const fn mappable_position(info: &ObjectInfo, wanted: Option<u8>) -> Result<usiz
                 && sub >= entry.sub
                 && sub - entry.sub < count
             {
-                return Ok(n + (sub - entry.sub) as usize);
+                return Ok((n + (sub - entry.sub) as usize, entry));
             }
             n += count as usize;
         }
         j += 1;
     }
     Err(n)
+}
+
+/// A PDO configuration object's value that a walk ([`walk`]) takes instead of the
+/// dictionary's: SI0 of object `index` about to become `count`, its entry n `entry(n)` (the
+/// checks of a download before it stores, [`check_length`](super::check_length)).
+pub(crate) struct Pending<'a> {
+    /// The mapping or assignment object.
+    pub index: u16,
+    /// Its new SI0.
+    pub count: u8,
+    /// Its entries, by subindex.
+    pub entry: &'a dyn Fn(u8) -> Option<u32>,
+}
+
+/// Walks the image `direction` describes: the PDOs the assignment object names, in order, and
+/// the entries each maps, in order, with `pending` in place of the dictionary's value of its
+/// object. `visit` sees each mapping entry; `None` where the configuration is broken: an
+/// assignment entry that cannot be read, a PDO that does not exist or is of the other
+/// direction, a mapping entry that cannot be read. The one walk behind [`Layout::of`],
+/// [`is_mapped`] and the length check of a PDO configuration write: out of line, one copy per
+/// dictionary.
+#[inline(never)]
+pub(crate) fn walk<D: ObjectDictionary>(
+    od: &D,
+    direction: Direction,
+    pending: Option<&Pending<'_>>,
+    visit: &mut dyn FnMut(Option<MappingEntry>),
+) {
+    let Some(assignment) = D::object(direction.assignment()) else {
+        return;
+    };
+    let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
+    let assigned = pending_of(assignment);
+    let pdos = assigned.map_or_else(|| count(od, assignment), |p| p.count);
+    for pdo in 1..=pdos {
+        let index = match assigned {
+            Some(p) => (p.entry)(pdo).and_then(|v| u16::try_from(v).ok()),
+            None => read_u16(od, assignment, pdo),
+        };
+        let Some(mapping) = index
+            .filter(|i| direction.is_mapping(*i))
+            .and_then(D::object)
+        else {
+            visit(None);
+            continue;
+        };
+        let changed = pending_of(mapping);
+        let entries = changed.map_or_else(|| count(od, mapping), |p| p.count);
+        for sub in 1..=entries {
+            let value = match changed {
+                Some(p) => (p.entry)(sub),
+                None => read_u32(od, mapping, sub),
+            };
+            visit(value.map(MappingEntry));
+        }
+    }
 }
 
 /// Whether `index:sub` is mapped in a PDO assigned for `direction`: a walk of the assignment
@@ -286,21 +358,11 @@ pub(crate) fn is_mapped<D: ObjectDictionary>(
     index: u16,
     sub: u8,
 ) -> bool {
-    let Some(assignment) = D::object(direction.assignment()) else {
-        return false;
-    };
-    (1..=count(od, assignment)).any(|pdo| {
-        read_u16(od, assignment, pdo)
-            .and_then(D::object)
-            .is_some_and(|mapping| {
-                (1..=count(od, mapping)).any(|n| {
-                    read_u32(od, mapping, n).is_some_and(|raw| {
-                        let entry = MappingEntry(raw);
-                        entry.index() == index && entry.sub() == sub
-                    })
-                })
-            })
-    })
+    let mut mapped = false;
+    walk(od, direction, None, &mut |entry| {
+        mapped |= entry.is_some_and(|e| e.index() == index && e.sub() == sub);
+    });
+    mapped
 }
 
 pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {

@@ -18,9 +18,9 @@
 pub mod image;
 pub mod layout;
 
-use crate::coe::AbortCode;
-use crate::device::DeviceConfig;
-use crate::dictionary::{Access, ObjectDictionary};
+use crate::abort::AbortCode;
+use crate::device::{DeviceConfig, MailboxConfig};
+use crate::dictionary::{Access, Object, ObjectCode, ObjectDictionary};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -184,6 +184,43 @@ impl Direction {
     }
 }
 
+/// The object code of the `pdo` kind at `index`: RECORD for a PDO mapping object (its data
+/// type is 0x0021, [`ObjectInfo::data_type`](crate::dictionary::ObjectInfo::data_type)), ARRAY of UNSIGNED16 for an assignment object
+/// (ETG.1000.6 §5.6.7.4, as SSC's object descriptions and ESI files give them).
+#[doc(hidden)]
+pub const fn object_code(index: u16) -> ObjectCode {
+    match Direction::of_mapping(index) {
+        Some(_) => ObjectCode::Record,
+        None => ObjectCode::Array,
+    }
+}
+
+/// `const` check that the PDO configuration objects (mappings 0x1600..0x17FF and
+/// 0x1A00..0x1BFF, assignments 0x1C12/0x1C13) are written in PREOP only: none of their entries
+/// is writable in SAFEOP or OP, where the process data runs on them (ETG.1000.6 §5.6.7,
+/// conformance.md "CoE SDO").
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn configuration_preop_only<D>(objects: &[Object<D>]) -> bool {
+    use crate::AlState;
+    let mut i = 0;
+    while i < objects.len() {
+        let index = objects[i].info.index;
+        let configures =
+            Direction::of_mapping(index).is_some() || Direction::of_assignment(index).is_some();
+        let entries = objects[i].info.entries;
+        let mut j = 0;
+        while configures && j < entries.len() {
+            let access = entries[j].access;
+            if access.writable_in(AlState::SafeOp) || access.writable_in(AlState::Op) {
+                return false;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    true
+}
+
 /// Checks a mapping entry written into mapping object `mapping` (ETG.1000.6 PDO rules).
 #[doc(hidden)]
 pub fn check_mapping_entry<D: ObjectDictionary>(mapping: u16, value: u32) -> Result<(), AbortCode> {
@@ -335,14 +372,10 @@ pub fn check_counted_write(
 /// 8-aligned byte after the mailboxes (where the SII places SM2, `sii::sync_managers`) to
 /// [`DeviceConfig::process_ram_end`].
 pub fn process_ram(config: &DeviceConfig) -> u32 {
-    let mailboxes = [Some(&config.mailbox), config.bootstrap_mailbox.as_ref()];
-    let end = mailboxes
-        .into_iter()
-        .flatten()
-        .map(|m| m.receive.end().max(m.send.end()))
-        .max()
-        .unwrap_or(0);
-    config.process_ram_end.saturating_sub(end.div_ceil(8) * 8)
+    let end = |m: &MailboxConfig| m.receive.end().max(m.send.end());
+    let bootstrap = config.bootstrap_mailbox.as_ref().map_or(0, end);
+    let last = end(&config.mailbox).max(bootstrap);
+    config.process_ram_end.saturating_sub(last.div_ceil(8) * 8)
 }
 
 /// The 0x06040042 check of a PDO configuration write (ETG.1000.6 Table 41 "the number and
@@ -364,7 +397,7 @@ pub fn check_length<D: ObjectDictionary>(
     room: u32,
     index: u16,
     count: u8,
-    entry: impl Fn(u8) -> Option<u32>,
+    entry: &dyn Fn(u8) -> Option<u32>,
 ) -> Result<(), AbortCode> {
     let direction = match (
         Direction::of_mapping(index),
@@ -373,29 +406,15 @@ pub fn check_length<D: ObjectDictionary>(
         (Some(d), _) | (_, Some(d)) => d,
         _ => return Ok(()),
     };
-    let Some(assignment) = D::object(direction.assignment()) else {
-        return Ok(());
+    let pending = layout::Pending {
+        index,
+        count,
+        entry,
     };
-    let changed = |object: u16| (object == index).then_some(count);
-    let pdos = changed(assignment.info.index).unwrap_or_else(|| layout::count(od, assignment));
     let mut bits = 0u32;
-    for p in 1..=pdos {
-        let pdo = match changed(assignment.info.index) {
-            Some(_) => entry(p).and_then(|v| u16::try_from(v).ok()),
-            None => layout::read_u16(od, assignment, p),
-        };
-        let Some(mapping) = pdo.filter(|i| direction.is_mapping(*i)).and_then(D::object) else {
-            continue;
-        };
-        let entries = changed(mapping.info.index).unwrap_or_else(|| layout::count(od, mapping));
-        for sub in 1..=entries {
-            let value = match changed(mapping.info.index) {
-                Some(_) => entry(sub),
-                None => layout::read_u32(od, mapping, sub),
-            };
-            bits += value.map_or(0, |v| u32::from(MappingEntry(v).bit_len()));
-        }
-    }
+    layout::walk(od, direction, Some(&pending), &mut |e| {
+        bits += e.map_or(0, |e| u32::from(e.bit_len()));
+    });
     let bytes = bits.div_ceil(8);
     if bits > u32::from(u16::MAX) || bytes.saturating_mul(3) > room {
         return Err(AbortCode::PDO_TOO_LONG);

@@ -12,7 +12,7 @@
 //! The control byte is checked in its mode and direction bits; the event and watchdog bits are
 //! the MainDevice's choice (the watchdog bit is checked with the watchdog configuration).
 
-use super::{Channel, Control, Direction, Mode};
+use super::{BufferDirection, Channel, Control, Mode};
 use crate::AlStatusCode;
 use crate::device::{Area, DeviceConfig, MailboxConfig, ProcessDataSizes, spans_overlap};
 
@@ -76,8 +76,11 @@ const SEND_CONTROL: u8 = 0x22;
 const _: () = {
     let (receive, send) = (Control(RECEIVE_CONTROL), Control(SEND_CONTROL));
     assert!(matches!(receive.mode(), Mode::Mailbox) && matches!(send.mode(), Mode::Mailbox));
-    assert!(matches!(receive.direction(), Direction::MainDeviceWrites));
-    assert!(matches!(send.direction(), Direction::MainDeviceReads));
+    assert!(matches!(
+        receive.direction(),
+        BufferDirection::MainDeviceWrites
+    ));
+    assert!(matches!(send.direction(), BufferDirection::MainDeviceReads));
     assert!(receive.pdi_event() && send.pdi_event());
     assert!(MAILBOX_CONTROL_BITS == 0b1111 | Control::PDI_EVENT);
 };
@@ -146,8 +149,14 @@ const OUTPUTS_CONTROL: u8 = 0b0100;
 const INPUTS_CONTROL: u8 = 0b0000;
 const _: () = {
     let (outputs, inputs) = (Control(OUTPUTS_CONTROL), Control(INPUTS_CONTROL));
-    assert!(matches!(outputs.direction(), Direction::MainDeviceWrites));
-    assert!(matches!(inputs.direction(), Direction::MainDeviceReads));
+    assert!(matches!(
+        outputs.direction(),
+        BufferDirection::MainDeviceWrites
+    ));
+    assert!(matches!(
+        inputs.direction(),
+        BufferDirection::MainDeviceReads
+    ));
     assert!(matches!(Control(0b10).mode(), Mode::Mailbox));
     assert!(matches!(Control(0b00).mode(), Mode::Buffered));
     assert!(0b10 & PROCESS_DATA_CONTROL_BITS == 0 && 0b01 & PROCESS_DATA_CONTROL_BITS != 0);

@@ -21,7 +21,7 @@ pub enum Mode {
 
 /// Who writes the buffer (control bits 3:2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Direction {
+pub enum BufferDirection {
     /// 0b00: the MainDevice reads, the device writes (inputs, device → MainDevice mailbox).
     MainDeviceReads,
     /// 0b01: the MainDevice writes, the device reads (outputs, MainDevice → device mailbox).
@@ -52,11 +52,11 @@ impl Control {
     }
 
     /// The direction.
-    pub const fn direction(self) -> Direction {
+    pub const fn direction(self) -> BufferDirection {
         match (self.0 >> 2) & 0b11 {
-            0b00 => Direction::MainDeviceReads,
-            0b01 => Direction::MainDeviceWrites,
-            other => Direction::Reserved(other),
+            0b00 => BufferDirection::MainDeviceReads,
+            0b01 => BufferDirection::MainDeviceWrites,
+            other => BufferDirection::Reserved(other),
         }
     }
 

@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
-use ecat_core::{Access, AlEvent, DeviceConfig, Instant, SubDevice, register};
+use ecat_core::{AlEvent, DeviceConfig, Instant, RegisterAccess, SubDevice, register};
 
 /// One access the core asked for.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -59,7 +59,7 @@ impl Regs {
         log.push(Op::Write(address, data.to_vec()));
     }
 
-    /// Performs every access the core asks for; returns them in order (an [`Access::Send`] as
+    /// Performs every access the core asks for; returns them in order (an [`RegisterAccess::Send`] as
     /// its two writes).
     pub fn drive(&mut self, sub: &mut SubDevice<'_>, now: Instant) -> Vec<Op> {
         let mut log = Vec::new();
@@ -68,7 +68,7 @@ impl Regs {
             let event = AlEvent(self.event);
             let clears = access.clears();
             match access {
-                Access::Read { address, buf, .. } => {
+                RegisterAccess::Read { address, buf, .. } => {
                     let register_events =
                         AlEvent::AL_CONTROL | AlEvent::SM_CHANGE | AlEvent::WATCHDOG_PROCESS_DATA;
                     assert_eq!(
@@ -80,8 +80,8 @@ impl Regs {
                     buf.copy_from_slice(&self.mem[a..a + buf.len()]);
                     log.push(Op::Read(address, buf.len()));
                 }
-                Access::Write { address, data, .. } => self.write(&mut log, address, data),
-                Access::Send {
+                RegisterAccess::Write { address, data, .. } => self.write(&mut log, address, data),
+                RegisterAccess::Send {
                     address,
                     data,
                     last,

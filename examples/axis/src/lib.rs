@@ -41,7 +41,7 @@ pub use od::{
 use ecat_core::DeviceConfig;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::Names;
-use ecat_core::sync::SupportedSync;
+use ecat_core::sync_mode::SupportedSyncModes;
 
 /// The axis's device description: 128-byte mailboxes at 0x1000, the default PDOs' image sizes
 /// (RxPDO 13 bytes, TxPDO 19 bytes; with 0x1C12/0x1C13 the mapping decides), free-run,
@@ -54,7 +54,9 @@ pub const DEVICE: DeviceConfig = {
             inputs: 19,
         },
     );
-    config.sync = SupportedSync(SupportedSync::FREE_RUN | SupportedSync::SM | SupportedSync::SYNC0);
+    config.sync_modes = SupportedSyncModes(
+        SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM | SupportedSyncModes::SYNC0,
+    );
     config
 };
 

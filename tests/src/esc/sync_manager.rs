@@ -4,7 +4,7 @@
 
 use core::ops::Range;
 
-use ecat_core::sync_manager::{Channel, Control, Direction, Mode};
+use ecat_core::sync_manager::{BufferDirection, Channel, Control, Mode};
 
 use super::access::{Access, Side};
 use super::memory::Memory;
@@ -66,9 +66,9 @@ impl Buffer {
             Mode::Reserved(_) => return None,
         };
         let writer = match channel.control.direction() {
-            Direction::MainDeviceWrites => Side::Ecat,
-            Direction::MainDeviceReads => Side::Pdi,
-            Direction::Reserved(_) => return None,
+            BufferDirection::MainDeviceWrites => Side::Ecat,
+            BufferDirection::MainDeviceReads => Side::Pdi,
+            BufferDirection::Reserved(_) => return None,
         };
         (active && channel.length > 0).then_some(Self {
             start: usize::from(channel.start),

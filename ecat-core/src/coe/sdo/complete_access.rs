@@ -7,7 +7,7 @@
 //! entries, a gap nothing. Variable-length entries (strings, domains) make
 //! an object unfit for complete access (0x06010004).
 
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo};
 
 /// One entry's place in the complete-access image.
@@ -35,10 +35,8 @@ pub fn check(object: &ObjectInfo, sub: u8) -> Result<(), AbortCode> {
 
 /// The entries a complete access from `sub` covers, with their descriptions.
 pub fn entries(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = (u8, &EntryInfo)> {
-    object
-        .subindices()
-        .filter(move |s| *s >= sub)
-        .filter_map(|s| Some((s, object.entry(s)?)))
+    // A gap of a sparse RECORD has no description: skipped.
+    (sub..=object.max_sub).filter_map(|s| Some((s, object.entry(s)?)))
 }
 
 fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
@@ -121,70 +119,17 @@ pub fn read<D>(
     let window = out.get_mut(..len).unwrap_or_default();
     window.fill(0);
     for slot in slots(&object.info, sub).take_while(|s| s.sub <= last) {
-        if slot.bit_len.is_multiple_of(8) {
-            read_bytes(od, object, slot, offset, window)?;
-        } else {
-            read_bits(od, object, slot, offset, window)?;
-        }
+        // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
+        // padding, zero.
+        let mut value = [0u8; 8];
+        (object.read)(od, slot.sub, 0, &mut value)?;
+        copy_bits(&value, 0, window, slot.bit_offset, offset, slot.bit_len);
     }
     Ok(len)
 }
 
-/// A byte-aligned entry's bytes that fall into the window `[offset, offset + window.len())`.
-fn read_bytes<D>(
-    od: &D,
-    object: &Object<D>,
-    slot: Slot,
-    offset: usize,
-    window: &mut [u8],
-) -> Result<(), AbortCode> {
-    let start = slot.bit_offset / 8;
-    let end = start + slot.bit_len / 8;
-    let from = start.max(offset);
-    let to = end.min(offset + window.len());
-    if from >= to {
-        return Ok(());
-    }
-    let dst = window
-        .get_mut(from - offset..to - offset)
-        .unwrap_or_default();
-    if slot.sub == 0 {
-        // SI0's second byte is padding: only the first carries the value.
-        let mut si0 = [0u8; 1];
-        (object.read)(od, 0, 0, &mut si0)?;
-        if let (Some(d), true) = (dst.first_mut(), from == start) {
-            *d = si0[0];
-        }
-        return Ok(());
-    }
-    (object.read)(od, slot.sub, from - start, dst)?;
-    Ok(())
-}
-
-/// A bit entry's bits that fall into the window.
-fn read_bits<D>(
-    od: &D,
-    object: &Object<D>,
-    slot: Slot,
-    offset: usize,
-    window: &mut [u8],
-) -> Result<(), AbortCode> {
-    let mut value = [0u8; 1];
-    (object.read)(od, slot.sub, 0, &mut value)?;
-    for i in 0..slot.bit_len {
-        let bit = slot.bit_offset + i;
-        if let Some(byte) = (bit / 8)
-            .checked_sub(offset)
-            .and_then(|b| window.get_mut(b))
-        {
-            *byte |= ((value[0] >> i) & 1) << (bit % 8);
-        }
-    }
-    Ok(())
-}
-
-/// The value bytes of one entry in a complete-access image: the aligned bytes, or the bits
-/// gathered into one byte.
+/// The value bytes of one entry in a complete-access image, as a single access carries them:
+/// its bits from their place, in the low bits of the first bytes.
 pub fn entry_value(
     data: &[u8],
     object: &ObjectInfo,
@@ -192,22 +137,31 @@ pub fn entry_value(
     entry_sub: u8,
 ) -> Option<([u8; 8], usize)> {
     let slot = slots(object, sub).find(|s| s.sub == entry_sub)?;
+    let end = (slot.bit_offset + slot.bit_len).div_ceil(8);
+    if slot.bit_len > 64 || end > data.len() {
+        return None;
+    }
     let mut value = [0u8; 8];
-    if slot.bit_len.is_multiple_of(8) {
-        let n = slot.bit_len / 8;
-        let src = data.get(slot.bit_offset / 8..slot.bit_offset / 8 + n)?;
-        if n > value.len() {
-            return None;
+    copy_bits(data, slot.bit_offset, &mut value, 0, 0, slot.bit_len);
+    let len = if entry_sub == 0 {
+        1
+    } else {
+        slot.bit_len.div_ceil(8)
+    };
+    Some((value, len))
+}
+
+/// Copies `len` bits, LSB first, from bit `from` of `src` to bit `to` of a window that starts at
+/// byte `skip` of the image: bits outside the window are left out, bits beyond `src` are 0.
+/// The one copy of complete access, both ways, for byte-aligned entries and bit entries alike.
+fn copy_bits(src: &[u8], from: usize, window: &mut [u8], to: usize, skip: usize, len: usize) {
+    for i in 0..len {
+        let (s, d) = (from + i, to + i);
+        let bit = src.get(s / 8).map_or(0, |b| (b >> (s % 8)) & 1);
+        if let Some(byte) = (d / 8).checked_sub(skip).and_then(|b| window.get_mut(b)) {
+            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
         }
-        crate::bytes::copy(&mut value, src);
-        return Some((value, if entry_sub == 0 { 1 } else { n }));
     }
-    for i in 0..slot.bit_len {
-        let bit = slot.bit_offset + i;
-        let b = data.get(bit / 8)?;
-        value[0] |= ((b >> (bit % 8)) & 1) << i;
-    }
-    Some((value, 1))
 }
 
 #[cfg(test)]

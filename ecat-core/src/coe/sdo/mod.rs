@@ -18,8 +18,10 @@
 
 mod command;
 pub mod complete_access;
+mod frame;
 
 use command::{Request, response};
+use frame::Frame;
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
@@ -132,13 +134,12 @@ impl<const N: usize> SdoServer<N> {
         request: &[u8],
         out: &mut [u8],
     ) -> usize {
-        // The mailbox hands over at least the 8 bytes of an SDO header; anything shorter is no
-        // request a server knows.
-        let &[command, i0, i1, sub, ..] = request else {
-            return abort(out, 0, 0, AbortCode::COMMAND_SPECIFIER);
+        let frame = match Frame::new_checked(request) {
+            Ok(frame) => frame,
+            Err(code) => return abort(out, 0, 0, code),
         };
-        let index = u16::from_le_bytes([i0, i1]);
-        let result = match Request::from_byte(command) {
+        let (index, sub) = (frame.index(), frame.sub());
+        let result = match Request::from_byte(frame.command()) {
             Request::Upload { complete } => self.upload(cx, Target::new(index, sub, complete), out),
             Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
             Request::Download {
@@ -148,19 +149,13 @@ impl<const N: usize> SdoServer<N> {
                 complete,
             } => {
                 let target = Target::new(index, sub, complete);
-                self.download(
-                    cx,
-                    target,
-                    request,
-                    (expedited, size_indicated, unused),
-                    out,
-                )
+                self.download(cx, target, &frame, (expedited, size_indicated, unused), out)
             }
             Request::DownloadSegment {
                 toggle,
                 unused,
                 last,
-            } => self.download_segment(cx, toggle, segment_data(request, unused), last, out),
+            } => self.download_segment(cx, toggle, segment_data(&frame, unused), last, out),
             Request::Abort => {
                 self.transfer = None;
                 return 0;
@@ -284,7 +279,7 @@ impl<const N: usize> SdoServer<N> {
         &mut self,
         cx: &mut Context<'_, D, H>,
         target: Target,
-        request: &[u8],
+        frame: &Frame<&[u8]>,
         (expedited, size_indicated, unused): (bool, bool, u8),
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
@@ -298,16 +293,10 @@ impl<const N: usize> SdoServer<N> {
             } else {
                 expedited_size(object, target)
             };
-            request.get(4..4 + size).ok_or(AbortCode::LENGTH_MISMATCH)?
+            frame.expedited(size).ok_or(AbortCode::LENGTH_MISMATCH)?
         } else {
-            let size = u32::from_le_bytes([
-                byte(request, 4),
-                byte(request, 5),
-                byte(request, 6),
-                byte(request, 7),
-            ]);
-            let size = usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
-            let here = request.get(SDO_HEADER..).unwrap_or_default();
+            let size = usize::try_from(frame.size()).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+            let here = frame.payload();
             let here = here.get(..size).unwrap_or(here);
             if here.len() < size {
                 return self.begin_segmented_download(cx, object, target, size, here, out);
@@ -524,10 +513,11 @@ fn check_complete<D>(
 /// The entries `target` reads or writes, with their subindices: a complete access's from its
 /// subindex on (SI0 aside: it carries the count), a single access's one.
 fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8, &EntryInfo)> {
-    let single = object.info.entry(target.sub).map(|e| (target.sub, e));
-    complete_access::entries(&object.info, target.sub)
-        .filter(move |(s, _)| *s > 0 && target.complete)
-        .chain(single.filter(|_| !target.complete))
+    let (first, last) = match target.complete {
+        true => (target.sub.max(1), object.info.max_sub),
+        false => (target.sub, target.sub),
+    };
+    (first..=last).filter_map(|s| Some((s, object.info.entry(s)?)))
 }
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
@@ -663,7 +653,7 @@ fn check_pdo_length<D: ObjectDictionary, H>(
         Some(_) => pdo::layout::read_u16(od, object, sub).map(u32::from),
         None => pdo::layout::read_u32(od, object, sub),
     };
-    pdo::check_length(od, process_ram(cx.device), index, n, entry)
+    pdo::check_length(od, process_ram(cx.device), index, n, &entry)
 }
 
 /// A complete-access download (ETG.1000.6 §5.6.2.1.2). With a writable SI0 (PDO configuration
@@ -710,9 +700,8 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         }
         None => {}
     }
-    for (sub, _) in
-        complete_access::entries(&object.info, from).filter(|(s, _)| (1..=last).contains(s))
-    {
+    // A gap of a sparse RECORD has no value in the image.
+    for sub in (from.max(1)..=last).filter(|s| object.info.entry(*s).is_some()) {
         let (value, len) = value_of(sub)?;
         store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
     }
@@ -747,7 +736,7 @@ fn check_configuration<D: ObjectDictionary>(
         crate::bytes::copy(&mut bytes, value.get(..len)?);
         Some(u32::from_le_bytes(bytes))
     };
-    pdo::check_length(od, process_ram, object.info.index, n, entry)
+    pdo::check_length(od, process_ram, object.info.index, n, &entry)
 }
 
 /// A complete-access image of `len` bytes from `from` must be the whole object, or, when the
@@ -797,8 +786,8 @@ fn expedited_size<D>(object: &Object<D>, target: Target) -> usize {
 
 /// The data of a download segment: what the mailbox carries after the command, or 7 − unused
 /// bytes of a minimum-size segment.
-fn segment_data(request: &[u8], unused: u8) -> &[u8] {
-    let data = request.get(SEGMENT_HEADER..).unwrap_or_default();
+fn segment_data<'a>(frame: &'a Frame<&[u8]>, unused: u8) -> &'a [u8] {
+    let data = frame.segment();
     if data.len() == MIN_SEGMENT_DATA {
         data.get(..MIN_SEGMENT_DATA - usize::from(unused))
             .unwrap_or_default()
@@ -871,10 +860,6 @@ fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
 
 fn body_of(out: &mut [u8]) -> &mut [u8] {
     out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
-}
-
-fn byte(bytes: &[u8], i: usize) -> u8 {
-    bytes.get(i).copied().unwrap_or(0)
 }
 
 #[cfg(test)]

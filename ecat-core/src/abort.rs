@@ -1,4 +1,7 @@
 //! SDO abort codes (ETG.1000.6 Table 41; CiA 301 §7.2.4.3.17).
+//!
+//! A leaf: the dictionary and the PDO rules refuse an access with a code, the CoE server
+//! ([`coe`](crate::coe), which re-exports it) sends it; this module imports none of them.
 
 /// Why an SDO transfer failed. Codes are data: any `u32` is a valid value.
 #[derive(Clone, Copy, PartialEq, Eq, Hash)]

@@ -2,7 +2,7 @@
 //! for the outputs and 0x1C33 for the inputs): what triggers a cycle, and the parameters the
 //! MainDevice reads and sets.
 //!
-//! | sync type (0x1C32:01) | cycle trigger |
+//! | sync mode (0x1C32:01) | cycle trigger |
 //! |---|---|
 //! | 0 free-run | a local timer, [`DeviceConfig::free_run_cycle`](crate::DeviceConfig::free_run_cycle) |
 //! | 1 SM-synchronous | SM2 written by the MainDevice (SM3 read, for an input-only device) |
@@ -10,12 +10,12 @@
 //! | 3 DC SYNC1 | not supported: refused with 0x0028 |
 //!
 //! The SubDevice reads the DC activation (0x0981) with every AL control event, and a device that
-//! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them ([`check_dc`];
+//! supports DC SYNC0 also the SYNC0 cycle time (0x09A0); PREOP→SAFEOP checks them (`check_dc`;
 //! a device without DC refuses any activation with 0x0030).
 //!
 //! 0x1C32 and 0x1C33 are records of [`SyncParameters`] with SSC's subindices, part of the
 //! communication area every CoE dictionary gets from `dictionary!`'s `communication` item
-//! ([`crate::dictionary::communication`]); the stack reads the sync type the MainDevice chose
+//! ([`crate::dictionary::communication`]); the stack reads the sync mode the MainDevice chose
 //! and fills the rest.
 
 use crate::AlStatusCode;
@@ -27,88 +27,14 @@ use crate::dictionary::{
 };
 use crate::pdo::layout::read_u16;
 use crate::register::DcActivation;
+use crate::sync_mode::{SupportedSyncModes, SyncMode};
 use crate::time::{Duration, Instant};
-
-/// The sync type of 0x1C32:01 / 0x1C33:01 (ETG.1000.6 Table 74).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SyncType {
-    /// 0: free-run, cycles on a local timer.
-    FreeRun,
-    /// 1: synchronous with the SM2 event (SM3 for an input-only device).
-    SmSynchronous,
-    /// 2: synchronous with DC SYNC0.
-    DcSync0,
-    /// 3: synchronous with DC SYNC1.
-    DcSync1,
-    /// 0x22: synchronous with the SM2 event (0x1C33 only).
-    Sm2Synchronous,
-    /// Any other value.
-    Unknown(u16),
-}
-
-impl SyncType {
-    /// The type of the 0x1C32:01 value `code`.
-    pub const fn from_code(code: u16) -> Self {
-        match code {
-            0 => Self::FreeRun,
-            1 => Self::SmSynchronous,
-            2 => Self::DcSync0,
-            3 => Self::DcSync1,
-            0x22 => Self::Sm2Synchronous,
-            other => Self::Unknown(other),
-        }
-    }
-
-    /// The 0x1C32:01 value.
-    pub const fn code(self) -> u16 {
-        match self {
-            Self::FreeRun => 0,
-            Self::SmSynchronous => 1,
-            Self::DcSync0 => 2,
-            Self::DcSync1 => 3,
-            Self::Sm2Synchronous => 0x22,
-            Self::Unknown(code) => code,
-        }
-    }
-}
-
-/// The sync types a device supports: 0x1C32:04 (ETG.1000.6 Table 74).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub struct SupportedSync(pub u16);
-
-impl SupportedSync {
-    /// Bit 0: free-run.
-    pub const FREE_RUN: u16 = 0x0001;
-    /// Bit 1: SM-synchronous.
-    pub const SM: u16 = 0x0002;
-    /// Bit 2: DC SYNC0.
-    pub const SYNC0: u16 = 0x0004;
-    /// Bit 3: DC SYNC1.
-    pub const SYNC1: u16 = 0x0008;
-
-    /// Whether the outputs (0x1C32:01) may run with `sync`. DC SYNC1 never may: the stack has no
-    /// SYNC1-triggered cycle; 0x22 is a value of 0x1C33 only (inputs latched with the SM2 event).
-    pub const fn supports(self, sync: SyncType) -> bool {
-        let bit = match sync {
-            SyncType::FreeRun => Self::FREE_RUN,
-            SyncType::SmSynchronous => Self::SM,
-            SyncType::DcSync0 => Self::SYNC0,
-            SyncType::DcSync1 | SyncType::Sm2Synchronous | SyncType::Unknown(_) => return false,
-        };
-        self.0 & bit != 0
-    }
-
-    /// Whether the device can run DC-synchronous, so the SubDevice reads the DC registers.
-    pub const fn dc(self) -> bool {
-        self.0 & Self::SYNC0 != 0
-    }
-}
 
 /// The value of a sync manager parameter object (0x1C32/0x1C33, ETG.1000.6 Table 74, ETG.1020
 /// §6.3) with every subindex SSC carries: SI0 = 0x20; SI 0x0E..0x1F do not exist.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct SyncParameters {
-    /// SI1: the sync type ([`SyncType::code`]), chosen by the MainDevice in PREOP.
+    /// SI1: the sync mode ([`SyncMode::code`]), chosen by the MainDevice in PREOP.
     pub sync_type: u16,
     /// SI2: the cycle time in ns (free-run: the local cycle).
     pub cycle_time: u32,
@@ -116,7 +42,7 @@ pub struct SyncParameters {
     /// terminals; inputs — from SYNC0 to the inputs being latched. Set by the application
     /// (its hardware timing); 0 when unknown.
     pub shift_time: u32,
-    /// SI4: the supported sync types ([`SupportedSync`]).
+    /// SI4: the supported sync modes ([`SupportedSyncModes`]).
     pub supported: u16,
     /// SI5: the minimum cycle time in ns.
     pub min_cycle_time: u32,
@@ -135,7 +61,7 @@ pub struct SyncParameters {
     /// the application; 0 when unknown.
     pub delay_time: u32,
     /// SI 0x0A: the SYNC0 cycle time in ns the ESC runs (0x09A0) while the device runs DC
-    /// SYNC0, else 0 (filled by [`fill`]).
+    /// SYNC0, else 0 (filled by `fill`).
     pub sync0_cycle_time: u32,
     /// SI 0x0B: SM events missed.
     pub sm_event_missed: u16,
@@ -209,7 +135,7 @@ impl SyncParameters {
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how
-    /// the stack fills the read-only entries ([`fill`], [`CycleMonitor`]).
+    /// the stack fills the read-only entries (`fill`, [`CycleMonitor`]).
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         fn put<T: Value + PartialOrd>(slot: &mut T, data: &[u8]) -> Result<(), AbortCode> {
             write_value(slot, data, None, None)
@@ -236,7 +162,7 @@ impl SyncParameters {
 }
 
 impl SyncParameters {
-    /// [`SyncParameters::write`] of 0x1C33: SI1 must name a sync type of the inputs
+    /// [`SyncParameters::write`] of 0x1C33: SI1 must name a sync mode of the inputs
     /// ([`check_input_sync_write`]).
     pub fn write_input(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         check_input_sync_write(sub, data)?;
@@ -269,7 +195,7 @@ fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usi
 }
 
 /// The entries of 0x1C32 and 0x1C33 (ETG.1000.6 Table 74, SSC's `asEntryDesc0x1C3x`): SI1 and
-/// SI2 writable in PREOP (the MainDevice's choice of sync type and cycle), SI8 (get cycle time)
+/// SI2 writable in PREOP (the MainDevice's choice of sync mode and cycle), SI8 (get cycle time)
 /// writable in every state, the rest read-only; SI1 declares its default.
 pub const PARAMETER_ENTRIES: &[EntryInfo] = &[
     EntryInfo::subindex_count("Highest sub-index supported"),
@@ -375,24 +301,24 @@ const fn sync_entry(
 /// What the MainDevice configured in the ESC's DC SYNC unit (ESC datasheet section II,
 /// 0x0981 and 0x09A0), as the SubDevice read it with the last AL control event.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub struct DcSettings {
+pub(crate) struct DcSettings {
     /// 0x0981.
-    pub activation: DcActivation,
+    pub(crate) activation: DcActivation,
     /// 0x09A0: the SYNC0 cycle in ns.
-    pub sync0_cycle_ns: u32,
+    pub(crate) sync0_cycle_ns: u32,
 }
 
 impl DcSettings {
     /// The bytes the SubDevice reads: 0x0981 up to the end of 0x09A0.
-    pub const READ_LEN: usize = 0x09A4 - 0x0981;
+    pub(crate) const READ_LEN: usize = 0x09A4 - 0x0981;
 
     /// The SYNC0 cycle (µs resolution).
-    pub const fn sync0_cycle(self) -> Duration {
+    pub(crate) const fn sync0_cycle(self) -> Duration {
         Duration::from_micros(self.sync0_cycle_ns as u64 / 1_000)
     }
 
     /// The settings in the bytes read from 0x0981 on.
-    pub fn from_bytes(bytes: &[u8]) -> Self {
+    pub(crate) fn from_bytes(bytes: &[u8]) -> Self {
         let cycle = bytes
             .get(0x09A0 - 0x0981..)
             .and_then(|b| b.first_chunk())
@@ -409,16 +335,20 @@ impl DcSettings {
 /// support it (0x1C32:04 without 0x0008; 0x0981 = 0x07 on a SYNC0-only device), DC SYNC0
 /// requested without SYNC0 running, or SYNC0 running while the device is told to run free or
 /// SM-synchronous: 0x0030 (ETG.1000.6 Table 11 "invalid DC SYNC configuration"; SSC 5.12
-/// `ecatslv.c` `CheckDcSettings` refuses a SYNC signal the supported sync types lack with the
+/// `ecatslv.c` `CheckDcSettings` refuses a SYNC signal the supported sync modes lack with the
 /// same code); a SYNC0 cycle of 0 (single shot) or below the device's minimum cycle: 0x0036.
-pub fn check_dc(sync: SyncType, dc: DcSettings, device: &DeviceConfig) -> Result<(), AlStatusCode> {
+pub(crate) fn check_dc(
+    sync: SyncMode,
+    dc: DcSettings,
+    device: &DeviceConfig,
+) -> Result<(), AlStatusCode> {
     let bits = dc.activation.0;
     let cyclic = bits & DcActivation::CYCLIC_OPERATION != 0;
     let sync0 = bits & DcActivation::SYNC0 != 0;
     let sync1 = bits & DcActivation::SYNC1 != 0;
-    let wanted = sync == SyncType::DcSync0;
+    let wanted = sync == SyncMode::DcSync0;
     let without_sync0 = (cyclic || sync1) && !sync0;
-    let unsupported_sync1 = sync1 && device.sync.0 & SupportedSync::SYNC1 == 0;
+    let unsupported_sync1 = sync1 && device.sync_modes.0 & SupportedSyncModes::SYNC1 == 0;
     if without_sync0 || unsupported_sync1 || wanted != dc.activation.sync0() {
         return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
     }
@@ -440,17 +370,17 @@ pub const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
 pub const INPUT_PARAMETERS: u16 = 0x1C33;
 
-/// The sync type of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
+/// The sync mode of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
 /// SM-synchronous mode the inputs are latched with the SM2 event when there are outputs
 /// (0x22), with the SM3 event otherwise (1); free-run and DC modes are the same for both.
-pub const fn input_sync_type(output: SyncType, has_outputs: bool) -> SyncType {
+pub const fn input_sync_type(output: SyncMode, has_outputs: bool) -> SyncMode {
     match output {
-        SyncType::SmSynchronous if has_outputs => SyncType::Sm2Synchronous,
+        SyncMode::SmSynchronous if has_outputs => SyncMode::Sm2Synchronous,
         other => other,
     }
 }
 
-/// A write of 0x1C33:01 must name a sync type of the inputs (ETG.1000.6 Table 74: free-run 0,
+/// A write of 0x1C33:01 must name a sync mode of the inputs (ETG.1000.6 Table 74: free-run 0,
 /// SM3-synchronous 1, DC SYNC0 2, DC SYNC1 3, SM2-synchronous 0x22), else 0x06090030. What it
 /// shows afterwards is the inputs' type in effect ([`input_sync_type`], filled by [`fill`]): the
 /// inputs follow the outputs' 0x1C32:01 (or, without 0x1C32, the ESC's SYNC0 activation).
@@ -466,37 +396,37 @@ pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
 }
 
 /// Fills what the stack knows into 0x1C32 and 0x1C33 (those the dictionary has): the supported
-/// sync types (SI4), the minimum cycle time (SI5) and, unless the MainDevice wrote one
+/// sync modes (SI4), the minimum cycle time (SI5) and, unless the MainDevice wrote one
 /// (`chosen_cycle`, [`Chosen::cycle_ns`]), the cycle time in ns (SI2: the local cycle in
 /// free-run, the SYNC0 cycle in DC mode), the SYNC0 cycle time (SI 0x0A: the ESC's 0x09A0 while
-/// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync type (SI1,
-/// [`input_sync_type`]) of the `active` sync type.
-pub fn fill<D: ObjectDictionary>(
+/// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync mode (SI1,
+/// [`input_sync_type`]) of the `active` sync mode.
+pub(crate) fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
-    active: Option<SyncType>,
+    active: Option<SyncMode>,
     chosen_cycle: Option<u32>,
     dc: DcSettings,
     has_outputs: bool,
 ) {
     let cycle_ns = match (active, chosen_cycle) {
         (_, Some(_)) => None,
-        (Some(SyncType::FreeRun), None) => {
+        (Some(SyncMode::FreeRun), None) => {
             Some(device.free_run_cycle.as_micros().saturating_mul(1_000))
         }
-        (Some(SyncType::DcSync0), None) => Some(u64::from(dc.sync0_cycle_ns)),
+        (Some(SyncMode::DcSync0), None) => Some(u64::from(dc.sync0_cycle_ns)),
         _ => None,
     };
     let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
     let sync0_ns = match active {
-        Some(SyncType::DcSync0) => dc.sync0_cycle_ns,
+        Some(SyncMode::DcSync0) => dc.sync0_cycle_ns,
         _ => 0,
     };
     for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
         let Some(object) = D::object(index) else {
             continue;
         };
-        set(od, object, 4, &device.sync.0.to_le_bytes());
+        set(od, object, 4, &device.sync_modes.0.to_le_bytes());
         set(od, object, 5, &saturated_u32(min_ns).to_le_bytes());
         if let Some(ns) = cycle_ns {
             set(od, object, 2, &saturated_u32(ns).to_le_bytes());
@@ -526,7 +456,7 @@ fn saturated_u32(ns: u64) -> u32 {
 /// SM-synchronous mode shows the measured cycle, [`CycleMonitor`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Chosen {
-    /// 0x1C32:01, the sync type, was written.
+    /// 0x1C32:01, the sync mode, was written.
     pub sync_type: bool,
     /// 0x1C32:02, the cycle time in ns, as last written (0 takes the choice back).
     pub cycle_time: Option<u32>,
@@ -560,46 +490,46 @@ impl Chosen {
 
 /// What the dictionary's 0x1C32 says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Requested {
-    /// The sync type.
-    pub sync: SyncType,
+pub(crate) struct Requested {
+    /// The synchronisation mode.
+    pub(crate) mode: SyncMode,
     /// The MainDevice chose it: it wrote 0x1C32:01, or 0x1C32:01 differs from its declared
     /// default. Otherwise the SubDevice follows the ESC: DC SYNC0 when the MainDevice activated
     /// SYNC0 (as SSC does for MainDevices that configure DC but never write 0x1C32, e.g.
     /// ethercrab).
-    pub chosen: bool,
+    pub(crate) chosen: bool,
 }
 
 impl Requested {
-    /// The sync type in effect with the DC unit as `dc` says.
-    pub fn effective(self, dc: DcSettings, device: &DeviceConfig) -> SyncType {
-        let follow_dc = !self.chosen && dc.activation.sync0() && device.sync.dc();
+    /// The sync mode in effect with the DC unit as `dc` says.
+    pub(crate) fn effective(self, dc: DcSettings, device: &DeviceConfig) -> SyncMode {
+        let follow_dc = !self.chosen && dc.activation.sync0() && device.sync_modes.dc();
         if follow_dc {
-            SyncType::DcSync0
+            SyncMode::DcSync0
         } else {
-            self.sync
+            self.mode
         }
     }
 }
 
-/// The sync type the dictionary's 0x1C32:01 asks for, checked against the device
+/// The sync mode the dictionary's 0x1C32:01 asks for, checked against the device
 /// (conformance.md "Sync parameters"): unsupported free-run is 0x0027, any other unsupported type
 /// 0x0028. `chosen` tells whether the MainDevice wrote it. Without 0x1C32 the device runs
 /// SM-synchronous when it supports it, else free-run.
-pub fn requested<D: ObjectDictionary>(
+pub(crate) fn requested<D: ObjectDictionary>(
     od: &D,
     device: &DeviceConfig,
     chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
     let Some(object) = D::object(OUTPUT_PARAMETERS) else {
-        let sm = device.sync.supports(SyncType::SmSynchronous);
-        let sync = if sm {
-            SyncType::SmSynchronous
+        let sm = device.sync_modes.supports(SyncMode::SmSynchronous);
+        let mode = if sm {
+            SyncMode::SmSynchronous
         } else {
-            SyncType::FreeRun
+            SyncMode::FreeRun
         };
         return Ok(Requested {
-            sync,
+            mode,
             chosen: false,
         });
     };
@@ -607,35 +537,35 @@ pub fn requested<D: ObjectDictionary>(
     let mut default = [0u8; 2];
     let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
     let default_kept = declared && u16::from_le_bytes(default) == code;
-    match SyncType::from_code(code) {
-        sync if device.sync.supports(sync) => Ok(Requested {
-            sync,
+    match SyncMode::from_code(code) {
+        mode if device.sync_modes.supports(mode) => Ok(Requested {
+            mode,
             chosen: chosen.sync_type || !default_kept,
         }),
-        SyncType::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
+        SyncMode::FreeRun => Err(AlStatusCode::FREE_RUN_NOT_SUPPORTED),
         _ => Err(AlStatusCode::SYNC_MODE_NOT_SUPPORTED),
     }
 }
 
 /// The cycle time the MainDevice wrote into 0x1C32:02, checked at PREOP→SAFEOP against the
-/// sync type in effect (conformance.md AL status codes): in free-run or SM-synchronous mode below
+/// sync mode in effect (conformance.md AL status codes): in free-run or SM-synchronous mode below
 /// the device's minimum cycle (SI5) 0x002E, in free-run also below the local timer's 1 µs; in DC
 /// SYNC0 mode other than the SYNC0 cycle 0x0035.
-pub fn check_cycle(
-    sync: SyncType,
+pub(crate) fn check_cycle(
+    sync: SyncMode,
     cycle_ns: Option<u32>,
     dc: DcSettings,
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
     let below_min = |ns: u32| below_min_cycle(ns, device);
     match (sync, cycle_ns) {
-        (SyncType::DcSync0, Some(ns)) if ns != dc.sync0_cycle_ns => {
+        (SyncMode::DcSync0, Some(ns)) if ns != dc.sync0_cycle_ns => {
             Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME)
         }
-        (SyncType::FreeRun, Some(ns)) if ns < 1_000 || below_min(ns) => {
+        (SyncMode::FreeRun, Some(ns)) if ns < 1_000 || below_min(ns) => {
             Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
         }
-        (SyncType::SmSynchronous, Some(ns)) if below_min(ns) => {
+        (SyncMode::SmSynchronous, Some(ns)) if below_min(ns) => {
             Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
         }
         _ => Ok(()),
@@ -645,7 +575,7 @@ pub fn check_cycle(
 /// Watches the process-data cycles and keeps the diagnostic entries of 0x1C32/0x1C33 (ETG.1020
 /// §6.3, conformance.md "Sync parameters") up to date:
 /// - SI2 in SM-synchronous mode: the measured time between the last two cycles (in free-run and
-///   DC mode SI2 is the configured cycle, see [`fill`]);
+///   DC mode SI2 is the configured cycle, see `fill`);
 /// - SI 0x0B, SM-event missed: DC-mode cycles in OP for which the MainDevice had not written new
 ///   outputs (SM2) since the previous SYNC0;
 /// - SI 0x0C, cycle time too small: clocked cycles (free-run, SYNC0) that started more than 1.5
@@ -813,7 +743,7 @@ mod tests {
             ProcessDataSizes::default(),
         );
         device.min_cycle_time = Duration::from_micros(0);
-        let check = |ns| check_cycle(SyncType::FreeRun, Some(ns), DcSettings::default(), &device);
+        let check = |ns| check_cycle(SyncMode::FreeRun, Some(ns), DcSettings::default(), &device);
         assert_eq!(check(999), Err(AlStatusCode::CYCLE_TIME_TOO_SMALL));
         assert_eq!(check(1_000), Ok(()));
         let mut chosen = Chosen::default();
@@ -861,7 +791,7 @@ mod tests {
             sync0_cycle_ns: 1_000_000,
         };
         let mut od = Od::default();
-        fill(&mut od, &device, Some(SyncType::DcSync0), None, dc, true);
+        fill(&mut od, &device, Some(SyncMode::DcSync0), None, dc, true);
         for p in [od.area.outputs, od.area.inputs] {
             assert_eq!((p.sync0_cycle_time, p.cycle_time), (1_000_000, 1_000_000));
         }
@@ -869,7 +799,7 @@ mod tests {
         fill(
             &mut od,
             &device,
-            Some(SyncType::SmSynchronous),
+            Some(SyncMode::SmSynchronous),
             None,
             dc,
             true,
@@ -881,7 +811,7 @@ mod tests {
         fill(
             &mut od,
             &device,
-            Some(SyncType::DcSync0),
+            Some(SyncMode::DcSync0),
             Some(500_000),
             dc,
             true,
@@ -894,7 +824,7 @@ mod tests {
 
     #[test]
     fn inputs_follow_the_outputs_sync_type() {
-        use SyncType::*;
+        use SyncMode::*;
         assert_eq!(input_sync_type(SmSynchronous, true), Sm2Synchronous);
         assert_eq!(input_sync_type(SmSynchronous, false), SmSynchronous);
         assert_eq!(input_sync_type(FreeRun, true), FreeRun);

@@ -1,0 +1,398 @@
+//! The register plan: the accesses the core needs, in order (event mask, reads, PDI control,
+//! mailbox, AL status code, AL status), prepared into the core's buffer and completed.
+
+use super::mailbox::MailboxOp;
+use super::targets::Stale;
+use super::{ESM_EVENTS, RegisterAccess, SM_CHUNK, SubDevice};
+use crate::al::{AlControl, AlEvent, AlState, AlStatusCode};
+use crate::register;
+use crate::sync_manager::Channel;
+use crate::sync_manager::check::Channels;
+use crate::sync_parameters::DcSettings;
+use crate::time::Instant;
+
+/// The register access in flight, in the order the plan makes them, with what its completion
+/// needs: the value a write puts in the ESC (stored as written once it is done), the chunk a
+/// SyncManager read covers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum InFlight {
+    /// Write the AL event mask (0x0204).
+    WriteEventMask(u32),
+    /// Read the SyncManager registers from 0x0800 + `start` to 0x0800 + `end`.
+    ReadSyncManagers {
+        /// The chunk's first byte, from 0x0800.
+        start: u8,
+        /// One past the chunk's last byte, from 0x0800.
+        end: u8,
+        /// An SM-change or AL control event came while the read was in flight: its completion
+        /// does not count the chunk as read.
+        overtaken: bool,
+    },
+    /// Read the process-data watchdog time (0x0420).
+    ReadWatchdog,
+    /// Read the process-data watchdog status (0x0440).
+    ReadWatchdogStatus,
+    /// Read the DC activation and SYNC0 cycle (0x0981..).
+    ReadDc,
+    /// Read AL control (0x0120).
+    ReadAlControl,
+    /// Write PDI control of a SyncManager (0x0807 + 8·n).
+    WritePdiControl {
+        /// The SyncManager, 0..=3.
+        sm: u8,
+        /// The value written.
+        value: u8,
+    },
+    /// An SM0 read or SM1 write of the mailbox.
+    Mailbox(MailboxOp),
+    /// Write AL status code (0x0134).
+    WriteStatusCode(u16),
+    /// Write AL status (0x0130).
+    WriteStatus(u16),
+}
+
+impl InFlight {
+    /// The AL event bits the access clears in the ESC.
+    pub(super) const fn clears(self) -> AlEvent {
+        match self {
+            InFlight::ReadAlControl => AlEvent::AL_CONTROL,
+            InFlight::ReadSyncManagers { .. } => AlEvent::SM_CHANGE,
+            InFlight::Mailbox(op) => op.clears(),
+            InFlight::ReadWatchdogStatus => AlEvent::WATCHDOG_PROCESS_DATA,
+            _ => AlEvent::NONE,
+        }
+    }
+}
+
+/// The register reads an AL event asks for besides the SyncManagers' (`SubDevice::reads`), in the
+/// order they are made.
+pub(super) mod read {
+    /// The process-data watchdog time (0x0420), with every AL control event: for the watchdog
+    /// consistency check at PREOP→SAFEOP.
+    pub const WATCHDOG: u8 = 1 << 0;
+    /// The watchdog status (0x0440) after AL event bit 6 in OP; reading it acknowledges the event.
+    pub const WATCHDOG_STATUS: u8 = 1 << 1;
+    /// The DC activation (and, on a DC-capable device, the SYNC0 cycle), with every AL control
+    /// event: for the DC checks at PREOP→SAFEOP.
+    pub const DC: u8 = 1 << 2;
+    /// AL control (0x0120), after all the others.
+    pub const AL_CONTROL: u8 = 1 << 3;
+}
+
+impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+    /// The next register access the core needs, or `None` when it has nothing to do. Until
+    /// [`SubDevice::access_done`] is called the same access is returned again.
+    #[inline]
+    pub fn poll_access(&mut self) -> Option<RegisterAccess<'_>> {
+        match self.in_flight {
+            // Settled: the answer costs the driver's loop a test, not a call.
+            None if self.stale == Stale::NONE => None,
+            // Only the mailbox's accesses may be due.
+            None if self.stale == Stale::MAILBOX => self.mailbox_access(),
+            // The request/answer rhythm's way: the SM0 read or the answer, made due by the
+            // event or the service that needed it (`mailbox_due`).
+            Some(InFlight::Mailbox(op)) => Some(self.prepare_mailbox(op)),
+            _ => self.next_access(),
+        }
+    }
+
+    fn next_access(&mut self) -> Option<RegisterAccess<'_>> {
+        let op = match self.in_flight {
+            Some(in_flight) => in_flight,
+            None => self.next_op()?,
+        };
+        self.in_flight = Some(op);
+        Some(self.prepare(op))
+    }
+
+    /// Reports that the access returned by [`SubDevice::poll_access`] was performed, with the AL
+    /// event register value the driver saw during it.
+    #[inline]
+    pub fn access_done(&mut self, now: Instant, event: AlEvent) {
+        let Some(op) = self.in_flight.take() else {
+            return;
+        };
+        match op {
+            // No poll looks at the plan while an access is in flight, so what changed meanwhile
+            // is still marked. Reading SM0 changes nothing in the plan: the read was due, so
+            // nothing was queued or in SM1 and no repeat asked for; the SM0 event stays wanted
+            // and the SM1 event unwanted, and no SM0/SM1 access is due until the request is
+            // served.
+            InFlight::Mailbox(MailboxOp::Read) => self.mailbox.received(),
+            InFlight::Mailbox(MailboxOp::Write) => self.sent(),
+            _ => {
+                self.stale = Stale::ALL;
+                self.complete_register(now, op);
+            }
+        }
+        self.handle_al_event(event.difference(op.clears()));
+    }
+
+    /// The bytes of SyncManager registers the ESC has: 8 per channel
+    /// ([`DeviceConfig::sync_manager_count`](crate::DeviceConfig::sync_manager_count), 4 to 16).
+    pub(super) fn sm_bytes(&self) -> u8 {
+        self.config.sync_manager_count.clamp(4, 16) * Channel::SIZE as u8
+    }
+
+    /// Where the last chunk of the SyncManager registers still unread starts: the channels beyond
+    /// SM3 are read first, so that SM0..SM3, which the checks use, are read last, right before
+    /// AL control.
+    fn sm_chunk_start(&self) -> u8 {
+        self.sm_unread.saturating_sub(1) & !(SM_CHUNK as u8 - 1)
+    }
+
+    /// The next access of the register plan, in order: event mask, reads, PDI control, mailbox,
+    /// AL status code, AL status. Only the stale parts are looked at; a part found satisfied is
+    /// no longer stale.
+    fn next_op(&mut self) -> Option<InFlight> {
+        let mut stale = self.stale;
+        let next = self.next_op_in(&mut stale);
+        self.stale = stale;
+        next
+    }
+
+    /// [`SubDevice::next_op`] on a copy of the stale parts, stored back once (none of the parts'
+    /// questions looks at them).
+    fn next_op_in(&mut self, stale: &mut Stale) -> Option<InFlight> {
+        if stale.contains(Stale::EVENT_MASK) {
+            let mask = self.desired_event_mask();
+            if self.written.event_mask != mask {
+                return Some(InFlight::WriteEventMask(mask));
+            }
+            stale.remove(Stale::EVENT_MASK);
+        }
+        if stale.contains(Stale::READS) {
+            if let Some(read) = self.next_read() {
+                return Some(read);
+            }
+            stale.remove(Stale::READS);
+        }
+        if stale.contains(Stale::PDI_CONTROL) {
+            if let Some(write) = self.next_pdi_control() {
+                return Some(write);
+            }
+            stale.remove(Stale::PDI_CONTROL);
+        }
+        if stale.contains(Stale::MAILBOX) {
+            // Satisfied once its access is under way: the access's completion marks what it
+            // makes due (see `access_done`).
+            stale.remove(Stale::MAILBOX);
+            if let Some(op) = self.next_mailbox_op() {
+                return Some(InFlight::Mailbox(op));
+            }
+        }
+        if stale.contains(Stale::STATUS) {
+            if let Some(write) = self.next_status() {
+                return Some(write);
+            }
+            stale.remove(Stale::STATUS);
+        }
+        None
+    }
+
+    /// The PDI control write due, deactivations first
+    /// ([`Written::pdi_control_due`](super::targets::Written::pdi_control_due)).
+    fn next_pdi_control(&self) -> Option<InFlight> {
+        let (sm, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
+        Some(InFlight::WritePdiControl { sm, value })
+    }
+
+    /// The AL status code write due, or else the AL status write.
+    fn next_status(&self) -> Option<InFlight> {
+        let code = self.al_status_code().0;
+        let status = self.al_status().bits();
+        if self.written.status_code != u32::from(code) {
+            Some(InFlight::WriteStatusCode(code))
+        } else if self.written.status != u32::from(status) {
+            Some(InFlight::WriteStatus(status))
+        } else {
+            None
+        }
+    }
+
+    /// The next register read: the SyncManagers, the watchdog registers and the DC registers
+    /// before AL control, so that a transition is checked against what the MainDevice wrote
+    /// before requesting it.
+    fn next_read(&self) -> Option<InFlight> {
+        if self.sm_unread > 0 {
+            // A SyncManager read carries its chunk, fixed at the poll: an SM-change event
+            // handled before it completes starts the reads over.
+            Some(InFlight::ReadSyncManagers {
+                start: self.sm_chunk_start(),
+                end: self.sm_unread,
+                overtaken: false,
+            })
+        } else if self.read_due(read::WATCHDOG) {
+            Some(InFlight::ReadWatchdog)
+        } else if self.read_due(read::WATCHDOG_STATUS) {
+            Some(InFlight::ReadWatchdogStatus)
+        } else if self.read_due(read::DC) {
+            Some(InFlight::ReadDc)
+        } else if self.read_due(read::AL_CONTROL) {
+            Some(InFlight::ReadAlControl)
+        } else {
+            None
+        }
+    }
+
+    /// Whether the register read `read` ([`read`]) is due.
+    pub(super) fn read_due(&self, read: u8) -> bool {
+        self.reads & read != 0
+    }
+
+    /// An input of the register targets changed (state, error, code, device ID, process-data
+    /// configuration): the next poll looks at every part of the plan.
+    pub(super) fn targets_changed(&mut self) {
+        self.stale = Stale::ALL;
+    }
+
+    /// The AL event mask the plan wants: the state machine's events, the process-data events
+    /// the state waits for (the SM2/SM3 trigger; the watchdog in OP with outputs) and, in a
+    /// state with a mailbox, the SM0/SM1 events the mailbox waits for.
+    fn desired_event_mask(&self) -> u32 {
+        let mut mask = ESM_EVENTS;
+        if self.state.has_process_data() {
+            mask |= self.process_data_trigger();
+        }
+        if self.state == AlState::Op && self.pd_sizes.outputs > 0 {
+            mask |= AlEvent::WATCHDOG_PROCESS_DATA;
+        }
+        if self.state.has_mailbox() {
+            mask |= self.mailbox.event_mask();
+        }
+        mask.bits()
+    }
+
+    /// PDI control of SM0..SM3 as the state asks: the mailbox channels active from PREOP (and
+    /// in BOOT), SM1 with the mailbox's repeat acknowledge; the process-data channels active in
+    /// SAFEOP and OP.
+    fn desired_pdi_control(&self) -> [u8; 4] {
+        let active = |on: bool| if on { 0 } else { Channel::PDI_DEACTIVATE };
+        let mailbox = active(self.state.has_mailbox());
+        let process = active(self.state.has_process_data());
+        let ack = if self.state.has_mailbox() && self.mailbox.repeat_ack() {
+            Channel::PDI_REPEAT_ACK
+        } else {
+            0
+        };
+        [mailbox, mailbox | ack, process, process]
+    }
+
+    fn prepare(&mut self, op: InFlight) -> RegisterAccess<'_> {
+        match op {
+            InFlight::Mailbox(op) => self.prepare_mailbox(op),
+            _ => self.prepare_register(op),
+        }
+    }
+
+    /// A register access of the plan: event mask, reads, PDI control, AL status code and status.
+    fn prepare_register(&mut self, op: InFlight) -> RegisterAccess<'_> {
+        // The address, the length and, for a write, the value.
+        let (address, len, write) = match op {
+            InFlight::WriteEventMask(mask) => (register::AL_EVENT_MASK, 4, Some(mask)),
+            InFlight::ReadSyncManagers { start, end, .. } => (
+                register::SM_BASE + u16::from(start),
+                usize::from(end.saturating_sub(start)),
+                None,
+            ),
+            InFlight::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, None),
+            InFlight::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, None),
+            InFlight::ReadDc => (register::DC_ACTIVATION, self.dc_read_len(), None),
+            InFlight::ReadAlControl => (register::AL_CONTROL, 2, None),
+            InFlight::WritePdiControl { sm, value } => (
+                register::sync_manager(sm) + Channel::PDI_CONTROL_OFFSET,
+                1,
+                Some(u32::from(value)),
+            ),
+            InFlight::WriteStatusCode(code) => (register::AL_STATUS_CODE, 2, Some(u32::from(code))),
+            InFlight::WriteStatus(status) => (register::AL_STATUS, 2, Some(u32::from(status))),
+            InFlight::Mailbox(_) => (0, 0, None),
+        };
+        let buf = self.buf.get_mut(..len).unwrap_or_default();
+        if let Some(value) = write {
+            let bytes = value.to_le_bytes();
+            for (dst, src) in buf.iter_mut().zip(bytes) {
+                *dst = src;
+            }
+            RegisterAccess::Write {
+                address,
+                data: buf,
+                clears: op.clears(),
+            }
+        } else {
+            RegisterAccess::Read {
+                address,
+                buf,
+                clears: op.clears(),
+            }
+        }
+    }
+
+    /// Completes a register access (the mailbox's are completed in [`SubDevice::access_done`]);
+    /// kept out of line, away from the mailbox's path.
+    #[inline(never)]
+    fn complete_register(&mut self, now: Instant, op: InFlight) {
+        match op {
+            InFlight::Mailbox(_) => {}
+            InFlight::WriteEventMask(mask) => self.written.event_mask = mask,
+            InFlight::WritePdiControl { sm, value } => {
+                if let Some(slot) = self.written.pdi_control.get_mut(usize::from(sm)) {
+                    *slot = value;
+                }
+            }
+            InFlight::WriteStatusCode(code) => self.written.status_code = u32::from(code),
+            InFlight::WriteStatus(status) => self.written.status = u32::from(status),
+            InFlight::ReadWatchdog => {
+                self.reads &= !read::WATCHDOG;
+                self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
+            }
+            InFlight::ReadDc => {
+                self.reads &= !read::DC;
+                let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
+                let dc = DcSettings::from_bytes(bytes);
+                if dc != self.dc {
+                    self.due.refresh = true;
+                    self.targets_changed();
+                    self.dc = dc;
+                }
+            }
+            InFlight::ReadWatchdogStatus => {
+                self.reads &= !read::WATCHDOG_STATUS;
+                let running = self.buf[0] & 1 != 0;
+                if !running && self.state == AlState::Op {
+                    // ETG.1000.6: SM watchdog in OP → SAFEOP with error 0x001B.
+                    self.fail(AlStatusCode::SM_WATCHDOG, AlState::SafeOp);
+                }
+            }
+            InFlight::ReadSyncManagers {
+                start, overtaken, ..
+            } => {
+                if overtaken {
+                    // An SM-change or AL control event came while the chunk was in flight: the
+                    // reads start over.
+                    return;
+                }
+                self.sm_unread = start;
+                if self.sm_unread > 0 {
+                    // A chunk beyond SM3: read for its activation bytes only.
+                    return;
+                }
+                if let Some(bytes) = self.buf.first_chunk() {
+                    self.channels = Channels::from_bytes(bytes);
+                    let repeat =
+                        self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+                    self.mailbox.repeat_request(repeat);
+                }
+                if !self.read_due(read::AL_CONTROL) {
+                    self.check_sm_change();
+                }
+            }
+            InFlight::ReadAlControl => {
+                self.reads &= !read::AL_CONTROL;
+                let control = AlControl::from_le_bytes([self.buf[0], self.buf[1]]);
+                self.on_control(now, control);
+                self.check_sm_change();
+            }
+        }
+    }
+}

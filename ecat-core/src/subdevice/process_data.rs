@@ -1,0 +1,114 @@
+//! The process-data side: where the image lives, its sizes from the PDO configuration, and
+//! the outputs that let SAFEOP→OP complete.
+
+use super::targets::Stale;
+use super::{CycleSigns, SubDevice};
+use crate::al::{AlEvent, AlState, AlStatusCode};
+use crate::device::{Area, ProcessDataSizes};
+use crate::dictionary::ObjectDictionary;
+use crate::pdo::Direction;
+use crate::pdo::layout::Layout;
+use crate::process_data::{Clock, Setup};
+use crate::sync_manager::Channel;
+use crate::sync_mode::SyncMode;
+use crate::sync_parameters;
+
+impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+    /// Where the process data lives, in SAFEOP and OP.
+    pub fn process_data(&self) -> Option<Setup> {
+        if !self.state.has_process_data() {
+            return None;
+        }
+        let sizes = self.pd_sizes;
+        let area =
+            |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
+        Some(Setup {
+            outputs: area(self.channels.outputs(), sizes.outputs),
+            inputs: area(self.channels.inputs(), sizes.inputs),
+            clock: match self.sync_mode() {
+                SyncMode::FreeRun => Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config)),
+                SyncMode::DcSync0 => Clock::Sync0(self.dc.sync0_cycle()),
+                _ => Clock::Event(self.process_data_trigger()),
+            },
+            outputs_active: self.state == AlState::Op,
+        })
+    }
+
+    /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
+    pub(super) fn process_data_trigger(&self) -> AlEvent {
+        let sizes = self.pd_sizes;
+        if matches!(self.sync_mode(), SyncMode::FreeRun | SyncMode::DcSync0) {
+            AlEvent::NONE
+        } else if sizes.outputs > 0 {
+            AlEvent::sync_manager(2)
+        } else if sizes.inputs > 0 {
+            AlEvent::sync_manager(3)
+        } else {
+            AlEvent::NONE
+        }
+    }
+
+    /// The process-data side received valid outputs (the MainDevice wrote SM2) since SAFEOP was
+    /// entered: a SAFEOP→OP transition the application accepted may complete.
+    pub fn outputs_received(&mut self) {
+        self.received.outputs = true;
+        if let Some(p) = &mut self.pending {
+            p.awaits.outputs = false;
+        }
+        self.complete_when_fed();
+    }
+
+    /// Completes a SAFEOP→OP the application accepted once the process data it waits for came.
+    pub(super) fn complete_when_fed(&mut self) {
+        let Some(p) = self.pending else { return };
+        if p.accepted && p.awaits == CycleSigns::default() {
+            self.stale = Stale::ALL;
+            self.finish_transition(p.transition, Ok(()));
+        }
+    }
+
+    /// Recomputes the process-image sizes from the PDO assignment and mapping objects of `od`
+    /// when they may have changed (after an SDO write to the PDO configuration or 0x1C32/0x1C33,
+    /// on entering PREOP, on a new DC setting). Call it before the
+    /// SubDevice handles AL events; without assignment objects (0x1C12/0x1C13) the device
+    /// configuration's fixed sizes apply. An unusable mapping answers PREOP→SAFEOP with 0x0025
+    /// (outputs) or 0x0024 (inputs).
+    ///
+    /// It also takes the sync mode the MainDevice chose (0x1C32:01, see [`crate::sync_parameters`])
+    /// and fills what the stack knows into 0x1C32 and 0x1C33 (`sync_parameters::fill`): the
+    /// supported types (SI4), the minimum cycle (SI5), the cycle time (SI2, free-run and DC) and
+    /// 0x1C33's sync type (SI1).
+    #[inline]
+    pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
+        // Inline: it is called after every AL event and rarely has anything to do.
+        if core::mem::take(&mut self.due.refresh) {
+            self.refresh(od);
+        }
+    }
+
+    /// [`SubDevice::refresh_process_data`] when the configuration may have changed.
+    fn refresh<D: ObjectDictionary>(&mut self, od: &mut D) {
+        self.targets_changed();
+        self.sync_mode = sync_parameters::requested(od, self.config, self.writes.chosen);
+        let fixed = self.config.process_data;
+        let size = |direction, fixed| match Layout::of(od, direction) {
+            Ok(Some(layout)) => Ok(layout.bytes()),
+            Ok(None) => Ok(fixed),
+            Err(code) => Err(code),
+        };
+        let sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
+            Ok(ProcessDataSizes {
+                outputs,
+                inputs: size(Direction::Tx, fixed.inputs)?,
+            })
+        });
+        (self.pd_sizes, self.pd_unusable) = match sizes {
+            Ok(sizes) => (sizes, AlStatusCode::NO_ERROR),
+            Err(code) => (ProcessDataSizes::default(), code),
+        };
+        let has_outputs = self.pd_sizes.outputs > 0;
+        let active = self.sync_mode.is_ok().then(|| self.sync_mode());
+        let chosen_cycle = self.writes.chosen.cycle_ns();
+        sync_parameters::fill(od, self.config, active, chosen_cycle, self.dc, has_outputs);
+    }
+}
