@@ -110,6 +110,16 @@
 //! [`Resources::with_chunk`] bytes, and the process-data runner takes the PDI at the next chunk
 //! boundary: its exchange never waits for more than the transaction in flight and one chunk.
 #![no_std]
+// No panic path in the runners and the PDI drivers.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    clippy::unreachable,
+    clippy::todo,
+    clippy::unimplemented
+)]
 
 pub mod app;
 pub mod device;

@@ -44,14 +44,7 @@
 //! ## BUSY
 //! The ESC holds BUSY while it completes an access; the memory controller waits for it (the
 //! FMC's NWAIT, asynchronous wait enabled). [`Bus16`] accesses return when the bus cycle is done.
-#![deny(
-    clippy::unwrap_used,
-    clippy::expect_used,
-    clippy::panic,
-    clippy::indexing_slicing,
-    clippy::unreachable,
-    clippy::arithmetic_side_effects
-)]
+#![deny(clippy::arithmetic_side_effects)]
 
 use core::convert::Infallible;
 use core::future::Future;
