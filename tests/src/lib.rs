@@ -16,6 +16,7 @@
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
+//! | [`mcu`] | a fake 16-bit asynchronous microcontroller bus to the ESC (the ET1100/AX58100 parallel PDI) |
 //! | [`harness`] | runs the real runners with the mock time driver, the process-data runner at interrupt level |
 //! | [`update`] | a device's firmware update: FoE files into the flash's DFU partition, the bootloader's reset |
 //! | [`scheduler`] | the harness's executor: a pended interrupt's priority on one host thread |
@@ -31,6 +32,7 @@ pub mod fuzz_foe;
 pub mod harness;
 pub mod line;
 pub mod master;
+pub mod mcu;
 pub mod pcap;
 pub mod real_master;
 pub mod scheduler;

@@ -1,6 +1,8 @@
 //! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
-//! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its application and
-//! dictionary are `io::DigitalIo` and `io::IoOd` (SOES's sample digital I/O objects). Size
+//! `ax58100`, Beckhoff SPI protocol), a LAN9252 (feature `lan9252`) or an AX58100 on the FMC
+//! (feature `fmc`, its 16-bit asynchronous microcontroller interface); its application and
+//! dictionary are `ecat_dio::DigitalIo` and `ecat_dio::IoOd` (SOES's sample digital I/O objects,
+//! shared with the RP2040 firmware). Size
 //! variants: feature `no-dictionary` (the dictionary `()`, raw process images) and `no-leds` (no
 //! ETG.1300 LED task). Feature `bootloader`: the firmware under examples/stm32-bootloader, with
 //! the firmware update by FoE in BOOT (`ecat_stm32::update`; the bootstrap mailbox is the
@@ -18,8 +20,7 @@
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_embassy::{Config, Control, ProcessDataRunner, Resources};
-use ecat_stm32::board::{Board, Pin};
-use ecat_stm32::io::DigitalIo;
+use ecat_stm32::board::{Board, DigitalIo, Pin};
 use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use panic_probe as _;
@@ -44,7 +45,7 @@ type App = ecat_stm32::update::Updatable<DigitalIo>;
 
 /// SOES's sample digital I/O dictionary, or none (feature `no-dictionary`).
 #[cfg(not(feature = "no-dictionary"))]
-type Od = ecat_stm32::io::IoOd;
+type Od = ecat_dio::IoOd;
 #[cfg(feature = "no-dictionary")]
 type Od = ();
 
@@ -65,7 +66,7 @@ fn main() -> ! {
 #[embassy_executor::task]
 async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
-        spi,
+        bus,
         irq,
         sync0,
         io,
@@ -74,7 +75,7 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
         flash,
         ..
     } = board;
-    let Some(pdi) = esc::start_logged(spi).await else {
+    let Some(pdi) = esc::start_logged(bus).await else {
         park().await
     };
     #[cfg(feature = "bootloader")]
