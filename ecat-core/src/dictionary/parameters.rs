@@ -360,13 +360,14 @@ mod tests {
 
     #[test]
     fn save_writes_exactly_the_backup_entries_and_load_restores_them() {
-        let mut od = Od::default();
-        od.gain = 300;
-        od.scratch = 9;
-        od.gains = [-5, 6, 7];
-        od.limits.min = -42;
-        od.limits.max = 42;
-        od.name = VisibleString::new(b"abc");
+        let od = Od {
+            gain: 300,
+            scratch: 9,
+            gains: [-5, 6, 7],
+            limits: Limits2 { min: -42, max: 42 },
+            name: VisibleString::new(b"abc"),
+            ..Od::default()
+        };
         let mut buf = [0u8; 64];
         let len = save(&od, &mut buf).unwrap();
         #[rustfmt::skip]

@@ -1,0 +1,289 @@
+//! Stored parameters (0x1010/0x1011, CiA 301 §7.5.2.13/14; conformance.md "Stored
+//! parameters"): the test master saves over SDO, the device resets on the same flash and the
+//! master reads every backup object back; "load" brings the defaults at the next reset; a
+//! power cut at every flash operation of a save leaves the old set or the new one.
+
+mod common;
+
+use common::{client, walk_to};
+use ecat_core::AlState;
+use ecat_core::coe::AbortCode;
+use ecat_core::dictionary::parameters::{self, Loaded, StoredParameters};
+use ecat_core::dictionary::{Communication, ObjectDictionary, VisibleString};
+use ecat_embassy::storage::Storage;
+use ecat_emu::coe_client::{SdoClient, SdoError};
+use ecat_emu::flash::{Flash, layout};
+use ecat_emu::harness::{self, AcceptAll, Device, Loopback, ParameterStorage};
+
+struct Limits {
+    min: i32,
+    max: i32,
+}
+
+/// A device with storage: backup entries of each kind (VAR, ARRAY, RECORD entry, string) and
+/// entries that are not backed up.
+struct Od {
+    area: Communication,
+    stored: StoredParameters,
+    gain: u16,
+    scratch: u32,
+    gains: [i16; 3],
+    limits: Limits,
+    label: VisibleString<200>,
+}
+
+ecat_core::dictionary! {
+    minimal Od {
+        communication(area, common::od::INFO, stored = stored);
+        0x2000 => var(gain, RW | BACKUP, "Gain", default = 7, max = 1000);
+        0x2001 => var(scratch, RW, "Scratch", default = 5);
+        0x2002 => array(gains, RW | BACKUP, "Gains", "Gain", default = 1, min = -100, max = 100);
+        0x2003 => record(limits: Limits, "Limits") {
+            1 => min, RW | BACKUP, "Min", default = -10;
+            2 => max, RW, "Max", default = 10;
+        };
+        0x2004 => var(label, RW | BACKUP, "Label");
+    }
+}
+
+const SAVE: &[u8] = b"save";
+const LOAD: &[u8] = b"load";
+
+fn device(flash: &Flash) -> Device<AcceptAll, Loopback, Od> {
+    Device::new(common::drive(), AcceptAll, Loopback)
+        .with_dictionary(Od::default())
+        .with_parameters(flash.clone())
+}
+
+/// One power-on of the device on `flash`: `script` runs in PREOP with one SDO client (a
+/// second would repeat the mailbox counter, and the device drop its requests as repeats).
+fn power_on(flash: &Flash, script: impl AsyncFnOnce(&mut SdoClient<'_>) + 'static) {
+    harness::run(device(flash), |master| async move {
+        walk_to(&master, AlState::PreOp).await;
+        script(&mut client(&master)).await
+    });
+}
+
+/// The values a set writes, by SDO: `(index, sub, bytes)`.
+fn set(n: u8) -> Vec<(u16, u8, Vec<u8>)> {
+    vec![
+        (
+            0x2000,
+            0,
+            u16::from(n).wrapping_mul(3).to_le_bytes().to_vec(),
+        ),
+        (0x2002, 1, (-i16::from(n % 100)).to_le_bytes().to_vec()),
+        (0x2002, 2, [n % 100, 0].to_vec()),
+        (0x2002, 3, [42, 0].to_vec()),
+        (0x2003, 1, (-1000 * i32::from(n)).to_le_bytes().to_vec()),
+        (
+            0x2004,
+            0,
+            vec![b'a' + n % 26; 40 + usize::from(n) * 4 % 160],
+        ),
+    ]
+}
+
+/// What every backup entry uploads as after `set(n)`, and after none.
+fn backup_values(n: Option<u8>) -> Vec<Vec<u8>> {
+    match n {
+        Some(n) => set(n).into_iter().map(|(_, _, v)| v).collect(),
+        None => vec![
+            vec![7, 0],
+            vec![1, 0],
+            vec![1, 0],
+            vec![1, 0],
+            (-10i32).to_le_bytes().to_vec(),
+            vec![],
+        ],
+    }
+}
+
+async fn write_set(c: &mut SdoClient<'_>, n: u8) {
+    for (index, sub, value) in set(n) {
+        c.download(index, sub, false, &value).await.unwrap();
+    }
+    // Not backed up: lost at reset.
+    c.download(0x2001, 0, false, &[9, 9, 9, 9]).await.unwrap();
+    c.download(0x2003, 2, false, &[99, 0, 0, 0]).await.unwrap();
+}
+
+async fn read_backup(c: &mut SdoClient<'_>) -> Vec<Vec<u8>> {
+    let mut values = Vec::new();
+    for (index, sub, _) in set(0) {
+        values.push(c.upload(index, sub, false).await.unwrap());
+    }
+    values
+}
+
+#[test]
+fn the_objects_read_their_capabilities() {
+    power_on(&Flash::default(), async |c| {
+        for index in [0x1010, 0x1011] {
+            assert_eq!(
+                c.upload(index, 0, false).await,
+                Ok(vec![1]),
+                "{index:#x}:00"
+            );
+            // Bit 0: on command; bit 1 (autonomously): 0.
+            assert_eq!(
+                c.upload(index, 1, false).await,
+                Ok(vec![1, 0, 0, 0]),
+                "{index:#x}:01"
+            );
+        }
+    });
+}
+
+#[test]
+fn save_reset_load_keeps_every_backup_object() {
+    let flash = Flash::default();
+    power_on(&flash, async |c| {
+        write_set(c, 3).await;
+        c.download(0x1010, 1, false, SAVE).await.unwrap();
+    });
+    assert!(flash.operations() > 0, "the save wrote the flash");
+    power_on(&flash, async |c| {
+        assert_eq!(read_backup(c).await, backup_values(Some(3)));
+        assert_eq!(
+            c.upload(0x2001, 0, false).await,
+            Ok(vec![5, 0, 0, 0]),
+            "not backed up"
+        );
+        assert_eq!(
+            c.upload(0x2003, 2, false).await,
+            Ok(vec![10, 0, 0, 0]),
+            "not backed up"
+        );
+    });
+}
+
+#[test]
+fn load_restores_the_defaults_at_the_next_reset() {
+    let flash = Flash::default();
+    power_on(&flash, async |c| {
+        write_set(c, 4).await;
+        c.download(0x1010, 1, false, SAVE).await.unwrap();
+    });
+    power_on(&flash, async |c| {
+        c.download(0x1011, 1, false, LOAD).await.unwrap();
+        // The values in RAM stay until the reset.
+        assert_eq!(read_backup(c).await, backup_values(Some(4)));
+    });
+    power_on(&flash, async |c| {
+        assert_eq!(read_backup(c).await, backup_values(None));
+    });
+}
+
+#[test]
+fn a_wrong_signature_aborts_0x08000020_and_stores_nothing() {
+    let flash = Flash::default();
+    power_on(&flash, async |c| {
+        write_set(c, 5).await;
+        for (index, value) in [(0x1010, LOAD), (0x1011, SAVE), (0x1010, b"Save".as_slice())] {
+            assert_eq!(
+                c.download(index, 1, false, value).await,
+                Err(SdoError::Abort(AbortCode(0x0800_0020))),
+                "{index:#x} <- {value:?}"
+            );
+        }
+        // The exact frame: a 4-byte expedited download of "SAVE" to 0x1010:01.
+        assert_eq!(
+            c.sdo(&[0x23, 0x10, 0x10, 0x01, b'S', b'A', b'V', b'E'])
+                .await,
+            Err(SdoError::Abort(AbortCode::CANNOT_STORE))
+        );
+    });
+    assert_eq!(flash.operations(), 0, "nothing written");
+}
+
+// --- the flash side, without the runners: every power cut of many saves -----------------------
+
+/// A dictionary holding `set(n)`.
+fn od_with(n: Option<u8>) -> Od {
+    let mut od = Od::default();
+    if let Some(n) = n {
+        for (index, sub, value) in set(n) {
+            (Od::object(index).unwrap().write)(&mut od, sub, &value).unwrap();
+        }
+    }
+    od
+}
+
+/// The record of `od`'s backup entries: what compares two parameter sets exactly.
+fn record(od: &Od) -> Vec<u8> {
+    let mut out = vec![0; parameters::record_size::<Od>()];
+    let len = parameters::save(od, &mut out).unwrap();
+    out.truncate(len);
+    out
+}
+
+fn storage(flash: &Flash) -> ParameterStorage {
+    ParameterStorage::new(flash.partition(layout::PARAMETERS)).unwrap()
+}
+
+/// Saves `set(n)` as the runner does after the "save" download; whether the flash took it.
+fn save(flash: &Flash, n: u8) -> bool {
+    let mut od = od_with(Some(n));
+    (Od::object(0x1010).unwrap().write)(&mut od, 1, SAVE).unwrap();
+    let mut storage = storage(flash);
+    assert!(storage.take(&mut od));
+    embassy_futures::block_on(Storage::<Od>::commit(&mut storage)).is_none()
+}
+
+/// What a reset loads from `flash`.
+fn boot(flash: &Flash) -> (Od, Loaded) {
+    let mut od = Od::default();
+    let loaded = embassy_futures::block_on(storage(flash).load(&mut od)).unwrap();
+    (od, loaded)
+}
+
+#[test]
+fn a_power_cut_at_every_operation_of_every_save_leaves_the_old_or_the_new_set() {
+    // 70 saves of records of 70..230 bytes fill both 4 KiB pages more than once: the cuts
+    // reach item writes, page closing and the erase of the older page.
+    const SAVES: u8 = 70;
+    let written: usize = (0..SAVES).map(|n| record(&od_with(Some(n))).len()).sum();
+    assert!(
+        written > 2 * 4096,
+        "{written} bytes do not reach the erase of a page"
+    );
+    let mut cuts = 0;
+    let mut page_moves = 0;
+    for k in 0..SAVES {
+        let probe = Flash::default();
+        for n in 0..k {
+            assert!(save(&probe, n));
+        }
+        let before = probe.operations();
+        assert!(save(&probe, k));
+        let total = probe.operations() - before;
+        // A save within a page takes 3 or 4 operations (as the probe counts them); one that
+        // moves to the other page also closes the full page and erases the next.
+        page_moves += usize::from(total > 4);
+        for cut in 0..total {
+            let flash = Flash::default();
+            for n in 0..k {
+                assert!(save(&flash, n));
+            }
+            flash.cut_after(cut);
+            assert!(!save(&flash, k), "save {k}, cut {cut} of {total}");
+            assert!(flash.power_on());
+            let (od, loaded) = boot(&flash);
+            let old = record(&od_with(k.checked_sub(1)));
+            let new = record(&od_with(Some(k)));
+            let got = record(&od);
+            assert!(
+                got == old || got == new,
+                "save {k}, cut {cut} of {total}: a mix"
+            );
+            assert_eq!(loaded.skipped, 0, "save {k}, cut {cut}");
+            // And the flash takes the next save.
+            assert!(save(&flash, k), "save {k} after cut {cut}");
+            assert_eq!(record(&boot(&flash).0), new, "save {k} after cut {cut}");
+            cuts += 1;
+        }
+    }
+    assert!(cuts > 200, "{cuts} cuts");
+    assert!(page_moves >= 2, "{page_moves} page moves");
+}
