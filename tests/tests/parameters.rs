@@ -8,43 +8,13 @@ mod common;
 use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
-use ecat_core::dictionary::parameters::{self, Loaded, StoredParameters};
-use ecat_core::dictionary::{Communication, ObjectDictionary, VisibleString};
+use ecat_core::dictionary::ObjectDictionary;
+use ecat_core::dictionary::parameters::Loaded;
 use ecat_embassy::storage::Storage;
 use ecat_emu::coe_client::{SdoClient, SdoError};
 use ecat_emu::flash::{Flash, layout};
+use ecat_emu::fuzz_parameters::{StoredOd as Od, record};
 use ecat_emu::harness::{self, AcceptAll, Device, Loopback, ParameterStorage};
-
-struct Limits {
-    min: i32,
-    max: i32,
-}
-
-/// A device with storage: backup entries of each kind (VAR, ARRAY, RECORD entry, string) and
-/// entries that are not backed up.
-struct Od {
-    area: Communication,
-    stored: StoredParameters,
-    gain: u16,
-    scratch: u32,
-    gains: [i16; 3],
-    limits: Limits,
-    label: VisibleString<200>,
-}
-
-ecat_core::dictionary! {
-    minimal Od {
-        communication(area, common::od::INFO, stored = stored);
-        0x2000 => var(gain, RW | BACKUP, "Gain", default = 7, max = 1000);
-        0x2001 => var(scratch, RW, "Scratch", default = 5);
-        0x2002 => array(gains, RW | BACKUP, "Gains", "Gain", default = 1, min = -100, max = 100);
-        0x2003 => record(limits: Limits, "Limits") {
-            1 => min, RW | BACKUP, "Min", default = -10;
-            2 => max, RW, "Max", default = 10;
-        };
-        0x2004 => var(label, RW | BACKUP, "Label");
-    }
-}
 
 const SAVE: &[u8] = b"save";
 const LOAD: &[u8] = b"load";
@@ -208,14 +178,6 @@ fn od_with(n: Option<u8>) -> Od {
         }
     }
     od
-}
-
-/// The record of `od`'s backup entries: what compares two parameter sets exactly.
-fn record(od: &Od) -> Vec<u8> {
-    let mut out = vec![0; parameters::record_size::<Od>()];
-    let len = parameters::save(od, &mut out).unwrap();
-    out.truncate(len);
-    out
 }
 
 fn storage(flash: &Flash) -> ParameterStorage {
