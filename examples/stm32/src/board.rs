@@ -7,7 +7,7 @@ use embassy_stm32::mode::Async;
 use embassy_stm32::rcc::{Pll, PllMul, PllPreDiv, PllRDiv, PllSource, Sysclk};
 use embassy_stm32::spi::{self, Spi};
 use embassy_stm32::time::Hertz;
-use embassy_stm32::{bind_interrupts, dma, interrupt, peripherals};
+use embassy_stm32::{Peri, bind_interrupts, dma, interrupt, peripherals};
 use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
 use crate::io::DigitalIo;
@@ -62,6 +62,8 @@ pub struct Board {
     pub io: DigitalIo,
     /// The RUN and ERR LEDs.
     pub leds: Leds,
+    /// The flash controller, for the stored parameters (feature `storage`, `crate::parameters`).
+    pub flash: Peri<'static, peripherals::FLASH>,
 }
 
 impl Board {
@@ -114,6 +116,7 @@ impl Board {
                 run: Output::new(p.PB10, Level::Low, Speed::Low),
                 err: Output::new(p.PA9, Level::Low, Speed::Low),
             },
+            flash: p.FLASH,
         }
     }
 }

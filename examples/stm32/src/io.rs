@@ -42,6 +42,12 @@ pub struct IoOd {
     pub tx_assign: PdoAssignment<1>,
     /// 0x6000: input n = pin n high (the user button, active low, reads 1 when pressed).
     pub inputs: [bool; 4],
+    /// 0x1010/0x1011 (feature `storage`).
+    #[cfg(feature = "storage")]
+    pub stored: ecat_core::dictionary::parameters::StoredParameters,
+    /// 0x6002 (feature `storage`): bit n inverts input n; stored by "save".
+    #[cfg(feature = "storage")]
+    pub polarity: u8,
     /// 0x7000: output n drives pin n.
     pub outputs: [bool; 4],
 }
@@ -64,17 +70,31 @@ const TX: [MappingEntry; 5] = [
     MappingEntry::new(0, 0, 4),
 ];
 
-ecat_core::dictionary! {
-    IoOd {
-        communication(area, INFO);
-        0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&RX));
-        0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&TX));
-        0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
-        0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x6000 => array(inputs, RO | TXPDO, "Digital inputs", "Input");
-        0x7000 => array(outputs, RW | RXPDO, "Digital outputs", "Output");
-    }
+/// The dictionary's declaration: `$communication` is the area's item, `$polarity` the objects
+/// only the `storage` variant has (between 0x6000 and 0x7000).
+macro_rules! io_dictionary {
+    (($($communication:tt)*) $($polarity:tt)*) => {
+        ecat_core::dictionary! {
+            IoOd {
+                communication($($communication)*);
+                0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&RX));
+                0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&TX));
+                0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+                0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+                0x6000 => array(inputs, RO | TXPDO, "Digital inputs", "Input");
+                $($polarity)*
+                0x7000 => array(outputs, RW | RXPDO, "Digital outputs", "Output");
+            }
+        }
+    };
 }
+
+#[cfg(not(feature = "storage"))]
+io_dictionary!((area, INFO));
+// With storage: 0x1010/0x1011, and the input polarity (CiA 401's 0x6002, one byte here: bit n
+// inverts input n) as the parameter a "save" keeps.
+#[cfg(feature = "storage")]
+io_dictionary!((area, INFO, stored = stored) 0x6002 => var(polarity, RW | BACKUP, "Polarity input", max = 0x0F););
 
 /// The pins, and the inputs as the SYNC0 task latched them.
 pub struct DigitalIo {
@@ -169,7 +189,10 @@ impl Application<IoOd> for DigitalIo {
             None => 0,
         };
         self.apply(image);
+        #[cfg(not(feature = "storage"))]
         let sampled = self.sampled();
+        #[cfg(feature = "storage")]
+        let sampled = self.sampled() ^ od.polarity;
         for (bit, input) in od.inputs.iter_mut().enumerate() {
             *input = sampled >> bit & 1 != 0;
         }

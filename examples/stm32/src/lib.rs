@@ -9,6 +9,8 @@ pub mod board;
 pub mod esc;
 pub mod io;
 pub mod mem;
+#[cfg(feature = "storage")]
+pub mod parameters;
 
 /// The ETG.1300 RUN/ERR LEDs of the SubDevice whose `status` they show, in the thread executor:
 /// woken only at a pattern's edges and when the AL status changes.

@@ -2,7 +2,8 @@
 //! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its application and
 //! dictionary are `io::DigitalIo` and `io::IoOd` (SOES's sample digital I/O objects). Size
 //! variants: feature `no-dictionary` (the dictionary `()`, raw process images) and `no-leds` (no
-//! ETG.1300 LED task).
+//! ETG.1300 LED task); feature `storage`: 0x1010/0x1011 store the input polarity 0x6002 in flash
+//! (`ecat_stm32::parameters`).
 //!
 //! Two executors (priorities: README.md):
 //! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
@@ -54,12 +55,28 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
         sync0,
         io,
         leds,
+        flash,
     } = board;
     let Some(pdi) = esc::start_logged(spi).await else {
         park().await
     };
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, Od::default()));
+    #[cfg_attr(not(feature = "storage"), allow(unused_mut))]
+    let mut od = Od::default();
+    // The stored parameters, loaded before the runners start (feature `storage`).
+    #[cfg(feature = "storage")]
+    let mut storage = ecat_stm32::parameters::storage(flash);
+    #[cfg(feature = "storage")]
+    if let Some(storage) = storage.as_mut() {
+        match storage.load(&mut od).await {
+            Ok(loaded) => info!("parameters: {} loaded, {} skipped", loaded.applied, loaded.skipped),
+            Err(e) => error!("parameters: {}", e),
+        }
+    }
+    #[cfg(not(feature = "storage"))]
+    let (storage, _) = ((), flash);
+    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, od));
     let (state_machine, process_data, control) = ecat.split();
+    let state_machine = state_machine.with_storage(storage);
     #[cfg(not(feature = "no-leds"))]
     SendSpawner::for_current_executor()
         .await

@@ -32,6 +32,7 @@ fn main() -> ! {
         sync0,
         io,
         leds: _,
+        flash: _,
     } = Board::init();
     info!("baseline starting");
     IO.lock(|cell| cell.replace(Some(io)));
