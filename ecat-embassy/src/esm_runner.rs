@@ -132,7 +132,8 @@ where
                 Step::Serve => {
                     if serve_mailbox(sub, app) {
                         // A store the message asked for, before its answer goes out.
-                        if app.lock(|_, od| storage.take(od))
+                        if S::STORES
+                            && app.lock(|_, od| storage.take(od))
                             && let Some(emergency) = storage.commit().await
                         {
                             sub.emergency(emergency);

@@ -31,6 +31,10 @@ pub const STORE_FAILED: Emergency = Emergency {
 
 /// What performs the stored-parameter commands for the state-machine runner.
 pub trait Storage<D> {
+    /// Whether this is a storage at all: `false` for `()`, whose runner then carries no code
+    /// for it (not even the lock of the dictionary after each message).
+    const STORES: bool = true;
+
     /// Takes the command a served message left in `od` (with the dictionary locked) and
     /// prepares its flash write: whether [`Storage::commit`] is due.
     fn take(&mut self, od: &mut D) -> bool;
@@ -41,12 +45,16 @@ pub trait Storage<D> {
 
 /// No storage.
 impl<D> Storage<D> for () {
+    const STORES: bool = false;
+
     fn take(&mut self, _: &mut D) -> bool {
         false
     }
 
-    async fn commit(&mut self) -> Option<Emergency> {
-        None
+    fn commit(&mut self) -> impl Future<Output = Option<Emergency>> {
+        // Not an `async fn`: its future would carry a "resumed after completion" panic into
+        // every runner's state machine, where the await stays though `STORES` skips it.
+        core::future::poll_fn(|_| core::task::Poll::Ready(None))
     }
 }
 

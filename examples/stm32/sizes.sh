@@ -31,6 +31,7 @@ variant "digital I/O, no dictionary (\`no-dictionary\`)" --bin ecat-stm32 --feat
 variant "digital I/O, SOES's dictionary, no LED task (\`no-leds\`)" --bin ecat-stm32 --features no-leds
 variant "axis, its dictionary (\`axis\`)" --bin axis
 variant "digital I/O, LAN9252" --bin ecat-stm32 --no-default-features --features lan9252
+variant "digital I/O, stored parameters (\`storage\`)" --bin ecat-stm32 --features storage
 # Last, so the binary left behind is the default firmware.
 variant "**digital I/O, SOES's dictionary (\`ecat-stm32\`)**" --bin ecat-stm32
 if [ "${1:-}" = --top ] && command -v llvm-nm >/dev/null; then

@@ -60,11 +60,11 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Some(pdi) = esc::start_logged(spi).await else {
         park().await
     };
-    #[cfg_attr(not(feature = "storage"), allow(unused_mut))]
-    let mut od = Od::default();
+    #[cfg(not(feature = "storage"))]
+    let (od, _) = (Od::default(), flash);
     // The stored parameters, loaded before the runners start (feature `storage`).
     #[cfg(feature = "storage")]
-    let mut storage = ecat_stm32::parameters::storage(flash);
+    let (mut storage, mut od) = (ecat_stm32::parameters::storage(flash), Od::default());
     #[cfg(feature = "storage")]
     if let Some(storage) = storage.as_mut() {
         match storage.load(&mut od).await {
@@ -72,10 +72,9 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
             Err(e) => error!("parameters: {}", e),
         }
     }
-    #[cfg(not(feature = "storage"))]
-    let (storage, _) = ((), flash);
     let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, od));
     let (state_machine, process_data, control) = ecat.split();
+    #[cfg(feature = "storage")]
     let state_machine = state_machine.with_storage(storage);
     #[cfg(not(feature = "no-leds"))]
     SendSpawner::for_current_executor()
