@@ -13,8 +13,8 @@
 //! [`STORE_FAILED`] instead (a wrong signature is refused with 0x08000020 by the SDO write
 //! itself).
 //!
-//! [`FlashStorage`] (feature `storage`) keeps the record in a NOR flash partition with
-//! [`sequential-storage`](sequential_storage)'s `map`: one key, whose newest complete item is
+//! `FlashStorage` (feature `storage`) keeps the record in a NOR flash partition with
+//! `sequential-storage`'s `map`: one key, whose newest complete item is
 //! the parameter set. An item is written after the old one and found by its CRC, so a power
 //! cut at any flash operation of a save leaves the old set or the new one, never a mix; the
 //! crate erases a page only when the other holds the newest item.

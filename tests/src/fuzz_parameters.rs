@@ -2,7 +2,7 @@
 //! ([`ecat_core::dictionary::parameters::load`]), on [`StoredOd`], the dictionary of the
 //! stored-parameter tests (`tests/tests/parameters.rs`).
 //!
-//! [`parameters`] loads the bytes as a record (a flash holding anything: an older firmware's
+//! [`parameters()`] loads the bytes as a record (a flash holding anything: an older firmware's
 //! set, a corrupt one) and asserts that
 //! - the parser does not panic;
 //! - it counts every entry it meets, applied or skipped, and applies no more than the record
