@@ -249,3 +249,72 @@ fn a_power_cut_at_every_operation_of_every_save_leaves_the_old_or_the_new_set() 
     assert!(cuts > 200, "{cuts} cuts");
     assert!(page_moves >= 2, "{page_moves} page moves");
 }
+
+// --- the description ------------------------------------------------------------------------
+
+/// The ESI of the stored-parameter device: what a MainDevice learns of 0x1010/0x1011 and of
+/// which entries a "save" keeps (ETG.2000 `Flags/Backup`). `ESI_OUT=path` also writes the file
+/// (validated with `xmllint --schema EtherCATInfo.xsd` when this test was written).
+#[test]
+fn the_esi_marks_the_backup_entries_and_lists_0x1010_and_0x1011() {
+    let sample = ecat_emu::devices::Sample::new(
+        ecat_core::sii::Names {
+            name: common::od::INFO.name,
+            order_code: "STORED",
+            group: "ecat samples",
+        },
+        common::od::INFO.identity,
+        device(&Flash::default()),
+    );
+    let description = ecat_core::esi::Description {
+        vendor: "ecat",
+        names: &sample.names,
+        identity: &sample.identity,
+        config: &sample.device.config,
+    };
+    let mut xml = String::new();
+    ecat_core::esi::write(
+        &mut xml,
+        &description,
+        &Od::default(),
+        &sample.device.eeprom,
+    )
+    .unwrap();
+    if let Ok(path) = std::env::var("ESI_OUT") {
+        std::fs::write(path, &xml).unwrap();
+    }
+    // An element of the file: from `start` to the next `end`.
+    let element = |start: &str, end: &str| {
+        let at = xml
+            .find(start)
+            .unwrap_or_else(|| panic!("{start} in\n{xml}"));
+        let len = xml[at..].find(end).unwrap();
+        xml[at..at + len].to_string()
+    };
+    let backups =
+        |start: &str, end: &str| element(start, end).matches("<Backup>1</Backup>").count();
+    // 0x1010/0x1011: ARRAYs of one read-write UNSIGNED32, not backed up themselves.
+    for name in ["DT1010", "DT1011"] {
+        let t = element(&format!("<Name>{name}</Name>"), "</DataType>");
+        assert!(
+            t.contains("<BitSize>48</BitSize>") && t.contains("<Access>rw</Access>"),
+            "{t}"
+        );
+        assert_eq!(backups(&format!("<Name>{name}</Name>"), "</DataType>"), 0);
+    }
+    // VARs carry their flags in the object, ARRAYs and RECORDs in their data type.
+    assert_eq!(backups("<Index>#x2000</Index>", "</Object>"), 1);
+    assert_eq!(backups("<Index>#x2001</Index>", "</Object>"), 0);
+    assert_eq!(backups("<Index>#x2004</Index>", "</Object>"), 1);
+    assert_eq!(
+        backups("<Name>DT2002</Name>", "</DataType>"),
+        1,
+        "the elements"
+    );
+    // 0x2003: SI1 backed up, SI2 not.
+    let record = element("<Name>DT2003</Name>", "</DataType>");
+    let min =
+        &record[record.find("<Name>Min</Name>").unwrap()..record.find("<Name>Max</Name>").unwrap()];
+    assert!(min.contains("<Backup>1</Backup>"), "{record}");
+    assert_eq!(record.matches("<Backup>1</Backup>").count(), 1, "{record}");
+}
