@@ -86,6 +86,10 @@ mod flash {
     /// The one key of the map: the parameter set.
     const KEY: u8 = 0;
 
+    /// What the map's buffer holds beyond the record: the key (1 byte) and the rounding of the
+    /// item to the flash's write size (at most sequential-storage's largest word, 32 bytes).
+    const MAP_OVERHEAD: usize = 33;
+
     /// Why [`FlashStorage::new`] or [`FlashStorage::load`] failed.
     #[derive(Debug, Clone, Copy, PartialEq, Eq)]
     #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -97,9 +101,9 @@ mod flash {
     }
 
     /// The parameter set in a NOR flash partition `F` (at least two erase pages, e.g. the
-    /// PARAMETERS pages of the STM32 firmware), with room for a record of `N` bytes less 33
-    /// (the map's key and word rounding): [`parameters::record_size`] tells what the
-    /// dictionary needs.
+    /// PARAMETERS pages of the STM32 firmware), with room for a record of `N` bytes less
+    /// `MAP_OVERHEAD` (33: the map's key and word rounding): [`parameters::record_size`] tells
+    /// what the dictionary needs.
     pub struct FlashStorage<F: NorFlash, const N: usize> {
         map: MapStorage<u8, F, Cache<Uncached, Uncached, Uncached, u8>>,
         /// The record to store.
@@ -141,7 +145,7 @@ mod flash {
 
         /// The room a record has.
         fn room(&mut self) -> &mut [u8] {
-            let room = N.saturating_sub(33);
+            let room = N.saturating_sub(MAP_OVERHEAD);
             self.record.get_mut(..room).unwrap_or_default()
         }
     }

@@ -167,6 +167,36 @@ fn a_wrong_signature_aborts_0x08000020_and_stores_nothing() {
     assert_eq!(flash.operations(), 0, "nothing written");
 }
 
+#[test]
+fn a_failed_store_answers_then_raises_emergency_0x5000_and_keeps_the_old_set() {
+    let flash = Flash::default();
+    let cut = flash.clone();
+    power_on(&flash, async move |c| {
+        c.download(0x2000, 0, false, &[99, 0]).await.unwrap();
+        // The first flash operation of the save is torn: the power is gone for the flash.
+        cut.cut_after(0);
+        assert_eq!(
+            c.sdo(&[0x23, 0x10, 0x10, 0x01, b's', b'a', b'v', b'e'])
+                .await,
+            Ok(vec![0x60, 0x10, 0x10, 0x01, 0, 0, 0, 0]),
+            "the answer was built before the store"
+        );
+        let mut frame = vec![0x0A, 0, 0, 0, 0, (3 << 4) | 0x03, 0x00, 0x10];
+        // 0x5000 device hardware, error register 0x01, manufacturer data 10 10 00 00 00.
+        frame.extend([0x00, 0x50, 0x01, 0x10, 0x10, 0, 0, 0]);
+        frame.resize(128, 0);
+        assert_eq!(c.read().await, Some(frame));
+    });
+    assert!(flash.power_on());
+    power_on(&flash, async |c| {
+        assert_eq!(
+            read_backup(c).await,
+            backup_values(None),
+            "the old set: the defaults"
+        );
+    });
+}
+
 // --- the flash side, without the runners: every power cut of many saves -----------------------
 
 /// A dictionary holding `set(n)`.
