@@ -131,6 +131,7 @@ pub mod pd_runner;
 pub mod pdi;
 mod shared;
 pub mod spi;
+pub mod storage;
 mod time;
 
 pub use app::Application;

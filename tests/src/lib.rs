@@ -13,6 +13,7 @@
 //! | [`frame`] | EtherCAT frames: parsing, building, passing them through one ESC |
 //! | [`fuzz`] | a SubDevice session driven by arbitrary bytes: the fuzz target of the core |
 //! | [`fuzz_foe`] | the FoE parser and server driven by arbitrary bytes: the fuzz target of FoE |
+//! | [`fuzz_parameters`] | the stored-parameter record (0x1010) loaded from arbitrary bytes: its fuzz target |
 //! | [`line`](mod@line) | emulated ESCs on one cable, processing frames as a real line does |
 //! | [`master`] | a scripted MainDevice with virtual time |
 //! | [`spi`] | fake SPI ESC chips that decode the byte stream as the real chip would |
@@ -29,6 +30,7 @@ pub mod foe_client;
 pub mod frame;
 pub mod fuzz;
 pub mod fuzz_foe;
+pub mod fuzz_parameters;
 pub mod harness;
 pub mod line;
 pub mod master;

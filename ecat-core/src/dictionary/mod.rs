@@ -80,6 +80,7 @@ pub mod communication;
 mod data_type;
 mod macros;
 mod object;
+pub mod parameters;
 mod value;
 
 pub use access::Access;
@@ -126,6 +127,12 @@ pub trait ObjectDictionary: Sized + 'static {
     /// Copies every TxPDO-mappable entry into `image` at its offset (generated: one
     /// [`Mapped::pack`](crate::pdo::image::Mapped::pack) per field).
     fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]);
+
+    /// The state of 0x1010/0x1011 ([`parameters`]): `None` for a device without storage (the
+    /// default), the `stored` field of a `communication(area, INFO, stored = field)` item.
+    fn stored_parameters(&mut self) -> Option<&mut parameters::StoredParameters> {
+        None
+    }
 
     /// The object at `index`, by binary search.
     fn object(index: u16) -> Option<&'static Object<Self>> {
