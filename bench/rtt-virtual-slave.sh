@@ -25,32 +25,8 @@ rt="chrt -f 20"
 [ "${RT:-1}" = 0 ] && rt=
 [ -z "$rt" ] || $rt true || { echo "SCHED_FIFO not permitted (RT=0 runs without it)"; exit 1; }
 
-ns=ecat-rtt-$$
-master_if=ertm$$
-slave_if=erts$$
-work=$(mktemp -d)
-slave_pid=
-cleanup() {
-    [ -n "$slave_pid" ] && kill -INT "$slave_pid" 2>/dev/null && wait "$slave_pid" 2>/dev/null || true
-    ip link del "$master_if" 2>/dev/null || true
-    ip netns del "$ns" 2>/dev/null || true
-    rm -rf "$work"
-}
-trap cleanup EXIT
-
-ip netns add "$ns"
-ip link add "$master_if" type veth peer name "$slave_if" netns "$ns"
-ip link set "$master_if" up
-ip netns exec "$ns" ip link set "$slave_if" up
-
-ip netns exec "$ns" $rt "$bin/ecat-virtual-slave" --iface "$slave_if" --device "$device" \
-    --count "$count" >"$work/slave.log" 2>&1 &
-slave_pid=$!
-for _ in $(seq 100); do
-    grep -q "Ctrl-C to stop" "$work/slave.log" && break
-    kill -0 "$slave_pid" 2>/dev/null || { cat "$work/slave.log"; exit 1; }
-    sleep 0.1
-done
+. bench/veth-slave.sh
+serve_on_veth rtt "$bin" $rt -- --device "$device" --count "$count"
 
 ticks() { awk '{print $14 + $15}' "/proc/$slave_pid/stat"; }
 echo "$count × $device, $cycles cycles at 1 kHz, ${rt:-normal scheduling}, $bin; load $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -66,8 +42,5 @@ t1=$(ticks)
 s1=$(date +%s.%N)
 grep -v "^  0x" "$work/scan.log"
 echo "slave CPU over the cycles: $(echo "$t0 $t1 $s0 $s1 $(getconf CLK_TCK)" | awk '{printf "%.1f %%", 100 * ($2 - $1) / $5 / ($4 - $3)}'); load at the end $(cut -d' ' -f1-3 /proc/loadavg)"
-kill -TERM "$slave_pid"
-wait "$slave_pid" || true
-slave_pid=
-grep -v '^serving' "$work/slave.log"
+stop_slave
 exit $status

@@ -30,40 +30,13 @@ venv=$(.ci/soem-venv)
 cargo build --locked --release -q -p ecat-examples --bin ecat-virtual-slave
 bin=${CARGO_TARGET_DIR:-target}/release
 
-ns=ecat-soak-$$
-master_if=eksm$$
-slave_if=ekss$$
-work=$(mktemp -d)
-slave_pid=
-cleanup() {
-    [ -n "$slave_pid" ] && kill -INT "$slave_pid" 2>/dev/null && wait "$slave_pid" 2>/dev/null || true
-    ip link del "$master_if" 2>/dev/null || true
-    ip netns del "$ns" 2>/dev/null || true
-    rm -rf "$work"
-}
-trap cleanup EXIT
-
-ip netns add "$ns"
-ip link add "$master_if" type veth peer name "$slave_if" netns "$ns"
-ip link set "$master_if" up
-ip netns exec "$ns" ip link set "$slave_if" up
-
-ip netns exec "$ns" nice -n "$nice_level" $rt "$bin/ecat-virtual-slave" --iface "$slave_if" \
-    --device "$device" --count "$count" >"$work/slave.log" 2>&1 &
-slave_pid=$!
-for _ in $(seq 100); do
-    grep -q "Ctrl-C to stop" "$work/slave.log" && break
-    kill -0 "$slave_pid" 2>/dev/null || { cat "$work/slave.log"; exit 1; }
-    sleep 0.1
-done
+. bench/veth-slave.sh
+serve_on_veth soak "$bin" nice -n "$nice_level" $rt -- --device "$device" --count "$count"
 
 echo "soak: $count × $device, $duration s at 1 kHz, nice $nice_level, ${rt:-normal scheduling}; load $(cut -d' ' -f1-3 /proc/loadavg)"
 status=0
 nice -n "$nice_level" $rt "$venv/bin/python" bench/soem_cycle.py --iface "$master_if" --count "$count" \
     --seconds "$duration" --sample 60 --pid "$slave_pid" || status=$?
 echo "load at the end $(cut -d' ' -f1-3 /proc/loadavg)"
-kill -TERM "$slave_pid"
-wait "$slave_pid" || true
-slave_pid=
-cat "$work/slave.log" | grep -v '^serving'
+stop_slave
 exit $status

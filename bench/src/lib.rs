@@ -8,6 +8,7 @@ use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{
     Communication, DeviceInfo, Domain, ObjectDictionary, ObjectHooks, VisibleString,
 };
+use ecat_core::mailbox::Handlers;
 use ecat_core::{
     AlEvent, AlState, DeviceConfig, Instant, RegisterAccess, SubDevice, Transition, register,
 };
@@ -169,16 +170,29 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         hooks: &mut H,
         payload: &[u8],
     ) -> &[u8] {
+        self.exchange_with(od, hooks, &mut (), COE, payload)
+    }
+
+    /// [`Bench::exchange`] for a message of the mailbox type `kind` (4 bits), served by CoE or
+    /// one of `handlers` (the mailbox protocols beside CoE, e.g. `(Foe::new(files),)`).
+    pub fn exchange_with<D: ObjectDictionary, H: ObjectHooks<D>, P: Handlers>(
+        &mut self,
+        od: &mut D,
+        hooks: &mut H,
+        handlers: &mut P,
+        kind: u8,
+        payload: &[u8],
+    ) -> &[u8] {
         self.counter = self.counter % 7 + 1;
         let len = payload.len() as u16;
         let [l0, l1] = len.to_le_bytes();
         put(
             &mut self.mem,
             0x1000,
-            &[l0, l1, 0, 0, 0, (self.counter << 4) | 3],
+            &[l0, l1, 0, 0, 0, (self.counter << 4) | kind],
         );
         put(&mut self.mem, 0x1006, payload);
-        self.serve(od, hooks);
+        self.serve(od, hooks, handlers);
         let send = 0x1000 + usize::from(self.mailbox);
         let length = usize::from(u16::from_le_bytes([self.mem[send], self.mem[send + 1]]));
         &self.mem[send + 6..send + 6 + length]
@@ -189,7 +203,12 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
     /// service. Out of line so that `bench/callgrind.sh` can count it alone
     /// (`--toggle-collect`), the figure comparable to a SubDevice stack's own count.
     #[inline(never)]
-    pub fn serve<D: ObjectDictionary, H: ObjectHooks<D>>(&mut self, od: &mut D, hooks: &mut H) {
+    pub fn serve<D: ObjectDictionary, H: ObjectHooks<D>, P: Handlers>(
+        &mut self,
+        od: &mut D,
+        hooks: &mut H,
+        handlers: &mut P,
+    ) {
         // The MainDevice read the previous answer: SM1's read event is latched in the AL event
         // register and arrives with the SM0 event of this request, as in the real rhythm.
         self.sub
@@ -198,11 +217,19 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
         // configuration refreshed, the accesses, the mailbox served until it has nothing more.
         self.sub.refresh_process_data(od);
         self.drive();
-        while self.sub.service_mailbox(Instant::from_micros(0), od, hooks) {
+        while self
+            .sub
+            .service_mailbox_with(Instant::from_micros(0), od, hooks, handlers)
+        {
             self.drive();
         }
     }
 }
+
+/// The mailbox type of CoE (ETG.1000.4 Table 29).
+pub const COE: u8 = 3;
+/// The mailbox type of FoE.
+pub const FOE: u8 = 4;
 
 /// Writes `data` into the register file `mem` at `address`.
 #[inline]

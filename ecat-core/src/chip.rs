@@ -19,7 +19,7 @@
 //! | 3 | 0x0152 extended PDI configuration | 0 (none for an SPI PDI) |
 //! | 4 | 0x0012 configured station alias | 0 |
 //! | 5, 6 | chip-specific | AX58100: word 5 = 0x001A (host interface extend setting and drive strength); else 0 |
-//! | 7 | checksum | CRC-8 of words 0..6 ([`crate::sii::crc8`]) |
+//! | 7 | checksum | CRC-8 of words 0..6 ([`crc8`]) |
 
 use crate::DeviceConfig;
 use crate::register::PROCESS_RAM;
@@ -256,12 +256,25 @@ impl ConfigArea {
         for (chunk, word) in bytes.chunks_exact_mut(2).zip(self.words()) {
             chunk.copy_from_slice(&word.to_le_bytes());
         }
-        let crc = crate::sii::crc8(bytes.get(..14).unwrap_or_default());
+        let crc = crc8(bytes.get(..14).unwrap_or_default());
         if let Some(byte) = bytes.get_mut(14) {
             *byte = crc;
         }
         bytes
     }
+}
+
+/// The CRC-8 of the configuration area (ETG.1000.6 §5.4: polynomial 0x07, initial 0xFF).
+pub fn crc8(bytes: &[u8]) -> u8 {
+    bytes.iter().fold(0xFF, |crc, &byte| {
+        (0..8).fold(crc ^ byte, |crc, _| {
+            if crc & 0x80 != 0 {
+                (crc << 1) ^ 0x07
+            } else {
+                crc << 1
+            }
+        })
+    })
 }
 
 #[cfg(test)]

@@ -34,7 +34,8 @@ use crate::dictionary::{
     Access, DataType, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
 };
 use crate::pdo::Direction;
-use crate::sii::{self, ASSIGN_ACTIVATE_SYNC0, CoeDetails, Names, SmKind};
+use crate::sii::{self, ASSIGN_ACTIVATE_SYNC0, CoeDetails, Names};
+use crate::sync_manager::SmKind;
 
 /// What the ESI file describes besides the dictionary.
 #[derive(Debug, Clone, Copy)]
@@ -312,7 +313,7 @@ impl Display for ObjectType {
 /// `Profile`: profile number and additional info from 0x1000, then the dictionary.
 fn profile<D: ObjectDictionary, W: Write>(x: &mut Xml<'_, W>, od: &D) -> Result<(), EsiError> {
     x.open("Profile", &[])?;
-    if let Some(device_type) = D::object(0x1000).and_then(|o| read_u32(od, o)) {
+    if let Some(device_type) = D::object(0x1000).and_then(|o| o.read_u32(od, 0)) {
         x.leaf("ProfileNo", device_type & 0xFFFF)?;
         x.leaf("AddInfo", device_type >> 16)?;
     }
@@ -334,13 +335,6 @@ fn profile<D: ObjectDictionary, W: Write>(x: &mut Xml<'_, W>, od: &D) -> Result<
     }
     x.close("Profile")?;
     Ok(())
-}
-
-/// The value of a 32-bit VAR (0x1000).
-fn read_u32<D>(od: &D, object: &Object<D>) -> Option<u32> {
-    let mut bytes = [0; 4];
-    let read = (object.read)(od, 0, 0, &mut bytes).ok()?;
-    (read.copied == 4).then(|| u32::from_le_bytes(bytes))
 }
 
 /// One `DataType` per distinct base type the entries use, in order of first use.

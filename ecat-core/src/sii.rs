@@ -25,8 +25,9 @@
 use crate::chip::{Chip, ConfigArea};
 use crate::device::{DeviceConfig, Identity, MailboxConfig};
 use crate::dictionary::ObjectDictionary;
-use crate::pdo::layout::{Layout as PdoLayout, count, read_u16, read_u32};
+use crate::pdo::layout::Layout as PdoLayout;
 use crate::pdo::{Direction, MappingEntry};
+use crate::sync_manager::SmKind;
 
 /// The names the SII strings carry.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -156,19 +157,6 @@ fn dc_sync0(w: &mut Writer<'_>) {
     w.u16(ASSIGN_ACTIVATE_SYNC0);
     w.u16(1);
     w.bytes(&[0; 6]);
-}
-
-/// The CRC-8 of the configuration area (ETG.1000.6 §5.4: polynomial 0x07, initial 0xFF).
-pub fn crc8(bytes: &[u8]) -> u8 {
-    bytes.iter().fold(0xFF, |crc, &byte| {
-        (0..8).fold(crc ^ byte, |crc, _| {
-            if crc & 0x80 != 0 {
-                (crc << 1) ^ 0x07
-            } else {
-                crc << 1
-            }
-        })
-    })
 }
 
 /// Writes little-endian words into the buffer, remembering whether it ran out.
@@ -397,29 +385,6 @@ pub fn fmmus<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> impl Iterato
         .flatten()
 }
 
-/// What a SyncManager is for (ETG.2010 Table 10 "SM type"; the text of the ESI `Sm` element).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[repr(u8)]
-pub enum SmKind {
-    /// SM0: the receive mailbox ("MBoxOut").
-    MailboxOut = 1,
-    /// SM1: the send mailbox ("MBoxIn").
-    MailboxIn = 2,
-    /// SM2: process data outputs.
-    Outputs = 3,
-    /// SM3: process data inputs.
-    Inputs = 4,
-}
-
-/// The value of 0x1C00 "Sync manager communication type" (ETG.1000.6 §5.6.7.1) for SM0..SM3: the
-/// same types the SII SyncManager category and the ESI `Sm` elements give them.
-pub const SM_TYPES: [u8; 4] = [
-    SmKind::MailboxOut as u8,
-    SmKind::MailboxIn as u8,
-    SmKind::Outputs as u8,
-    SmKind::Inputs as u8,
-];
-
 /// One SyncManager's default configuration: an SII SyncManager category entry (ETG.2010
 /// Table 10) and an ESI `Sm` element (ETG.2000 `Device/Sm`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -537,8 +502,8 @@ pub fn for_each_pdo<D: ObjectDictionary>(
     let Some(assignment) = D::object(direction.assignment()) else {
         return;
     };
-    for n in 1..=count(od, assignment) {
-        let Some(index) = read_u16(od, assignment, n) else {
+    for n in 1..=assignment.count(od) {
+        let Some(index) = assignment.read_u16(od, n) else {
             continue;
         };
         let Some(mapping) = D::object(index).filter(|_| direction.is_mapping(index)) else {
@@ -546,8 +511,8 @@ pub fn for_each_pdo<D: ObjectDictionary>(
         };
         let mut entries = [MappingEntry(0); 64];
         let mut len = 0;
-        for sub in 1..=count(od, mapping) {
-            if let (Some(slot), Some(entry)) = (entries.get_mut(len), read_u32(od, mapping, sub)) {
+        for sub in 1..=mapping.count(od) {
+            if let (Some(slot), Some(entry)) = (entries.get_mut(len), mapping.read_u32(od, sub)) {
                 *slot = MappingEntry(entry);
                 len += 1;
             }
@@ -583,8 +548,8 @@ pub fn for_each_alternative_pdo<D: ObjectDictionary>(
         }
         let mut entries = [MappingEntry(0); 64];
         let mut len = 0;
-        for sub in 1..=count(od, mapping) {
-            if let (Some(slot), Some(entry)) = (entries.get_mut(len), read_u32(od, mapping, sub)) {
+        for sub in 1..=mapping.count(od) {
+            if let (Some(slot), Some(entry)) = (entries.get_mut(len), mapping.read_u32(od, sub)) {
                 *slot = MappingEntry(entry);
                 len += 1;
             }

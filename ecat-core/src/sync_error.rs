@@ -23,7 +23,6 @@
 //! MainDevice that stops).
 
 use crate::dictionary::{Object, ObjectDictionary};
-use crate::pdo::layout::read_u16;
 
 /// The Error Settings object (ETG.1020 §6.3).
 pub const ERROR_SETTINGS: u16 = 0x10F1;
@@ -100,7 +99,7 @@ pub fn limit<D: ObjectDictionary>(od: &D) -> u16 {
         return DEFAULT_LIMIT;
     }
     D::object(ERROR_SETTINGS)
-        .and_then(|object| read_u16(od, object, SYNC_ERROR_COUNTER_LIMIT))
+        .and_then(|object| object.read_u16(od, SYNC_ERROR_COUNTER_LIMIT))
         .unwrap_or(DEFAULT_LIMIT)
 }
 

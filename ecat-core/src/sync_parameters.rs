@@ -19,13 +19,12 @@
 //! and fills the rest.
 
 use crate::AlStatusCode;
-use crate::coe::AbortCode;
+use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
     Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, Value, read_value,
     write_value,
 };
-use crate::pdo::layout::read_u16;
 use crate::register::DcActivation;
 use crate::sync_mode::{SupportedSyncModes, SyncMode};
 use crate::time::{Duration, Instant};
@@ -533,7 +532,7 @@ pub(crate) fn requested<D: ObjectDictionary>(
             chosen: false,
         });
     };
-    let code = read_u16(od, object, 1).unwrap_or(u16::MAX);
+    let code = object.read_u16(od, 1).unwrap_or(u16::MAX);
     let mut default = [0u8; 2];
     let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
     let default_kept = declared && u16::from_le_bytes(default) == code;

@@ -4,6 +4,7 @@
 
 use ecat_core::DeviceConfig;
 use ecat_core::chip::Chip;
+use ecat_core::chip::crc8;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::{self, Names};
 use ecat_core::sync_mode::SupportedSyncModes;
@@ -105,7 +106,7 @@ fn the_configuration_area_of_each_chip() {
     ];
     for (chip, dc, bytes) in expected {
         assert_eq!(area(chip, dc), bytes, "{} dc {dc}", chip.name);
-        assert_eq!(sii::crc8(&bytes[..14]), bytes[14]);
+        assert_eq!(crc8(&bytes[..14]), bytes[14]);
     }
 }
 

@@ -8,6 +8,7 @@
 
 use ecat_core::coe::Emergency;
 use ecat_core::dictionary::ObjectHooks;
+use ecat_core::mailbox::Handlers;
 use ecat_core::{AlStatusCode, Transition};
 
 /// A SubDevice's application over its object dictionary `D` (`()`: none, raw process images).
@@ -56,6 +57,18 @@ pub trait Application<D = ()> {
     /// The application's say in SDO access to `D` (veto a write, refresh a value before a read,
     /// DOMAIN contents). The default has none: `()`.
     fn object_hooks(&mut self) -> impl ObjectHooks<D> + '_ {}
+
+    /// What serves the mailbox, asked for each message: the SDO hooks
+    /// ([`object_hooks`](Application::object_hooks)) and the mailbox protocols beside CoE, a
+    /// tuple of [`Handler`](ecat_core::mailbox::Handler)s such as `(Foe::new(files),)` kept in
+    /// the application ([`ecat_core::foe`]: a firmware update in BOOT), returned as `&mut`.
+    /// One method for both because both borrow the application for the message.
+    ///
+    /// The default: the SDO hooks and no other protocol (`()`), so a firmware without FoE
+    /// carries none of its code.
+    fn mailbox(&mut self) -> (impl ObjectHooks<D> + '_, impl Handlers + '_) {
+        (self.object_hooks(), ())
+    }
 
     /// An emergency (ETG.1000.6 §5.6.4) the application wants sent, asked after every mailbox
     /// message the runner served, until it returns `None`: what an SDO hook of the application

@@ -1,5 +1,6 @@
 //! The state-machine and mailbox runner: AL control, SyncManager checks, application hooks, the
-//! mailbox with CoE. Runs in the low-priority (thread) executor.
+//! mailbox with CoE and the application's other protocols ([`Application::mailbox`]). Runs in
+//! the low-priority (thread) executor.
 
 use core::pin::pin;
 
@@ -15,15 +16,18 @@ use crate::or_never::OrNever;
 use crate::pd_runner::{Error, ProcessDataRunner};
 use crate::pdi::Data;
 use crate::shared::{Indication, Reports, Runner, SharedEsc};
+use crate::storage::Storage;
 use crate::time::{now, until};
 use crate::{Application, Pdi};
 
 /// Runs the state machine and the mailbox of the SubDevice: made by
-/// [`Resources::split`](crate::Resources::split), for the thread executor.
-pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128> {
+/// [`Resources::split`](crate::Resources::split), for the thread executor; `S`: the stored
+/// parameters' [`Storage`] ([`StateMachineRunner::with_storage`]), none by default.
+pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128, S = ()> {
     esc: &'a SharedEsc<P>,
     app: &'a AppCell<A, D>,
     sub: SubDevice<'a, MBX>,
+    storage: S,
 }
 
 impl<'a, P, A, D, const MBX: usize> StateMachineRunner<'a, P, A, D, MBX>
@@ -41,9 +45,32 @@ where
             esc,
             app,
             sub: SubDevice::new(config),
+            storage: (),
         }
     }
 
+    /// The same runner performing 0x1010/0x1011 with `storage` ([`crate::storage`]).
+    pub fn with_storage<S: Storage<D>>(
+        self,
+        storage: S,
+    ) -> StateMachineRunner<'a, P, A, D, MBX, S> {
+        let Self { esc, app, sub, .. } = self;
+        StateMachineRunner {
+            esc,
+            app,
+            sub,
+            storage,
+        }
+    }
+}
+
+impl<'a, P, A, D, const MBX: usize, S> StateMachineRunner<'a, P, A, D, MBX, S>
+where
+    P: Pdi,
+    A: Application<D>,
+    D: ObjectDictionary,
+    S: Storage<D> + 'a,
+{
     /// Shows `id` as the explicit device ID (`DeviceConfig::explicit_device_id`), e.g. read from
     /// switches at start-up.
     pub fn set_device_id(&mut self, id: u16) {
@@ -59,7 +86,7 @@ where
     /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): the process-data runner takes
     /// the PDI at the next chunk boundary.
     pub fn run(self) -> impl Future<Output = P::Error> + 'a {
-        run(self.esc, self.sub, self.app)
+        run(self.esc, self.sub, self.app, self.storage)
     }
 
     /// Runs this runner and `process_data` in one task, for a first device in one executor
@@ -78,15 +105,17 @@ where
 
 /// The loop of [`StateMachineRunner::run`].
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-fn run<'a, P, A, D, const MBX: usize>(
+fn run<'a, P, A, D, const MBX: usize, S>(
     esc: &'a SharedEsc<P>,
     mut sub: SubDevice<'a, MBX>,
     app: &'a AppCell<A, D>,
+    mut storage: S,
 ) -> impl Future<Output = P::Error> + 'a
 where
     P: Pdi,
     A: Application<D>,
     D: ObjectDictionary,
+    S: Storage<D> + 'a,
 {
     async move {
         let sub = &mut sub;
@@ -103,6 +132,13 @@ where
                 // accesses due; the serve that finds nothing to do changed nothing.
                 Step::Serve => {
                     if serve_mailbox(sub, app) {
+                        // A store the message asked for, before its answer goes out.
+                        if S::STORES
+                            && app.lock(|_, od| storage.take(od))
+                            && let Some(emergency) = storage.commit().await
+                        {
+                            sub.emergency(emergency);
+                        }
                         Step::Serve
                     } else {
                         Step::Events { any: false }
@@ -159,7 +195,10 @@ fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize>(
     app: &AppCell<A, D>,
 ) -> bool {
     app.lock(|app, od| {
-        let served = sub.service_mailbox(now(), od, &mut app.object_hooks());
+        let served = {
+            let (mut hooks, mut handlers) = app.mailbox();
+            sub.service_mailbox_with(now(), od, &mut hooks, &mut handlers)
+        };
         if served {
             while let Some(emergency) = app.take_emergency() {
                 sub.emergency(emergency);

@@ -92,6 +92,7 @@
 //! | [`esm_runner`] | [`StateMachineRunner`]: the state machine and the mailbox, in the low-priority thread executor |
 //! | [`pd_runner`] | [`ProcessDataRunner`]: the process-data exchange, in an `InterruptExecutor`; owns the IRQ line |
 //! | [`spi`] | PDI drivers over `embedded-hal-async` SPI: Beckhoff ESC SPI protocol, Microchip LAN9252 |
+//! | [`mcu`] | the PDI driver over the ET1100/AX58100 16-bit asynchronous microcontroller interface (a memory controller such as the STM32's FMC), on a [`mcu::Bus16`] the firmware provides |
 //! | [`indicator`] | [`run_indicators`]: the ETG.1300 RUN/ERR LEDs on GPIO pins, from the AL status the state-machine runner publishes |
 //!
 //! ## Who wakes whom
@@ -109,16 +110,28 @@
 //! [`Resources::with_chunk`] bytes, and the process-data runner takes the PDI at the next chunk
 //! boundary: its exchange never waits for more than the transaction in flight and one chunk.
 #![no_std]
+// No panic path in the runners and the PDI drivers.
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    clippy::unreachable,
+    clippy::todo,
+    clippy::unimplemented
+)]
 
 pub mod app;
 pub mod device;
 pub mod esm_runner;
 pub mod indicator;
+pub mod mcu;
 mod or_never;
 pub mod pd_runner;
 pub mod pdi;
 mod shared;
 pub mod spi;
+pub mod storage;
 mod time;
 
 pub use app::Application;

@@ -31,6 +31,17 @@ variant "digital I/O, no dictionary (\`no-dictionary\`)" --bin ecat-stm32 --feat
 variant "digital I/O, SOES's dictionary, no LED task (\`no-leds\`)" --bin ecat-stm32 --features no-leds
 variant "axis, its dictionary (\`axis\`)" --bin axis
 variant "digital I/O, LAN9252" --bin ecat-stm32 --no-default-features --features lan9252
+# Under examples/stm32-bootloader, linked at ACTIVE: FoE in BOOT writes an update into DFU.
+variant "digital I/O, SOES's dictionary, firmware update (\`bootloader\`)" --bin ecat-stm32 --features bootloader
+# The AX58100 on the FMC needs an STM32G474QE (the FMC's pins), not the NUCLEO's RE: its share is
+# over the same baseline built for it (no SPI, the FMC's bus cycles instead).
+fmc=(--no-default-features --features fmc)
+cargo build --release --locked --bin baseline "${fmc[@]}"
+read -r spi_flash spi_ram < <(echo "$base_flash $base_ram")
+read -r base_flash base_ram < <(measure "$release/baseline")
+echo "| baseline on the FMC (no ecat, STM32G474QE) | $base_flash | $base_ram | — | — |"
+variant "digital I/O, AX58100 on the FMC (\`fmc\`)" --bin ecat-stm32 "${fmc[@]}"
+read -r base_flash base_ram < <(echo "$spi_flash $spi_ram")
 # Last, so the binary left behind is the default firmware.
 variant "**digital I/O, SOES's dictionary (\`ecat-stm32\`)**" --bin ecat-stm32
 if [ "${1:-}" = --top ] && command -v llvm-nm >/dev/null; then

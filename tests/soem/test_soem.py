@@ -15,12 +15,18 @@ import pysoem
 
 from conftest import RECEIVE_US, safeop_to_op
 
-LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,sensor").split(",")
+LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,dio-update,sensor").split(",")
 
 VENDOR_ID = 0xE000_0001
-PRODUCT_CODES = {"cia402": 0x0001_0402, "drive": 0x0000_0402, "dio": 0x0000_1001, "sensor": 0x0000_2001}
+PRODUCT_CODES = {
+    "cia402": 0x0001_0402,
+    "drive": 0x0000_0402,
+    "dio": 0x0000_1001,
+    "dio-update": 0x0000_1001,  # the dio with a firmware update in BOOT (test_soem_foe.py)
+    "sensor": 0x0000_2001,
+}
 # (output bytes, input bytes) of the default PDO configuration of each device.
-IMAGE = {"cia402": (13, 19), "drive": (11, 11), "dio": (2, 2), "sensor": (0, 6)}
+IMAGE = {"cia402": (13, 19), "drive": (11, 11), "dio": (2, 2), "dio-update": (2, 2), "sensor": (0, 6)}
 
 # The ESC's reset values as SOEM leaves them (it writes no watchdog registers without
 # config_dc): divider 2498 + 2 = 2500 × 40 ns = 100 µs, process-data watchdog 1000 → 100 ms.

@@ -12,7 +12,7 @@ import time
 
 import pysoem
 
-LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,sensor").split(",")
+LINE = os.environ.get("ECAT_LINE", "cia402,drive,dio,dio-update,sensor").split(",")
 CYCLE_NS = 1_000_000
 DC_SYNC0 = 0x02  # 0x1C32/0x1C33 SI1: synchronous with SYNC0
 SYNC_ERROR_LIMIT = 60  # 0x10F1:02: 20 missed SYNC0 cycles in a row

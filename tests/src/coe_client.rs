@@ -52,6 +52,11 @@ impl<'m> SdoClient<'m> {
         Self::new(master, (rx.start, rx.length), (tx.start, tx.length))
     }
 
+    /// The MainDevice the client talks through.
+    pub fn master(&self) -> &'m TestMaster {
+        self.master
+    }
+
     /// Sends one mailbox message (header built here with the next counter) and returns the
     /// SubDevice's answer, the whole SM1 buffer.
     pub async fn exchange(&mut self, kind: MailboxType, payload: &[u8]) -> Option<Vec<u8>> {

@@ -221,3 +221,31 @@ impl NorFlash for Partition {
         })
     }
 }
+
+// The async traits sequential-storage works on (the stored parameters, 0x1010): the same
+// operations, done at once.
+
+impl embedded_storage_async::nor_flash::ReadNorFlash for Partition {
+    const READ_SIZE: usize = 1;
+
+    async fn read(&mut self, offset: u32, bytes: &mut [u8]) -> Result<(), Error> {
+        ReadNorFlash::read(self, offset, bytes)
+    }
+
+    fn capacity(&self) -> usize {
+        self.range.len()
+    }
+}
+
+impl embedded_storage_async::nor_flash::NorFlash for Partition {
+    const WRITE_SIZE: usize = DOUBLE_WORD;
+    const ERASE_SIZE: usize = PAGE;
+
+    async fn erase(&mut self, from: u32, to: u32) -> Result<(), Error> {
+        NorFlash::erase(self, from, to)
+    }
+
+    async fn write(&mut self, offset: u32, bytes: &[u8]) -> Result<(), Error> {
+        NorFlash::write(self, offset, bytes)
+    }
+}

@@ -14,6 +14,7 @@ use std::sync::{Mutex, PoisonError};
 
 use ecat_core::coe::Emergency;
 use ecat_core::dictionary::{ObjectDictionary, ObjectHooks};
+use ecat_core::mailbox::Handlers;
 use ecat_core::{AlStatusCode, DeviceConfig, Transition};
 use ecat_embassy::{Application, Config, Pdi, Resources, Status};
 use embassy_futures::select::select;
@@ -21,6 +22,7 @@ use embassy_time::MockDriver;
 
 use crate::emulator::{EmulatedPdi, Emulator};
 use crate::esc::EscConfig;
+use crate::flash::{self, Flash};
 use crate::master::TestMaster;
 use crate::scheduler::{self, Scheduler, Task};
 
@@ -133,6 +135,9 @@ pub struct Device<A, C, D = ()> {
     /// Both runners in one task (`Resources::run`, no SYNC0), as a first device in one executor
     /// runs them.
     pub one_task: bool,
+    /// The flash whose PARAMETERS partition keeps the stored parameters (0x1010), loaded into
+    /// the dictionary at start-up ([`Device::with_parameters`]); `None`: no storage.
+    pub parameters: Option<Flash>,
 }
 
 impl<A, C> Device<A, C, ()> {
@@ -150,6 +155,7 @@ impl<A, C> Device<A, C, ()> {
             chunk: ecat_embassy::device::DEFAULT_CHUNK,
             scheduler: Scheduler::Preemptive,
             one_task: false,
+            parameters: None,
         }
     }
 }
@@ -168,6 +174,7 @@ impl<A, C, D> Device<A, C, D> {
             chunk,
             scheduler,
             one_task,
+            parameters,
             ..
         } = self;
         Device {
@@ -182,12 +189,19 @@ impl<A, C, D> Device<A, C, D> {
             chunk,
             scheduler,
             one_task,
+            parameters,
         }
     }
 
     /// The same device with both runners in one task ([`Device::one_task`]).
     pub fn in_one_task(mut self) -> Self {
         self.one_task = true;
+        self
+    }
+
+    /// The same device storing its parameters in `flash`'s PARAMETERS partition.
+    pub fn with_parameters(mut self, flash: Flash) -> Self {
+        self.parameters = Some(flash);
         self
     }
 
@@ -218,7 +232,7 @@ impl<D> Application<D> for Loopback {
 }
 
 /// One [`Application`] made of two, as the tests write them: `hooks`'s transition, state-change,
-/// SDO and emergency hooks, `cycle`'s cycle and safe state.
+/// SDO, mailbox and emergency hooks, `cycle`'s cycle and safe state.
 pub struct Pair<A, C> {
     /// The state-machine side.
     pub hooks: A,
@@ -248,6 +262,10 @@ impl<A: Application<D>, C: Application<D>, D> Application<D> for Pair<A, C> {
 
     fn object_hooks(&mut self) -> impl ObjectHooks<D> + '_ {
         self.hooks.object_hooks()
+    }
+
+    fn mailbox(&mut self) -> (impl ObjectHooks<D> + '_, impl Handlers + '_) {
+        self.hooks.mailbox()
     }
 
     fn take_emergency(&mut self) -> Option<Emergency> {
@@ -483,11 +501,20 @@ where
         let config = Box::leak(Box::new(
             Config::<P, MAX_IMAGE, MAX_IMAGE, MAX_MAILBOX>::at_most(self.config),
         ));
+        let mut od = self.od;
+        let storage = self.parameters.map(|flash| {
+            let partition = flash.partition(flash::layout::PARAMETERS);
+            let mut storage = ParameterStorage::new(partition).expect("two whole pages");
+            // A flash without a valid map keeps the defaults, as firmware does.
+            let _ = embassy_futures::block_on(storage.load(&mut od));
+            storage
+        });
         let resources = Box::leak(Box::new(
-            Resources::new(config, pdi, app, self.od).with_chunk(self.chunk),
+            Resources::new(config, pdi, app, od).with_chunk(self.chunk),
         ));
         let (irq, sync0) = (emu.irq_pin(), emu.sync0_pin());
-        let (mut state_machine, process_data, control) = resources.split();
+        let (state_machine, process_data, control) = resources.split();
+        let mut state_machine = state_machine.with_storage(storage);
         state_machine.set_device_id(self.device_id);
         if self.one_task {
             let task = Task::thread(stoppable(stop, async move {
@@ -513,6 +540,9 @@ where
         (futures, control.status())
     }
 }
+
+/// The stored parameters' storage of a [`Device`]: room for a record of 1 KiB less the map's.
+pub type ParameterStorage = ecat_embassy::storage::FlashStorage<flash::Partition, 1024>;
 
 /// A runner or script, as the harness spawns it.
 pub type BoxedTask = Pin<Box<dyn Future<Output = ()>>>;

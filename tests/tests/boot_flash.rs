@@ -8,11 +8,9 @@
 //! torn double-word write included — the device always boots a whole image: A until B was marked
 //! updated, B after (and A again when B never confirmed).
 
-use ecat_emu::flash::{Flash, PAGE, layout};
-use embassy_boot::{
-    BlockingFirmwareState, BlockingFirmwareUpdater, BootLoader, BootLoaderConfig,
-    FirmwareUpdaterConfig, State,
-};
+use ecat_emu::flash::{Flash, layout};
+use ecat_emu::update::{flashed, reset};
+use embassy_boot::{BlockingFirmwareState, BlockingFirmwareUpdater, FirmwareUpdaterConfig, State};
 
 /// An image of `len` bytes that no other version shares a byte pattern with.
 fn image(version: u8, len: usize) -> Vec<u8> {
@@ -32,16 +30,6 @@ fn images() -> (Vec<u8>, Vec<u8>) {
     (image(1, 45_000), image(2, 61_234))
 }
 
-/// A flash with `running` in ACTIVE and a booted state, as the probe leaves it.
-fn flashed(running: &[u8]) -> Flash {
-    let flash = Flash::default();
-    let mut active = flash.partition(layout::ACTIVE);
-    let mut padded = running.to_vec();
-    padded.resize(running.len().next_multiple_of(PAGE), 0xFF);
-    embedded_storage::nor_flash::NorFlash::write(&mut active, 0, &padded).unwrap();
-    flash
-}
-
 /// The FoE side: B into DFU in 1 KiB pieces, then marked for swap.
 fn receive(flash: &Flash, update: &[u8]) -> Result<(), embassy_boot::FirmwareUpdaterError> {
     let mut aligned = [0; 8];
@@ -58,23 +46,18 @@ fn receive(flash: &Flash, update: &[u8]) -> Result<(), embassy_boot::FirmwareUpd
     updater.mark_updated()
 }
 
-/// A reset: the bootloader prepares ACTIVE (swap, revert or nothing); returns the state the
-/// image that then runs reads (`get_state`): `Swap` on a trial boot of a new image that must
-/// confirm itself, `Revert` after a rollback, `Boot` otherwise.
-fn boot(flash: &Flash) -> Result<State, embassy_boot::BootError> {
-    let mut bootloader = BootLoader::new(BootLoaderConfig {
-        active: flash.partition(layout::ACTIVE),
-        dfu: flash.partition(layout::DFU),
-        state: flash.partition(layout::STATE),
-    });
-    let mut page = vec![0; PAGE];
-    bootloader.prepare_boot(&mut page)?;
-    let mut aligned = [0; 8];
-    Ok(
-        BlockingFirmwareState::new(flash.partition(layout::STATE), &mut aligned)
-            .get_state()
-            .expect("the state partition reads with the power on"),
-    )
+/// A flash with `a` running and `b` received and marked for swap.
+fn updated(a: &[u8], b: &[u8]) -> Flash {
+    let flash = flashed(a);
+    receive(&flash, b).unwrap();
+    flash
+}
+
+/// [`updated`], then reset once: `b` runs on trial.
+fn swapped(a: &[u8], b: &[u8]) -> Flash {
+    let flash = updated(a, b);
+    assert_eq!(reset(&flash).unwrap(), State::Swap);
+    flash
 }
 
 /// The running image confirms itself.
@@ -88,7 +71,7 @@ fn confirm(flash: &Flash) {
 /// Resets until a boot completes with the power on; returns its state.
 fn boot_through(flash: &Flash) -> State {
     flash.power_on();
-    boot(flash).expect("a boot with the power on completes")
+    reset(flash).expect("a boot with the power on completes")
 }
 
 /// Whether ACTIVE starts with `image`.
@@ -135,13 +118,13 @@ fn update_swaps_in_b_and_confirmed_b_stays() {
     let parameters = image(9, layout::PARAMETERS.len());
     let mut stored = flash.partition(layout::PARAMETERS);
     embedded_storage::nor_flash::NorFlash::write(&mut stored, 0, &parameters).unwrap();
-    assert_eq!(boot(&flash).unwrap(), State::Boot);
+    assert_eq!(reset(&flash).unwrap(), State::Boot);
     receive(&flash, &b).unwrap();
     assert!(runs(&flash, &a), "nothing changes ACTIVE before the reset");
-    assert_eq!(boot(&flash).unwrap(), State::Swap);
+    assert_eq!(reset(&flash).unwrap(), State::Swap);
     assert!(runs(&flash, &b));
     confirm(&flash);
-    assert_eq!(boot(&flash).unwrap(), State::Boot);
+    assert_eq!(reset(&flash).unwrap(), State::Boot);
     assert!(runs(&flash, &b));
     assert_eq!(
         flash.bytes(layout::PARAMETERS),
@@ -153,16 +136,14 @@ fn update_swaps_in_b_and_confirmed_b_stays() {
 #[test]
 fn unconfirmed_b_is_rolled_back_to_a() {
     let (a, b) = images();
-    let flash = flashed(&a);
-    receive(&flash, &b).unwrap();
-    assert_eq!(boot(&flash).unwrap(), State::Swap);
+    let flash = swapped(&a, &b);
     assert!(runs(&flash, &b));
     // B never reached PREOP: the next reset reverts.
-    assert_eq!(boot(&flash).unwrap(), State::Revert);
+    assert_eq!(reset(&flash).unwrap(), State::Revert);
     assert!(runs(&flash, &a));
     // A is booted again and can take the next update.
     confirm(&flash);
-    assert_eq!(boot(&flash).unwrap(), State::Boot);
+    assert_eq!(reset(&flash).unwrap(), State::Boot);
     assert!(runs(&flash, &a));
 }
 
@@ -196,19 +177,17 @@ fn power_cut_while_receiving_keeps_a() {
 #[test]
 fn power_cut_anywhere_in_the_swap_ends_in_b() {
     let (a, b) = images();
-    let updated = || {
-        let flash = flashed(&a);
-        receive(&flash, &b).unwrap();
-        flash
-    };
-    let total = operations_of(updated, |f| {
-        boot(f).unwrap();
-    });
+    let total = operations_of(
+        || updated(&a, &b),
+        |f| {
+            reset(f).unwrap();
+        },
+    );
     assert!(total >= 4 * 60, "{total} operations for 60 pages");
     for cut in 0..total {
-        let flash = updated();
+        let flash = updated(&a, &b);
         flash.cut_after(cut);
-        assert!(boot(&flash).is_err(), "cut {cut} of {total}");
+        assert!(reset(&flash).is_err(), "cut {cut} of {total}");
         // The next reset resumes the swap from its recorded progress.
         assert_eq!(boot_through(&flash), State::Swap, "cut {cut}");
         assert!(runs(&flash, &b), "cut {cut}");
@@ -221,19 +200,16 @@ fn power_cut_anywhere_in_the_swap_ends_in_b() {
 #[test]
 fn power_cut_anywhere_in_the_revert_ends_in_a() {
     let (a, b) = images();
-    let swapped = || {
-        let flash = flashed(&a);
-        receive(&flash, &b).unwrap();
-        assert_eq!(boot(&flash).unwrap(), State::Swap);
-        flash
-    };
-    let total = operations_of(swapped, |f| {
-        boot(f).unwrap();
-    });
+    let total = operations_of(
+        || swapped(&a, &b),
+        |f| {
+            reset(f).unwrap();
+        },
+    );
     for cut in 0..total {
-        let flash = swapped();
+        let flash = swapped(&a, &b);
         flash.cut_after(cut);
-        assert!(boot(&flash).is_err(), "cut {cut} of {total}");
+        assert!(reset(&flash).is_err(), "cut {cut} of {total}");
         // A whole A runs; only a cut of the last two operations (the state page's erase, the
         // revert magic's write) loses the record that a rollback happened.
         let state = boot_through(&flash);
@@ -250,15 +226,9 @@ fn power_cut_anywhere_in_the_revert_ends_in_a() {
 #[test]
 fn power_cut_while_confirming_keeps_b_or_reverts_to_a() {
     let (a, b) = images();
-    let swapped = || {
-        let flash = flashed(&a);
-        receive(&flash, &b).unwrap();
-        assert_eq!(boot(&flash).unwrap(), State::Swap);
-        flash
-    };
-    let total = operations_of(swapped, confirm);
+    let total = operations_of(|| swapped(&a, &b), confirm);
     for cut in 0..total {
-        let flash = swapped();
+        let flash = swapped(&a, &b);
         flash.cut_after(cut);
         let mut aligned = [0; 8];
         let confirmed = BlockingFirmwareState::new(flash.partition(layout::STATE), &mut aligned)

@@ -5,7 +5,7 @@
 //! does with malformed frames (`ecat_emu::frame`).
 
 use ecat_core::chip::Chip;
-use ecat_core::sii::crc8;
+use ecat_core::chip::crc8;
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
 use ecat_emu::esc::datagram::Command;

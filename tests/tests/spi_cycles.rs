@@ -1,5 +1,6 @@
-//! No process-data cycle is lost or run twice, wherever the MainDevice's SM2 write falls in the SPI
-//! traffic: for both SPI drivers, under mailbox traffic (an SDO exchange in flight, so the IRQ also
+//! No process-data cycle is lost or run twice, wherever the MainDevice's SM2 write falls in the PDI
+//! traffic: for both SPI drivers and the 16-bit microcontroller interface (each bus cycle a
+//! transaction of its data bytes), under mailbox traffic (an SDO exchange in flight, so the IRQ also
 //! prompts the runners' reads for the state machine), the new outputs are placed before every
 //! byte of every transaction of an exchange, one placement at a time ([`Probe::at`]), and every
 //! new output buffer must be processed exactly once and answered with its inputs.
@@ -19,6 +20,7 @@ use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_core::mailbox::{MailboxHeader, MailboxType, next_counter};
 use ecat_core::{AlEvent, DeviceConfig};
+use ecat_embassy::mcu::Mcu16;
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
 use ecat_embassy::spi::lan9252::{self, Lan9252};
 use ecat_embassy::{Application, Pdi};
@@ -26,6 +28,7 @@ use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
 use ecat_emu::harness::{self, AcceptAll, Device};
 use ecat_emu::master::TestMaster;
+use ecat_emu::mcu::{self, Cycles, FakeBus16};
 use ecat_emu::spi::beckhoff::BeckhoffEsc;
 use ecat_emu::spi::lan9252::{Lan9252Chip, Lan9252Config};
 use ecat_emu::spi::{FakeSpi, Probe};
@@ -294,6 +297,12 @@ fn lan9252(scenario: Scenario) -> Findings {
     })
 }
 
+fn mcu16(scenario: Scenario) -> Findings {
+    place_everywhere(scenario, mcu::et1100(), |emu, probe| {
+        Mcu16::new(FakeBus16::new(emu.clone(), probe, Cycles::default()))
+    })
+}
+
 fn check(name: &str, findings: Findings) {
     println!("{name}: {findings:?}");
     assert!(findings.placements > 0);
@@ -330,4 +339,14 @@ fn beckhoff_under_an_sdo_exchange() {
 #[test]
 fn beckhoff_under_an_sdo_exchange_and_a_cycle() {
     check("Beckhoff, SDO + cycle", beckhoff(Scenario::new(128, true)));
+}
+
+#[test]
+fn mcu16_under_an_sdo_exchange() {
+    check("µC 16-bit, SDO", mcu16(Scenario::new(128, false)));
+}
+
+#[test]
+fn mcu16_under_an_sdo_exchange_and_a_cycle() {
+    check("µC 16-bit, SDO + cycle", mcu16(Scenario::new(128, true)));
 }

@@ -1,7 +1,8 @@
 //! Bounded process-data latency under mailbox load (issue #21, points 1 and 2): the worst number
 //! of bytes on the SPI bus between the IRQ edge (the MainDevice's SM2 write) and the start of the
-//! process-data runner's read of the outputs, for both SPI drivers, 128- and 1024-byte
-//! mailboxes, under continuous SDO load (a 10 KiB DOMAIN downloaded and uploaded back to back).
+//! process-data runner's read of the outputs, for both SPI drivers and the 16-bit µC interface
+//! (its bus cycles as transactions of their data bytes), 128- and 1024-byte mailboxes, under
+//! continuous SDO load (a 10 KiB DOMAIN downloaded and uploaded back to back).
 //!
 //! Each cycle (1 ms of virtual time) places the SM2 write before a pseudo-random byte of one of
 //! the next transactions on the bus ([`Probe::at`]), waits until the cycle has run on that
@@ -23,6 +24,7 @@ use common::od::{BlobApp, TestOd};
 use ecat_core::DeviceConfig;
 use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
+use ecat_embassy::mcu::Mcu16;
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
 use ecat_embassy::spi::lan9252::{self, Lan9252};
 use ecat_embassy::{Application, Pdi};
@@ -31,6 +33,7 @@ use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::TestMaster;
+use ecat_emu::mcu::{self, Cycle, Cycles, FakeBus16};
 use ecat_emu::scheduler::Scheduler;
 use ecat_emu::spi::beckhoff::BeckhoffEsc;
 use ecat_emu::spi::lan9252::{Lan9252Chip, Lan9252Config};
@@ -61,6 +64,40 @@ impl<D> Application<D> for Recorder {
 enum Driver {
     Beckhoff,
     Lan9252,
+    /// The 16-bit µC interface (`Mcu16`): each bus cycle a transaction of its data bytes.
+    Mcu16,
+}
+
+impl Driver {
+    /// The ESC the driver talks to, its EEPROM selecting the driver's PDI.
+    fn esc(self) -> EscConfig {
+        match self {
+            Driver::Beckhoff => EscConfig::default(),
+            Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
+            Driver::Mcu16 => mcu::et1100(),
+        }
+    }
+
+    /// The driver on `emu`'s ESC, its bus watched by `probe` (and `cycles`: the µC bus cycles).
+    fn make(self, emu: &Emulator, probe: Probe, cycles: Cycles) -> AnyPdi {
+        match self {
+            Driver::Beckhoff => AnyPdi::Beckhoff(BeckhoffSpi::new(
+                FakeSpi::new(BeckhoffEsc::new(emu.clone()), probe),
+                beckhoff::Config::default(),
+            )),
+            Driver::Lan9252 => {
+                let chip = Lan9252Chip::new(emu.clone(), Lan9252Config::default());
+                AnyPdi::Lan9252(
+                    embassy_futures::block_on(Lan9252::start(
+                        FakeSpi::new(chip, probe),
+                        lan9252::Config::default(),
+                    ))
+                    .expect("start"),
+                )
+            }
+            Driver::Mcu16 => AnyPdi::Mcu16(Mcu16::new(FakeBus16::new(emu.clone(), probe, cycles))),
+        }
+    }
 }
 
 /// One measurement.
@@ -118,8 +155,9 @@ impl Lcg {
     }
 }
 
-/// Whether `mosi` is the transaction that starts the read of the output area at `outputs`.
-fn starts_output_read(driver: Driver, mosi: &[u8], outputs: u16) -> bool {
+/// Whether `mosi` (the µC bus: `cycle`) is the transaction that starts the read of the output
+/// area at `outputs`.
+fn starts_output_read(driver: Driver, mosi: &[u8], cycle: Option<&Cycle>, outputs: u16) -> bool {
     match driver {
         // The address phase: A[12:5], A[4:0] and the read command (with or without wait state).
         Driver::Beckhoff => {
@@ -134,6 +172,8 @@ fn starts_output_read(driver: Driver, mosi: &[u8], outputs: u16) -> bool {
             mosi.get(..3) == Some(&[0x02, 0x43, 0x08][..])
                 && mosi.get(3..5) == Some(&outputs.to_le_bytes()[..])
         }
+        // The first word of the output area.
+        Driver::Mcu16 => matches!(cycle, Some(Cycle::Read(at, _)) if *at == outputs),
     }
 }
 
@@ -141,10 +181,7 @@ fn measure(case: Case) -> Figures {
     let mailbox = MailboxConfig::contiguous(0x1000, case.mailbox);
     let outputs = Area::new(0x1000 + 2 * case.mailbox, IMAGE);
     let inputs = Area::new(outputs.start + 0x80, IMAGE);
-    let esc = match case.driver {
-        Driver::Beckhoff => EscConfig::default(),
-        Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
-    };
+    let esc = case.driver.esc();
     let mut config = DeviceConfig::new(
         mailbox,
         ProcessDataSizes {
@@ -162,24 +199,10 @@ fn measure(case: Case) -> Figures {
     device.chunk = case.chunk;
     device.scheduler = case.scheduler;
     let probe = Probe::default();
-    let bus = probe.clone();
+    let (bus, cycles) = (probe.clone(), Cycles::default());
+    let bus_cycles = cycles.clone();
     let driver = case.driver;
-    let make = move |emu: &Emulator| match driver {
-        Driver::Beckhoff => AnyPdi::Beckhoff(BeckhoffSpi::new(
-            FakeSpi::new(BeckhoffEsc::new(emu.clone()), bus),
-            beckhoff::Config::default(),
-        )),
-        Driver::Lan9252 => {
-            let chip = Lan9252Chip::new(emu.clone(), Lan9252Config::default());
-            AnyPdi::Lan9252(
-                embassy_futures::block_on(Lan9252::start(
-                    FakeSpi::new(chip, bus),
-                    lan9252::Config::default(),
-                ))
-                .expect("start"),
-            )
-        }
-    };
+    let make = move |emu: &Emulator| driver.make(emu, bus, bus_cycles);
     let figures = Rc::new(Cell::new(Figures::default()));
     let out = figures.clone();
     harness::run_with_pdi(device, make, move |master: TestMaster| async move {
@@ -220,6 +243,7 @@ fn measure(case: Case) -> Figures {
                 seen.borrow_mut().clear();
                 let b = image(n);
                 probe.take_log();
+                cycles.take();
                 let base = probe.stats().transactions;
                 let k = rng.below(6) as usize;
                 let byte = rng.below(40) as usize;
@@ -239,9 +263,12 @@ fn measure(case: Case) -> Figures {
                     embassy_futures::yield_now().await;
                 }
                 let log = probe.take_log();
+                let bus_cycles = cycles.take();
                 let edge = log[k].len().min(byte);
                 let read = (k + 1..log.len())
-                    .find(|&i| starts_output_read(driver, &log[i], outputs.start))
+                    .find(|&i| {
+                        starts_output_read(driver, &log[i], bus_cycles.get(i), outputs.start)
+                    })
                     .expect("the output read");
                 let bytes: usize =
                     log[k].len() - edge + log[k + 1..read].iter().map(Vec::len).sum::<usize>();
@@ -297,12 +324,14 @@ async fn walk_to_op(master: &TestMaster, mailbox: &MailboxConfig, outputs: Area,
 enum AnyPdi {
     Beckhoff(BeckhoffSpi<FakeSpi<BeckhoffEsc>>),
     Lan9252(Lan9252<FakeSpi<Lan9252Chip>>),
+    Mcu16(Mcu16<FakeBus16>),
 }
 
 #[derive(Debug)]
 enum AnyError {
     Beckhoff(#[allow(dead_code)] <BeckhoffSpi<FakeSpi<BeckhoffEsc>> as Pdi>::Error),
     Lan9252(#[allow(dead_code)] <Lan9252<FakeSpi<Lan9252Chip>> as Pdi>::Error),
+    Mcu16(#[allow(dead_code)] <Mcu16<FakeBus16> as Pdi>::Error),
 }
 
 impl Pdi for AnyPdi {
@@ -316,6 +345,7 @@ impl Pdi for AnyPdi {
         match self {
             AnyPdi::Beckhoff(pdi) => pdi.access(address, data).await.map_err(AnyError::Beckhoff),
             AnyPdi::Lan9252(pdi) => pdi.access(address, data).await.map_err(AnyError::Lan9252),
+            AnyPdi::Mcu16(pdi) => pdi.access(address, data).await.map_err(AnyError::Mcu16),
         }
     }
 
@@ -323,6 +353,7 @@ impl Pdi for AnyPdi {
         match self {
             AnyPdi::Beckhoff(pdi) => pdi.chunk(address, len, chunk),
             AnyPdi::Lan9252(pdi) => pdi.chunk(address, len, chunk),
+            AnyPdi::Mcu16(pdi) => pdi.chunk(address, len, chunk),
         }
     }
 
@@ -330,6 +361,7 @@ impl Pdi for AnyPdi {
         match self {
             AnyPdi::Beckhoff(pdi) => pdi.sample(sample),
             AnyPdi::Lan9252(pdi) => pdi.sample(sample),
+            AnyPdi::Mcu16(pdi) => pdi.sample(sample),
         }
     }
 }
@@ -370,6 +402,9 @@ fn bound(driver: Driver) -> usize {
         // start (11), the available count (7), the FIFO burst (3 + 32); then the runner's own
         // AL event sample (11 + 7).
         Driver::Lan9252 => 11 + 7 + 11 + 7 + 3 + 32 + 11 + 7,
+        // Data bytes: the rest of the chunk in flight (its AL event word and 16 words) and one
+        // more chunk, like the Beckhoff SPI's.
+        Driver::Mcu16 => 2 * (2 + 32),
     }
 }
 
@@ -417,6 +452,16 @@ fn lan9252_1024_byte_mailboxes() {
     check(Driver::Lan9252, 1024, 78);
 }
 
+#[test]
+fn mcu16_128_byte_mailboxes() {
+    check(Driver::Mcu16, 128, 41);
+}
+
+#[test]
+fn mcu16_1024_byte_mailboxes() {
+    check(Driver::Mcu16, 1024, 41);
+}
+
 /// The table of docs/performance.md.
 #[test]
 #[ignore = "benchmark: prints the table (run with --ignored --nocapture)"]
@@ -425,7 +470,7 @@ fn table() {
         "| driver | mailbox | chunk | scheduling | worst bytes before the PD read / transactions | mean | > 1 ms at 10 MHz | lost | doubled | bus bytes for 10 KiB down + up alone | failed transfers |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for driver in [Driver::Beckhoff, Driver::Lan9252] {
+    for driver in [Driver::Beckhoff, Driver::Lan9252, Driver::Mcu16] {
         for mailbox in [128, 1024] {
             for (chunk, scheduler) in [
                 (0, Scheduler::Cooperative),
@@ -459,10 +504,7 @@ fn table() {
 fn exchange_traffic(driver: Driver, chunk: u16) -> Vec<Vec<u8>> {
     let mailbox = MailboxConfig::contiguous(0x1000, 128);
     let mut config = DeviceConfig::new(mailbox, ProcessDataSizes::default());
-    let esc = match driver {
-        Driver::Beckhoff => EscConfig::default(),
-        Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
-    };
+    let esc = driver.esc();
     config.sync_manager_count = esc.sync_managers;
     config.process_ram_end = esc.process_ram_end;
     let mut device = Device::new(config, BlobApp::default(), Recorder::default())
@@ -473,19 +515,7 @@ fn exchange_traffic(driver: Driver, chunk: u16) -> Vec<Vec<u8>> {
     let bus = probe.clone();
     let log = Rc::new(RefCell::new(Vec::new()));
     let out = log.clone();
-    let make = move |emu: &Emulator| match driver {
-        Driver::Beckhoff => AnyPdi::Beckhoff(BeckhoffSpi::new(
-            FakeSpi::new(BeckhoffEsc::new(emu.clone()), bus),
-            beckhoff::Config::default(),
-        )),
-        Driver::Lan9252 => AnyPdi::Lan9252(
-            embassy_futures::block_on(Lan9252::start(
-                FakeSpi::new(Lan9252Chip::new(emu.clone(), Lan9252Config::default()), bus),
-                lan9252::Config::default(),
-            ))
-            .expect("start"),
-        ),
-    };
+    let make = move |emu: &Emulator| driver.make(emu, bus, Cycles::default());
     harness::run_with_pdi(device, make, move |master: TestMaster| async move {
         master.reset().await;
         assert_eq!(master.request(0x01).await, (0x01, 0));
@@ -593,10 +623,7 @@ fn held_line(driver: Driver) -> Vec<usize> {
     let mailbox = MailboxConfig::contiguous(0x1000, 1024);
     let outputs = Area::new(0x1800, IMAGE);
     let inputs = Area::new(0x1880, IMAGE);
-    let esc = match driver {
-        Driver::Beckhoff => EscConfig::default(),
-        Driver::Lan9252 => EscConfig::of(Chip::LAN9252),
-    };
+    let esc = driver.esc();
     let mut config = DeviceConfig::new(
         mailbox,
         ProcessDataSizes {
@@ -613,19 +640,7 @@ fn held_line(driver: Driver) -> Vec<usize> {
     device.esc = esc;
     let probe = Probe::default();
     let bus = probe.clone();
-    let make = move |emu: &Emulator| match driver {
-        Driver::Beckhoff => AnyPdi::Beckhoff(BeckhoffSpi::new(
-            FakeSpi::new(BeckhoffEsc::new(emu.clone()), bus),
-            beckhoff::Config::default(),
-        )),
-        Driver::Lan9252 => AnyPdi::Lan9252(
-            embassy_futures::block_on(Lan9252::start(
-                FakeSpi::new(Lan9252Chip::new(emu.clone(), Lan9252Config::default()), bus),
-                lan9252::Config::default(),
-            ))
-            .expect("start"),
-        ),
-    };
+    let make = move |emu: &Emulator| driver.make(emu, bus, Cycles::default());
     let results = Rc::new(RefCell::new(Vec::new()));
     let out = results.clone();
     harness::run_with_pdi(device, make, move |master: TestMaster| async move {
@@ -678,7 +693,7 @@ fn held_line(driver: Driver) -> Vec<usize> {
             let log = probe.take_log();
             let k = (placed - base) as usize;
             let read = (k + 1..log.len())
-                .find(|&i| starts_output_read(driver, &log[i], outputs.start))
+                .find(|&i| starts_output_read(driver, &log[i], None, outputs.start))
                 .expect("the output read");
             if std::env::var_os("LATENCY_DEBUG").is_some() {
                 let heads: Vec<_> = log[k..=read]

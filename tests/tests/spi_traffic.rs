@@ -1,4 +1,5 @@
-//! SPI traffic per process-data cycle, counted by the fake chips, for both drivers and two images:
+//! PDI traffic per process-data cycle, counted by the fake chips, for both SPI drivers and the
+//! 16-bit microcontroller interface (bus cycles and their data bytes), and two images:
 //! the CiA402-like image (11 bytes each way) and 64 bytes each way. A benchmark with exact
 //! assertions: the counts are deterministic, so any change to them is a deliberate one.
 //!
@@ -12,11 +13,13 @@ use ecat_core::DeviceConfig;
 use ecat_core::chip::Chip;
 use ecat_core::device::{Area, MailboxConfig, ProcessDataSizes};
 use ecat_embassy::Pdi;
+use ecat_embassy::mcu::Mcu16;
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi};
 use ecat_embassy::spi::lan9252::{self, Lan9252, WriteSpace};
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
 use ecat_emu::harness::{self, AcceptAll, Device, Loopback};
+use ecat_emu::mcu::{self, Cycles, FakeBus16};
 use ecat_emu::spi::beckhoff::BeckhoffEsc;
 use ecat_emu::spi::lan9252::{Lan9252Chip, Lan9252Config};
 use ecat_emu::spi::{FakeSpi, Probe, SpiStats};
@@ -190,4 +193,43 @@ fn lan9252_cycles_stay_under_half_of_soes() {
     }
     // SOES's stock LAN9252 driver: 20 transactions, 158 bytes for the 11/11-byte cycle.
     assert!(lan9252(11, WriteSpace::EmptyAtStart).bytes <= 158 / 2);
+}
+
+fn mcu16(size: u16) -> SpiStats {
+    per_cycle(mcu::et1100(), size, |emu, probe| {
+        Mcu16::new(FakeBus16::new(emu.clone(), probe, Cycles::default()))
+    })
+}
+
+/// The bus's minimum for a cycle that cannot lose a buffer: the AL event (one word: the output
+/// read must follow an event that shows SM2), the outputs in words (reads move whole words), the
+/// inputs in words and an odd last byte alone (its byte lane).
+fn mcu16_minimum(size: u64) -> SpiStats {
+    SpiStats {
+        transactions: 1 + 2 * size.div_ceil(2),
+        bytes: 2 + 2 * size.div_ceil(2) + size,
+    }
+}
+
+#[test]
+fn mcu16_cycles_are_the_words_of_the_images_and_two_al_event_reads() {
+    for (size, transactions) in [(11, 14), (64, 66)] {
+        let measured = mcu16(size);
+        let minimum = mcu16_minimum(u64::from(size));
+        report(
+            "µC 16-bit (ET1100/AX58100), bus cycles",
+            size,
+            measured,
+            minimum,
+        );
+        // Besides the minimum: the AL event read before the input write.
+        assert_eq!(
+            measured,
+            SpiStats {
+                transactions,
+                bytes: minimum.bytes + 2
+            }
+        );
+        assert_eq!(measured.transactions, minimum.transactions + 1);
+    }
 }

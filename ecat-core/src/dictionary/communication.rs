@@ -9,7 +9,7 @@
 //! | 0x1009 | manufacturer hardware version | [`DeviceInfo::hardware_version`] |
 //! | 0x100A | manufacturer software version | [`DeviceInfo::software_version`] |
 //! | 0x1018 | identity, RECORD (0x0023) | [`Communication::identity`], default [`DeviceInfo::identity`] |
-//! | 0x1C00 | SyncManager types, ARRAY UNSIGNED8 | [`sii::SM_TYPES`] |
+//! | 0x1C00 | SyncManager types, ARRAY UNSIGNED8 | [`sync_manager::STANDARD_KINDS`] |
 //! | 0x1C32 | SM output parameter, RECORD (0x0029) | [`Communication::outputs`] |
 //! | 0x1C33 | SM input parameter, RECORD (0x0029) | [`Communication::inputs`] |
 //!
@@ -27,7 +27,7 @@
 use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read, read_value};
 use crate::abort::AbortCode;
 use crate::device::Identity;
-use crate::sii;
+use crate::sync_manager;
 use crate::sync_parameters::SyncParameters;
 
 /// The description constants of the communication area, one `const` per device.
@@ -129,7 +129,7 @@ pub const IDENTITY: ObjectInfo = ObjectInfo {
 };
 
 /// 0x1C00: the communication types of SM0..SM3, an ARRAY of four read-only UNSIGNED8 —
-/// what the SII and ESI say of the same SyncManagers ([`sii::SM_TYPES`]).
+/// what the SII and ESI say of the same SyncManagers ([`sync_manager::STANDARD_KINDS`]).
 pub const SM_TYPES: ObjectInfo = ObjectInfo {
     index: 0x1C00,
     code: ObjectCode::Array,
@@ -217,7 +217,7 @@ pub fn identity_limit(identity: &Identity, sub: u8, which: Limit, out: &mut [u8]
 pub fn read_sm_types(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
     match sub {
         0 => Ok(read_value(&SM_TYPES.max_sub, offset, out)),
-        n => sii::SM_TYPES
+        n => sync_manager::STANDARD_KINDS
             .get(usize::from(n) - 1)
             .map(|t| read_value(t, offset, out))
             .ok_or(AbortCode::NO_SUBINDEX),

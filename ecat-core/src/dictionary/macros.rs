@@ -6,7 +6,7 @@
 /// ```text
 /// dictionary! {
 ///     [minimal] Struct {
-///         communication(field, DEVICE_INFO);
+///         communication(field, DEVICE_INFO [, stored = field]);
 ///         INDEX => var(field, ACCESS, "Name" [, default = EXPR] [, min = EXPR] [, max = EXPR] [, unit = EXPR]);
 ///         INDEX => array(field, ACCESS, "Name", "Element name" [, default = …] [, min = …] [, max = …] [, unit = …]);
 ///         INDEX => record(field: RecordType, "Name") {
@@ -24,7 +24,7 @@
 /// [`Communication`](crate::dictionary::Communication) field: 0x1000 device type, 0x1008/0x1009/
 /// 0x100A names and versions, 0x1018 identity (initialised from `DEVICE_INFO.identity`, the same
 /// constant the SII image and the ESI file are generated from), 0x1C00 SyncManager types
-/// ([`sii::SM_TYPES`](crate::sii::SM_TYPES), as the SII and ESI give them), and 0x1C32/0x1C33,
+/// ([`STANDARD_KINDS`](crate::sync_manager::STANDARD_KINDS), as the SII and ESI give them), and 0x1C32/0x1C33,
 /// SSC's sync parameter records with the entries the stack fills (SI1 sync type: writable in
 /// PREOP, default 1 for the outputs, 0x22 for the inputs — the inputs' type follows the
 /// outputs' ([`sync_parameters::input_sync_type`](crate::sync_parameters::input_sync_type)), so a value a MainDevice
@@ -33,7 +33,11 @@
 /// [`sync_parameters::check_input_sync_write`](crate::sync_parameters::check_input_sync_write); SI2 cycle time
 /// writable in PREOP; SI8 get cycle time writable in every state; SI3..SI7, SI9, SI 0x0A..0x0D,
 /// 0x20 read-only; SI0 = 0x20). The area's objects are merged with the application's by index
-/// at compile time; the application may not declare them itself.
+/// at compile time; the application may not declare them itself. With `stored = field` (a
+/// [`StoredParameters`](crate::dictionary::parameters::StoredParameters) field) the area also
+/// has 0x1010 store parameters and 0x1011 restore default parameters
+/// ([`dictionary::parameters`](crate::dictionary::parameters)): the entries whose access has
+/// `BACKUP` are what a "save" stores.
 ///
 /// A dictionary is a CoE device's unless it starts with `minimal`: it must have the
 /// communication area and the PDO assignments 0x1C12 and 0x1C13 (SOEM's `config_map` reads
@@ -177,6 +181,22 @@ macro_rules! __ecat_dictionary {
             &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
         }, [$area: $crate::dictionary::Communication::new(&$info),] $($items)*);
     };
+    ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
+        $crate::__ecat_impl!($mode, $dict, {
+            const APPLICATION: &[$crate::dictionary::Object<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
+            const AREA: &[$crate::dictionary::Object<$dict>] = &$crate::__ecat_communication!($dict, $area, $info);
+            const STORAGE: [$crate::dictionary::Object<$dict>; 2] = $crate::__ecat_storage!($dict, $stored);
+            const _: () = assert!(
+                $crate::dictionary::communication::leaves_communication_area(APPLICATION)
+                    && $crate::dictionary::parameters::leaves_storage(APPLICATION),
+                "the communication area's objects (with 0x1010/0x1011 under `stored`) come from `communication`: do not declare them"
+            );
+            const BASE: [$crate::dictionary::Object<$dict>; APPLICATION.len() + AREA.len()] =
+                $crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
+            &$crate::dictionary::communication::merge::<$dict, { BASE.len() + 2 }>(&STORAGE, &BASE)
+        }, [$area: $crate::dictionary::Communication::new(&$info), $stored: $crate::dictionary::parameters::StoredParameters::new(),]
+        stored = $stored; $($items)*);
+    };
     ($mode:ident, $dict:ident { $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [] $($items)*);
     };
@@ -196,10 +216,16 @@ macro_rules! __ecat_objects {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_impl {
-    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*]
+    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*] $(stored = $stored:ident;)?
      $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
+
+            $(
+                fn stored_parameters(&mut self) -> Option<&mut $crate::dictionary::parameters::StoredParameters> {
+                    Some(&mut self.$stored)
+                }
+            )?
 
             type Offsets = [u16; $crate::pdo::layout::mappable_entries(
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
@@ -549,6 +575,32 @@ macro_rules! __ecat_object {
                     _ => 0,
                 }
             },
+        }
+    };
+}
+
+/// 0x1010 and 0x1011 ([`dictionary::parameters`](crate::dictionary::parameters)) over the
+/// [`StoredParameters`](crate::dictionary::parameters::StoredParameters) field `$stored`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_storage {
+    ($dict:ident, $stored:ident) => {
+        [
+            $crate::__ecat_storage!($dict, $stored, STORE, Save),
+            $crate::__ecat_storage!($dict, $stored, RESTORE, RestoreDefaults),
+        ]
+    };
+    ($dict:ident, $stored:ident, $info:ident, $command:ident) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::parameters::$info,
+            read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::parameters::StoredParameters::read(sub, offset, out)
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                d.$stored
+                    .write($crate::dictionary::parameters::Command::$command, sub, data)
+            },
+            limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
     };
 }

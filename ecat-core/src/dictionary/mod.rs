@@ -80,6 +80,7 @@ pub mod communication;
 mod data_type;
 mod macros;
 mod object;
+pub mod parameters;
 mod value;
 
 pub use access::Access;
@@ -130,6 +131,12 @@ pub trait ObjectDictionary: Sized + 'static {
     /// The diagnosis history (0x10F3) the stack logs its events into, when the dictionary
     /// declares one (`dictionary!`'s `diagnosis` item).
     fn diagnosis(&mut self) -> Option<crate::diagnosis::History<'_>> {
+        None
+    }
+
+    /// The state of 0x1010/0x1011 ([`parameters`]): `None` for a device without storage (the
+    /// default), the `stored` field of a `communication(area, INFO, stored = field)` item.
+    fn stored_parameters(&mut self) -> Option<&mut parameters::StoredParameters> {
         None
     }
 
@@ -185,6 +192,34 @@ impl<D> Clone for Object<D> {
 }
 
 impl<D> Copy for Object<D> {}
+
+/// Typed reads of the unsigned entries the stack itself looks at (PDO assignment and mapping
+/// entries, sync parameters, limits): `None` when the entry is missing or of another size.
+impl<D> Object<D> {
+    /// Subindex 0 (the number of entries of an ARRAY or RECORD), 0 when it cannot be read.
+    pub(crate) fn count(&self, od: &D) -> u8 {
+        let mut b = [0u8; 1];
+        (self.read)(od, 0, 0, &mut b).map_or(0, |_| b[0])
+    }
+
+    /// A 16-bit entry.
+    pub(crate) fn read_u16(&self, od: &D, sub: u8) -> Option<u16> {
+        let mut b = [0u8; 2];
+        (self.read)(od, sub, 0, &mut b)
+            .ok()
+            .filter(|r| r.copied == 2)
+            .map(|_| u16::from_le_bytes(b))
+    }
+
+    /// A 32-bit entry.
+    pub(crate) fn read_u32(&self, od: &D, sub: u8) -> Option<u32> {
+        let mut b = [0u8; 4];
+        (self.read)(od, sub, 0, &mut b)
+            .ok()
+            .filter(|r| r.copied == 4)
+            .map(|_| u32::from_le_bytes(b))
+    }
+}
 
 /// The application's say in SDO access, implemented beside the dictionary. Every method has a
 /// default that does nothing special.

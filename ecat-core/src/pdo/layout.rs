@@ -324,11 +324,11 @@ pub(crate) fn walk<D: ObjectDictionary>(
     };
     let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
     let assigned = pending_of(assignment);
-    let pdos = assigned.map_or_else(|| count(od, assignment), |p| p.count);
+    let pdos = assigned.map_or_else(|| assignment.count(od), |p| p.count);
     for pdo in 1..=pdos {
         let index = match assigned {
             Some(p) => (p.entry)(pdo).and_then(|v| u16::try_from(v).ok()),
-            None => read_u16(od, assignment, pdo),
+            None => assignment.read_u16(od, pdo),
         };
         let Some(mapping) = index
             .filter(|i| direction.is_mapping(*i))
@@ -338,11 +338,11 @@ pub(crate) fn walk<D: ObjectDictionary>(
             continue;
         };
         let changed = pending_of(mapping);
-        let entries = changed.map_or_else(|| count(od, mapping), |p| p.count);
+        let entries = changed.map_or_else(|| mapping.count(od), |p| p.count);
         for sub in 1..=entries {
             let value = match changed {
                 Some(p) => (p.entry)(sub),
-                None => read_u32(od, mapping, sub),
+                None => mapping.read_u32(od, sub),
             };
             visit(value.map(MappingEntry));
         }
@@ -363,25 +363,4 @@ pub(crate) fn is_mapped<D: ObjectDictionary>(
         mapped |= entry.is_some_and(|e| e.index() == index && e.sub() == sub);
     });
     mapped
-}
-
-pub(crate) fn count<D>(od: &D, object: &Object<D>) -> u8 {
-    let mut b = [0u8; 1];
-    (object.read)(od, 0, 0, &mut b).map_or(0, |_| b[0])
-}
-
-pub(crate) fn read_u16<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u16> {
-    let mut b = [0u8; 2];
-    (object.read)(od, sub, 0, &mut b)
-        .ok()
-        .filter(|r| r.copied == 2)
-        .map(|_| u16::from_le_bytes(b))
-}
-
-pub(crate) fn read_u32<D>(od: &D, object: &Object<D>, sub: u8) -> Option<u32> {
-    let mut b = [0u8; 4];
-    (object.read)(od, sub, 0, &mut b)
-        .ok()
-        .filter(|r| r.copied == 4)
-        .map(|_| u32::from_le_bytes(b))
 }

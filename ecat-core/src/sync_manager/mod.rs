@@ -151,3 +151,26 @@ impl Channel {
         }
     }
 }
+
+/// What a SyncManager is for (ETG.2010 Table 10 "SM type"; the text of the ESI `Sm` element).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum SmKind {
+    /// SM0: the receive mailbox ("MBoxOut").
+    MailboxOut = 1,
+    /// SM1: the send mailbox ("MBoxIn").
+    MailboxIn = 2,
+    /// SM2: process data outputs.
+    Outputs = 3,
+    /// SM3: process data inputs.
+    Inputs = 4,
+}
+
+/// The value of 0x1C00 "Sync manager communication type" (ETG.1000.6 §5.6.7.1) for SM0..SM3: the
+/// same types the SII SyncManager category and the ESI `Sm` elements give them.
+pub const STANDARD_KINDS: [u8; 4] = [
+    SmKind::MailboxOut as u8,
+    SmKind::MailboxIn as u8,
+    SmKind::Outputs as u8,
+    SmKind::Inputs as u8,
+];

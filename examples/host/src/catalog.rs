@@ -1,13 +1,16 @@
 //! The devices the host programs emulate, by name: the sample devices of `ecat_emu::devices` and
-//! the CiA402 dummy axis of `ecat-axis`, each with its SII image.
+//! the CiA402 dummy axis of `ecat-axis`, each with its SII image. `dio-update` is the digital
+//! I/O module with a flash of its own (image version 1) that FoE updates in BOOT
+//! (`ecat_emu::update`: file `firmware.bin`, password 0x16).
 
 use ecat_core::dictionary::ObjectDictionary;
 use ecat_embassy::Application;
 use ecat_emu::devices::{self, Sample};
 use ecat_emu::harness::Spawn;
+use ecat_emu::update;
 
 /// The names [`device`] knows.
-pub const NAMES: [&str; 4] = ["cia402", "drive", "dio", "sensor"];
+pub const NAMES: [&str; 5] = ["cia402", "drive", "dio", "dio-update", "sensor"];
 /// The device when none is named.
 pub const DEFAULT: &str = "dio";
 /// The most devices on one line (one process). The runners of a line share at most
@@ -41,6 +44,10 @@ pub fn visit<V: Visit>(name: &str, visitor: V) -> Option<V::Output> {
         "cia402" => visitor.visit(crate::axis::sample()),
         "drive" => visitor.visit(devices::drive()),
         "dio" => visitor.visit(devices::dio()),
+        // A new flash with a page-long image of version 1.
+        "dio-update" => visitor.visit(devices::dio_update(update::flashed(&update::image(
+            1, 4096,
+        )))),
         "sensor" => visitor.visit(devices::sensor()),
         _ => return None,
     })

@@ -419,7 +419,12 @@ fn sync_managers<D: ObjectDictionary>(config: &DeviceConfig, od: &D, sii: &Sii, 
         })
         .sum();
     let reserved = outputs.max(all_rx_bits.div_ceil(8) as u16);
-    assert_eq!(u32::from(sms[2].0), m.send.end().div_ceil(8) * 8);
+    // After the bootstrap mailbox too, where it lies beyond (dio-update's).
+    let boot_end = config.bootstrap_mailbox.map_or(0, |b| b.send.end());
+    assert_eq!(
+        u32::from(sms[2].0),
+        m.send.end().max(boot_end).div_ceil(8) * 8
+    );
     assert_eq!(sms[3].0, (sms[2].0 + 3 * reserved).div_ceil(8) * 8);
     let esi = children(device, "Sm");
     let kinds = ["MBoxOut", "MBoxIn", "Outputs", "Inputs"];

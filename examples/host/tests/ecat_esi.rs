@@ -24,7 +24,7 @@ fn scratch(name: &str) -> PathBuf {
 #[test]
 fn writes_the_xml_and_the_image_of_the_device() {
     let dir = scratch("ok");
-    for device in ["cia402", "drive", "dio", "sensor"] {
+    for device in ["cia402", "drive", "dio", "dio-update", "sensor"] {
         let out = ecat_esi(&["--device", device, "--out", dir.to_str().unwrap()]);
         assert!(out.status.success(), "{out:?}");
         let files = description::by_name(device).unwrap().unwrap();
@@ -43,7 +43,7 @@ fn an_unknown_device_is_named_with_the_known_ones() {
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         String::from_utf8(out.stderr).unwrap(),
-        "ecat-esi: unknown device \"servo\"; known: cia402, drive, dio, sensor\n"
+        "ecat-esi: unknown device \"servo\"; known: cia402, drive, dio, dio-update, sensor\n"
     );
     assert_eq!(
         std::fs::read_dir(&dir).unwrap().count(),
@@ -71,7 +71,7 @@ fn missing_arguments_print_the_usage() {
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         String::from_utf8(out.stderr).unwrap(),
-        "ecat-esi: usage: ecat-esi --device cia402|drive|dio|sensor --out DIR [--chip et1100|ax58100|lan9252]\n"
+        "ecat-esi: usage: ecat-esi --device cia402|drive|dio|dio-update|sensor --out DIR [--chip et1100|ax58100|lan9252]\n"
     );
 }
 

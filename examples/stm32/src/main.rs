@@ -1,8 +1,12 @@
 //! ecat on an STM32G474: a 4-in/4-out digital I/O SubDevice behind an AX58100 (default feature
-//! `ax58100`, Beckhoff SPI protocol) or a LAN9252 (feature `lan9252`); its application and
-//! dictionary are `io::DigitalIo` and `io::IoOd` (SOES's sample digital I/O objects). Size
+//! `ax58100`, Beckhoff SPI protocol), a LAN9252 (feature `lan9252`) or an AX58100 on the FMC
+//! (feature `fmc`, its 16-bit asynchronous microcontroller interface); its application and
+//! dictionary are `ecat_dio::DigitalIo` and `ecat_dio::IoOd` (SOES's sample digital I/O objects,
+//! shared with the RP2040 firmware). Size
 //! variants: feature `no-dictionary` (the dictionary `()`, raw process images) and `no-leds` (no
-//! ETG.1300 LED task).
+//! ETG.1300 LED task). Feature `bootloader`: the firmware under examples/stm32-bootloader, with
+//! the firmware update by FoE in BOOT (`ecat_stm32::update`; the bootstrap mailbox is the
+//! standard one).
 //!
 //! Two executors (priorities: README.md):
 //! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
@@ -16,23 +20,36 @@
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_embassy::{Config, Control, ProcessDataRunner, Resources};
-use ecat_stm32::board::{Board, Pin};
-use ecat_stm32::io::DigitalIo;
+use ecat_stm32::board::{Board, DigitalIo, Pin};
 use ecat_stm32::{esc, park};
 use embassy_executor::SendSpawner;
 use panic_probe as _;
 use static_cell::StaticCell;
 
 /// 1 byte of outputs, 1 byte of inputs; mailboxes of 128 bytes at 0x1000/0x1080.
+#[cfg(not(feature = "bootloader"))]
 const DEVICE: Config<esc::Pdi, 1, 1> = Config::standard();
+/// The same with BOOT, through the same mailbox layout (FoE segments of 116 bytes).
+#[cfg(feature = "bootloader")]
+const DEVICE: Config<esc::Pdi, 1, 1> = Config::new({
+    let mut device = *Config::<esc::Pdi, 1, 1>::standard().device();
+    device.bootstrap_mailbox = Some(device.mailbox);
+    device
+});
+
+/// The application: the digital I/O, with the firmware update under the bootloader.
+#[cfg(not(feature = "bootloader"))]
+type App = DigitalIo;
+#[cfg(feature = "bootloader")]
+type App = ecat_stm32::update::Updatable<DigitalIo>;
 
 /// SOES's sample digital I/O dictionary, or none (feature `no-dictionary`).
 #[cfg(not(feature = "no-dictionary"))]
-type Od = ecat_stm32::io::IoOd;
+type Od = ecat_dio::IoOd;
 #[cfg(feature = "no-dictionary")]
 type Od = ();
 
-type Ecat = Resources<esc::Pdi, DigitalIo, Od, 1, 1>;
+type Ecat = Resources<esc::Pdi, App, Od, 1, 1>;
 static ECAT: StaticCell<Ecat> = StaticCell::new();
 ecat_stm32::executors!();
 
@@ -49,14 +66,24 @@ fn main() -> ! {
 #[embassy_executor::task]
 async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
-        spi,
+        bus,
         irq,
         sync0,
         io,
         leds,
+        #[cfg(feature = "bootloader")]
+        flash,
+        ..
     } = board;
-    let Some(pdi) = esc::start_logged(spi).await else {
+    let Some(pdi) = esc::start_logged(bus).await else {
         park().await
+    };
+    #[cfg(feature = "bootloader")]
+    let io = {
+        SendSpawner::for_current_executor()
+            .await
+            .spawn(unwrap!(ecat_stm32::update::run(flash)));
+        ecat_stm32::update::Updatable::new(io)
     };
     let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, Od::default()));
     let (state_machine, process_data, control) = ecat.split();
@@ -75,7 +102,7 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line. The device runs
 /// SM-synchronous (no DC SYNC0 in `DEVICE`): SYNC0 only latches the inputs, in `sync` below.
 #[embassy_executor::task]
-async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, DigitalIo, Od>, irq: Pin) -> ! {
+async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, App, Od>, irq: Pin) -> ! {
     error!("process data stopped: {}", runner.run(irq).await);
     park().await
 }
@@ -83,9 +110,12 @@ async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, DigitalIo, Od>, i
 /// SYNC0 from the ESC's distributed clock: latches the inputs (in the interrupt executor, so the
 /// instant does not depend on the mailbox's work).
 #[embassy_executor::task]
-async fn sync(control: Control<'static, esc::Pdi, DigitalIo, Od>, mut sync0: Pin) {
+async fn sync(control: Control<'static, esc::Pdi, App, Od>, mut sync0: Pin) {
     loop {
         sync0.wait_for_falling_edge().await;
+        #[cfg(not(feature = "bootloader"))]
         control.lock(|io, _| io.on_sync0());
+        #[cfg(feature = "bootloader")]
+        control.lock(|app, _| app.app.on_sync0());
     }
 }

@@ -56,6 +56,22 @@ struct Record {
     hook: Option<(u64, usize, Action)>,
 }
 
+impl Record {
+    /// The [`Progress`] of the transaction about to start: with the test's action if it is for
+    /// this transaction.
+    fn progress(&mut self) -> Progress {
+        let index = self.stats.transactions;
+        let action = match self.hook.take() {
+            Some((transaction, byte, action)) if transaction == index => Some((byte, action)),
+            other => {
+                self.hook = other;
+                None
+            }
+        };
+        Progress { action }
+    }
+}
+
 /// Something the test does while a transaction is on the bus.
 type Action = Box<dyn FnOnce()>;
 
@@ -92,6 +108,22 @@ impl Probe {
     /// Whether the action of [`Probe::at`] is still waiting for its byte.
     pub fn armed(&self) -> bool {
         self.0.borrow().hook.is_some()
+    }
+
+    /// One cycle of a bus that is not SPI (the parallel bus of [`crate::mcu`]), counted and
+    /// logged as a transaction of the data bytes `chip` returns (what was on the data lines):
+    /// `chip` performs it, reporting what the real chip would reject and calling
+    /// [`Progress::reach`] where it acts; the test's action for this cycle ([`Probe::at`]) runs
+    /// there, or when the cycle ends.
+    pub fn cycle(&self, chip: impl FnOnce(&mut Vec<String>, &mut Progress) -> Vec<u8>) -> Vec<u8> {
+        let mut record = self.0.borrow_mut();
+        let mut progress = record.progress();
+        let data = chip(&mut record.violations, &mut progress);
+        progress.reach(usize::MAX);
+        record.stats.transactions += 1;
+        record.stats.bytes += data.len() as u64;
+        record.log.push(data.clone());
+        data
     }
 }
 
@@ -210,15 +242,7 @@ impl<C: Chip> FakeSpi<C> {
             return Ok(());
         }
         let mut miso = vec![0; mosi.len()];
-        let index = record.stats.transactions;
-        let action = match record.hook.take() {
-            Some((transaction, byte, action)) if transaction == index => Some((byte, action)),
-            other => {
-                record.hook = other;
-                None
-            }
-        };
-        let mut progress = Progress { action };
+        let mut progress = record.progress();
         self.chip
             .transaction(&mosi, &mut miso, &mut record.violations, &mut progress);
         // An action at a byte beyond the transaction: chip select rises.

@@ -650,8 +650,8 @@ fn check_pdo_length<D: ObjectDictionary, H>(
     }
     let od = &*cx.od;
     let entry = |sub| match pdo::Direction::of_assignment(index) {
-        Some(_) => pdo::layout::read_u16(od, object, sub).map(u32::from),
-        None => pdo::layout::read_u32(od, object, sub),
+        Some(_) => object.read_u16(od, sub).map(u32::from),
+        None => object.read_u32(od, sub),
     };
     pdo::check_length(od, process_ram(cx.device), index, n, &entry)
 }

@@ -2,7 +2,7 @@
 //! configuration tools and the SII EEPROM image, generated from the same description.
 //!
 //! ```text
-//! ecat-esi --device cia402|drive|dio|sensor --out DIR [--chip et1100|ax58100|lan9252]
+//! ecat-esi --device cia402|drive|dio|dio-update|sensor --out DIR [--chip et1100|ax58100|lan9252]
 //! ```
 //!
 //! Writes `DIR/<device>.xml` and `DIR/<device>.bin`; `DIR` must exist. `--chip` names the ESC

@@ -39,13 +39,13 @@ fn main() -> ! {
 #[embassy_executor::task]
 async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
-        spi,
+        bus,
         irq,
         sync0,
         leds,
         ..
     } = board;
-    let Some(pdi) = esc::start_logged(spi).await else {
+    let Some(pdi) = esc::start_logged(bus).await else {
         park().await
     };
     let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));

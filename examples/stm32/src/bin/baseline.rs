@@ -8,13 +8,13 @@
 
 use core::cell::RefCell;
 
-use defmt::{error, info, unwrap};
+#[cfg(not(feature = "fmc"))]
+use defmt::error;
+use defmt::{info, unwrap};
 use defmt_rtt as _;
-use ecat_stm32::board::{Board, EscSpi, Pin};
-use ecat_stm32::io::DigitalIo;
+use ecat_stm32::board::{Board, DigitalIo, EscBus, Pin};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
-use embedded_hal_async::spi::SpiDevice;
 use panic_probe as _;
 
 /// The application, shared by the exchange and the SYNC0 task as the firmware's runners share
@@ -27,34 +27,52 @@ ecat_stm32::executors!();
 #[cortex_m_rt::entry]
 fn main() -> ! {
     let Board {
-        spi,
+        bus,
         irq,
         sync0,
         io,
         leds: _,
+        ..
     } = Board::init();
     info!("baseline starting");
     IO.lock(|cell| cell.replace(Some(io)));
     run_executors(|high, spawner| {
-        high.spawn(unwrap!(exchange(spi, irq)));
+        high.spawn(unwrap!(exchange(bus, irq)));
         high.spawn(unwrap!(sync(sync0)));
         spawner.spawn(unwrap!(idle()));
     })
 }
 
 #[embassy_executor::task]
-async fn exchange(mut spi: EscSpi, mut irq: Pin) {
+async fn exchange(mut bus: EscBus, mut irq: Pin) {
     let mut frame = [0u8; 4];
     loop {
         irq.wait_for_low().await;
-        if let Err(e) = spi.transfer_in_place(&mut frame).await {
+        #[cfg(not(feature = "fmc"))]
+        if let Err(e) =
+            embedded_hal_async::spi::SpiDevice::transfer_in_place(&mut bus, &mut frame).await
+        {
             error!("SPI failed: {}", e);
         }
+        #[cfg(feature = "fmc")]
+        fmc_transfer(&mut bus, &mut frame);
         frame[0] = with_io(|io| {
             io.apply(frame[3]);
             io.sample()
         });
     }
+}
+
+/// The FMC's counterpart of the SPI transfer: `frame` written as two words, then read back.
+#[cfg(feature = "fmc")]
+fn fmc_transfer(bus: &mut EscBus, frame: &mut [u8; 4]) {
+    use ecat_embassy::mcu::Bus16;
+    let [a, b, c, d] = *frame;
+    bus.write(0x1000, u16::from_le_bytes([a, b]));
+    bus.write(0x1002, u16::from_le_bytes([c, d]));
+    let [a, b] = bus.read(0x1000).to_le_bytes();
+    let [c, d] = bus.read(0x1002).to_le_bytes();
+    *frame = [a, b, c, d];
 }
 
 #[embassy_executor::task]

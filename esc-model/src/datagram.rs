@@ -17,6 +17,8 @@
 //! [`Esc::ecat_read`] / [`Esc::ecat_write`]; accesses they refuse do not count. An ESC without
 //! distributed clocks does not count (and does not perform) accesses to 0x0900..0x09FF.
 
+use alloc::vec;
+use alloc::vec::Vec;
 use core::ops::Range;
 
 use ecat_core::register;

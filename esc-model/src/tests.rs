@@ -1,5 +1,8 @@
 //! Byte-exact tests of the emulated ESC against the register and SyncManager rules.
 
+use alloc::vec;
+use alloc::vec::Vec;
+
 use ecat_core::AlEvent;
 use ecat_core::chip::{Chip, ConfigArea};
 use ecat_core::register::{self, sync_manager};

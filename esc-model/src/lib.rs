@@ -6,6 +6,13 @@
 //! [`Esc`] is synchronous and deterministic. An access may span several areas: the register file,
 //! the buffer of an effective SyncManager, plain process RAM and the non-existent memory beyond
 //! it; each byte follows the rules of the area it falls into. No input makes it panic.
+//!
+//! `no_std` with `alloc` (the 64 KiB address space and the EEPROM image are on the heap): the
+//! host emulator (`ecat-emu`, which re-exports it as `ecat_emu::esc`) and the QEMU firmware
+//! (`examples/qemu`) run this one model.
+#![no_std]
+
+extern crate alloc;
 
 mod access;
 mod area;
@@ -19,6 +26,7 @@ mod sync_manager;
 #[cfg(test)]
 mod tests;
 
+use alloc::vec::Vec;
 use core::cell::{Ref, RefCell};
 
 use ecat_core::chip::{Chip, ConfigArea};

@@ -1,5 +1,7 @@
 //! The ESC's memory image: registers 0x0000..0x0FFF followed by the process RAM.
 
+use alloc::boxed::Box;
+use alloc::vec;
 use core::ops::Range;
 
 use ecat_core::register;

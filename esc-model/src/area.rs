@@ -1,6 +1,7 @@
 //! Which area of the ESC an address falls into, so that each byte of an access follows the
 //! rules of its area (ESC datasheet section I, "Address space").
 
+use alloc::vec::Vec;
 use ecat_core::register;
 
 use super::sync_manager::Buffer;

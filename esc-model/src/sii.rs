@@ -9,8 +9,10 @@
 //! error, bit 14 write enable error, bit 15 busy. Address 0x0504 (u32 word address), data
 //! 0x0508 (8 bytes read, 2 bytes written).
 
+use alloc::vec::Vec;
+
+use ecat_core::chip::crc8;
 use ecat_core::register;
-use ecat_core::sii::crc8;
 
 use super::Esc;
 use super::access::Side;
