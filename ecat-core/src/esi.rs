@@ -27,6 +27,7 @@
 use core::fmt::{self, Display, Write};
 
 use crate::DeviceConfig;
+use crate::al::AlStatusCode;
 use crate::coe::sdo::complete_access;
 use crate::device::Identity;
 use crate::dictionary::{
@@ -123,7 +124,12 @@ pub fn write<D: ObjectDictionary>(
     pdos(&mut x, od, Direction::Rx)?;
     pdos(&mut x, od, Direction::Tx)?;
     let protocols = sii::mailbox_protocols(device.config);
-    mailbox(&mut x, sii::coe_details(od), protocols)?;
+    mailbox(
+        &mut x,
+        sii::coe_details(od),
+        protocols,
+        has_diagnosis::<D>(),
+    )?;
     if device.config.sync_modes.dc() {
         dc(&mut x, device.config)?;
     }
@@ -324,6 +330,9 @@ fn profile<D: ObjectDictionary, W: Write>(x: &mut Xml<'_, W>, od: &D) -> Result<
     }
     x.close("Objects")?;
     x.close("Dictionary")?;
+    if has_diagnosis::<D>() {
+        diag_messages(x)?;
+    }
     x.close("Profile")?;
     Ok(())
 }
@@ -390,8 +399,9 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
                 x.leaf("Type", ObjectType { index, array: true })?;
                 x.leaf("BitSize", elements_bits(element))?;
             }
-            // A PDO mapping's like entries are named by subindex, as SSC's ESI files name them.
-            None if sub > 0 && info.is_uniform() => {
+            // A PDO mapping's like entries are named by subindex, as SSC's ESI files name them
+            // (and so are 0x10F3's messages).
+            None if info.is_repeated(sub) => {
                 x.leaf("SubIdx", sub)?;
                 x.leaf("Name", format_args!("SubIndex {sub:03}"))?;
                 x.leaf("Type", type_name(entry))?;
@@ -468,7 +478,7 @@ fn sub_item<D, W: Write>(
         return Ok(());
     };
     x.open("SubItem", &[])?;
-    if info.is_uniform() && sub > 0 {
+    if info.is_repeated(sub) {
         x.leaf("Name", format_args!("SubIndex {sub:03}"))?;
     } else {
         x.leaf("Name", entry.name)?;
@@ -710,24 +720,51 @@ fn pdos<D: ObjectDictionary, W: Write>(
     result
 }
 
-/// `Mailbox/CoE` with the SII General category's CoE details, and `Mailbox/FoE` when the SII's
-/// mailbox protocols word has FoE ([`sii::mailbox_protocols`]).
-fn mailbox<W: Write>(x: &mut Xml<'_, W>, coe: CoeDetails, protocols: u16) -> fmt::Result {
+/// `Mailbox/CoE` with the SII General category's CoE details (and `DiagHistory` for a
+/// dictionary with 0x10F3), and `Mailbox/FoE` when the SII's mailbox protocols word has FoE
+/// ([`sii::mailbox_protocols`]).
+fn mailbox<W: Write>(
+    x: &mut Xml<'_, W>,
+    coe: CoeDetails,
+    protocols: u16,
+    diagnosis: bool,
+) -> fmt::Result {
     let flag = |bit| if coe.has(bit) { "true" } else { "false" };
     x.open("Mailbox", &[])?;
-    x.empty(
-        "CoE",
-        &[
-            ("SdoInfo", &flag(CoeDetails::SDO_INFO)),
-            ("PdoAssign", &flag(CoeDetails::PDO_ASSIGN)),
-            ("PdoConfig", &flag(CoeDetails::PDO_CONFIG)),
-            ("CompleteAccess", &flag(CoeDetails::COMPLETE_ACCESS)),
-        ],
-    )?;
+    let attributes: [(&str, &dyn Display); 5] = [
+        ("SdoInfo", &flag(CoeDetails::SDO_INFO)),
+        ("PdoAssign", &flag(CoeDetails::PDO_ASSIGN)),
+        ("PdoConfig", &flag(CoeDetails::PDO_CONFIG)),
+        ("CompleteAccess", &flag(CoeDetails::COMPLETE_ACCESS)),
+        ("DiagHistory", &"true"),
+    ];
+    let used = if diagnosis { 5 } else { 4 };
+    x.empty("CoE", attributes.get(..used).unwrap_or(&attributes))?;
     if protocols & sii::PROTOCOL_FOE != 0 {
         x.empty("FoE", &[])?;
     }
     x.close("Mailbox")
+}
+
+/// Whether the dictionary has the diagnosis history 0x10F3.
+fn has_diagnosis<D: ObjectDictionary>() -> bool {
+    D::object(crate::diagnosis::DIAGNOSIS_HISTORY).is_some()
+}
+
+/// `Profile/DiagMessages` (ETG.2000 `DiagnosticsType`): the text of every text ID the stack logs
+/// in the diagnosis history, the AL status codes ETG.1000.6 Table 11 names
+/// ([`crate::diagnosis::Message::al_status_code`]), so a MainDevice shows them as text.
+fn diag_messages<W: Write>(x: &mut Xml<'_, W>) -> fmt::Result {
+    x.open("DiagMessages", &[])?;
+    for code in 1..=u16::from(u8::MAX) {
+        if let Some(text) = AlStatusCode(code).name() {
+            x.open("DiagMessage", &[])?;
+            x.leaf("TextId", Index(code))?;
+            x.leaf("MessageText", text)?;
+            x.close("DiagMessage")?;
+        }
+    }
+    x.close("DiagMessages")
 }
 
 /// `Dc`: an SM-synchronous operation mode (no DC activation) when supported, and the DC SYNC0

@@ -30,6 +30,7 @@
 //! | [`process_data`] | where the process-data image lives and what triggers its exchange |
 //! | [`sync_mode`] | the synchronisation modes (free-run, SM-synchronous, DC SYNC0) and the modes a device supports (0x1C32:01, 0x1C32:04) |
 //! | [`sync_parameters`] | the 0x1C32/0x1C33 parameter objects, the DC settings and their checks |
+//! | [`diagnosis`] | the diagnosis history 0x10F3: messages, acknowledge and overwrite modes (ETG.1020 §13) |
 //! | [`sync_error`] | sync error supervision: the SM/SYNC-event-missed counter against 0x10F1:02 → SAFEOP + 0x001A (ETG.1020 §6.3) |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
@@ -56,6 +57,7 @@ pub mod chip;
 pub mod cia402;
 pub mod coe;
 pub mod device;
+pub mod diagnosis;
 pub mod dictionary;
 pub mod esi;
 pub mod esm;

@@ -444,3 +444,68 @@ fn a_device_with_boot_advertises_foe() {
 ",
     );
 }
+
+struct Diagnosed {
+    history: ecat_core::diagnosis::DiagnosisHistory<2>,
+}
+
+ecat_core::dictionary! {
+    minimal Diagnosed {
+        0x10F3 => diagnosis(history);
+    }
+}
+
+/// A dictionary with the diagnosis history 0x10F3 (ETG.1020 §13): `CoE DiagHistory="true"`,
+/// the messages' like entries named by subindex, and `Profile/DiagMessages` after the
+/// dictionary with the text of each AL status code the stack logs.
+#[test]
+fn a_diagnosis_history_is_advertised_with_its_text_ids() {
+    let config = config(SupportedSyncModes::SM);
+    let description = Description {
+        vendor: "v",
+        names: &NAMES,
+        identity: &IDENTITY,
+        config: &config,
+    };
+    let mut xml = String::new();
+    let od = Diagnosed {
+        history: Default::default(),
+    };
+    esi::write(&mut xml, &description, &od, &SII).unwrap();
+    has(&xml, "DiagHistory=\"true\"/>");
+    has(
+        &xml,
+        "
+                <SubItem>
+                  <SubIdx>7</SubIdx>
+                  <Name>SubIndex 007</Name>
+                  <Type>OCTET_STRING(28)</Type>
+                  <BitSize>224</BitSize>
+                  <BitOffs>288</BitOffs>
+                  <Flags>
+                    <Access>ro</Access>
+                  </Flags>
+                </SubItem>
+              </DataType>",
+    );
+    has(
+        &xml,
+        "
+          </Dictionary>
+          <DiagMessages>
+            <DiagMessage>
+              <TextId>#x0001</TextId>
+              <MessageText>unspecified error</MessageText>
+            </DiagMessage>",
+    );
+    has(
+        &xml,
+        "
+            <DiagMessage>
+              <TextId>#x001A</TextId>
+              <MessageText>synchronization error</MessageText>
+            </DiagMessage>",
+    );
+    // Without 0x10F3: neither.
+    assert!(!sm_only().contains("Diag"));
+}

@@ -698,3 +698,146 @@ fn downward_transitions_stop_outputs_then_inputs_then_the_mailbox() {
         assert_eq!(log[reads.len()..], writes, "AL control {control:#06x}");
     }
 }
+
+/// A dictionary with a diagnosis history of 4 messages alone.
+pub struct DiagOd {
+    /// 0x10F3.
+    pub history: ecat_core::diagnosis::DiagnosisHistory<4>,
+}
+
+ecat_core::dictionary! {
+    minimal DiagOd {
+        0x10F3 => diagnosis(history);
+    }
+}
+
+/// Reads 0x10F3:`sub` as a MainDevice's upload does.
+fn history_entry(od: &DiagOd, sub: u8) -> Vec<u8> {
+    use ecat_core::dictionary::ObjectDictionary;
+    let object = DiagOd::object(0x10F3).unwrap();
+    let mut out = [0u8; 64];
+    let read = (object.read)(od, sub, 0, &mut out).unwrap();
+    out[..read.size].to_vec()
+}
+
+/// The mailbox served with `od` at `now` until it has nothing more; the SM1 messages written.
+fn serve_with(
+    regs: &mut Regs,
+    sub: &mut SubDevice<'_>,
+    now: Instant,
+    od: &mut DiagOd,
+) -> Vec<Vec<u8>> {
+    let send = common::MAILBOX.send.start;
+    let mut sent = Vec::new();
+    while sub.service_mailbox(now, od, &mut ()) {
+        for op in regs.drive(sub, now) {
+            if let Op::Write(a, data) = op
+                && a == send
+            {
+                sent.push(data);
+            }
+        }
+    }
+    sent
+}
+
+/// An emergency message as SM1 carries it: mailbox header (10 bytes, CoE, `counter`), CoE
+/// header (service 1), the 8 bytes.
+fn emergency_message(counter: u8, bytes: [u8; 8]) -> Vec<u8> {
+    let mut m = vec![10, 0, 0, 0, 0, (counter << 4) | 3, 0x00, 0x10];
+    m.extend(bytes);
+    m
+}
+
+#[test]
+fn a_watchdog_expiry_raises_0x8100_and_logs_0x001b_in_the_diagnosis_history() {
+    let mut regs = Regs::new();
+    let mut sub = in_op(&mut regs);
+    let mut od = DiagOd::default();
+    assert_eq!(history_entry(&od, 2), [0], "empty");
+    regs.put(ecat_core::register::WATCHDOG_STATUS_PROCESS_DATA, &[0, 0]);
+    regs.event |= AlEvent::WATCHDOG_PROCESS_DATA.bits();
+    sub.handle_al_event(AlEvent(regs.event));
+    regs.drive(&mut sub, T0);
+    assert_eq!(sub.al_status_code(), AlStatusCode(0x001B));
+    assert_eq!(sub.error_register(), 0x11);
+
+    let t1 = Instant::from_micros(5);
+    let sent = serve_with(&mut regs, &mut sub, t1, &mut od);
+    assert_eq!(
+        sent,
+        [emergency_message(
+            1,
+            [0x00, 0x81, 0x11, 0x1B, 0x00, 0, 0, 0]
+        )]
+    );
+    assert_eq!(
+        (history_entry(&od, 2), history_entry(&od, 4)),
+        (vec![6], vec![1])
+    );
+    assert_eq!(
+        history_entry(&od, 6),
+        [
+            0x00, 0xE0, 0x00, 0x00, // diag code
+            0x12, 0x00, // error, local timestamp, no parameters
+            0x1B, 0x00, // text ID: the AL status code
+            0x88, 0x13, 0, 0, 0, 0, 0, 0, // 5 µs
+        ]
+    );
+}
+
+#[test]
+fn stack_emergencies_are_rate_limited_per_code_and_diagnosis_emergencies_follow_0x10f3_05() {
+    use ecat_core::diagnosis::{Message, Severity};
+    use ecat_core::subdevice::EMERGENCY_PERIOD;
+    let mut regs = Regs::new();
+    let mut sub = in_preop(&mut regs);
+    let mut od = DiagOd::default();
+    // PREOP→SAFEOP refused by the application with 0x001D: 0xA000 with the code, logged.
+    let refuse = |regs: &mut Regs, sub: &mut SubDevice<'_>| {
+        request(regs, sub, 0x0014); // SAFEOP, acknowledging the previous error
+        sub.complete_transition(
+            up(AlState::PreOp, AlState::SafeOp),
+            Err(AlStatusCode(0x001D)),
+        );
+        regs.drive(sub, T0);
+    };
+    refuse(&mut regs, &mut sub);
+    let a000 = [0x00, 0xA0, 0x01, 0x1D, 0x00, 0, 0, 0];
+    assert_eq!(
+        serve_with(&mut regs, &mut sub, T0, &mut od),
+        [emergency_message(1, a000)]
+    );
+    answer_read(&mut regs, &mut sub);
+    // Again within the period: logged, no emergency; after it: one.
+    refuse(&mut regs, &mut sub);
+    let just_before = Instant::from_micros(EMERGENCY_PERIOD.as_micros() - 1);
+    assert_eq!(
+        serve_with(&mut regs, &mut sub, just_before, &mut od),
+        Vec::<Vec<u8>>::new()
+    );
+    assert_eq!(history_entry(&od, 2), [7]);
+    refuse(&mut regs, &mut sub);
+    let at = Instant::from_micros(EMERGENCY_PERIOD.as_micros());
+    assert_eq!(
+        serve_with(&mut regs, &mut sub, at, &mut od),
+        [emergency_message(2, a000)]
+    );
+    answer_read(&mut regs, &mut sub);
+    assert_eq!(history_entry(&od, 2), [8]);
+
+    // 0x10F3:05 bit 0: each new message is an emergency 0xFF00 with its text ID and flags, the
+    // error register the current error's.
+    use ecat_core::dictionary::ObjectDictionary;
+    (DiagOd::object(0x10F3).unwrap().write)(&mut od, 5, &[1, 0]).unwrap();
+    let warning = Message::new(Severity::Warning, 0x4001, at);
+    assert!(sub.diagnose(&mut od, warning));
+    assert_eq!(
+        serve_with(&mut regs, &mut sub, at, &mut od),
+        [emergency_message(
+            3,
+            [0x00, 0xFF, 0x01, 0x01, 0x40, 0x11, 0x00, 0x00]
+        )]
+    );
+    assert_eq!(history_entry(&od, 2), [9]);
+}

@@ -226,6 +226,28 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
         self.status.raise_emergency(emergency);
     }
 
+    /// Adds `message` to the dictionary's diagnosis history (0x10F3, `dictionary!`'s
+    /// `diagnosis` item) and raises its emergency when 0x10F3:05 bit 0 asks for one. Returns
+    /// whether it was stored (not without a history, nor with its type disabled or, in
+    /// acknowledge mode, no room).
+    pub fn diagnose(self, message: ecat_core::diagnosis::Message) -> bool
+    where
+        D: ecat_core::dictionary::ObjectDictionary,
+    {
+        let indication = self.status.indication();
+        let register = match (indication.status(), indication.code()) {
+            (Some(status), code) => ecat_core::coe::Emergency::error_register(status, code),
+            (None, _) => 0,
+        };
+        let logged = self
+            .app
+            .lock(|_, od| od.diagnosis()?.log(message, register));
+        if let Some(Some(emergency)) = logged {
+            self.raise_emergency(emergency);
+        }
+        logged.is_some()
+    }
+
     /// The AL status side alone, whatever the application: for the indicator task.
     pub fn status(self) -> Status<'a, P> {
         self.status

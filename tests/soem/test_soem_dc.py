@@ -83,3 +83,28 @@ def test_the_axis_reaches_op_in_dc_mode_and_runs_thousands_of_cycles(master):
     assert diag[0x0C] == 0, diag
     # The axis ran DC cycles: 0x1C32:0A shows the SYNC0 cycle time it follows.
     assert struct.unpack("<I", axis.sdo_read(0x1C32, 0x0A))[0] == CYCLE_NS
+
+
+def test_a_sync_error_is_an_emergency_and_the_newest_diagnosis_message(master):
+    """The MainDevice stops sending frames with the axis in OP in DC mode and the sync error
+    counter limit low: the axis leaves OP with 0x001A (ETG.1020 §6.3), raises emergency 0x8700
+    (error register 0x11, the AL status code in the data) and logs the code as the newest
+    message of its diagnosis history 0x10F3 (ETG.1020 §13), read subindex by subindex as SOEM
+    reads it (ec_SDOread)."""
+    axis = master.slaves[LINE.index("cia402")]
+    received = []
+    axis.add_emergency_callback(received.append)
+    # Limit 4: two SYNC0 cycles in a row without new outputs (3, 6). No frame is sent from
+    # here on but mailbox ones: the next SYNC0 cycles trip the supervision.
+    axis.sdo_write(0x10F1, 2, struct.pack("<H", 4))
+    time.sleep(0.05)
+    master.read_state()
+    assert (axis.state, axis.al_status) == (pysoem.SAFEOP_STATE | pysoem.STATE_ERROR, 0x001A)
+    newest = axis.sdo_read(0x10F3, 2)[0]
+    assert 6 <= newest <= 6 + axis.sdo_read(0x10F3, 1)[0] - 1
+    code, flags, text_id, _ns = struct.unpack("<IHHQ", axis.sdo_read(0x10F3, newest)[:16])
+    # Diag code 0xE000, an error (type 2) with a local timestamp (bit 4), text ID 0x001A.
+    assert (code, flags, text_id) == (0xE000, 0x0012, 0x001A)
+    assert axis.sdo_read(0x10F3, 4) == b"\x01"
+    got = [(e.error_code, e.error_reg, e.b1, e.w1, e.w2) for e in received]
+    assert (0x8700, 0x11, 0x1A, 0, 0) in got, got

@@ -27,6 +27,9 @@ pub struct SdoClient<'m> {
     counter: u8,
     /// Mailbox round trips so far (request written, answer read).
     pub round_trips: usize,
+    /// The emergencies (their 8 bytes) that came in place of an answer, oldest first: like
+    /// SOEM's `ec_mbxreceive`, the client keeps them and reads SM1 again.
+    pub emergencies: Vec<[u8; 8]>,
 }
 
 impl<'m> SdoClient<'m> {
@@ -39,6 +42,7 @@ impl<'m> SdoClient<'m> {
             send,
             counter: 0,
             round_trips: 0,
+            emergencies: Vec::new(),
         }
     }
 
@@ -92,10 +96,12 @@ impl<'m> SdoClient<'m> {
     pub async fn sdo(&mut self, sdo: &[u8]) -> Result<Vec<u8>, SdoError> {
         let mut payload = vec![0x00, 0x20];
         payload.extend_from_slice(sdo);
-        let answer = self
-            .exchange(MailboxType::Coe, &payload)
-            .await
-            .ok_or_else(|| protocol("no answer"))?;
+        let mut answer = self.exchange(MailboxType::Coe, &payload).await;
+        while let Some(emergency) = answer.as_deref().and_then(emergency_of) {
+            self.emergencies.push(emergency);
+            answer = self.read().await;
+        }
+        let answer = answer.ok_or_else(|| protocol("no answer"))?;
         let header = MailboxHeader::parse(&answer).ok_or_else(|| protocol("short answer"))?;
         let body = &answer[6..6 + usize::from(header.length).min(answer.len() - 6)];
         if header.kind == MailboxType::Error {
@@ -207,4 +213,13 @@ impl<'m> SdoClient<'m> {
 
 fn protocol(what: &str) -> SdoError {
     SdoError::Protocol(what.to_string())
+}
+
+/// The 8 bytes of a CoE emergency (service 1) in the SM1 buffer `message`.
+pub fn emergency_of(message: &[u8]) -> Option<[u8; 8]> {
+    let header = MailboxHeader::parse(message)?;
+    let service = message.get(7)? >> 4;
+    (header.kind == MailboxType::Coe && service == 1)
+        .then(|| message.get(8..16)?.try_into().ok())
+        .flatten()
 }

@@ -24,6 +24,7 @@ use ecat_embassy::Application;
 use crate::flash::Flash;
 use crate::harness::{AcceptAll, Device};
 use crate::update::{self, FlashFiles};
+use ecat_core::diagnosis::DiagnosisHistory;
 
 /// A CiA402-like drive's process data: RxPDO 0x1600 = controlword, target position, target
 /// velocity, mode of operation (11 bytes); TxPDO 0x1A00 = statusword, actual position, actual
@@ -62,6 +63,8 @@ pub struct Drive {
     /// 0x2001: a CiA 301 error code a MainDevice writes to make the drive report it in an
     /// emergency ([`DriveApp`]), for testing a MainDevice's emergency handling.
     pub simulated_error: u16,
+    /// 0x10F3: the diagnosis history the stack logs its AL status codes into.
+    pub history: DiagnosisHistory<8>,
 }
 
 /// The default RxPDO mapping of [`Drive`].
@@ -83,6 +86,7 @@ pub const DRIVE_TX: [MappingEntry; 4] = [
 ecat_core::dictionary! {
     Drive {
         communication(area, DRIVE_INFO);
+        0x10F3 => diagnosis(history);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_RX));
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_TX));
         0x1C12 => pdo(rx_assign, RW_PREOP, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
@@ -461,7 +465,8 @@ mod tests {
             with(
                 &[0x1600, 0x1A00],
                 &[
-                    0x2000, 0x2001, 0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A, 0x60FF
+                    0x10F3, 0x2000, 0x2001, 0x6040, 0x6041, 0x6060, 0x6061, 0x6064, 0x606C, 0x607A,
+                    0x60FF
                 ]
             )
         );

@@ -56,6 +56,8 @@ pub struct Record {
 pub struct FuzzOd {
     /// The communication area.
     pub area: Communication,
+    /// 0x10F3: the diagnosis history the session's errors fill and its SDO writes acknowledge.
+    pub history: ecat_core::diagnosis::DiagnosisHistory<3>,
     /// 0x1600.
     pub rx1: PdoMapping<8>,
     /// 0x1601.
@@ -126,6 +128,7 @@ const TX: [MappingEntry; 3] = [
 ecat_core::dictionary! {
     FuzzOd {
         communication(area, INFO);
+        0x10F3 => diagnosis(history);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1", "Entry", default = PdoMapping::mapping(&RX));
         0x1601 => pdo(rx2, RW_PREOP, "RxPDO 2", "Entry");
         0x1A00 => pdo(tx1, RW_PREOP, "TxPDO 1", "Entry", default = PdoMapping::mapping(&TX));
@@ -285,9 +288,9 @@ fn sm(start: u16, length: u16, control: u8) -> [u8; 8] {
 const CYCLE_BYTES: usize = 24;
 
 /// The indices an SDO step aims at: every object, and one that does not exist.
-const INDICES: [u16; 23] = [
+const INDICES: [u16; 24] = [
     0x1008, 0x1018, 0x1600, 0x1601, 0x1A00, 0x1C12, 0x1C13, 0x1C32, 0x1C33, 0x2000, 0x2001, 0x2002,
-    0x2003, 0x2004, 0x2005, 0x2006, 0x2007, 0x6040, 0x6041, 0x6060, 0x6064, 0x607A, 0x5555,
+    0x2003, 0x2004, 0x2005, 0x2006, 0x2007, 0x6040, 0x6041, 0x6060, 0x6064, 0x607A, 0x5555, 0x10F3,
 ];
 
 /// The ESC as plain memory, the SubDevice, its dictionary and the time.

@@ -33,7 +33,26 @@ fn u16_of(bytes: Result<Vec<u8>, SdoError>) -> u16 {
 /// in OP; then `cycles` SYNC0 cycles in which the MainDevice's output frame is lost every
 /// `n`th time. Returns the cycle (1-based) after which the SubDevice was no longer in OP, and
 /// AL status, AL status code, 0x1C32:0B and 0x1C32:20 at the end.
-fn drop_one_in(n: u32, cycles: u32) -> (Option<u32>, u16, u16, u16, Vec<u8>) {
+fn drop_one_in(n: u32, cycles: u32) -> Outcome {
+    let (result, _) = drop_one_in_diagnosed(n, cycles);
+    result
+}
+
+/// The cycle after which the SubDevice left OP, AL status, AL status code, 0x1C32:0B and
+/// 0x1C32:20.
+type Outcome = (Option<u32>, u16, u16, u16, Vec<u8>);
+
+/// What the MainDevice saw of the diagnosis after [`drop_one_in`]'s scenario: the emergencies
+/// and 0x10F3:02, 0x10F3:04 and the newest message.
+struct Diagnosis {
+    emergencies: Vec<[u8; 8]>,
+    newest: Vec<u8>,
+    available: Vec<u8>,
+    message: Vec<u8>,
+}
+
+/// [`drop_one_in`] and what the MainDevice then reads of the diagnosis.
+fn drop_one_in_diagnosed(n: u32, cycles: u32) -> (Outcome, Diagnosis) {
     let result = std::rc::Rc::new(std::cell::RefCell::new(None));
     let out = result.clone();
     let mut device = Device::new(common::drive(), App, Idle).with_dictionary(Drive::default());
@@ -65,13 +84,26 @@ fn drop_one_in(n: u32, cycles: u32) -> (Option<u32>, u16, u16, u16, Vec<u8>) {
                 left_op = Some(k);
             }
         }
-        *out.borrow_mut() = Some((
+        let result = (
             left_op,
             master.al_status(),
             master.al_status_code(),
             u16_of(c.upload(0x1C32, 0x0B, false).await),
             c.upload(0x1C32, 0x20, false).await.unwrap(),
-        ));
+        );
+        let newest = c.upload(0x10F3, 2, false).await.unwrap();
+        let available = c.upload(0x10F3, 4, false).await.unwrap();
+        let message = match newest.first() {
+            Some(&si) if si >= 6 => c.upload(0x10F3, si, false).await.unwrap(),
+            _ => Vec::new(),
+        };
+        let diagnosis = Diagnosis {
+            emergencies: c.emergencies.clone(),
+            newest,
+            available,
+            message,
+        };
+        *out.borrow_mut() = Some((result, diagnosis));
     });
     result.borrow_mut().take().expect("the scenario ran")
 }
@@ -95,4 +127,25 @@ fn two_lost_frames_in_a_row_trip_at_the_second() {
     assert_eq!(drop_one_in(1, 10), (Some(2), 0x14, 0x001A, 2, vec![1]));
     // One in two: 0, 3, 2, 5 → cycle 4.
     assert_eq!(drop_one_in(2, 10), (Some(4), 0x14, 0x001A, 2, vec![1]));
+}
+
+#[test]
+fn a_sync_error_raises_0x8700_and_is_the_newest_diagnosis_message() {
+    let (result, diagnosis) = drop_one_in_diagnosed(1, 10);
+    assert_eq!(result, (Some(2), 0x14, 0x001A, 2, vec![1]));
+    // The emergency came in place of the first SDO answer after the trip: sync controller
+    // error, error register generic + communication, the AL status code in the data.
+    assert_eq!(
+        diagnosis.emergencies,
+        [[0x00, 0x87, 0x11, 0x1A, 0x00, 0, 0, 0]]
+    );
+    assert_eq!((diagnosis.newest, diagnosis.available), (vec![6], vec![1]));
+    assert_eq!(
+        diagnosis.message[..8],
+        [0x00, 0xE0, 0x00, 0x00, 0x12, 0x00, 0x1A, 0x00],
+        "diag code 0xE000, error with a local timestamp, text ID 0x001A"
+    );
+    let ns = u64::from_le_bytes(diagnosis.message[8..16].try_into().unwrap());
+    // Stamped by the mailbox service after the trip, on the virtual clock.
+    assert_eq!((diagnosis.message.len(), ns), (16, 3_000_000));
 }

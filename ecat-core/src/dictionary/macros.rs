@@ -13,6 +13,7 @@
 ///             SUB => field, ACCESS, "Name" [, default = …] [, min = …] [, max = …] [, unit = …];
 ///         };
 ///         INDEX => pdo(field, ACCESS, "Name", "Entry name" [, default = …]);
+///         0x10F3 => diagnosis(field);
 ///     }
 /// }
 /// ```
@@ -48,6 +49,10 @@
 /// [`PdoMapping<N>`](crate::pdo::PdoMapping)) or assignment object (0x1C12, 0x1C13;
 /// [`PdoAssignment<N>`](crate::pdo::PdoAssignment)): SI0 counts the valid entries and follows the
 /// PDO configuration write rules of [`crate::pdo`].
+///
+/// `diagnosis` declares the diagnosis history at 0x10F3 (field type
+/// [`DiagnosisHistory<N>`](crate::diagnosis::DiagnosisHistory)): the stack logs its own events
+/// into it ([`ObjectDictionary::diagnosis`](crate::dictionary::ObjectDictionary::diagnosis)).
 ///
 /// `ACCESS` is one or more [`Access`](crate::dictionary::Access) constants joined by `|`
 /// (`RO`, `RW`, `WO`, `RW_PREOP`, `RW_PREOP_SAFEOP`, `RXPDO`, `TXPDO`, `BACKUP`, `SETTINGS`).
@@ -253,6 +258,13 @@ macro_rules! __ecat_impl {
             fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(pack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
+            }
+
+            #[allow(unreachable_code, unused_variables)] // with a diagnosis history, without
+            fn diagnosis(&mut self) -> Option<$crate::diagnosis::History<'_>> {
+                let od = self;
+                $( $crate::__ecat_diagnosis!(od, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
+                None
             }
         }
 
@@ -509,6 +521,23 @@ macro_rules! __ecat_object {
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
     };
+    ($dict:ident, $index:literal, diagnosis ( $field:ident )) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $crate::dictionary::ObjectInfo {
+                index: $crate::diagnosis::index($index),
+                max_sub: $crate::diagnosis::max_sub_of(|d: &$dict| &d.$field),
+                ..$crate::diagnosis::OBJECT
+            },
+            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                d.$field.log.read(&d.$field.messages, sub, offset, out)
+            },
+            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+                let field = &mut d.$field;
+                field.log.write(&field.messages, sub, data)
+            },
+            limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
+        }
+    };
     ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
            $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
@@ -630,6 +659,16 @@ macro_rules! __ecat_entry_number {
     };
 }
 
+/// The diagnosis history of a dictionary: `diagnosis` returns it, the other items nothing.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_diagnosis {
+    ($od:ident, diagnosis ( $field:ident )) => {
+        return Some($od.$field.history());
+    };
+    ($od:ident, $($other:tt)*) => {};
+}
+
 /// The default value of one field.
 #[doc(hidden)]
 #[macro_export]
@@ -644,6 +683,9 @@ macro_rules! __ecat_default {
     };
     (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
         $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
+    };
+    (diagnosis ( $field:ident )) => {
+        $crate::diagnosis::DiagnosisHistory::new()
     };
     (record ( $field:ident : $record:ident, $name:literal ) {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal

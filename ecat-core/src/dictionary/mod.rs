@@ -128,6 +128,12 @@ pub trait ObjectDictionary: Sized + 'static {
     /// [`Mapped::pack`](crate::pdo::image::Mapped::pack) per field).
     fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]);
 
+    /// The diagnosis history (0x10F3) the stack logs its events into, when the dictionary
+    /// declares one (`dictionary!`'s `diagnosis` item).
+    fn diagnosis(&mut self) -> Option<crate::diagnosis::History<'_>> {
+        None
+    }
+
     /// The state of 0x1010/0x1011 ([`parameters`]): `None` for a device without storage (the
     /// default), the `stored` field of a `communication(area, INFO, stored = field)` item.
     fn stored_parameters(&mut self) -> Option<&mut parameters::StoredParameters> {

@@ -112,6 +112,14 @@ impl ObjectInfo {
         }
     }
 
+    /// Whether `sub` shares its description with other subindices: an entry of a uniform
+    /// object, or one of a RECORD's entries from its last declared on when `max_sub` is beyond
+    /// it (0x10F3's messages).
+    pub fn is_repeated(&self, sub: u8) -> bool {
+        let last = self.entries.last().map_or(0, |e| e.sub);
+        sub > 0 && (self.is_uniform() || (last < self.max_sub && sub >= last))
+    }
+
     /// The description of subindex `sub`, `None` if it does not exist.
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
         if sub > self.max_sub {
@@ -122,10 +130,12 @@ impl ObjectInfo {
             // the search.
             Some(entry) if entry.sub == sub => Some(entry),
             _ if self.is_uniform() => self.entries.get(1),
-            _ => {
-                let i = self.entries.binary_search_by_key(&sub, |e| e.sub).ok()?;
-                self.entries.get(i)
-            }
+            // A RECORD's entries beyond the last declared repeat it (0x10F3's messages).
+            _ => match self.entries.binary_search_by_key(&sub, |e| e.sub) {
+                Ok(i) => self.entries.get(i),
+                Err(i) if i == self.entries.len() => self.entries.last(),
+                Err(_) => None,
+            },
         }
     }
 
@@ -143,11 +153,20 @@ impl ObjectInfo {
     }
 
     /// The subindices that exist, in order: 0..=max_sub for VAR, ARRAY and a uniform RECORD,
-    /// the declared ones for another RECORD.
+    /// the declared ones for another RECORD, then those up to `max_sub` its last entry
+    /// describes.
     pub fn subindices(&self) -> impl Iterator<Item = u8> + '_ {
         let dense = self.is_uniform() || self.code != ObjectCode::Record;
         let declared = self.entries.iter().map(|e| e.sub).filter(move |_| !dense);
-        (0..=self.max_sub).filter(move |_| dense).chain(declared)
+        // The entries beyond the last declared, which repeat it.
+        let last = self.entries.last().map_or(0, |e| e.sub);
+        let tail = (last..=self.max_sub)
+            .skip(1)
+            .filter(move |_| !dense && last > 0);
+        (0..=self.max_sub)
+            .filter(move |_| dense)
+            .chain(declared)
+            .chain(tail)
     }
 }
 

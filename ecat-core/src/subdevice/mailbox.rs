@@ -169,6 +169,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         hooks: &mut H,
         handlers: &mut P,
     ) -> bool {
+        if !self.logged.is_empty() {
+            self.log_diagnosis(now, od);
+        }
         // Nothing due, nothing changed. Nothing is served either while an access is in flight:
         // an SM0 read the request's event made due (`mailbox_due`) goes first, so that the
         // request's answer finds SM1 free.

@@ -33,6 +33,7 @@
 //! | `process_data.rs` | the process-data areas and sizes, outputs received |
 //! | `sync_mode.rs` | the synchronisation mode in effect, its checks, SYNC0 and sync errors |
 //! | `mailbox.rs` | the SM0/SM1 accesses, serving the mailbox, emergencies |
+//! | `diagnosis.rs` | the diagnosis history: the stack's AL status codes logged, the application's messages |
 
 use crate::al::{AlEvent, AlState, AlStatus, AlStatusCode};
 use crate::device::{DeviceConfig, ProcessDataSizes};
@@ -45,6 +46,8 @@ use crate::sync_mode::SyncMode;
 use crate::sync_parameters::{self, DcSettings};
 use crate::time::Instant;
 
+mod diagnosis;
+pub use diagnosis::EMERGENCY_PERIOD;
 mod events;
 mod mailbox;
 mod plan;
@@ -60,6 +63,10 @@ use targets::{Stale, Written};
 pub(crate) const ESM_EVENTS: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 // Every AL event mask the core writes carries them: 0 can stand for "not written yet".
 const _: () = assert!(!ESM_EVENTS.is_empty());
+
+/// How many AL status codes wait to be logged in the diagnosis history at most (the oldest is
+/// dropped).
+pub(crate) const LOGGED: usize = 4;
 
 /// The AL events of the mailbox: SM0 written by the MainDevice, SM1 read by it.
 const MAILBOX_EVENTS: AlEvent = AlEvent::sync_manager(0).union(AlEvent::sync_manager(1));
@@ -144,6 +151,13 @@ pub enum Event {
     /// The state changed: an accepted upward transition, a downward transition, or a fall back
     /// after an error.
     StateChanged(Transition),
+}
+
+/// An AL status code the stack set, and the state it was in then.
+#[derive(Debug, Clone, Copy)]
+struct Logged {
+    code: AlStatusCode,
+    state: AlState,
 }
 
 /// A transition waiting for the application.
@@ -267,6 +281,10 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     dc: DcSettings,
     mailbox: Mailbox<MBX>,
     events: Ring<Event, 8>,
+    /// The AL status codes set and not yet logged.
+    logged: Ring<Logged, LOGGED>,
+    /// The last emergency raised for an AL status code, and when.
+    last_emergency: (AlStatusCode, Instant),
     channels: Channels,
     buf: [u8; BUF_LEN],
 }
@@ -293,6 +311,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 to: AlState::Init,
             })),
             buf: [0; BUF_LEN],
+            logged: Ring::new(Logged {
+                code: AlStatusCode::NO_ERROR,
+                state: AlState::Init,
+            }),
+            last_emergency: (AlStatusCode::NO_ERROR, Instant::from_micros(0)),
             mailbox: Mailbox::new(),
             stale: Stale::ALL,
             pd_sizes: config.process_data,

@@ -3,7 +3,7 @@
 
 use super::plan::InFlight;
 use super::targets::Stale;
-use super::{CycleSigns, Event, Pending, SubDevice};
+use super::{CycleSigns, Event, Logged, Pending, SubDevice};
 use crate::al::{AlControl, AlState, AlStatusCode};
 use crate::esm::{self, Decision, Transition};
 use crate::process_data::Writes;
@@ -168,8 +168,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
     }
 
-    /// Sets the error indication with `code` and falls back to `state` when it is lower.
+    /// Sets the error indication with `code` and falls back to `state` when it is lower. The
+    /// code is logged, for the diagnosis history and its emergency, at the next mailbox service
+    /// ([`SubDevice::log_diagnosis`]).
     pub(super) fn fail(&mut self, code: AlStatusCode, state: AlState) {
+        self.logged.push(Logged {
+            code,
+            state: self.state,
+        });
         self.abort_pending();
         // A lower rank is another state.
         if state.rank() < self.state.rank() {

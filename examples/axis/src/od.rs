@@ -4,6 +4,7 @@
 use ecat_core::cia402::SoftwarePositionLimit;
 use ecat_core::cia402::objects::HomingSpeeds;
 use ecat_core::device::Identity;
+use ecat_core::diagnosis::DiagnosisHistory;
 use ecat_core::dictionary::{Communication, DeviceInfo};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 
@@ -103,6 +104,9 @@ pub struct AxisOd {
     /// 0x10F1 error settings (ETG.1020): the sync error counter limit the stack's sync error
     /// supervision applies in DC mode (`ecat_core::sync_error`).
     pub error_settings: ErrorSettings,
+    /// 0x10F3 diagnosis history (ETG.1020): the AL status codes the stack set, and the axis's
+    /// own messages, for a MainDevice's "Diag History".
+    pub diagnosis: DiagnosisHistory<8>,
     /// 0x1600.
     pub rx_mapping: PdoMapping<8>,
     /// 0x1A00.
@@ -215,6 +219,7 @@ ecat_core::dictionary! {
             1 => local_error_reaction, RW, "Local error reaction";
             2 => sync_error_counter_limit, RW, "Sync error counter limit", default = 4;
         };
+        0x10F3 => diagnosis(diagnosis);
         0x1600 => pdo(rx_mapping, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX_MAPPING));
         0x1601 => pdo(rx_profile_mapping, RW_PREOP, "RxPDO 2 mapping (profile modes)", "Mapped object", default = PdoMapping::mapping(&RX_PROFILE_MAPPING));
         0x1A00 => pdo(tx_mapping, RW_PREOP, "TxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&TX_MAPPING));

@@ -634,7 +634,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             for (((sub, entry), item), offset) in entries.iter().zip(&items).zip(&offsets) {
                 assert_eq!(number(text(*item, "SubIdx")), u64::from(*sub));
                 let name = match *sub {
-                    1.. if info.is_uniform() => format!("SubIndex {sub:03}"),
+                    _ if info.is_repeated(*sub) => format!("SubIndex {sub:03}"),
                     _ => entry.name.to_owned(),
                 };
                 assert_eq!(text(*item, "Name"), name);
@@ -666,7 +666,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
                 assert_eq!(text(*item, "Name"), si0.name);
             } else {
                 check_values::<D>(values, info.index, *sub);
-                let expected = match info.is_uniform() {
+                let expected = match info.is_repeated(*sub) {
                     true => format!("SubIndex {sub:03}"),
                     false => info.entry(*sub).unwrap().name.to_owned(),
                 };
@@ -717,7 +717,7 @@ fn profile_and_pdo_flags_of_the_samples() {
         "0x1600 is RW_PREOP: not fixed"
     );
     assert!(axis.contains(
-        "<CoE SdoInfo=\"true\" PdoAssign=\"true\" PdoConfig=\"true\" CompleteAccess=\"true\"/>"
+        "<CoE SdoInfo=\"true\" PdoAssign=\"true\" PdoConfig=\"true\" CompleteAccess=\"true\" DiagHistory=\"true\"/>"
     ));
     let sensor = xml("sensor");
     assert!(
