@@ -5,8 +5,8 @@
 use core::cell::RefCell;
 use core::marker::PhantomData;
 
-use ecat_core::DeviceConfig;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
+use ecat_core::{DeviceConfig, SubDevice};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embedded_hal_async::digital::Wait;
@@ -127,6 +127,9 @@ pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usiz
     app: AppCell<A, D>,
     outputs: [u8; OUT],
     inputs: [u8; IN],
+    /// The SubDevice, made by [`Resources::split`] (its constructor is not `const`) and lent to
+    /// the state-machine runner.
+    sub: Option<SubDevice<'static, MBX>>,
 }
 
 impl<P, A, D, const OUT: usize, const IN: usize, const MBX: usize> Resources<P, A, D, OUT, IN, MBX>
@@ -145,6 +148,7 @@ where
             app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
             outputs: [0; OUT],
             inputs: [0; IN],
+            sub: None,
         }
     }
 
@@ -177,10 +181,12 @@ where
             app,
             outputs,
             inputs,
+            sub,
         } = self;
         let (esc, app) = (&*esc, &*app);
+        let sub = sub.insert(SubDevice::new(config));
         (
-            StateMachineRunner::new(esc, app, config),
+            StateMachineRunner::new(esc, app, sub),
             ProcessDataRunner::new(esc, app, outputs, inputs),
             Control {
                 app,

@@ -5,9 +5,7 @@
 use core::pin::pin;
 
 use ecat_core::dictionary::ObjectDictionary;
-use ecat_core::{
-    AlEvent, AlStatusCode, DeviceConfig, Event, RegisterAccess, SubDevice, Transition,
-};
+use ecat_core::{AlEvent, AlStatusCode, Event, RegisterAccess, SubDevice, Transition};
 use embassy_futures::select::{Either, Either3, select, select3};
 use embedded_hal_async::digital::Wait;
 
@@ -26,7 +24,9 @@ use crate::{Application, Pdi};
 pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128, S = ()> {
     esc: &'a SharedEsc<P>,
     app: &'a AppCell<A, D>,
-    sub: SubDevice<'a, MBX>,
+    /// In the `Resources`, not in the runner: a SubDevice moved into the runner's future is a
+    /// copy of several hundred bytes the firmware pays in code (a `memmove`) and stack.
+    sub: &'a mut SubDevice<'static, MBX>,
     storage: S,
 }
 
@@ -39,12 +39,12 @@ where
     pub(crate) fn new(
         esc: &'a SharedEsc<P>,
         app: &'a AppCell<A, D>,
-        config: &'a DeviceConfig,
+        sub: &'a mut SubDevice<'static, MBX>,
     ) -> Self {
         Self {
             esc,
             app,
-            sub: SubDevice::new(config),
+            sub,
             storage: (),
         }
     }
@@ -107,7 +107,7 @@ where
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, A, D, const MBX: usize, S>(
     esc: &'a SharedEsc<P>,
-    mut sub: SubDevice<'a, MBX>,
+    sub: &'a mut SubDevice<'static, MBX>,
     app: &'a AppCell<A, D>,
     mut storage: S,
 ) -> impl Future<Output = P::Error> + 'a
@@ -118,7 +118,6 @@ where
     S: Storage<D> + 'a,
 {
     async move {
-        let sub = &mut sub;
         take_outside_news(esc, sub, app);
         let mut step = Step::Serve;
         loop {
