@@ -167,6 +167,7 @@ where
 
     /// The two runners and a control handle: the state-machine runner for the thread executor,
     /// the process-data runner for an `InterruptExecutor` above it, the [`Control`] for any task.
+    /// Each call makes the SubDevice anew (in INIT, as after a reset): split once per start.
     #[allow(clippy::type_complexity)] // the three parts, each named in full
     pub fn split(
         &mut self,
