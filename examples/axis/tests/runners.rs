@@ -35,8 +35,8 @@ async fn exchange(master: &TestMaster, outputs: &[u8]) -> (u16, i32, i32, i8, u1
     (word(0), long(2), long(6), inputs[12] as i8, word(17))
 }
 
-#[test]
-fn a_master_enables_the_axis_in_csv_through_process_data() {
+/// The axis with its dictionary, the CSV PDO set's 13 bytes out and 19 in.
+fn axis() -> Device<AxisApp, Axis, AxisOd> {
     let config = DeviceConfig::new(
         MAILBOX,
         ProcessDataSizes {
@@ -44,7 +44,12 @@ fn a_master_enables_the_axis_in_csv_through_process_data() {
             inputs: 19,
         },
     );
-    let device = Device::new(config, AxisApp, Axis::new()).with_dictionary(AxisOd::default());
+    Device::new(config, AxisApp, Axis::new()).with_dictionary(AxisOd::default())
+}
+
+#[test]
+fn a_master_enables_the_axis_in_csv_through_process_data() {
+    let device = axis();
     harness::run(device, |master| async move {
         master.reset().await;
         assert_eq!(master.request(0x01).await, (0x01, 0));
@@ -92,14 +97,7 @@ const PROFILE_INPUTS: Area = Area::new(0x1180, 31);
 
 #[test]
 fn the_profile_pdo_set_is_selected_through_0x1c12_and_0x1c13() {
-    let config = DeviceConfig::new(
-        MAILBOX,
-        ProcessDataSizes {
-            outputs: 13,
-            inputs: 19,
-        },
-    );
-    let device = Device::new(config, AxisApp, Axis::new()).with_dictionary(AxisOd::default());
+    let device = axis();
     harness::run(device, |master| async move {
         master.reset().await;
         assert_eq!(master.request(0x01).await, (0x01, 0));

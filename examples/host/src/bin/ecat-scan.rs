@@ -193,14 +193,7 @@ async fn run(args: Args) -> Result<(), Box<dyn std::error::Error>> {
             )
             .into());
         }
-        next += Duration::from_millis(1);
-        let now = std::time::Instant::now();
-        if now > next + Duration::from_millis(10) {
-            next = now;
-        }
-        if let Some(wait) = next.checked_duration_since(std::time::Instant::now()) {
-            std::thread::sleep(wait);
-        }
+        next_cycle(&mut next);
     }
     let elapsed = start.elapsed().as_secs_f64();
     println!(
@@ -402,14 +395,7 @@ fn lrw_cycles(iface: &str, cycles: u32, image: usize, expected: u16) -> Result<(
                 "cycle {cycle}: working counter {wkc} instead of {expected}"
             ));
         }
-        next += Duration::from_millis(1);
-        let now = std::time::Instant::now();
-        if now > next + Duration::from_millis(10) {
-            next = now;
-        }
-        if let Some(wait) = next.checked_duration_since(std::time::Instant::now()) {
-            std::thread::sleep(wait);
-        }
+        next_cycle(&mut next);
     }
     let elapsed = start.elapsed().as_secs_f64();
     println!(
@@ -480,5 +466,18 @@ fn burst(iface: &str, frames: u32, fps: Option<u32>) -> Result<(), String> {
             "{} of {frames} frames not answered",
             expected.saturating_sub(answered)
         ))
+    }
+}
+
+/// Sleeps until the next 1 ms cycle after `next` and moves `next` on to it; a MainDevice more
+/// than 10 ms behind starts its schedule again from now rather than sending a burst.
+fn next_cycle(next: &mut std::time::Instant) {
+    *next += Duration::from_millis(1);
+    let now = std::time::Instant::now();
+    if now > *next + Duration::from_millis(10) {
+        *next = now;
+    }
+    if let Some(wait) = next.checked_duration_since(std::time::Instant::now()) {
+        std::thread::sleep(wait);
     }
 }
