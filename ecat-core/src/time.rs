@@ -29,6 +29,14 @@ impl Instant {
     }
 }
 
+/// The earlier of two deadlines, either of which may be none.
+pub fn earliest(a: Option<Instant>, b: Option<Instant>) -> Option<Instant> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
 impl Duration {
     /// A duration of `micros` microseconds.
     pub const fn from_micros(micros: u64) -> Self {

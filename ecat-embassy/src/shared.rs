@@ -192,7 +192,7 @@ impl Indication {
 
 /// Emergencies the application may raise between two turns of the state-machine runner: as
 /// many as wait in the mailbox, so both queues are one type.
-const EMERGENCIES: usize = ecat_core::mailbox::EMERGENCY_QUEUE;
+const EMERGENCIES: usize = ecat_core::coe::EMERGENCY_QUEUE;
 
 /// The ESC shared by the two runners, behind critical-section mutexes: the runners may live in
 /// different executors.

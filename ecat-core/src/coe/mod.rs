@@ -11,6 +11,7 @@ pub(crate) mod server;
 
 pub use crate::abort::AbortCode;
 pub use emergency::Emergency;
+pub use server::EMERGENCY_QUEUE;
 
 /// The CoE service (ETG.1000.6 Table 29).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

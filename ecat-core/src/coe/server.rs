@@ -6,11 +6,18 @@ use super::sdo::{self, Context, SdoServer};
 use super::sdo_info::{InfoRequest, SdoInfo};
 use super::{AbortCode, CoeHeader, Emergency, Service};
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
-use crate::mailbox::{EMERGENCY_QUEUE, Env, Handler, MailboxError, MailboxType, Reply};
+use crate::mailbox::{Env, Handler, MailboxError, MailboxType, Reply};
 use crate::ring::Ring;
 use crate::time::Instant;
 
-/// The CoE state a mailbox of `N` bytes keeps between messages.
+/// How many emergencies wait for SM1 at most; when full the oldest is dropped and counted.
+/// They wait only while the MainDevice leaves SM1 unread, and a MainDevice that polls the
+/// mailbox takes one per poll; 4 is also what `SharedEsc` holds between two turns of the
+/// state-machine runner, so both queues are the same type (one copy of its code).
+pub const EMERGENCY_QUEUE: usize = 4;
+
+/// The CoE state a SubDevice with mailboxes of `N` bytes keeps between messages, beside the
+/// mailbox (`SubDevice` composes them; the mailbox knows CoE only as a [`Handler`]).
 #[derive(Debug)]
 // `repr(C)`: the small fields first, the SDO server's buffer last (see `SubDevice`).
 #[repr(C)]
@@ -61,6 +68,11 @@ impl<const N: usize> CoeServer<N> {
     /// Expires an SDO transfer that waited too long for its next segment.
     pub fn handle_timeout(&mut self, now: Instant) {
         self.sdo.handle_timeout(now);
+    }
+
+    /// The mailbox stopped: every transfer in flight and every queued emergency is dropped.
+    pub fn stop(&mut self) {
+        *self = Self::new();
     }
 }
 

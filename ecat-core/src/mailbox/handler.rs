@@ -9,7 +9,7 @@
 
 use super::{MailboxError, MailboxType};
 use crate::AlState;
-use crate::time::Instant;
+use crate::time::{Instant, earliest};
 
 /// What a handler learns about the moment of a call.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,10 +157,7 @@ impl<A: Handler, B: Handlers> Handlers for (A, B) {
         }
     }
     fn poll_timeout(&self) -> Option<Instant> {
-        match (self.0.poll_timeout(), self.1.poll_timeout()) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        earliest(self.0.poll_timeout(), self.1.poll_timeout())
     }
     fn handle_timeout(&mut self, now: Instant) {
         self.0.handle_timeout(now);

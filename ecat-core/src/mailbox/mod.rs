@@ -19,10 +19,14 @@
 //!   fragments, emergencies) waits until SM1 is free;
 //! - repeat: when the MainDevice toggles SM1's repeat request, the last message is written again
 //!   before the acknowledge bit follows it;
-//! - dispatch by protocol ([`Handler`]): CoE (`coe::server`) and the handlers the
-//!   firmware adds ([`Handlers`], e.g. [`crate::foe::Foe`]); a protocol without a handler, or one
-//!   its handler does not speak in the current state, gets "protocol not supported" (0x0002). In
-//!   BOOT only FoE is served (ETG.1000.6 §6.4.1, conformance.md "ESM").
+//! - dispatch by protocol ([`Handler`]): the first handler (CoE, which the SubDevice keeps
+//!   beside the mailbox, `coe::server`) and the handlers the firmware adds ([`Handlers`], e.g.
+//!   [`crate::foe::Foe`]); a protocol without a handler, or one its handler does not speak in
+//!   the current state, gets "protocol not supported" (0x0002). In BOOT only FoE is served
+//!   (ETG.1000.6 §6.4.1, conformance.md "ESM").
+//!
+//! The mailbox knows protocols only as [`Handler`]s: it imports no protocol (the layering of
+//! docs/architecture.md: the protocols sit above the framing).
 
 mod error;
 mod handler;
@@ -32,19 +36,9 @@ pub use error::MailboxError;
 pub use handler::{Env, Handler, Handlers, Reply};
 pub use header::{MailboxHeader, MailboxType, next_counter};
 
-use crate::AlEvent;
-use crate::coe::Emergency;
-use crate::coe::sdo::Context;
-use crate::coe::server::CoeServer;
 use crate::device::{Area, MailboxConfig};
-use crate::dictionary::{ObjectDictionary, ObjectHooks};
 use crate::time::Instant;
-
-/// How many emergencies wait for SM1 at most; when full the oldest is dropped and counted.
-/// They wait only while the MainDevice leaves SM1 unread, and a MainDevice that polls the
-/// mailbox takes one per poll; 4 is also what `SharedEsc` holds between two turns of the
-/// state-machine runner, so both queues are the same type (one copy of its code).
-pub const EMERGENCY_QUEUE: usize = 4;
+use crate::{AlEvent, AlState};
 
 /// The bits of [`Mailbox`]'s state: one byte, so that each question the flow control asks
 /// (may a request be read, is a write due, is there work) is one test.
@@ -79,25 +73,16 @@ mod due {
     pub const TIMEOUT: u8 = 1 << 1;
 }
 
-/// The mailbox state and buffers of a SubDevice whose mailboxes hold at most `N` bytes: the
-/// framing (`Link`) and CoE's state.
+/// The mailbox of a SubDevice whose mailboxes hold at most `N` bytes: what SM0 and SM1 hold,
+/// counters, the repeat handshake and the buffers.
 #[derive(Debug)]
 // `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
 #[repr(C)]
 pub struct Mailbox<const N: usize> {
-    link: Link<N>,
-    coe: CoeServer<N>,
-}
-
-/// The framing of the mailbox: what SM0 and SM1 hold, counters, the repeat handshake and the
-/// buffers.
-#[derive(Debug)]
-#[repr(C)]
-struct Link<const N: usize> {
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
-    /// What the handlers beside CoE need from the next service ([`due`]).
+    /// What the handlers beside the first need from the next service ([`due`]).
     handler_due: u8,
     /// The counter of the last message received (0: none).
     rx_counter: u8,
@@ -109,7 +94,7 @@ struct Link<const N: usize> {
     send: Area,
     /// Length of the last message built in `tx` (header included).
     tx_len: usize,
-    /// The earliest timeout of the handlers beside CoE after the last service.
+    /// The earliest timeout of the handlers beside the first after the last service.
     handler_timeout: Option<Instant>,
     rx: [u8; N],
     tx: [u8; N],
@@ -125,19 +110,16 @@ impl<const N: usize> Mailbox<N> {
     /// An idle mailbox.
     pub const fn new() -> Self {
         Self {
-            link: Link {
-                rx: [0; N],
-                tx: [0; N],
-                tx_len: 0,
-                receive: Area::new(0, 0),
-                send: Area::new(0, 0),
-                flags: 0,
-                handler_due: due::RESET,
-                rx_counter: 0,
-                tx_counter: 0,
-                handler_timeout: None,
-            },
-            coe: CoeServer::new(),
+            rx: [0; N],
+            tx: [0; N],
+            tx_len: 0,
+            receive: Area::new(0, 0),
+            send: Area::new(0, 0),
+            flags: 0,
+            handler_due: due::RESET,
+            rx_counter: 0,
+            tx_counter: 0,
+            handler_timeout: None,
         }
     }
 
@@ -150,52 +132,53 @@ impl<const N: usize> Mailbox<N> {
             let length = usize::from(area.length).min(N);
             Area::new(area.start, u16::try_from(length).unwrap_or(area.length))
         };
-        self.link.receive = clamp(config.receive);
-        self.link.send = clamp(config.send);
+        self.receive = clamp(config.receive);
+        self.send = clamp(config.send);
         if repeat_request {
-            self.link.flags = flag::REPEAT_ACK;
+            self.flags = flag::REPEAT_ACK;
         }
     }
 
-    /// Stops the mailbox: everything in flight is dropped, queued emergencies too.
+    /// Stops the mailbox: everything in flight is dropped.
     pub fn stop(&mut self) {
         *self = Self::new();
     }
 
     /// The MainDevice filled SM0 (AL event bit 8).
     pub fn receive_event(&mut self) {
-        self.link.flags |= flag::RX_WAITING;
+        self.flags |= flag::RX_WAITING;
     }
 
     /// The MainDevice read SM1 (AL event bit 9).
     pub fn send_event(&mut self) {
-        self.link.flags &= !flag::SEND_BUSY;
+        self.flags &= !flag::SEND_BUSY;
     }
 
     /// SM1's activate register as last read: a toggled repeat request asks for the last message
     /// again.
     pub fn repeat_request(&mut self, request: bool) {
-        if request != self.repeat_ack() && self.link.tx_len != 0 {
+        if request != self.repeat_ack() && self.tx_len != 0 {
             // The acknowledge stays until the last message is written again.
-            self.link.flags |= flag::REPEAT_PENDING;
+            self.flags |= flag::REPEAT_PENDING;
         } else {
             // Acknowledged already (or toggled back), or nothing was ever sent: nothing to
             // repeat, the acknowledge follows at once.
-            self.link.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
+            self.flags &= !(flag::REPEAT_PENDING | flag::REPEAT_ACK);
             if request {
-                self.link.flags |= flag::REPEAT_ACK;
+                self.flags |= flag::REPEAT_ACK;
             }
         }
     }
 
     /// The SM0/SM1 bits the AL event mask needs now ([`Mailbox::wants_receive_event`],
-    /// [`Mailbox::wants_send_event`]).
-    pub fn event_mask(&self) -> AlEvent {
+    /// [`Mailbox::wants_send_event`]); `first_message` tells whether the first handler has a
+    /// message of its own (asked only when it matters).
+    pub fn event_mask(&self, first_message: impl FnOnce() -> bool) -> AlEvent {
         let mut mask = AlEvent::NONE;
         if self.wants_receive_event() {
             mask |= AlEvent::sync_manager(0);
         }
-        if self.wants_send_event() {
+        if self.wants_send_event(first_message) {
             mask |= AlEvent::sync_manager(1);
         }
         mask
@@ -203,58 +186,61 @@ impl<const N: usize> Mailbox<N> {
 
     /// Whether SM0 may be read now: its answer could be sent at once.
     pub fn can_receive(&self) -> bool {
-        self.link.flags & flag::BLOCKING == 0
+        self.flags & flag::BLOCKING == 0
     }
 
     /// Whether a repeat request waits for the last message to be written again.
     pub fn repeat_pending(&self) -> bool {
-        self.link.flags & flag::REPEAT_PENDING != 0
+        self.flags & flag::REPEAT_PENDING != 0
     }
 
     /// Whether the SM0 event belongs in the AL event mask: always, except while a request
     /// already waits in SM0 that cannot be read yet (its event would hold the IRQ line).
     pub fn wants_receive_event(&self) -> bool {
-        self.link.flags & flag::RX_WAITING == 0 || self.can_receive()
+        self.flags & flag::RX_WAITING == 0 || self.can_receive()
     }
 
     /// Whether the SM1 event belongs in the AL event mask: only while SM1 holds an unread message
     /// and something waits for it to be read (a request, a fragment, an emergency). In the usual
     /// request/answer rhythm the MainDevice reads SM1 before it writes the next request, and the
     /// SM1 bit, still latched in the AL event register, arrives with the SM0 event.
-    pub fn wants_send_event(&self) -> bool {
-        let more = self.link.flags & (flag::TX_PENDING | flag::RX_WAITING | flag::HANDLER_MESSAGE)
+    /// `first_message` tells whether the first handler (CoE) has a message of its own: its
+    /// messages (emergencies) are queued between services, so the caller asks it, and only when
+    /// the answer matters.
+    pub fn wants_send_event(&self, first_message: impl FnOnce() -> bool) -> bool {
+        let more = self.flags & (flag::TX_PENDING | flag::RX_WAITING | flag::HANDLER_MESSAGE)
             != 0
-            || self.coe.has_message();
-        self.link.flags & flag::SEND_BUSY != 0 && more
+            || first_message();
+        self.flags & flag::SEND_BUSY != 0 && more
     }
 
     /// Whether SM0 should be read now.
     pub fn read_due(&self) -> bool {
-        self.link.flags & (flag::RX_WAITING | flag::BLOCKING) == flag::RX_WAITING
+        self.flags & (flag::RX_WAITING | flag::BLOCKING) == flag::RX_WAITING
     }
 
     /// SM0's address and the receive buffer for reading it (SM0's length).
     pub fn rx_buffer(&mut self) -> (u16, &mut [u8]) {
-        let size = self.link.receive_size();
+        let size = self.receive_size();
         (
-            self.link.receive.start,
-            self.link.rx.get_mut(..size).unwrap_or_default(),
+            self.receive.start,
+            self.rx.get_mut(..size).unwrap_or_default(),
         )
     }
 
     /// Whether a request read from SM0 waits to be served.
     pub fn request_pending(&self) -> bool {
-        self.link.flags & flag::RX_PENDING != 0
+        self.flags & flag::RX_PENDING != 0
     }
 
     /// SM0 was read into the receive buffer.
     pub fn received(&mut self) {
-        self.link.flags = (self.link.flags & !flag::RX_WAITING) | flag::RX_PENDING;
+        self.flags = (self.flags & !flag::RX_WAITING) | flag::RX_PENDING;
     }
 
     /// Whether a message must be written to SM1 now: the next message, or the last one again.
     pub fn write_due(&self) -> bool {
-        self.link.flags & (flag::TX_PENDING | flag::SEND_BUSY) == flag::TX_PENDING
+        self.flags & (flag::TX_PENDING | flag::SEND_BUSY) == flag::TX_PENDING
             || self.repeat_pending()
     }
 
@@ -262,14 +248,13 @@ impl<const N: usize> Mailbox<N> {
     /// and, when it is shorter than SM1, the address of SM1's last byte, whose write hands SM1
     /// to the MainDevice.
     pub fn message(&self) -> (u16, &[u8], Option<u16>) {
-        let message = self.link.tx.get(..self.link.tx_len).unwrap_or_default();
+        let message = self.tx.get(..self.tx_len).unwrap_or_default();
         let last = self
-            .link
             .send
             .start
-            .saturating_add(self.link.send.length.saturating_sub(1));
-        let short = message.len() < self.link.send_size();
-        (self.link.send.start, message, short.then_some(last))
+            .saturating_add(self.send.length.saturating_sub(1));
+        let short = message.len() < self.send_size();
+        (self.send.start, message, short.then_some(last))
     }
 
     /// The message ([`Mailbox::message`]) is now in SM1.
@@ -280,95 +265,77 @@ impl<const N: usize> Mailbox<N> {
         } else {
             0
         };
-        self.link.flags ^= toggle;
-        self.link.flags &= !(flag::TX_PENDING | flag::REPEAT_PENDING);
-        self.link.flags |= flag::SEND_BUSY;
+        self.flags ^= toggle;
+        self.flags &= !(flag::TX_PENDING | flag::REPEAT_PENDING);
+        self.flags |= flag::SEND_BUSY;
     }
 
     /// The repeat acknowledge bit for SM1's PDI control.
     pub fn repeat_ack(&self) -> bool {
-        self.link.flags & flag::REPEAT_ACK != 0
+        self.flags & flag::REPEAT_ACK != 0
     }
 
-    /// Queues an emergency; when the queue is full the oldest is dropped (see
-    /// [`Mailbox::emergencies_dropped`]).
-    pub fn emergency(&mut self, emergency: Emergency) {
-        self.coe.emergency(emergency);
-    }
-
-    /// Emergencies dropped because the queue was full.
-    pub fn emergencies_dropped(&self) -> u16 {
-        self.coe.emergencies_dropped()
-    }
-
-    /// When [`Mailbox::handle_timeout`] must be called: an SDO transfer's, or a handler's as of
-    /// the last service.
+    /// When [`Mailbox::handle_timeout`] must be called: a handler's timeout as of the last
+    /// service (the first handler's own the caller asks it for).
     pub fn poll_timeout(&self) -> Option<Instant> {
-        match (self.coe.poll_timeout(), self.link.handler_timeout) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        self.handler_timeout
     }
 
-    /// Expires an SDO transfer that waited too long for its next segment; a handler's timeout
-    /// that passed makes work for the next service, which hands it on.
+    /// A handler's timeout that passed makes work for the next service, which hands it on.
     pub fn handle_timeout(&mut self, now: Instant) {
-        self.coe.handle_timeout(now);
-        if self.link.handler_timeout.is_some_and(|t| t <= now) {
-            self.link.handler_due |= due::TIMEOUT;
+        if self.handler_timeout.is_some_and(|t| t <= now) {
+            self.handler_due |= due::TIMEOUT;
         }
     }
 
     /// Whether the mailbox has anything to serve: SM1 is free and a request or a message of a
-    /// handler's own (SDO Information fragment, emergency) waits for it, or a handler's timeout
-    /// passed.
-    pub fn has_work(&self) -> bool {
-        let free = self.link.flags & flag::SM1_TAKEN == 0;
+    /// handler's own (`first_message`: the first handler's, an SDO Information fragment or an
+    /// emergency) waits for it, or a handler's timeout passed.
+    pub fn has_work(&self, first_message: impl FnOnce() -> bool) -> bool {
+        let free = self.flags & flag::SM1_TAKEN == 0;
         let messages = flag::RX_PENDING | flag::HANDLER_MESSAGE;
-        free && (self.link.flags & messages != 0 || self.coe.has_message())
-            || self.link.handler_due & due::TIMEOUT != 0
+        free && (self.flags & messages != 0 || first_message())
+            || self.handler_due & due::TIMEOUT != 0
     }
 
     /// Serves what is due, once [`Mailbox::has_work`] says there is something: the received
-    /// message, or else the next message of a handler's own (SM1 is free then). Returns whether a
-    /// message was built (a request may be dropped without one). Bounded: one message per call.
-    pub(crate) fn serve<D: ObjectDictionary, H: ObjectHooks<D>, P: Handlers>(
+    /// message, or else the next message of a handler's own (SM1 is free then). `first` is the
+    /// protocol every device with a mailbox speaks (CoE), whose timeouts and messages the caller
+    /// keeps track of; `handlers` are the firmware's others. Returns whether a message was built
+    /// (a request may be dropped without one). Bounded: one message per call.
+    pub(crate) fn serve<F: Handler, P: Handlers>(
         &mut self,
-        cx: &mut Context<'_, D, H>,
+        first: F,
         handlers: &mut P,
+        state: AlState,
+        now: Instant,
     ) -> bool {
         let env = Env {
-            state: cx.state,
-            now: cx.now,
-            max_request: self.link.receive_size().saturating_sub(MailboxHeader::SIZE),
+            state,
+            now,
+            max_request: self.receive_size().saturating_sub(MailboxHeader::SIZE),
         };
         if P::NONE {
-            return self
-                .link
-                .serve_handlers(&mut (self.coe.handler(cx), handlers), env);
+            return self.serve_handlers(&mut (first, handlers), env);
         }
-        if self.link.handler_due & due::RESET != 0 {
+        if self.handler_due & due::RESET != 0 {
             handlers.reset();
         }
-        if self.link.handler_due & due::TIMEOUT != 0 {
+        if self.handler_due & due::TIMEOUT != 0 {
             handlers.handle_timeout(env.now);
         }
-        self.link.handler_due = 0;
+        self.handler_due = 0;
         // SM1 may be taken: the service may be for a timeout alone.
-        let built = self.link.flags & flag::SM1_TAKEN == 0
-            && self
-                .link
-                .serve_handlers(&mut (self.coe.handler(cx), &mut *handlers), env);
-        self.link.handler_timeout = handlers.poll_timeout();
-        self.link.flags &= !flag::HANDLER_MESSAGE;
+        let built = self.flags & flag::SM1_TAKEN == 0
+            && self.serve_handlers(&mut (first, &mut *handlers), env);
+        self.handler_timeout = handlers.poll_timeout();
+        self.flags &= !flag::HANDLER_MESSAGE;
         if handlers.has_message() {
-            self.link.flags |= flag::HANDLER_MESSAGE;
+            self.flags |= flag::HANDLER_MESSAGE;
         }
         built
     }
-}
 
-impl<const N: usize> Link<N> {
     fn receive_size(&self) -> usize {
         usize::from(self.receive.length)
     }

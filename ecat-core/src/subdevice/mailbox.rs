@@ -128,7 +128,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let ack = self.mailbox.repeat_ack();
         let repeat = self.mailbox.repeat_pending();
         self.mailbox.written();
-        if repeat || self.mailbox.wants_send_event() {
+        if repeat || self.mailbox.wants_send_event(|| self.coe.has_message()) {
             self.stale.insert(Stale::EVENT_MASK);
         }
         if self.mailbox.repeat_ack() != ack {
@@ -175,7 +175,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         // Nothing due, nothing changed. Nothing is served either while an access is in flight:
         // an SM0 read the request's event made due (`mailbox_due`) goes first, so that the
         // request's answer finds SM1 free.
-        if !self.state.has_mailbox() || self.in_flight.is_some() || !self.mailbox.has_work() {
+        if !self.state.has_mailbox() || self.in_flight.is_some() || !self.mailbox.has_work(|| self.coe.has_message()) {
             return false;
         }
         let request = self.mailbox.request_pending();
@@ -187,7 +187,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             writes: &mut self.writes,
             device: Some(self.config),
         };
-        let built = self.mailbox.serve(&mut cx, handlers);
+        let built = self
+            .mailbox
+            .serve(self.coe.handler(&mut cx), handlers, self.state, now);
         self.due.refresh |= core::mem::take(&mut self.writes.configured);
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
@@ -208,12 +210,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             return false;
         }
         self.stale.insert(Stale::MAILBOX_QUEUE);
-        self.mailbox.emergency(emergency);
+        self.coe.emergency(emergency);
         true
     }
 
     /// Emergencies dropped because the queue was full.
     pub fn emergencies_dropped(&self) -> u16 {
-        self.mailbox.emergencies_dropped()
+        self.coe.emergencies_dropped()
     }
 }

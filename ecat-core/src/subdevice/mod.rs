@@ -38,13 +38,14 @@
 use crate::al::{AlEvent, AlState, AlStatus, AlStatusCode};
 use crate::device::{DeviceConfig, ProcessDataSizes};
 use crate::esm::Transition;
+use crate::coe::server::CoeServer;
 use crate::mailbox::Mailbox;
 use crate::process_data::Writes;
 use crate::ring::Ring;
 use crate::sync_manager::check::Channels;
 use crate::sync_mode::SyncMode;
 use crate::sync_parameters::{self, DcSettings};
-use crate::time::Instant;
+use crate::time::{Instant, earliest};
 
 mod diagnosis;
 pub use diagnosis::EMERGENCY_PERIOD;
@@ -280,6 +281,8 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     /// The DC registers as last read.
     dc: DcSettings,
     mailbox: Mailbox<MBX>,
+    /// CoE, the protocol every mailbox here speaks, beside the mailbox that frames it.
+    coe: CoeServer<MBX>,
     events: Ring<Event, 8>,
     /// The AL status codes set and not yet logged.
     logged: Ring<Logged, LOGGED>,
@@ -317,6 +320,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }),
             last_emergency: (AlStatusCode::NO_ERROR, Instant::from_micros(0)),
             mailbox: Mailbox::new(),
+            coe: CoeServer::new(),
             stale: Stale::ALL,
             pd_sizes: config.process_data,
             pd_unusable: AlStatusCode::NO_ERROR,
@@ -390,10 +394,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
         let transition = self.pending.map(|p| p.deadline);
-        match (transition, self.mailbox.poll_timeout()) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        let mailbox = earliest(self.mailbox.poll_timeout(), self.coe.poll_timeout());
+        earliest(transition, mailbox)
     }
 
     /// The transition waiting for the application, if any.

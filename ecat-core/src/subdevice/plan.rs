@@ -258,7 +258,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             mask |= AlEvent::WATCHDOG_PROCESS_DATA;
         }
         if self.state.has_mailbox() {
-            mask |= self.mailbox.event_mask();
+            mask |= self.mailbox.event_mask(|| self.coe.has_message());
         }
         mask.bits()
     }

@@ -20,6 +20,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub fn handle_timeout(&mut self, now: Instant) {
         self.stale = Stale::ALL;
         self.mailbox.handle_timeout(now);
+        self.coe.handle_timeout(now);
         if let Some(p) = self.pending
             && now >= p.deadline
         {
@@ -201,6 +202,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             // takes a stopped one). An SM0 read or SM1 write made due by an event or a service
             // (`mailbox_due`) before a call that stopped the mailbox is moot.
             self.mailbox.stop();
+            self.coe.stop();
             if let Some(InFlight::Mailbox(_)) = self.in_flight {
                 self.in_flight = None;
             }
