@@ -8,7 +8,7 @@ use ecat_core::dictionary::{Bits, ObjectDictionary};
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-use ecat_core::process_data::Writes;
+use ecat_core::coe::sdo::Writes;
 use ecat_core::{AlState, AlStatusCode, Instant};
 use proptest::prelude::*;
 

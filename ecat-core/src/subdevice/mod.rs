@@ -40,7 +40,7 @@ use crate::device::{DeviceConfig, ProcessDataSizes};
 use crate::esm::Transition;
 use crate::coe::server::CoeServer;
 use crate::mailbox::Mailbox;
-use crate::process_data::Writes;
+use crate::coe::sdo::Writes;
 use crate::ring::Ring;
 use crate::sync_manager::check::Channels;
 use crate::sync_mode::SyncMode;

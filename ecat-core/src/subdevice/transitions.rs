@@ -6,7 +6,7 @@ use super::targets::Stale;
 use super::{CycleSigns, Event, Logged, Pending, SubDevice};
 use crate::al::{AlControl, AlState, AlStatusCode};
 use crate::esm::{self, Decision, Transition};
-use crate::process_data::Writes;
+use crate::coe::sdo::Writes;
 use crate::sync_manager::Channel;
 use crate::sync_manager::check;
 use crate::sync_mode::SyncMode;

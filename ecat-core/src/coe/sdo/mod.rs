@@ -19,6 +19,9 @@
 mod command;
 pub mod complete_access;
 mod frame;
+mod writes;
+
+pub use writes::Writes;
 
 use command::{Request, response};
 use frame::Frame;
@@ -30,7 +33,6 @@ use crate::dictionary::{
     DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
 use crate::pdo;
-use crate::process_data::Writes;
 use crate::time::{Duration, Instant};
 
 /// Bytes of an SDO message up to its data: command, index, subindex, 4 data/size bytes.
