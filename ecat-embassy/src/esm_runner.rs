@@ -2,11 +2,14 @@
 //! mailbox with CoE and the application's other protocols ([`Application::mailbox`]). Runs in
 //! the low-priority (thread) executor.
 
-use core::pin::pin;
+use core::future::poll_fn;
+use core::pin::{Pin, pin};
+use core::task::Poll;
 
 use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::{AlEvent, AlStatusCode, Event, RegisterAccess, SubDevice, Transition};
-use embassy_futures::select::{Either, Either3, select, select3};
+use embassy_futures::select::{Either, select};
+use embassy_time::Timer;
 use embedded_hal_async::digital::Wait;
 
 use crate::device::AppCell;
@@ -104,6 +107,10 @@ where
 }
 
 /// The loop of [`StateMachineRunner::run`].
+///
+/// Two awaits (docs/performance.md, "Codegen rules"): the PDI access, for every access the core
+/// asks for after each step, and one wait, for the application's answer to a transition or for
+/// news; the steps in between are synchronous.
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, A, D, const MBX: usize, S>(
     esc: &'a SharedEsc<P>,
@@ -120,70 +127,139 @@ where
     async move {
         take_outside_news(esc, sub, app);
         let mut step = Step::Serve;
-        loop {
-            // Every step is followed by the accesses it asks for: the only place they are made,
-            // but for those of a pending transition.
+        // The application's decision on the transition of `Step::Answer`, asked when the core
+        // requested it and dropped when the transition is no longer pending.
+        let mut decision = pin!(None);
+        'run: loop {
+            // Every step is followed by the accesses it asks for: the only place they are made.
             if let Err(e) = sync(esc, sub).await {
                 return e;
             }
-            step = match step {
-                // Each message served, or request dropped (which re-arms SM0), makes its
-                // accesses due; the serve that finds nothing to do changed nothing.
-                Step::Serve => {
-                    if serve_mailbox(sub, app) {
-                        // A store the message asked for, before its answer goes out.
-                        if S::STORES
+            // The transition whose answer the wait is for, `None`: the wait is for news.
+            let answering = loop {
+                match step {
+                    // Each message served, or request dropped (which re-arms SM0), makes its
+                    // accesses due; the serve that finds nothing to do changed nothing.
+                    Step::Serve => {
+                        if !serve_mailbox(sub, app) {
+                            step = Step::Events { any: false };
+                        } else if S::STORES
                             && app.lock(|_, od| storage.take(od))
                             && let Some(emergency) = storage.commit().await
                         {
+                            // A store the message asked for, before its answer goes out.
                             sub.emergency(emergency);
                         }
-                        Step::Serve
-                    } else {
-                        Step::Events { any: false }
+                        continue 'run;
                     }
-                }
-                Step::Events { any } => match sub.poll_event() {
-                    Some(Event::TransitionRequested(t)) => {
-                        // The application is asked while AL events are still served: a new
-                        // request from the MainDevice or the deadline ends the wait and drops
-                        // its future. Once it accepted, a SAFEOP→OP transition may still wait
-                        // for the first outputs.
-                        let mut decision = pin!(app.lock(|app, _| app.on_transition(t)));
-                        while sub.pending_transition() == Some(t) {
-                            // The application's decision only while the core waits for it.
-                            let pending =
-                                OrNever(sub.awaits_application().then_some(decision.as_mut()));
-                            let timeout = until(sub.poll_timeout());
-                            let outcome = select3(pending, timeout, esc.esm_events()).await;
-                            answer(esc, sub, t, outcome);
-                            if let Err(e) = sync(esc, sub).await {
-                                return e;
-                            }
+                    // AL events are still served while the transition waits: a new request from
+                    // the MainDevice or the deadline ends it (and drops the decision). Once the
+                    // application accepted, a SAFEOP→OP transition may still wait for the
+                    // first outputs.
+                    Step::Answer(t) if sub.pending_transition() == Some(t) => break Some(t),
+                    Step::Answer(_) => {
+                        decision.set(None);
+                        step = Step::Events { any: true };
+                        continue 'run;
+                    }
+                    Step::Events { any } => match sub.poll_event() {
+                        // Asked at once, and waited for without accesses in between.
+                        Some(Event::TransitionRequested(t)) => {
+                            decision.set(Some(app.lock(|app, _| app.on_transition(t))));
+                            step = Step::Answer(t);
                         }
-                        Step::Events { any: true }
-                    }
-                    Some(Event::StateChanged(t)) => {
-                        app.lock(|app, _| app.on_state_change(t));
-                        Step::Events { any: true }
-                    }
-                    Some(Event::TransitionAborted(_)) => Step::Events { any: true },
-                    None => {
+                        Some(Event::StateChanged(t)) => {
+                            app.lock(|app, _| app.on_state_change(t));
+                            step = Step::Events { any: true };
+                            continue 'run;
+                        }
+                        Some(Event::TransitionAborted(_)) => {
+                            step = Step::Events { any: true };
+                            continue 'run;
+                        }
                         // What events led to (a new state, emergencies taken while answering)
                         // may have given the mailbox work: one more pass before waiting.
-                        if !any {
-                            match select(esc.esm_events(), until(sub.poll_timeout())).await {
-                                Either::First(event) => sub.handle_al_event(event),
-                                Either::Second(()) => sub.handle_timeout(now()),
-                            }
+                        None if any => {
+                            take_outside_news(esc, sub, app);
+                            step = Step::Serve;
+                            continue 'run;
                         }
-                        take_outside_news(esc, sub, app);
-                        Step::Serve
-                    }
-                },
+                        None => break None,
+                    },
+                }
             };
+            // The application's decision only while the core waits for it.
+            let answer = match answering {
+                Some(_) if sub.awaits_application() => decision.as_mut().as_pin_mut(),
+                _ => None,
+            };
+            let woken = wait(esc, answer, until(sub.poll_timeout()), answering.is_some()).await;
+            let event = match woken {
+                Woken::Answer(result) => {
+                    if let Some(t) = answering {
+                        sub.complete_transition(t, result);
+                    }
+                    None
+                }
+                Woken::Deadline => {
+                    sub.handle_timeout(now());
+                    None
+                }
+                Woken::News(event) => Some(event),
+            };
+            // An answer's wait hands the core what the rest of the firmware told the runner
+            // before the AL event; news are followed by a serve of the mailbox.
+            if answering.is_some() {
+                take_reports(esc, sub);
+            }
+            if let Some(event) = event {
+                sub.handle_al_event(event);
+            }
+            if answering.is_none() {
+                take_outside_news(esc, sub, app);
+                step = Step::Serve;
+            }
         }
     }
+}
+
+/// What ended a wait of the state-machine runner.
+enum Woken {
+    /// The application answered the transition.
+    Answer(Result<(), AlStatusCode>),
+    /// The core's deadline ([`SubDevice::poll_timeout`]) passed.
+    Deadline,
+    /// State-machine events the other runner saw (or none: reports or emergencies arrived).
+    News(AlEvent),
+}
+
+/// Waits for the application's `answer` (when there is one to wait for), the core's `deadline`
+/// and news for the state machine ([`SharedEsc::poll_esm_events`]). Of those ready at once, the
+/// answer first, then the news, but the deadline before the news while a transition waits
+/// (`answering`): the order of the two waits this one replaces.
+fn wait<'f, P: Pdi, F: Future<Output = Result<(), AlStatusCode>>>(
+    esc: &'f SharedEsc<P>,
+    mut answer: Option<Pin<&'f mut F>>,
+    mut deadline: OrNever<Timer>,
+    answering: bool,
+) -> impl Future<Output = Woken> + 'f {
+    poll_fn(move |cx| {
+        if let Some(Poll::Ready(result)) = answer.as_mut().map(|a| a.as_mut().poll(cx)) {
+            return Poll::Ready(Woken::Answer(result));
+        }
+        // One poll of each, in the order of the wait: each once in the code.
+        for news in [!answering, answering] {
+            let woken = if news {
+                esc.poll_esm_events(cx).map(Woken::News)
+            } else {
+                Pin::new(&mut deadline).poll(cx).map(|()| Woken::Deadline)
+            };
+            if woken.is_ready() {
+                return woken;
+            }
+        }
+        Poll::Pending
+    })
 }
 
 /// Serves one mailbox message, if any, with the application locked; then queues the emergencies
@@ -212,6 +288,8 @@ fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize>(
 enum Step {
     /// Serve the mailbox, one message at a time.
     Serve,
+    /// Wait for the application's answer to this transition while it is pending.
+    Answer(Transition),
     /// Hand the application the core's events, one at a time; `any`: some were handed since
     /// the mailbox was served. With none left, the runner waits for news (unless there were
     /// any) and serves again.
@@ -231,7 +309,7 @@ fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize>(
 
 /// Hands the core what the rest of the firmware reported to the runner: emergencies the
 /// application raised and what the process-data runner saw (outputs, SYNC0). Taking them is
-/// what lets [`SharedEsc::esm_events`] wait again.
+/// what lets the runner's wait ([`SharedEsc::poll_esm_events`]) wait again.
 fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevice<'_, MBX>) {
     let reports = esc.take_reports();
     if reports.contains(Reports::SYNC_RECEIVED) {
@@ -290,30 +368,5 @@ fn pdi_access(access: RegisterAccess<'_>) -> (u16, Data<'_>, Option<u16>, AlEven
             last,
             ..
         } => (address, Data::Write(data), last, clears),
-    }
-}
-
-/// Hands the core what ended a wait for the application's answer to `t`: the answer, the
-/// deadline, or an AL event (with whatever the rest of the firmware told the runner meanwhile).
-fn answer<P: Pdi, const MBX: usize>(
-    esc: &SharedEsc<P>,
-    sub: &mut SubDevice<'_, MBX>,
-    t: Transition,
-    outcome: Either3<Result<(), AlStatusCode>, (), AlEvent>,
-) {
-    let event = match outcome {
-        Either3::First(result) => {
-            sub.complete_transition(t, result);
-            None
-        }
-        Either3::Second(()) => {
-            sub.handle_timeout(now());
-            None
-        }
-        Either3::Third(event) => Some(event),
-    };
-    take_reports(esc, sub);
-    if let Some(event) = event {
-        sub.handle_al_event(event);
     }
 }

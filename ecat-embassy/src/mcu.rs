@@ -47,7 +47,8 @@
 #![deny(clippy::arithmetic_side_effects)]
 
 use core::convert::Infallible;
-use core::future::Future;
+use core::future::{Future, poll_fn};
+use core::task::Poll;
 
 use ecat_core::AlEvent;
 use ecat_core::chip::Chip;
@@ -156,33 +157,35 @@ impl<B: Bus16> Pdi for Mcu16<B> {
     /// The AL event (one word), then the access; an empty read is the AL event alone, an empty
     /// write costs nothing and reports no event. A read right after an empty read (no access in
     /// between) reports the empty read's event without reading it again.
-    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+    ///
+    /// The bus cycles complete within the call: the access is made at once and the future only
+    /// hands over its result (a `poll_fn`, no state machine: docs/performance.md, "Codegen
+    /// rules").
     fn access(
         &mut self,
         address: u16,
         data: Data<'_>,
     ) -> impl Future<Output = Result<AlEvent, Infallible>> {
-        async move {
-            // Taken by every access: only the next one may report it.
-            let sampled = self.sampled.take();
-            Ok(match data {
-                Data::Write([]) => AlEvent::NONE,
-                Data::Write(data) => {
-                    let event = self.al_event();
-                    self.write_bytes(address, data);
-                    event
-                }
-                Data::Read([]) => {
-                    let event = self.al_event();
-                    self.sampled = Some(event);
-                    event
-                }
-                Data::Read(buf) => {
-                    let event = sampled.unwrap_or_else(|| self.al_event());
-                    self.read_bytes(address, buf);
-                    event
-                }
-            })
-        }
+        // Taken by every access: only the next one may report it.
+        let sampled = self.sampled.take();
+        let event = match data {
+            Data::Write([]) => AlEvent::NONE,
+            Data::Write(data) => {
+                let event = self.al_event();
+                self.write_bytes(address, data);
+                event
+            }
+            Data::Read([]) => {
+                let event = self.al_event();
+                self.sampled = Some(event);
+                event
+            }
+            Data::Read(buf) => {
+                let event = sampled.unwrap_or_else(|| self.al_event());
+                self.read_bytes(address, buf);
+                event
+            }
+        };
+        poll_fn(move |_| Poll::Ready(Ok(event)))
     }
 }

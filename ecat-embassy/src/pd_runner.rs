@@ -141,12 +141,12 @@ where
         // Every way out of the loop ends here: the state-machine runner stops giving way.
         let error = 'run: loop {
             // What woke the runner and what follows; the view and its copy of the layout end here,
-            // so only `current` lives on across the exchange.
+            // so only `current` lives on across the waits and the exchange.
             let plan = {
                 let view = esc.pd_view(current);
-                let layout = view.layout;
                 let sampled = core::mem::take(&mut exchange.trigger_sampled);
-                if layout != current {
+                if view.layout != current {
+                    let layout = view.layout;
                     let was_active = current.is_some_and(|l| l.outputs_active);
                     current = layout;
                     if was_active && !layout.is_some_and(|l| l.outputs_active) {
@@ -155,9 +155,10 @@ where
                     tick = layout.and_then(first_deadline);
                     exchange.on_new_layout(layout)
                 } else if sampled || !view.pd_events.is_empty() {
-                    Some(exchange.on_trigger(layout, true))
+                    Some(exchange.on_trigger(current, true))
                 } else {
-                    let sync0_on = layout.is_some_and(|l| l.sync0());
+                    // The layout is `current`: no second copy is kept across the wait.
+                    let sync0_on = current.is_some_and(|l| l.sync0());
                     let mut irq_low = pin!(irq.wait_for_low());
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
@@ -168,15 +169,15 @@ where
                     )
                     .await
                     {
-                        Either4::First(Ok(())) => Some(exchange.on_trigger(layout, false)),
+                        Either4::First(Ok(())) => Some(exchange.on_trigger(current, false)),
                         Either4::First(Err(e)) | Either4::Fourth(Err(e)) => {
                             break 'run Error::Irq(e);
                         }
                         Either4::Second(()) => None,
-                        Either4::Third(()) => exchange.on_tick(layout, &mut tick),
+                        Either4::Third(()) => exchange.on_tick(current, &mut tick),
                         Either4::Fourth(Ok(())) => {
-                            tick = layout.and_then(first_deadline);
-                            exchange.on_sync0(layout)
+                            tick = current.and_then(first_deadline);
+                            exchange.on_sync0(current)
                         }
                     }
                 }

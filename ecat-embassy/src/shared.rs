@@ -3,7 +3,7 @@
 
 use core::cell::Cell;
 use core::future::{Future, poll_fn};
-use core::task::{Poll, Waker};
+use core::task::{Context, Poll, Waker};
 
 use ecat_core::coe::Emergency;
 use ecat_core::process_data::Setup;
@@ -368,22 +368,21 @@ impl<P: Pdi> SharedEsc<P> {
         });
     }
 
-    /// Waits for state-machine events seen by the other runner, or an emergency raised by the
-    /// application.
-    pub(crate) fn esm_events(&self) -> impl Future<Output = AlEvent> + '_ {
-        poll_fn(|cx| {
-            self.with(|r| {
-                let emergencies = r.emergencies.get();
-                if r.esm_events.get().is_empty()
-                    && emergencies.is_empty()
-                    && r.reports.get() == Reports::NONE
-                {
-                    r.esm_waker.register(cx.waker());
-                    Poll::Pending
-                } else {
-                    Poll::Ready(r.esm_events.take())
-                }
-            })
+    /// Takes the state-machine events seen by the other runner, ready also when only an
+    /// emergency raised by the application or a report of the process-data runner waits; the
+    /// state-machine runner's wait polls it.
+    pub(crate) fn poll_esm_events(&self, cx: &mut Context<'_>) -> Poll<AlEvent> {
+        self.with(|r| {
+            let emergencies = r.emergencies.get();
+            if r.esm_events.get().is_empty()
+                && emergencies.is_empty()
+                && r.reports.get() == Reports::NONE
+            {
+                r.esm_waker.register(cx.waker());
+                Poll::Pending
+            } else {
+                Poll::Ready(r.esm_events.take())
+            }
         })
     }
 

@@ -3,6 +3,7 @@
 # prints its flash (text + data) and RAM (data + bss) and its ecat share (the variant less the
 # `baseline` binary: the same board, executors and drivers without ecat).
 # Usage: ./sizes.sh [--top N]   (--top: also the N largest symbols of the digital I/O firmware)
+# Every ELF measured is kept in target/sizes/ (`baseline`, `ecat-stm32-no-dictionary-no-leds`, …).
 set -euo pipefail
 cd "$(dirname "$0")"
 export CARGO_TARGET_DIR=target   # the sizes are read from here, whatever the caller set
@@ -12,6 +13,7 @@ size_tool=$(command -v llvm-size || command -v size || true)
 # flash and RAM of an ELF: "text+data data+bss"
 measure() { "$size_tool" "$1" | awk 'NR == 2 { print $1 + $2, $2 + $3 }'; }
 cargo build --release --locked --bin baseline
+mkdir -p target/sizes && cp "$release/baseline" target/sizes/baseline
 read -r base_flash base_ram < <(measure "$release/baseline")
 echo "| variant | flash | RAM | ecat share flash | ecat share RAM |"
 echo "|---|---|---|---|---|"
@@ -21,10 +23,14 @@ row() { # label elf
     read -r flash ram < <(measure "$2")
     echo "| $1 | $flash | $ram | $((flash - base_flash)) | $((ram - base_ram)) |"
 }
+# Each variant's ELF is kept as target/sizes/BIN[-FEATURES] for a closer look (llvm-nm, objdump).
 variant() { # label cargo-args…
-    local label=$1; shift
+    local label=$1 bin keep; shift
     cargo build --release --locked "$@"
-    row "$label" "$release/$(echo "$@" | grep -o 'bin [a-z0-9-]*' | cut -d' ' -f2)"
+    bin=$(echo "$@" | grep -o 'bin [a-z0-9-]*' | cut -d' ' -f2)
+    keep=$(echo "$@" | sed 's/--bin [a-z0-9-]*//; s/--no-default-features//; s/--features//; s/[^a-z0-9]\+/-/g; s/^-*//; s/-*$//')
+    cp "$release/$bin" "target/sizes/$bin${keep:+-$keep}"
+    row "$label" "$release/$bin"
 }
 variant "digital I/O, no dictionary, no LED task" --bin ecat-stm32 --features no-dictionary,no-leds
 variant "digital I/O, no dictionary (\`no-dictionary\`)" --bin ecat-stm32 --features no-dictionary
@@ -37,6 +43,7 @@ variant "digital I/O, SOES's dictionary, firmware update (\`bootloader\`)" --bin
 # over the same baseline built for it (no SPI, the FMC's bus cycles instead).
 fmc=(--no-default-features --features fmc)
 cargo build --release --locked --bin baseline "${fmc[@]}"
+cp "$release/baseline" target/sizes/baseline-fmc
 read -r spi_flash spi_ram < <(echo "$base_flash $base_ram")
 read -r base_flash base_ram < <(measure "$release/baseline")
 echo "| baseline on the FMC (no ecat, STM32G474QE) | $base_flash | $base_ram | — | — |"
