@@ -33,6 +33,12 @@ def safeop_to_op(master, image, line):
     assert master.expected_wkc == 2 * outputs + inputs
     master.send_processdata()
     master.receive_processdata(RECEIVE_US)
+    assert to_op(master)
+
+
+def to_op(master):
+    """Requests OP and cycles until every SubDevice is there (SAFEOP→OP completes only once
+    valid outputs arrived); whether they are."""
     master.state = pysoem.OP_STATE
     master.write_state()
     for _ in range(200):
@@ -40,4 +46,4 @@ def safeop_to_op(master, image, line):
         master.receive_processdata(RECEIVE_US)
         if master.state_check(pysoem.OP_STATE, 1000) == pysoem.OP_STATE:
             break
-    assert master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE
+    return master.state_check(pysoem.OP_STATE, 50_000) == pysoem.OP_STATE

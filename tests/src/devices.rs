@@ -9,21 +9,18 @@
 //! | [`sensor`] | inputs only: i32 value + u16 status | the value counts the cycles |
 //! | [`dio_update`] | as [`dio`] | as [`dio`]; FoE in BOOT updates its flash ([`crate::update`]) |
 
+use ecat_core::DeviceConfig;
 use ecat_core::coe::Emergency;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{
     Communication, DeviceInfo, ObjectDictionary, ObjectHooks, OctetString,
 };
-use ecat_core::foe::Foe;
-use ecat_core::mailbox::Handlers;
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::{self, Names};
-use ecat_core::{AlState, DeviceConfig, Transition};
 use ecat_embassy::Application;
 
-use crate::flash::Flash;
 use crate::harness::{AcceptAll, Device};
-use crate::update::{self, FlashFiles};
+use crate::update::{Firmware, Updatable};
 use ecat_core::diagnosis::DiagnosisHistory;
 
 /// A CiA402-like drive's process data: RxPDO 0x1600 = controlword, target position, target
@@ -374,62 +371,19 @@ pub fn sensor() -> Sample<AcceptAll, SensorCounter, Sensor> {
     )
 }
 
-/// The password of [`dio_update`]'s firmware file.
-pub const UPDATE_PASSWORD: u32 = 0x0000_0016;
-
-/// The bootstrap mailbox of [`dio_update`]: 256 bytes each way at 0x1800 (FoE segments of 244
-/// bytes).
-pub const BOOT_MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1800, 256);
-
-/// [`dio`]'s application with a firmware update: FoE in BOOT into the device's flash; leaving
-/// BOOT marks a verified image for the bootloader, reaching PREOP confirms a new image.
-pub struct UpdateApp {
-    foe: (Foe<FlashFiles>,),
-}
-
-impl UpdateApp {
-    /// The device's files.
-    pub fn files(&mut self) -> &mut FlashFiles {
-        self.foe.0.files_mut()
-    }
-}
-
-impl Application<Dio> for UpdateApp {
-    fn mailbox(&mut self) -> (impl ObjectHooks<Dio> + '_, impl Handlers + '_) {
-        ((), &mut self.foe)
-    }
-
-    fn on_state_change(&mut self, transition: Transition) {
-        if transition.from == AlState::Boot {
-            self.files().leave_boot();
-        }
-        if transition.to == AlState::PreOp {
-            self.files().confirm();
-        }
-    }
-}
-
-/// The digital I/O module running the image in ACTIVE of `flash`, updatable in BOOT
-/// (FoE file [`update::FILE_NAME`], password [`UPDATE_PASSWORD`]): its revision (SII and
-/// 0x1018:03) is the version the image reports ([`update::running_version`]). A restart is a
-/// new device on the same flash after [`update::reset`].
-pub fn dio_update(flash: Flash) -> Sample<UpdateApp, DioLoop, Dio> {
-    let revision = update::running_version(&flash);
-    let app = UpdateApp {
-        foe: (Foe::new(FlashFiles::new(flash, UPDATE_PASSWORD)),),
-    };
-    let mut config = DeviceConfig::new(
-        MAILBOX,
-        ProcessDataSizes {
-            outputs: 2,
-            inputs: 2,
-        },
-    );
-    config.bootstrap_mailbox = Some(BOOT_MAILBOX);
+/// The digital I/O module running `firmware`, updatable in BOOT ([`Firmware`]: FoE file
+/// [`crate::update::FILE_NAME`], password [`crate::update::PASSWORD`]): its revision (SII and
+/// 0x1018:03) is the version its image reports. A restart is a new device on the same flash
+/// after [`crate::update::reset`], or [`crate::update::restarting`] does it.
+pub fn dio_update(firmware: &Firmware) -> Sample<Updatable<AcceptAll>, DioLoop, Dio> {
     let mut od = Dio::default();
-    od.area.identity.revision = revision;
-    let identity = od.area.identity;
-    let device = Device::new(config, app, DioLoop).with_dictionary(od);
+    let identity = firmware.identify(&mut od.area);
+    let sizes = ProcessDataSizes {
+        outputs: 2,
+        inputs: 2,
+    };
+    let config = firmware.bootstrap(DeviceConfig::new(MAILBOX, sizes));
+    let device = Device::new(config, firmware.app(AcceptAll), DioLoop).with_dictionary(od);
     let names = Names {
         name: DIO_INFO.name,
         order_code: "ECAT-DIO-16-U",

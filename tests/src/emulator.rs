@@ -52,6 +52,18 @@ impl Emulator {
         }))
     }
 
+    /// Switches the ESC off and on again, as a device's restart does ([`crate::restart`]): it
+    /// becomes `fresh`'s ESC (registers at their reset values, its EEPROM loaded), linked as
+    /// before (the DL status 0x0110 kept: the cables did not change). The PDI port and the IRQ
+    /// and SYNC0 pins are still this handle's.
+    pub fn power_cycle(&self, fresh: &Emulator) {
+        let links: [u8; 2] = registers(&self.0.esc.borrow(), register::DL_STATUS);
+        self.0.esc.swap(&fresh.0.esc);
+        self.0.watchdog_deadline.set(None);
+        self.0.sync0_last.set(None);
+        self.with(|esc| esc.set_register(register::DL_STATUS, &links));
+    }
+
     /// Runs `f` on the ESC, then wakes the IRQ waiters: any access may have changed the line.
     pub fn with<R>(&self, f: impl FnOnce(&mut Esc) -> R) -> R {
         let result = {

@@ -61,9 +61,55 @@ impl NorFlashError for Error {
     }
 }
 
+/// The bytes, a page at a time: a page never written reads erased (0xFF) and takes no memory,
+/// so a device's flash costs what it holds (a 4 KiB image: two pages, not 512 KiB per device
+/// of a virtual slave's line).
+struct Pages(Vec<Option<Box<[u8]>>>);
+
+impl Pages {
+    /// The whole flash, erased.
+    fn erased() -> Self {
+        Self(vec![None; layout::SIZE / PAGE])
+    }
+
+    /// The bytes of `range`.
+    fn get(&self, range: Range<usize>) -> Vec<u8> {
+        let mut bytes = vec![0; range.len()];
+        self.read(range.start, &mut bytes);
+        bytes
+    }
+
+    /// Fills `out` with the bytes from `start` on.
+    fn read(&self, start: usize, out: &mut [u8]) {
+        let (mut at, mut rest) = (start, out);
+        while !rest.is_empty() {
+            let (page, offset) = (at / PAGE, at % PAGE);
+            let n = (PAGE - offset).min(rest.len());
+            let (part, more) = rest.split_at_mut(n);
+            match &self.0[page] {
+                Some(stored) => part.copy_from_slice(&stored[offset..offset + n]),
+                None => part.fill(0xFF),
+            }
+            (at, rest) = (at + n, more);
+        }
+    }
+
+    /// Sets the bytes from `start` on to `bytes`.
+    fn set(&mut self, start: usize, bytes: &[u8]) {
+        let (mut at, mut rest) = (start, bytes);
+        while !rest.is_empty() {
+            let (page, offset) = (at / PAGE, at % PAGE);
+            let n = (PAGE - offset).min(rest.len());
+            let stored = self.0[page].get_or_insert_with(|| vec![0xFF; PAGE].into_boxed_slice());
+            stored[offset..offset + n].copy_from_slice(&rest[..n]);
+            (at, rest) = (at + n, &rest[n..]);
+        }
+    }
+}
+
 /// The bytes and the power.
 struct Memory {
-    bytes: Vec<u8>,
+    bytes: Pages,
     /// Operations left before the cut; `None`: no cut planned.
     budget: Option<usize>,
     powered: bool,
@@ -78,7 +124,7 @@ pub struct Flash(Rc<RefCell<Memory>>);
 impl Default for Flash {
     fn default() -> Self {
         Self(Rc::new(RefCell::new(Memory {
-            bytes: vec![0xFF; layout::SIZE],
+            bytes: Pages::erased(),
             budget: None,
             powered: true,
             operations: 0,
@@ -97,7 +143,7 @@ impl Flash {
 
     /// The bytes of `range`, as they are.
     pub fn bytes(&self, range: Range<usize>) -> Vec<u8> {
-        self.0.borrow().bytes[range].to_vec()
+        self.0.borrow().bytes.get(range)
     }
 
     /// Lets `n` more erases or writes complete, then tears the next one and turns the power off.
@@ -134,15 +180,16 @@ impl Flash {
                 // Whole double words: the chip programs one at a time, each as a unit (a
                 // page erase is torn the same way, at a double-word boundary).
                 let half = range.len() / DOUBLE_WORD / 2 * DOUBLE_WORD;
-                let torn = range.start..range.start + half;
-                let mut copy = memory.bytes[range.clone()].to_vec();
+                let mut copy = memory.bytes.get(range.clone());
                 apply(&mut copy)?;
-                memory.bytes[torn].copy_from_slice(&copy[..half]);
+                memory.bytes.set(range.start, &copy[..half]);
                 return Err(Error::PowerLost);
             }
             *budget -= 1;
         }
-        apply(&mut memory.bytes[range])?;
+        let mut bytes = memory.bytes.get(range.clone());
+        apply(&mut bytes)?;
+        memory.bytes.set(range.start, &bytes);
         memory.operations += 1;
         Ok(())
     }
@@ -182,7 +229,7 @@ impl ReadNorFlash for Partition {
         if !memory.powered {
             return Err(Error::PowerLost);
         }
-        bytes.copy_from_slice(&memory.bytes[span]);
+        memory.bytes.read(span.start, bytes);
         Ok(())
     }
 

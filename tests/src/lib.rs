@@ -20,6 +20,7 @@
 //! | [`mcu`] | a fake 16-bit asynchronous microcontroller bus to the ESC (the ET1100/AX58100 parallel PDI) |
 //! | [`harness`] | runs the real runners with the mock time driver, the process-data runner at interrupt level |
 //! | [`update`] | a device's firmware update: FoE files into the flash's DFU partition, the bootloader's reset |
+//! | [`restart`] | a device that restarts while its line runs (after an update): booted anew, its ESC power-cycled |
 //! | [`scheduler`] | the harness's executor: a pended interrupt's priority on one host thread |
 pub mod coe_client;
 pub mod devices;
@@ -37,6 +38,7 @@ pub mod master;
 pub mod mcu;
 pub mod pcap;
 pub mod real_master;
+pub mod restart;
 pub mod scheduler;
 pub mod spi;
 pub mod update;

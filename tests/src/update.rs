@@ -22,10 +22,20 @@
 //! one): what the MainDevice wrote, as the device holds it.
 //!
 //! The host's images ([`image`]) start with their version (u32, little-endian): what a device
-//! built from the flash reports as its revision (`devices::dio_update`).
+//! built from the flash reports as its revision. A sample device becomes updatable with a
+//! [`Firmware`] (`devices::dio_update`, the virtual axis of `examples/host`): its application in
+//! [`Updatable`], the bootstrap mailbox, the revision of its image. Leaving BOOT with an image
+//! marked, [`Updatable`] asks for a reset; run as [`restarting`], the device then restarts on its
+//! own as firmware under the bootloader does: the swap, the new image, its confirmation in PREOP.
 
 use crc::{CRC_32_ISO_HDLC, Crc};
-use ecat_core::foe::{Files, FoeError, Progress};
+use ecat_core::coe::Emergency;
+use ecat_core::device::{Identity, MailboxConfig};
+use ecat_core::dictionary::{Communication, ObjectHooks};
+use ecat_core::foe::{Files, Foe, FoeError, Progress};
+use ecat_core::mailbox::Handlers;
+use ecat_core::{AlState, AlStatusCode, DeviceConfig, Transition};
+use ecat_embassy::Application;
 use embassy_boot::{
     BlockingFirmwareState, BlockingFirmwareUpdater, BootLoader, BootLoaderConfig,
     FirmwareUpdaterConfig, State,
@@ -33,9 +43,16 @@ use embassy_boot::{
 use embedded_storage::nor_flash::{NorFlash, ReadNorFlash};
 
 use crate::flash::{DOUBLE_WORD, Flash, PAGE, Partition, layout};
+use crate::harness::Spawn;
+use crate::restart::{Reset, Restarting};
 
 /// The file a [`FlashFiles`] accepts.
 pub const FILE_NAME: &str = "firmware.bin";
+/// The password of the updatable sample devices' [`FILE_NAME`].
+pub const PASSWORD: u32 = 0x0000_0016;
+/// The bootstrap mailbox of the updatable sample devices: 256 bytes each way at 0x1800 (FoE
+/// segments of 244 bytes).
+pub const BOOT_MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1800, 256);
 
 /// The CRC of the [`Header`]: CRC-32 (ISO HDLC, as zlib's `crc32`).
 const CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
@@ -329,4 +346,98 @@ impl Files for FlashFiles {
     fn abort(&mut self) {
         self.receive = None;
     }
+}
+
+/// What an updatable sample device runs on: its flash, and the reset it asks for after an
+/// update.
+#[derive(Clone)]
+pub struct Firmware {
+    flash: Flash,
+    reset: Reset,
+}
+
+impl Firmware {
+    /// The firmware in `flash`, asking for resets through `reset`.
+    pub fn new(flash: Flash, reset: Reset) -> Self {
+        Self { flash, reset }
+    }
+
+    /// The identity of the image in ACTIVE, set in the dictionary's `area` (0x1018) and
+    /// returned for the SII: the revision is the version the image reports
+    /// ([`running_version`]).
+    pub fn identify(&self, area: &mut Communication) -> Identity {
+        area.identity.revision = running_version(&self.flash);
+        area.identity
+    }
+
+    /// `config` with the bootstrap mailbox [`BOOT_MAILBOX`] (BOOT supported).
+    pub fn bootstrap(&self, mut config: DeviceConfig) -> DeviceConfig {
+        config.bootstrap_mailbox = Some(BOOT_MAILBOX);
+        config
+    }
+
+    /// `app` with the update on this flash ([`FILE_NAME`], [`PASSWORD`]).
+    pub fn app<A>(&self, app: A) -> Updatable<A> {
+        Updatable {
+            app,
+            foe: (Foe::new(FlashFiles::new(self.flash.clone(), PASSWORD)),),
+            reset: self.reset.clone(),
+        }
+    }
+}
+
+/// An application `A` with the firmware update, as examples/stm32's `Updatable`: FoE in BOOT
+/// into the device's flash ([`FlashFiles`]); leaving BOOT with a verified image marks it for the
+/// bootloader and asks for a reset; reaching PREOP confirms a new image on its trial boot.
+pub struct Updatable<A> {
+    app: A,
+    foe: (Foe<FlashFiles>,),
+    reset: Reset,
+}
+
+/// The state-machine side of a harness `Device` (`harness::Pair`'s hooks): the cycle and the safe
+/// state are the device's other half.
+impl<A: Application<D>, D> Application<D> for Updatable<A> {
+    fn on_state_change(&mut self, transition: Transition) {
+        self.app.on_state_change(transition);
+        let files = self.foe.0.files_mut();
+        if transition.from == AlState::Boot && files.leave_boot() {
+            self.reset.request();
+        }
+        if transition.to == AlState::PreOp {
+            files.confirm();
+        }
+    }
+
+    fn on_transition(
+        &mut self,
+        transition: Transition,
+    ) -> impl Future<Output = Result<(), AlStatusCode>> + use<A, D> {
+        self.app.on_transition(transition)
+    }
+
+    fn object_hooks(&mut self) -> impl ObjectHooks<D> + '_ {
+        self.app.object_hooks()
+    }
+
+    fn mailbox(&mut self) -> (impl ObjectHooks<D> + '_, impl Handlers + '_) {
+        (self.app.object_hooks(), &mut self.foe)
+    }
+
+    fn take_emergency(&mut self) -> Option<Emergency> {
+        self.app.take_emergency()
+    }
+}
+
+/// A device on `flash` that restarts as firmware under the bootloader does ([`Restarting`]): at
+/// power-on and at every reset the bootloader runs ([`reset`]: the swap of a marked image, the
+/// rollback of one never confirmed), then `boot` makes the device from the image in ACTIVE.
+pub fn restarting(
+    flash: Flash,
+    mut boot: impl FnMut(&Firmware) -> Box<dyn Spawn> + 'static,
+) -> Restarting {
+    Restarting::new(move |line: &Reset| {
+        reset(&flash).expect("the bootloader runs on a powered flash");
+        boot(&Firmware::new(flash.clone(), line.clone()))
+    })
 }

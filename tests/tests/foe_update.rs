@@ -3,26 +3,32 @@
 //! `BlockingFirmwareUpdater` into DFU), leaves BOOT, the bootloader's `prepare_boot` runs at the
 //! "reset", and a new device on the same flash runs the new image: its revision (0x1018:03, from
 //! the image) is the new version. It confirms itself in PREOP, or is rolled back at the next
-//! reset. Refused files change nothing.
+//! reset. Refused files change nothing. On a line the device restarts by itself
+//! (`update::restarting`, as the virtual slave runs it).
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
 use ecat_core::device::MailboxConfig;
+use ecat_core::register;
 use ecat_emu::coe_client::SdoClient;
-use ecat_emu::devices::{BOOT_MAILBOX, UPDATE_PASSWORD, dio_update};
+use ecat_emu::devices::{dio, dio_update};
 use ecat_emu::flash::{Flash, layout};
 use ecat_emu::foe_client::{FoeClient, FoeFailure};
-use ecat_emu::harness;
+use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;
-use ecat_emu::update::{FILE_NAME, Header, file, flashed, image, reset, running_version, state};
+use ecat_emu::restart::Reset;
+use ecat_emu::update::{
+    self, BOOT_MAILBOX, FILE_NAME, Firmware, Header, PASSWORD, file, flashed, image, reset,
+    running_version, state,
+};
 use embassy_boot::State;
 
 const MAILBOX: MailboxConfig = MailboxConfig::contiguous(0x1000, 128);
 
 /// A device on `flash` (restarted: built from what ACTIVE holds) running `script`.
 fn start(flash: &Flash, script: impl AsyncFnOnce(&TestMaster) + 'static) {
-    let sample = dio_update(flash.clone());
+    let sample = dio_update(&Firmware::new(flash.clone(), Reset::default()));
     assert_eq!(sample.identity.revision, running_version(flash));
     harness::run(sample.device, |master| async move { script(&master).await });
 }
@@ -61,6 +67,14 @@ async fn revision_in_preop(master: &TestMaster) -> u32 {
     u32::from_le_bytes(revision.try_into().unwrap())
 }
 
+/// The revision in the SII image the ESC holds (word 0x0C), as a MainDevice's scan reads it.
+fn revision_in_sii(master: &TestMaster) -> u32 {
+    let revision = master
+        .emulator()
+        .with(|esc| esc.eeprom()[0x18..0x1C].to_vec());
+    u32::from_le_bytes(revision.try_into().unwrap())
+}
+
 /// Version 1 in ACTIVE, booted.
 fn version_1() -> Flash {
     flashed(&image(1, 45_000))
@@ -73,7 +87,7 @@ fn the_new_image_runs_after_the_reset_and_confirms_itself_in_preop() {
     let update_file = file(&new);
     start(&flash, async move |master| {
         assert_eq!(revision_in_preop(master).await, 1);
-        update(master, FILE_NAME, UPDATE_PASSWORD, &update_file)
+        update(master, FILE_NAME, PASSWORD, &update_file)
             .await
             .unwrap();
     });
@@ -106,7 +120,7 @@ fn an_image_that_never_reaches_preop_is_rolled_back() {
     let flash = version_1();
     let update_file = file(&image(2, 5_000));
     start(&flash, async move |master| {
-        update(master, FILE_NAME, UPDATE_PASSWORD, &update_file)
+        update(master, FILE_NAME, PASSWORD, &update_file)
             .await
             .unwrap();
     });
@@ -139,12 +153,12 @@ fn refused_files_get_their_codes_and_change_nothing() {
     let short = file(&good)[..Header::SIZE + 2_000].to_vec();
     start(&flash, async move |master| {
         let cases = [
-            ("firmware.elf", UPDATE_PASSWORD, file(&good), 0x8001),
-            (FILE_NAME, UPDATE_PASSWORD + 1, file(&good), 0x800A),
-            (FILE_NAME, UPDATE_PASSWORD, too_large, 0x8003),
-            (FILE_NAME, UPDATE_PASSWORD, corrupted, 0x8000),
-            (FILE_NAME, UPDATE_PASSWORD, no_magic, 0x8000),
-            (FILE_NAME, UPDATE_PASSWORD, short, 0x8000),
+            ("firmware.elf", PASSWORD, file(&good), 0x8001),
+            (FILE_NAME, PASSWORD + 1, file(&good), 0x800A),
+            (FILE_NAME, PASSWORD, too_large, 0x8003),
+            (FILE_NAME, PASSWORD, corrupted, 0x8000),
+            (FILE_NAME, PASSWORD, no_magic, 0x8000),
+            (FILE_NAME, PASSWORD, short, 0x8000),
         ];
         for (name, password, file, code) in cases {
             assert_eq!(
@@ -168,12 +182,8 @@ fn a_second_file_replaces_the_first_before_boot_is_left() {
     start(&flash, async move |master| {
         walk(master, &BOOT_MAILBOX, 0x03).await;
         let mut foe = FoeClient::for_mailbox(master, &BOOT_MAILBOX);
-        foe.write(FILE_NAME, UPDATE_PASSWORD, &files.0)
-            .await
-            .unwrap();
-        foe.write(FILE_NAME, UPDATE_PASSWORD, &files.1)
-            .await
-            .unwrap();
+        foe.write(FILE_NAME, PASSWORD, &files.0).await.unwrap();
+        foe.write(FILE_NAME, PASSWORD, &files.1).await.unwrap();
         assert_eq!(master.request(0x0001).await, (0x0001, 0));
     });
     assert_eq!(reset(&flash).unwrap(), State::Swap);
@@ -187,7 +197,7 @@ fn foe_outside_boot_is_bootstrap_only() {
         walk(master, &MAILBOX, 0x02).await;
         assert_eq!(
             FoeClient::for_mailbox(master, &MAILBOX)
-                .write(FILE_NAME, UPDATE_PASSWORD, &file(&image(2, 100)))
+                .write(FILE_NAME, PASSWORD, &file(&image(2, 100)))
                 .await,
             Err(FoeFailure::Error(0x8008))
         );
@@ -206,7 +216,7 @@ fn a_power_cut_at_any_flash_operation_of_the_update_leaves_a_whole_image() {
         let flash = version_1();
         let (before, update_file) = (flash.operations(), update_file.clone());
         start(&flash, async move |master| {
-            update(master, FILE_NAME, UPDATE_PASSWORD, &update_file)
+            update(master, FILE_NAME, PASSWORD, &update_file)
                 .await
                 .unwrap();
         });
@@ -222,7 +232,7 @@ fn a_power_cut_at_any_flash_operation_of_the_update_leaves_a_whole_image() {
         let outcome = Rc::new(RefCell::new(None));
         let (seen, update_file) = (outcome.clone(), update_file.clone());
         start(&flash, async move |master| {
-            let result = update(master, FILE_NAME, UPDATE_PASSWORD, &update_file).await;
+            let result = update(master, FILE_NAME, PASSWORD, &update_file).await;
             *seen.borrow_mut() = Some(result);
         });
         assert!(flash.power_on(), "cut {cut}: the power was cut");
@@ -238,4 +248,47 @@ fn a_power_cut_at_any_flash_operation_of_the_update_leaves_a_whole_image() {
             other => panic!("cut {cut} of {total}: {other:?}"),
         }
     }
+}
+
+/// On a line, the device restarts by itself once the MainDevice takes it out of BOOT with the new
+/// image marked (`update::restarting`, as the virtual slave runs it): the bootloader's swap, a
+/// fresh ESC (no station address: a MainDevice scans again) with the new revision in its SII and
+/// 0x1018:03, the new image confirmed in PREOP. BOOT left without an update restarts nothing, and
+/// the device beside it stays in PREOP at its address.
+#[test]
+fn leaving_boot_with_an_update_restarts_the_device_on_its_line() {
+    let flash = version_1();
+    let updatable = update::restarting(flash.clone(), |firmware| {
+        Box::new(dio_update(firmware).device)
+    });
+    let line: Vec<Box<dyn Spawn>> = vec![Box::new(updatable), Box::new(dio().device)];
+    let update_file = file(&image(2, 30_000));
+    let trial = flash.clone();
+    harness::run_many(line, move |escs| async move {
+        let device = TestMaster::new(escs[0].clone());
+        let beside = TestMaster::new(escs[1].clone());
+        let address = |master: &TestMaster| master.read_u16(register::STATION_ADDRESS);
+        device.write(register::STATION_ADDRESS, &0x1000u16.to_le_bytes());
+        beside.write(register::STATION_ADDRESS, &0x1001u16.to_le_bytes());
+        walk(&beside, &MAILBOX, 0x02).await;
+        walk(&device, &BOOT_MAILBOX, 0x03).await;
+        assert_eq!(device.request(0x0001).await, (0x0001, 0));
+        assert_eq!(address(&device), 0x1000, "no update, no restart");
+        assert_eq!(revision_in_sii(&device), 1);
+        update(&device, FILE_NAME, PASSWORD, &update_file)
+            .await
+            .unwrap();
+        device.settle().await;
+        assert_eq!(address(&device), 0, "restarted: the ESC's reset value");
+        assert_eq!(revision_in_sii(&device), 2, "the new image's SII");
+        assert_eq!(state(&trial).unwrap(), State::Swap, "a trial boot");
+        assert_eq!(revision_in_preop(&device).await, 2, "the new image runs");
+        assert_eq!(state(&trial).unwrap(), State::Boot, "confirmed in PREOP");
+        assert_eq!(
+            (beside.al_status(), address(&beside)),
+            (0x0002, 0x1001),
+            "the rest of the line goes on"
+        );
+    });
+    assert_eq!(running_version(&flash), 2);
 }
