@@ -128,6 +128,14 @@ pub struct DeviceConfig {
     /// ([`crate::sii::FLAG_IDENT_AL_STATUS`]) and the ESI (`Info/IdentificationReg134`) advertise
     /// it, so MainDevices use it. Default: false.
     pub explicit_device_id: bool,
+    /// The ERR LED is the ESC's (wired to its ERR output, ESC datasheet section I): after each
+    /// write of AL status the SubDevice writes the ERR LED override 0x0139 with ETG.1300's
+    /// pattern for its error ([`crate::indicator::err_pattern`] with
+    /// [`LED_OVERRIDE`](crate::indicator::LED_OVERRIDE)), which the ESC cannot tell from the
+    /// error indication alone, as SSC's `SetALStatus` does with `ESC_SUPPORT_ECAT_LED`. The
+    /// ESC drives RUN from AL status by itself either way. Default: false (ERR on a pin of the
+    /// firmware, `ecat_embassy::indicator`).
+    pub esc_err_led: bool,
     /// The synchronisation modes the device supports (0x1C32:04). Default: free-run and
     /// SM-synchronous.
     pub sync_modes: SupportedSyncModes,
@@ -167,6 +175,7 @@ impl DeviceConfig {
             process_ram_end: Self::DEFAULT_PROCESS_RAM_END,
             sync_manager_count: 8,
             explicit_device_id: false,
+            esc_err_led: false,
             sync_modes: SupportedSyncModes(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM),
             free_run_cycle: Duration::from_millis(1),
             min_cycle_time: Duration::from_micros(250),

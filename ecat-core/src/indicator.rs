@@ -46,12 +46,18 @@
 //!
 //! ## The ESC's own LED outputs (ETG.1000.4 registers 0x0138/0x0139)
 //!
-//! An ESC with RUN/ERR LED pins drives RUN from the AL status register itself; the firmware then
-//! needs no RUN pin. The override registers take a code ([`Pattern::led_code`]) with bit 4
-//! ([`LED_OVERRIDE`]) set; a write of the AL status clears RUN's override enable.
-//! [`Pattern::override_register`] gives the byte to write.
+//! An ESC with a RUN LED output (ET1100/ET1200, LAN9252, AX58100) drives it from its AL status
+//! register by itself, with the RUN patterns above; the firmware then needs no RUN pin and
+//! writes nothing for it: the stack writes only valid states into 0x0130, so the ESC always
+//! knows the state RUN shows. The override registers (0x0138 RUN, 0x0139 ERR; both ports may
+//! write them) take an LED code ([`LedCode`], [`Pattern::led_code`]) with bit 4
+//! ([`LED_OVERRIDE`]) set; the next ESM state change (a new valid state in 0x0130) ends RUN's
+//! override, e.g. a MainDevice's "device identification" flashes. An ESC that drives ERR shows
+//! only the errors it detects itself (a single flash for the error indication 0x0130 bit 4, a
+//! double flash for a process-data watchdog timeout in OP): the error classes above need the
+//! ERR override, the byte [`Pattern::override_register`] gives (what SSC's `SetALStatus` writes
+//! with `ESC_SUPPORT_ECAT_LED`).
 
-//!
 //! ## Sources
 //!
 //! The ETG.1300 text itself is for ETG members; what is implemented here was checked against
@@ -61,8 +67,11 @@
 //! meanings), the ESC's own ERR LED
 //! states in Beckhoff's "EtherCAT Slave Controller Technology" (Section I, ERR LED: double flash
 //! for a process-data watchdog timeout in OP, single flash for the error indication set
-//! locally), the LED override registers 0x0138/0x0139 in the ESC register descriptions
-//! (Section II), and the code classes in SSC's `SetALStatus`. Two choices are this crate's, not
+//! locally; RUN: the AL status's patterns, "the RUN LED override is disabled automatically by
+//! a following ESM state change"), the LED override registers 0x0138/0x0139 in the ESC
+//! register descriptions (Section II), and the code classes in SSC's `SetALStatus`. The
+//! timeline of 3 to 12 flashes (200 ms apart, the 1000 ms pause after the last) extends the
+//! single and double flash as ETG.1300 counts them. Two choices are this crate's, not
 //! found in those sources: a changed pattern restarts with its on phase, and the bicolour LED
 //! shows red whenever ERR is on (CiA 303-3's rule for its combined LED).
 
@@ -92,40 +101,27 @@ pub enum Pattern {
 pub const LED_OVERRIDE: u8 = 0x10;
 
 impl Pattern {
-    /// The phases in milliseconds: on, off, on, off (a second flash only in the double flash;
-    /// all 0 for a steady pattern).
-    const fn phases(self) -> [u32; 4] {
-        match self {
-            Self::Off | Self::On => [0; 4],
-            Self::Flickering => [50, 50, 0, 0],
-            Self::Blinking => [200, 200, 0, 0],
-            Self::SingleFlash => [200, 1000, 0, 0],
-            Self::DoubleFlash => [200, 200, 200, 1000],
-        }
-    }
-
     /// The level `elapsed` after the pattern started, and how long it keeps it (`None`: for
     /// ever). Phases are half-open: at an edge the level is already the new one.
     pub fn level_at(self, elapsed: Duration) -> (bool, Option<Duration>) {
-        let phases = self.phases();
-        let [a, b, c, d] = phases;
-        // At most 1.6 s: microseconds fit 32 bits (the Cortex-M4 divides those in hardware).
-        let period = (a + b + c + d) * 1_000;
-        if period == 0 {
-            return (self == Self::On, None);
+        self.code().level_at(elapsed)
+    }
+
+    /// The pattern's LED code.
+    pub const fn code(self) -> LedCode {
+        LedCode(self.led_code())
+    }
+
+    /// The pattern `code` shows; [`Pattern::Off`] for the flash counts no pattern has (3 to 12).
+    pub const fn of(code: LedCode) -> Self {
+        match code.0 {
+            0x1 => Self::SingleFlash,
+            0x2 => Self::DoubleFlash,
+            0xD => Self::Blinking,
+            0xE => Self::Flickering,
+            0xF => Self::On,
+            _ => Self::Off,
         }
-        let at = remainder(elapsed.as_micros(), u64::from(period)) as u32;
-        let mut end = 0;
-        let mut on = true;
-        for phase in phases {
-            end += phase * 1_000;
-            if at < end {
-                return (on, Some(Duration::from_micros(u64::from(end - at))));
-            }
-            on = !on;
-        }
-        // Not reached: `at` is below the period, the last `end`.
-        (false, None)
     }
 
     /// The LED code of the ESC's LED override registers (0x0138 RUN, 0x0139 ERR, bits 3:0):
@@ -144,6 +140,62 @@ impl Pattern {
     /// The byte to write into an LED override register so that the ESC shows this pattern.
     pub const fn override_register(self) -> u8 {
         LED_OVERRIDE | self.led_code()
+    }
+}
+
+/// A code of the ESC's LED outputs (the LED code of the override registers 0x0138/0x0139, bits
+/// 3:0), and its timeline: 0x0 off, 0x1..=0xC that many flashes (each on 200 ms, off 200 ms
+/// between two of them, off 1000 ms after the last: ETG.1300's single and double flash are 0x1
+/// and 0x2), 0xD blinking, 0xE flickering, 0xF on. The [`Pattern`]s are its codes 0x0, 0x1,
+/// 0x2, 0xD, 0xE and 0xF; an ESC's own RUN and ERR outputs show any code
+/// (`ecat_esc`, the emulated ESC, runs its outputs on this).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct LedCode(u8);
+
+impl LedCode {
+    /// Off.
+    pub const OFF: Self = Self(0x0);
+    /// On.
+    pub const ON: Self = Self(0xF);
+
+    /// The code in bits 3:0 of an override register's value (the enable bit and the reserved
+    /// bits are not part of it).
+    pub const fn from_register(value: u8) -> Self {
+        Self(value & 0x0F)
+    }
+
+    /// The code, 0x0..=0xF.
+    pub const fn bits(self) -> u8 {
+        self.0
+    }
+
+    /// The level `elapsed` after the code started, and how long it keeps it (`None`: for
+    /// ever). Phases are half-open: at an edge the level is already the new one.
+    pub fn level_at(self, elapsed: Duration) -> (bool, Option<Duration>) {
+        // On, off between two flashes, off after the last, flashes; in milliseconds.
+        let (on, off, last_off, flashes) = match self.0 {
+            0x0 => return (false, None),
+            0xF => return (true, None),
+            0xE => (50, 50, 50, 1),
+            0xD => (200, 200, 200, 1),
+            n => (200, 200, 1000, u32::from(n)),
+        };
+        // At most 5.6 s: microseconds fit 32 bits (the Cortex-M4 divides those in hardware).
+        let (on, step, last) = (on * 1_000, (on + off) * 1_000, (on + last_off) * 1_000);
+        let period = step * (flashes - 1) + last;
+        let at = remainder(elapsed.as_micros(), u64::from(period)) as u32;
+        // The flash `at` falls into (the last one with its long pause), and where in it
+        // (`checked_div`: no division-by-zero panic path, `step` is never 0).
+        let flash = at.checked_div(step).unwrap_or(0).min(flashes - 1);
+        let within = at - flash * step;
+        let (level, end) = if within < on {
+            (true, on)
+        } else if flash + 1 == flashes {
+            (false, last)
+        } else {
+            (false, step)
+        };
+        (level, Some(Duration::from_micros(u64::from(end - within))))
     }
 }
 
@@ -232,40 +284,59 @@ impl Levels {
     }
 }
 
-/// One indicator: its pattern and when the pattern started.
+/// One LED output on the caller's clock: the code it shows and when that code started. The
+/// firmware's indicators ([`Indicators`]) and the emulated ESC's own LED outputs (`ecat_esc`)
+/// run their LEDs on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Indicator {
-    pattern: Pattern,
+pub struct LedOutput {
+    code: LedCode,
     since: Instant,
 }
 
-impl Indicator {
-    /// Starts `pattern` at `now`, unless it is the pattern already running (which keeps its
-    /// phase).
-    fn set(&mut self, now: Instant, pattern: Pattern) {
-        if pattern != self.pattern {
-            *self = Self {
-                pattern,
-                since: now,
-            };
+impl Default for LedOutput {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl LedOutput {
+    /// Off since 0.
+    pub const fn new() -> Self {
+        Self {
+            code: LedCode::OFF,
+            since: Instant::from_micros(0),
         }
+    }
+
+    /// Shows `code` from `now` on, unless it is the code shown already (which keeps its
+    /// phase).
+    pub fn show(&mut self, now: Instant, code: LedCode) {
+        if code != self.code {
+            *self = Self { code, since: now };
+        }
+    }
+
+    /// The code shown.
+    pub const fn code(&self) -> LedCode {
+        self.code
     }
 
     fn elapsed(&self, now: Instant) -> Duration {
         Duration::from_micros(now.as_micros().saturating_sub(self.since.as_micros()))
     }
 
-    fn level(&self, now: Instant) -> bool {
-        self.pattern.level_at(self.elapsed(now)).0
+    /// The level at `now` (not before the code started).
+    pub fn level(&self, now: Instant) -> bool {
+        self.code.level_at(self.elapsed(now)).0
     }
 
-    /// The first instant after `now` at which the level changes.
-    fn next_edge(&self, now: Instant) -> Option<Instant> {
-        // Before the pattern started (a `now` from the past) the pattern's start is the edge.
+    /// The first instant after `now` at which the level changes; `None` while it is steady.
+    pub fn next_edge(&self, now: Instant) -> Option<Instant> {
+        // Before the code started (a `now` from the past) the code's start is the edge.
         if now < self.since {
             return Some(self.since);
         }
-        let (_, left) = self.pattern.level_at(self.elapsed(now));
+        let (_, left) = self.code.level_at(self.elapsed(now));
         left.map(|left| now.saturating_add(left))
     }
 }
@@ -277,8 +348,8 @@ impl Indicator {
 /// sleep until [`Indicators::poll_at`], the next edge: no polling loop.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Indicators {
-    run: Indicator,
-    err: Indicator,
+    run: LedOutput,
+    err: LedOutput,
     error: Option<AlStatusCode>,
     fault: Option<Fault>,
 }
@@ -292,13 +363,9 @@ impl Default for Indicators {
 impl Indicators {
     /// INIT without error: both off. `const`, so it can live in a `static`.
     pub const fn new() -> Self {
-        let off = Indicator {
-            pattern: Pattern::Off,
-            since: Instant::from_micros(0),
-        };
         Self {
-            run: off,
-            err: off,
+            run: LedOutput::new(),
+            err: LedOutput::new(),
             error: None,
             fault: None,
         }
@@ -308,7 +375,7 @@ impl Indicators {
     /// is set (`None` when it is clear). An indicator whose pattern changes restarts it at
     /// `now`.
     pub fn update(&mut self, now: Instant, state: AlState, error: Option<AlStatusCode>) {
-        self.run.set(now, run_pattern(state));
+        self.run.show(now, run_pattern(state).code());
         self.error = error;
         self.refresh_err(now);
     }
@@ -332,17 +399,17 @@ impl Indicators {
             Some(Fault::ApplicationController) => Pattern::On,
             None => err_pattern(self.error),
         };
-        self.err.set(now, pattern);
+        self.err.show(now, pattern.code());
     }
 
     /// RUN's current pattern.
     pub fn run(&self) -> Pattern {
-        self.run.pattern
+        Pattern::of(self.run.code())
     }
 
     /// ERR's current pattern.
     pub fn err(&self) -> Pattern {
-        self.err.pattern
+        Pattern::of(self.err.code())
     }
 
     /// The levels at `now` (not before the last update).

@@ -34,7 +34,7 @@
 //! | [`sync_error`] | sync error supervision: the SM/SYNC-event-missed counter against 0x10F1:02 → SAFEOP + 0x001A (ETG.1020 §6.3) |
 //! | [`time`] | instants and durations passed in by the driver |
 //! | [`ring`] | the heap-free FIFO behind every bounded queue |
-//! | [`indicator`] | the RUN and ERR indicators: patterns, AL state/code → pattern, next edge (ETG.1300) |
+//! | [`indicator`] | the RUN and ERR indicators: patterns, the ESC's LED codes (0x0138/0x0139), AL state/code → pattern, next edge (ETG.1300) |
 //! | [`cia402`] | the CiA 402 drive profile: PDS state machine, option codes, statusword, modes (IEC 61800-7-201 §6.2) |
 #![no_std]
 #![cfg_attr(

@@ -29,6 +29,11 @@ pub const AL_CONTROL: u16 = 0x0120;
 pub const AL_STATUS: u16 = 0x0130;
 /// AL status code (ETG.1000.6 Table 11). u16, ECAT r / PDI rw. See [`crate::AlStatusCode`].
 pub const AL_STATUS_CODE: u16 = 0x0134;
+/// RUN LED override: the LED code (bits 3:0) and its enable (bit 4) for an ESC's own RUN LED
+/// output (ESC datasheet section II, 0x0138). u8, ECAT rw / PDI rw. See [`crate::indicator`].
+pub const RUN_LED_OVERRIDE: u16 = 0x0138;
+/// ERR LED override (0x0139): as [`RUN_LED_OVERRIDE`], for the ERR output.
+pub const ERR_LED_OVERRIDE: u16 = 0x0139;
 /// PDI control: PDI type and "AL status emulation" (ETG.1000.6 Table 13). u8, loaded from SII word 0.
 pub const PDI_CONTROL: u16 = 0x0140;
 /// ESC configuration (device emulation, enhanced link detection), loaded from SII word 0 high byte.

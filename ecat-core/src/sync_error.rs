@@ -8,8 +8,17 @@
 //! (not below 0); the sequence is invalid once the counter reaches the limit (`counter <
 //! limit` is valid). A limit of 0 switches the supervision off (SSC V5.13). The limit is
 //! 0x10F1:02 "Sync error counter limit" when the dictionary has 0x10F1, else SSC's default
-//! `MAX_SM_EVENT_MISSED` = 4 (`ecatslv.h`). 0x10F1:01 "Local error reaction" is not acted upon:
-//! the reaction is always SAFEOP with 0x001A.
+//! `MAX_SM_EVENT_MISSED` = 4 (`ecatslv.h`).
+//!
+//! 0x10F1:01 "Local error reaction" (UNSIGNED32) selects how the device reacts to a local
+//! error. ETG.1020's table of its values is not in the public material this crate was checked
+//! against; SSC declares the entry RW with the value 1 (`objdef.h`: `sErrorSettings = {2,
+//! 0x01, MAX_SM_EVENT_MISSED}`) and never reads it. This stack has one reaction, the one SSC
+//! performs: SAFEOP with the error indication and the AL status code (0x001A here; 0x001B for
+//! the SM watchdog, 0x002C/0x002D for a lost SYNC0). So [`ErrorSettings`] declares the entry
+//! with SSC's value 1 ([`REACTION_SAFEOP`]) as default, minimum and maximum: a MainDevice reads
+//! 1 and the ESI carries it, and a write of any other value is refused (0x06090031/0x06090032)
+//! rather than accepted and ignored.
 //!
 //! With the default limit one missed event is tolerated (3 < 4) and forgiven after three good
 //! cycles; two missed events closer together than that trip it: a MainDevice that loses one
@@ -26,8 +35,47 @@ use crate::dictionary::{Object, ObjectDictionary};
 
 /// The Error Settings object (ETG.1020 §6.3).
 pub const ERROR_SETTINGS: u16 = 0x10F1;
+/// 0x10F1:01, the local error reaction.
+pub const LOCAL_ERROR_REACTION: u8 = 1;
 /// 0x10F1:02, the sync error counter limit.
 pub const SYNC_ERROR_COUNTER_LIMIT: u8 = 2;
+/// The value of 0x10F1:01 for this stack's reaction to a local error, SSC's value: SAFEOP with
+/// the error indication and the AL status code (see the module docs).
+pub const REACTION_SAFEOP: u32 = 1;
+
+/// The Error Settings record 0x10F1 (ETG.1020 §6.3) as SSC declares it, for a dictionary
+/// field:
+///
+/// ```text
+/// 0x10F1 => record(error_settings: ErrorSettings, "Error settings") {
+///     1 => local_error_reaction, RW, "Local error reaction", default = REACTION_SAFEOP,
+///          min = REACTION_SAFEOP, max = REACTION_SAFEOP;
+///     2 => sync_error_counter_limit, RW, "Sync error counter limit", default = DEFAULT_LIMIT;
+/// };
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ErrorSettings {
+    /// SI1, the local error reaction: [`REACTION_SAFEOP`], the only value.
+    pub local_error_reaction: u32,
+    /// SI2, the sync error counter limit ([`limit`]); 0 switches the supervision off.
+    pub sync_error_counter_limit: u16,
+}
+
+impl ErrorSettings {
+    /// SSC's values: the reaction 1, the limit 4.
+    pub const fn new() -> Self {
+        Self {
+            local_error_reaction: REACTION_SAFEOP,
+            sync_error_counter_limit: DEFAULT_LIMIT,
+        }
+    }
+}
+
+impl Default for ErrorSettings {
+    fn default() -> Self {
+        Self::new()
+    }
+}
 /// The limit without 0x10F1: SSC's `MAX_SM_EVENT_MISSED`.
 pub const DEFAULT_LIMIT: u16 = 4;
 /// What one missed event adds to the counter.

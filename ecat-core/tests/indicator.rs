@@ -2,7 +2,7 @@
 //! on a change, the bicolour LED, the ESC override codes. Time is virtual: instants in ms.
 
 use ecat_core::indicator::{
-    Colour, Fault, Indicators, LED_OVERRIDE, Levels, Pattern, err_pattern, run_pattern,
+    Colour, Fault, Indicators, LED_OVERRIDE, LedCode, Levels, Pattern, err_pattern, run_pattern,
 };
 use ecat_core::{AlState, AlStatus, AlStatusCode, Duration, Instant};
 
@@ -41,11 +41,16 @@ fn edges(ind: &Indicators, from: u64, to: u64) -> (Timeline, Timeline) {
 
 /// The timeline of a pattern started at 0, as (ms, level) edges in `[0, to)`.
 fn pattern_edges(pattern: Pattern, to: u64) -> Vec<(u64, bool)> {
+    code_edges(LedCode::from_register(pattern.led_code()), to)
+}
+
+/// The timeline of an LED code started at 0, as (ms, level) edges in `[0, to)`.
+fn code_edges(code: LedCode, to: u64) -> Vec<(u64, bool)> {
     let mut out = Vec::new();
     let mut at = 0;
     let mut last = None;
     while at < to {
-        let (level, left) = pattern.level_at(Duration::from_millis(at));
+        let (level, left) = code.level_at(Duration::from_millis(at));
         if last != Some(level) {
             out.push((at, level));
             last = Some(level);
@@ -457,4 +462,37 @@ fn esc_override_codes() {
     .collect();
     assert_eq!(codes, [0x10, 0x11, 0x12, 0x1D, 0x1E, 0x1F]);
     assert_eq!(LED_OVERRIDE, 0x10);
+}
+
+/// The ESC's codes 0x3..=0xC: that many 200 ms flashes 200 ms apart, then 1000 ms dark (the
+/// patterns' timelines above are their codes' 0x1, 0x2, 0xD and 0xE).
+#[test]
+fn led_codes_count_flashes() {
+    assert_eq!(
+        code_edges(LedCode::from_register(0x13), 3000),
+        [
+            (0, true),
+            (200, false),
+            (400, true),
+            (600, false),
+            (800, true),
+            (1000, false),
+            (2000, true),
+            (2200, false),
+            (2400, true),
+            (2600, false),
+            (2800, true),
+        ],
+        "0x3, the enable bit ignored: a triple flash in 2000 ms"
+    );
+    let twelve = code_edges(LedCode::from_register(0x0C), 5700);
+    assert_eq!(twelve.len(), 12 * 2 + 1);
+    assert_eq!(twelve[22..], [(4400, true), (4600, false), (5600, true)]);
+    assert_eq!(code_edges(LedCode::OFF, 1000), [(0, false)]);
+    assert_eq!(code_edges(LedCode::ON, 1000), [(0, true)]);
+    // 12 × 400 − 200 + 1000: the longest period, 5.6 s, repeats.
+    assert_eq!(
+        LedCode::from_register(0xC).level_at(Duration::from_millis(5600 + 4400)),
+        (true, Some(Duration::from_millis(200)))
+    );
 }

@@ -230,6 +230,46 @@ fn refusal_writes_the_code_before_the_error_indication() {
     );
 }
 
+/// With the ERR LED on the ESC (`esc_err_led`) every AL status write is followed by the ERR
+/// override: off (with the enable bit) at start-up, blinking for an invalid configuration
+/// (0x0016), which the ESC would show as a single flash; without the option, never.
+#[test]
+fn an_esc_driven_err_led_gets_its_override_after_each_status() {
+    static ESC_LEDS: DeviceConfig = DeviceConfig {
+        esc_err_led: true,
+        ..DEVICE
+    };
+    let mut regs = Regs::new();
+    let mut sub = SubDevice::new(&ESC_LEDS);
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(
+        log[log.len() - 3..],
+        [
+            Op::Write(0x0134, vec![0, 0]),
+            Op::Write(0x0130, vec![1, 0]),
+            Op::Write(0x0139, vec![0x10]),
+        ]
+    );
+    regs.al_control(0x0002); // SyncManagers not configured
+    sub.handle_al_event(ecat_core::AlEvent(regs.event));
+    let log = regs.drive(&mut sub, T0);
+    assert_eq!(
+        log[log.len() - 3..],
+        [
+            Op::Write(0x0134, vec![0x16, 0]),
+            Op::Write(0x0130, vec![0x11, 0]),
+            Op::Write(0x0139, vec![0x1D]),
+        ]
+    );
+    // Acknowledged back to INIT: off again, after the status.
+    let log = request(&mut regs, &mut sub, 0x0011);
+    assert_eq!(
+        log[log.len() - 2..],
+        [Op::Write(0x0130, vec![1, 0]), Op::Write(0x0139, vec![0x10])]
+    );
+    assert!(regs.drive(&mut sub, T0).is_empty(), "written once");
+}
+
 #[test]
 fn process_data_trigger_joins_the_event_mask_in_safeop() {
     let mut regs = Regs::new();

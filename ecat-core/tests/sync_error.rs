@@ -1,15 +1,12 @@
 //! The sync error counter limit comes from 0x10F1:02 when the dictionary declares the Error
 //! Settings object (ETG.1020 §6.3), else SSC's default 4.
 
-use ecat_core::sync_error::{DEFAULT_LIMIT, SyncSupervision, limit};
-
-/// 0x10F1.
-pub struct ErrorSettings {
-    /// 0x10F1:01.
-    pub local_error_reaction: u32,
-    /// 0x10F1:02.
-    pub sync_error_counter_limit: u16,
-}
+use ecat_core::coe::AbortCode;
+use ecat_core::dictionary::{Limit, ObjectDictionary};
+use ecat_core::sync_error::{
+    DEFAULT_LIMIT, ERROR_SETTINGS, ErrorSettings, LOCAL_ERROR_REACTION, REACTION_SAFEOP,
+    SyncSupervision, limit,
+};
 
 /// A dictionary with 0x10F1.
 pub struct Od {
@@ -24,8 +21,9 @@ ecat_core::dictionary! {
     minimal Od {
         0x1000 => var(device_type, RO, "Device type");
         0x10F1 => record(error_settings: ErrorSettings, "Error settings") {
-            1 => local_error_reaction, RW, "Local error reaction";
-            2 => sync_error_counter_limit, RW, "Sync error counter limit", default = 4;
+            1 => local_error_reaction, RW, "Local error reaction", default = REACTION_SAFEOP,
+                 min = REACTION_SAFEOP, max = REACTION_SAFEOP;
+            2 => sync_error_counter_limit, RW, "Sync error counter limit", default = DEFAULT_LIMIT;
         };
     }
 }
@@ -65,4 +63,35 @@ fn the_limit_is_0x10f1_02() {
 fn without_0x10f1_ssc_default_4() {
     assert_eq!(limit(&Plain::default()), DEFAULT_LIMIT);
     assert_eq!(DEFAULT_LIMIT, 4);
+}
+
+/// 0x10F1:01 is SSC's 1, the stack's one reaction (SAFEOP with the error indication): read as
+/// 1, declared as default, minimum and maximum (what the ESI's `DefaultData`, `MinData` and
+/// `MaxData` carry), and any other value is refused.
+#[test]
+fn the_local_error_reaction_is_sscs_1_and_nothing_else() {
+    let mut od = Od::default();
+    assert_eq!(od.error_settings, ErrorSettings::new());
+    let object = Od::object(ERROR_SETTINGS).expect("0x10F1");
+    let mut out = [0; 4];
+    (object.read)(&od, LOCAL_ERROR_REACTION, 0, &mut out).expect("read");
+    assert_eq!(out, [1, 0, 0, 0]);
+    for limit in [Limit::Default, Limit::Min, Limit::Max] {
+        let mut value = [0; 4];
+        assert_eq!((object.limit)(LOCAL_ERROR_REACTION, limit, &mut value), 4);
+        assert_eq!(value, [1, 0, 0, 0], "{limit:?}");
+    }
+    assert_eq!(
+        (object.write)(&mut od, LOCAL_ERROR_REACTION, &[0, 0, 0, 0]),
+        Err(AbortCode::VALUE_TOO_LOW)
+    );
+    assert_eq!(
+        (object.write)(&mut od, LOCAL_ERROR_REACTION, &[2, 0, 0, 0]),
+        Err(AbortCode::VALUE_TOO_HIGH)
+    );
+    assert_eq!(
+        (object.write)(&mut od, LOCAL_ERROR_REACTION, &[1, 0, 0, 0]),
+        Ok(())
+    );
+    assert_eq!(od.error_settings.local_error_reaction, REACTION_SAFEOP);
 }

@@ -5,8 +5,9 @@
 //! The patterns, the code classes and the bicolour rule are [`ecat_core::indicator`]'s. What
 //! this adds is the wiring: [`RunErr`] (two LEDs), [`Bicolour`] (one red/green LED on two pins)
 //! and [`ErrOnly`] (the ESC drives RUN from its AL status register by itself, ETG.1000.4
-//! register 0x0138, so only ERR is the firmware's). A pin is written only when its level
-//! changes.
+//! register 0x0138, so only ERR is the firmware's; with ERR on the ESC as well, the core writes
+//! its override 0x0139 and no task runs: `DeviceConfig::esc_err_led`). A pin is written only
+//! when its level changes.
 //!
 //! What it costs the runners: the state-machine runner publishes the AL status and code with
 //! the layout it already publishes after each access (one compare and one store in the same
@@ -82,7 +83,15 @@ impl<G: OutputPin, R: OutputPin> Lamps for Bicolour<G, R> {
 }
 
 /// Only the ERR LED, lit when high: for an ESC that drives the RUN LED from its AL status
-/// register itself.
+/// register itself (ET1100/ET1200, LAN9252, AX58100: the board wires the LED to the ESC's RUN
+/// pin). Nothing is written for RUN: the ESC shows the state the stack writes into AL status,
+/// and its override register 0x0138 is the MainDevice's (device identification), cleared by the
+/// ESC at the next state change. ERR stays on a pin here: the ESC's own ERR output knows only
+/// the errors it detects itself (a watchdog expiry's double flash becomes a single flash once
+/// the stack sets the error indication; `ecat_core::indicator`, "The ESC's own LED outputs").
+/// A board that wires ERR to the ESC too sets
+/// [`DeviceConfig::esc_err_led`](ecat_core::DeviceConfig::esc_err_led): the state-machine
+/// runner then writes the ERR override after each AL status, and no indicator task runs.
 pub struct ErrOnly<E>(pub E);
 
 impl<E: OutputPin> Lamps for ErrOnly<E> {

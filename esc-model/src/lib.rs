@@ -1,7 +1,8 @@
 //! The emulated EtherCAT SubDevice Controller (ESC): the dual-ported memory that the SubDevice's
 //! controller (over the PDI) and the MainDevice (over the EtherCAT port) share, with the register
-//! access rights, the AL event request register and the SyncManager buffer logic of a real ESC
-//! such as the ET1100 (ESC datasheet sections I and II; ETG.1000.4 Tables 31–58).
+//! access rights, the AL event request register, the SyncManager buffer logic and the RUN/ERR
+//! LED outputs of a real ESC such as the ET1100 (ESC datasheet sections I and II; ETG.1000.4
+//! Tables 31–58).
 //!
 //! [`Esc`] is synchronous and deterministic. An access may span several areas: the register file,
 //! the buffer of an effective SyncManager, plain process RAM and the non-existent memory beyond
@@ -19,6 +20,7 @@ mod area;
 pub mod datagram;
 mod dc;
 pub mod fmmu;
+mod leds;
 mod memory;
 mod registers;
 pub mod sii;
@@ -131,7 +133,8 @@ impl PdiStats {
 /// An emulated ESC with a PDI port and an EtherCAT port (ESC datasheet section I).
 ///
 /// Models the register access rights of both ports, the AL event request register and its PDI
-/// IRQ line, and the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58). The
+/// IRQ line, the SyncManager mailbox and 3-buffer handshakes (ETG.1000.4 Table 58) and the RUN
+/// and ERR LED outputs with their override registers ([`Esc::run_led`], [`Esc::err_led`]). The
 /// EEPROM's configuration area sets the PDI and SYNC registers at load; the frame-level port
 /// (`datagram`, `fmmu`, `sii`, `dc`) adds FMMUs, the SII interface and the DC unit.
 pub struct Esc {
@@ -158,6 +161,9 @@ pub struct Esc {
     local_time_ns: u64,
     /// SYNC0 in acknowledge mode (pulse length 0) is active until the PDI reads 0x098E.
     sync0_active: bool,
+    /// ERR double-flashes: the process-data watchdog expired in OP, no ESM state change since
+    /// ([`leds`]).
+    watchdog_led: bool,
     /// The area map as the SyncManager registers defined it at a [`Memory::channels_version`]:
     /// rebuilt only when they changed, not on every access.
     /// `None`: not built yet.
@@ -182,6 +188,7 @@ impl Esc {
             previous_sii_status: 0,
             local_time_ns: 0,
             sync0_active: false,
+            watchdog_led: false,
             areas: RefCell::new((None, AreaMap::default())),
         };
         if let Some(area) = config.eeprom {
@@ -277,7 +284,7 @@ impl Esc {
     }
 
     /// The process-data watchdog expired: 0x0440 bit 0 = 0, AL event bit 6, the SM watchdog
-    /// counter (0x0442) counts it.
+    /// counter (0x0442) counts it, ERR double-flashes in OP ([`Esc::err_led`]).
     pub fn expire_watchdog(&mut self) {
         self.memory
             .write(usize::from(register::WATCHDOG_STATUS_PROCESS_DATA), &[0, 0]);
@@ -285,6 +292,7 @@ impl Esc {
         let count = self.memory.byte(counter).saturating_add(1);
         self.memory.set_byte(counter, count);
         self.watchdog_event = true;
+        self.watchdog_expired_led();
     }
 
     /// Sets register bytes as the ESC's own hardware does (link status, …), whatever the port

@@ -1,7 +1,8 @@
 //! The register file 0x0000..0x0FFF (ESC datasheet section II; ETG.1000.4 §6): reset values,
 //! which port may write which byte, and the side effects of register accesses on the AL event
-//! request register.
+//! request register and the LED outputs ([`super::leds`]).
 
+use ecat_core::AlState;
 use ecat_core::chip::{FEATURE_DC, FEATURE_DC_64, FEATURE_DC_SYNC_ACTIVATION};
 use ecat_core::register::{self, DlStatus, Watchdog};
 use ecat_core::sync_manager::Channel;
@@ -22,7 +23,7 @@ const FMMU_COUNT_OFFSET: u16 = 4;
 const FEATURES_OF_DC: u16 = FEATURE_DC | FEATURE_DC_64 | FEATURE_DC_SYNC_ACTIVATION;
 /// 0x0141 bit 0, device emulation: the ESC copies AL control into AL status itself (ESC
 /// datasheet section II, 0x0141).
-const DEVICE_EMULATION: u8 = 1 << 0;
+pub(super) const DEVICE_EMULATION: u8 = 1 << 0;
 /// DL status: PDI operational, link on port 0, port 0 communication established.
 const DL_STATUS_PORT0_UP: u16 =
     DlStatus::PDI_OPERATIONAL | DlStatus::link(0) | DlStatus::communication(0);
@@ -42,6 +43,8 @@ enum Writer {
     Nobody,
     /// Written by one port.
     Only(Side),
+    /// Written by both ports (the LED override registers 0x0138/0x0139).
+    Both,
     /// Written by the MainDevice only while SyncManager `n` is disabled (start, length, control).
     EcatWhileDisabled(u8),
     /// Written by the port that owns the SII EEPROM (0x0500 bit 0).
@@ -120,6 +123,9 @@ fn writer(address: usize, config: &EscConfig) -> Writer {
     if offset_in(address, register::SII_CONTROL, SII_COMMAND_SIZE).is_some() {
         return Writer::SiiOwner;
     }
+    if offset_in(address, register::RUN_LED_OVERRIDE, 2).is_some() {
+        return Writer::Both;
+    }
     WRITABLE
         .iter()
         .find(|&&(start, len, _)| offset_in(address, start, len).is_some())
@@ -128,8 +134,8 @@ fn writer(address: usize, config: &EscConfig) -> Writer {
 
 /// The memory image after power-on, before the EEPROM is loaded: DL information from the
 /// configuration (type, revision, FMMUs, SyncManagers, RAM size, port descriptor, features), the
-/// fixed status registers and the reset values of the masks and watchdogs (ESC datasheet section
-/// II). PDI control (0x0140) is 0, no PDI, until the EEPROM's configuration area sets it.
+/// fixed status registers, AL status INIT and the reset values of the masks and watchdogs (ESC
+/// datasheet section II). PDI control (0x0140) is 0, no PDI, until the EEPROM's configuration area sets it.
 pub(super) fn reset_image(config: &EscConfig) -> Memory {
     let mut memory = Memory::new(config.ram_end());
     let at = usize::from;
@@ -154,6 +160,8 @@ pub(super) fn reset_image(config: &EscConfig) -> Memory {
     };
     memory.write(at(register::FEATURES), &features.to_le_bytes());
     memory.write(at(register::DL_STATUS), &DL_STATUS_PORT0_UP.to_le_bytes());
+    // INIT (section II, 0x0130 reset value): the RUN LED output is dark from power-on.
+    memory.write(at(register::AL_STATUS), &[AlState::Init as u8, 0]);
     memory.write(
         at(register::AL_EVENT_MASK),
         &AL_EVENT_MASK_RESET.to_le_bytes(),
@@ -192,12 +200,19 @@ impl Esc {
         }
         let old = self.memory.byte(address);
         self.memory.set_byte(address, value);
+        if address == usize::from(register::AL_STATUS) {
+            self.al_status_changed(old, value);
+        }
         if let Some(offset) = offset_in(address, register::AL_CONTROL, 2) {
             self.al_control_event = true;
             let emulation = self.memory.byte(usize::from(register::ESC_CONFIGURATION));
             if emulation & DEVICE_EMULATION != 0 {
-                self.memory
-                    .set_byte(usize::from(register::AL_STATUS) + offset, value);
+                let status = usize::from(register::AL_STATUS) + offset;
+                let before = self.memory.byte(status);
+                self.memory.set_byte(status, value);
+                if offset == 0 {
+                    self.al_status_changed(before, value);
+                }
             }
         }
         let Some((offset, state)) = self.channel_register(address) else {
@@ -263,6 +278,7 @@ impl Esc {
         match writer(address, &self.config) {
             Writer::Nobody => false,
             Writer::Only(writer) => writer == side,
+            Writer::Both => true,
             Writer::EcatWhileDisabled(n) => side == Side::Ecat && !self.memory.channel(n).enabled(),
             Writer::SiiOwner => side == self.sii_owner(),
         }

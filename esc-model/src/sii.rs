@@ -27,9 +27,9 @@ const READ: u16 = 0x0100;
 const WRITE: u16 = 0x0200;
 const RELOAD: u16 = 0x0400;
 /// 0x0502 bit 11: the configuration area's checksum is wrong.
-const CHECKSUM_ERROR: u16 = 1 << 11;
+pub(super) const CHECKSUM_ERROR: u16 = 1 << 11;
 /// 0x0502 bit 12: no EEPROM (device information could not be loaded).
-const DEVICE_INFO_ERROR: u16 = 1 << 12;
+pub(super) const DEVICE_INFO_ERROR: u16 = 1 << 12;
 /// 0x0502 bit 13: unknown or several commands.
 const COMMAND_ERROR: u16 = 1 << 13;
 /// 0x0502 bit 14: a write without write enable.

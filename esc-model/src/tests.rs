@@ -157,7 +157,11 @@ fn al_status_is_written_by_the_pdi_and_al_control_by_the_main_device() {
     let mut esc = esc();
     assert!(esc.ecat_write(register::AL_STATUS, &[0x08, 0]));
     assert!(esc.ecat_write(register::AL_STATUS_CODE, &[0x11, 0]));
-    assert_eq!(pdi_read(&mut esc, register::AL_STATUS, 6), [0; 6]);
+    assert_eq!(
+        pdi_read(&mut esc, register::AL_STATUS, 6),
+        [0x01, 0, 0, 0, 0, 0],
+        "INIT, the reset value"
+    );
     esc.pdi_write(register::AL_STATUS, &[0x12, 0]);
     esc.pdi_write(register::AL_STATUS_CODE, &[0x1D, 0]);
     assert_eq!(
@@ -737,7 +741,7 @@ fn the_configuration_area_is_loaded_into_its_registers() {
 fn device_emulation_copies_al_control_into_al_status() {
     let mut esc = esc();
     esc.ecat_write(register::AL_CONTROL, &[0x02, 0]);
-    assert_eq!(ecat_bytes(&mut esc, register::AL_STATUS, 2), [0x00, 0x00]);
+    assert_eq!(ecat_bytes(&mut esc, register::AL_STATUS, 2), [0x01, 0x00]);
     let area = ConfigArea {
         esc_configuration: 0x01,
         ..ConfigArea::new(&Chip::ET1100, false)
@@ -783,4 +787,111 @@ fn acknowledge_mode_holds_sync0_until_the_pdi_reads_its_status() {
         !esc.sync0_output_enabled(),
         "SYNC out unit off, SYNC0 a latch input"
     );
+}
+
+/// The LED codes of both outputs.
+fn leds(esc: &Esc) -> (u8, u8) {
+    (esc.run_led().bits(), esc.err_led().bits())
+}
+
+/// RUN follows the state the PDI writes into AL status (section I: INIT off, PREOP blinking,
+/// BOOT flickering, SAFEOP single flash, OP on); ERR single-flashes with the error indication.
+#[test]
+fn run_led_follows_the_al_status() {
+    let mut esc = esc();
+    assert_eq!(leds(&esc), (0x0, 0x0), "INIT after reset");
+    for (status, code) in [
+        (0x02, 0xD),
+        (0x04, 0x1),
+        (0x08, 0xF),
+        (0x03, 0xE),
+        (0x01, 0x0),
+    ] {
+        esc.pdi_write(register::AL_STATUS, &[status, 0]);
+        assert_eq!(esc.run_led().bits(), code, "AL status {status:#04x}");
+    }
+    esc.pdi_write(register::AL_STATUS, &[0x12, 0]);
+    assert_eq!(leds(&esc), (0xD, 0x1), "PREOP with the error indication");
+    esc.pdi_write(register::AL_STATUS, &[0x07, 0]);
+    assert_eq!(leds(&esc), (0x0, 0x0), "no state: dark");
+}
+
+/// Both ports write the override registers; the next ESM state change ends RUN's override,
+/// the same state written again does not; a new error indication ends ERR's.
+#[test]
+fn led_overrides_last_until_a_state_change_or_a_new_error() {
+    let mut esc = esc();
+    esc.pdi_write(register::AL_STATUS, &[0x02, 0]);
+    assert!(esc.ecat_write(register::RUN_LED_OVERRIDE, &[0x13, 0x1F]));
+    assert_eq!(
+        leds(&esc),
+        (0x3, 0xF),
+        "the MainDevice's override: 3 flashes, ERR on"
+    );
+    esc.pdi_write(register::AL_STATUS, &[0x02, 0]);
+    assert_eq!(esc.run_led().bits(), 0x3, "PREOP again is no state change");
+    esc.pdi_write(register::AL_STATUS, &[0x04, 0]);
+    assert_eq!(esc.run_led().bits(), 0x1, "SAFEOP: the state's code again");
+    assert_eq!(
+        pdi_read(&mut esc, register::RUN_LED_OVERRIDE, 2),
+        [0x03, 0x1F],
+        "the enable bit cleared, the code kept; ERR's override stays"
+    );
+    esc.pdi_write(register::ERR_LED_OVERRIDE, &[0x12]);
+    assert_eq!(
+        leds(&esc),
+        (0x1, 0x2),
+        "the PDI's ERR override: double flash"
+    );
+    esc.pdi_write(register::AL_STATUS, &[0x14, 0]);
+    assert_eq!(
+        leds(&esc),
+        (0x1, 0x1),
+        "the error indication set: ERR's override ends"
+    );
+    esc.pdi_write(register::ERR_LED_OVERRIDE, &[0x12]);
+    esc.pdi_write(register::AL_STATUS, &[0x02, 0]);
+    assert_eq!(
+        leds(&esc),
+        (0xD, 0x2),
+        "a state change leaves ERR's override alone"
+    );
+}
+
+/// A process-data watchdog expiry in OP double-flashes ERR until the next state change (the
+/// single flash of the error indication then); outside OP it shows nothing.
+#[test]
+fn err_led_double_flashes_a_watchdog_expiry_in_op() {
+    let mut esc = esc();
+    esc.pdi_write(register::AL_STATUS, &[0x04, 0]);
+    esc.expire_watchdog();
+    assert_eq!(
+        esc.err_led().bits(),
+        0x0,
+        "SAFEOP: no process-data watchdog"
+    );
+    esc.pdi_write(register::ERR_LED_OVERRIDE, &[0x1D]);
+    esc.pdi_write(register::AL_STATUS, &[0x08, 0]);
+    esc.expire_watchdog();
+    assert_eq!(
+        leds(&esc),
+        (0xF, 0x2),
+        "OP: a new error condition ends the override"
+    );
+    esc.pdi_write(register::AL_STATUS, &[0x14, 0]);
+    assert_eq!(leds(&esc), (0x1, 0x1), "SAFEOP with the error indication");
+}
+
+/// An EEPROM whose configuration area fails its checksum: ERR flickers (section I, "SII EEPROM
+/// loading error") until a reload succeeds.
+#[test]
+fn err_led_flickers_after_a_failed_eeprom_load() {
+    let mut esc = esc();
+    let good = esc.eeprom().to_vec();
+    let mut bad = good.clone();
+    bad[14] ^= 0xFF;
+    esc.load_eeprom(bad);
+    assert_eq!(esc.err_led().bits(), 0xE);
+    esc.load_eeprom(good);
+    assert_eq!(esc.err_led().bits(), 0x0);
 }

@@ -39,6 +39,7 @@ variant "axis, its dictionary (\`axis\`)" --bin axis
 variant "digital I/O, LAN9252" --bin ecat-stm32 --no-default-features --features lan9252
 # Under examples/stm32-bootloader, linked at ACTIVE: FoE in BOOT writes an update into DFU.
 variant "digital I/O, SOES's dictionary, firmware update (\`bootloader\`)" --bin ecat-stm32 --features bootloader
+variant "digital I/O, stored parameters 0x1010/0x1011 (\`storage\`)" --bin ecat-stm32 --features storage
 # The AX58100 on the FMC needs an STM32G474QE (the FMC's pins), not the NUCLEO's RE: its share is
 # over the same baseline built for it (no SPI, the FMC's bus cycles instead).
 fmc=(--no-default-features --features fmc)

@@ -1,5 +1,6 @@
-//! The emulated ESC as the async world sees it: a shared handle, a [`Pdi`] on its PDI port and
-//! an IRQ pin that wakes whoever waits on it.
+//! The emulated ESC as the async world sees it: a shared handle, a [`Pdi`] on its PDI port, an
+//! IRQ pin that wakes whoever waits on it, and the ESC's RUN and ERR LED outputs in virtual time
+//! ([`Emulator::led_timeline`]).
 //!
 //! Everything runs on one thread (the host executor), so the handle is an `Rc<RefCell<_>>`.
 
@@ -10,6 +11,7 @@ use core::task::{Poll, Waker};
 use std::rc::Rc;
 
 use ecat_core::AlEvent;
+use ecat_core::indicator::{LedCode, LedOutput};
 use ecat_core::register::{self, DcActivation, Watchdog};
 use ecat_embassy::Pdi;
 use ecat_embassy::pdi::Data;
@@ -32,6 +34,18 @@ struct Inner {
     /// The system time (ns) of the last SYNC0 pulse generated.
     sync0_last: Cell<Option<u64>>,
     sync0_waiters: RefCell<Vec<Waker>>,
+    /// The codes of the ESC's RUN and ERR LED outputs ([`Esc::run_led`], [`Esc::err_led`]) at
+    /// each change, with the virtual time: the first entry is the power-on's.
+    led_codes: RefCell<Vec<(embassy_time::Instant, LedCode, LedCode)>>,
+}
+
+/// One of the ESC's LED outputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Led {
+    /// The RUN LED (green).
+    Run,
+    /// The ERR LED (red).
+    Err,
 }
 
 /// PDI accesses in a row, without the test script running, that count as a livelock: a runner
@@ -41,14 +55,17 @@ const LIVELOCK: u64 = 100_000;
 impl Emulator {
     /// A new ESC with `config`.
     pub fn new(config: EscConfig) -> Self {
+        let esc = Esc::new(config);
+        let leds = (embassy_time::Instant::now(), esc.run_led(), esc.err_led());
         Self(Rc::new(Inner {
-            esc: RefCell::new(Esc::new(config)),
+            esc: RefCell::new(esc),
             irq_waiters: RefCell::new(Vec::new()),
             pdi_streak: Cell::new(0),
             watchdog_deadline: Cell::new(None),
             sync0_pulses: Cell::new(0),
             sync0_last: Cell::new(None),
             sync0_waiters: RefCell::new(Vec::new()),
+            led_codes: RefCell::new(vec![leds]),
         }))
     }
 
@@ -70,6 +87,7 @@ impl Emulator {
             let mut esc = self.0.esc.borrow_mut();
             let result = f(&mut esc);
             self.restart_watchdog(&mut esc);
+            self.note_leds(&esc);
             result
         };
         self.wake_irq_waiters();
@@ -87,9 +105,48 @@ impl Emulator {
             .is_some_and(|d| embassy_time::Instant::now() >= d);
         if due {
             self.0.watchdog_deadline.set(None);
-            self.0.esc.borrow_mut().expire_watchdog();
+            let mut esc = self.0.esc.borrow_mut();
+            esc.expire_watchdog();
+            self.note_leds(&esc);
+            drop(esc);
             self.wake_irq_waiters();
         }
+    }
+
+    /// Notes the codes the LED outputs show now, if they changed.
+    fn note_leds(&self, esc: &Esc) {
+        let (run, err) = (esc.run_led(), esc.err_led());
+        let mut codes = self.0.led_codes.borrow_mut();
+        if codes.last().map(|&(_, r, e)| (r, e)) != Some((run, err)) {
+            codes.push((embassy_time::Instant::now(), run, err));
+        }
+    }
+
+    /// What the ESC's `led` output showed from power-on until `until`: (virtual ms, level) at
+    /// power-on and at each edge. Each code runs its ETG.1300 timeline from the instant the
+    /// output started showing it (`ecat_esc`'s `leds` module).
+    pub fn led_timeline(&self, led: Led, until: embassy_time::Instant) -> Vec<(u64, bool)> {
+        let instant = |t: embassy_time::Instant| ecat_core::Instant::from_micros(t.as_micros());
+        let end = instant(until);
+        let codes = self.0.led_codes.borrow();
+        let mut output = LedOutput::new();
+        let mut edges: Vec<(u64, bool)> = Vec::new();
+        for (i, &(at, run, err)) in codes.iter().enumerate() {
+            let mut now = instant(at);
+            output.show(now, if led == Led::Run { run } else { err });
+            let next = codes.get(i + 1).map_or(end, |&(t, ..)| instant(t).min(end));
+            while now < next {
+                let level = output.level(now);
+                if edges.last().map(|&(_, l)| l) != Some(level) {
+                    edges.push((now.as_micros() / 1_000, level));
+                }
+                match output.next_edge(now) {
+                    Some(edge) => now = edge,
+                    None => break,
+                }
+            }
+        }
+        edges
     }
 
     /// A MainDevice write restarted the process-data watchdog: its deadline is one period

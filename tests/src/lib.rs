@@ -5,7 +5,7 @@
 //! | module | what |
 //! |---|---|
 //! | [`esc`] | an emulated EtherCAT SubDevice Controller: PDI port, EtherCAT port, SyncManagers, AL events (crate `ecat-esc`, `no_std`, shared with the QEMU firmware) |
-//! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi` and an IRQ pin |
+//! | [`emulator`] | the emulated ESC as the async runners see it: a `Pdi`, an IRQ pin, its RUN/ERR LED outputs in virtual time |
 //! | [`coe_client`] | a spec-correct SDO client for the test MainDevice |
 //! | [`foe_client`] | an FoE client for the test MainDevice: file writes and reads, the mailbox repeat |
 //! | [`devices`] | sample device dictionaries (a CiA402-like drive) |

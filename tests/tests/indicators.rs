@@ -1,7 +1,9 @@
 //! The indicator task (`ecat_embassy::run_indicators`) beside the real runners, in virtual time:
 //! the exact (ms, level) writes to the RUN and ERR pins as a MainDevice walks the SubDevice
 //! INIT → PREOP → SAFEOP → OP and then stops sending outputs (SM watchdog, 0x001B), and the same
-//! on one bicolour LED. Patterns and code classes: ETG.1300 (`ecat_core::indicator`).
+//! on one bicolour LED. Then the ESC's own RUN output (`ecat_esc`'s LED outputs: the AL status
+//! the stack writes, the override register 0x0138) in the same walk, in BOOT and with an
+//! override. Patterns and code classes: ETG.1300 (`ecat_core::indicator`).
 
 mod common;
 
@@ -13,7 +15,9 @@ use std::rc::Rc;
 use std::task::{Context, Poll};
 
 use common::{configure, send_outputs};
-use ecat_embassy::indicator::{Bicolour, Lamps, RunErr, run_indicators};
+use ecat_core::{DeviceConfig, register};
+use ecat_embassy::indicator::{Bicolour, ErrOnly, Lamps, RunErr, run_indicators};
+use ecat_emu::emulator::Led;
 use ecat_emu::harness::{self, AcceptAll, BoxedTask, Device, Loopback};
 use ecat_emu::master::TestMaster;
 use embassy_time::{Duration, Instant};
@@ -251,4 +255,151 @@ fn one_bicolour_led_shows_err_over_run() {
     // Spot checks of the rule: red during ERR's flashes even where RUN is lit.
     assert!(colours.contains(&(4590, "red")));
     assert!(colours.contains(&(4790, "off")));
+}
+
+/// The ESC's `led` output over `script` (until its end) for a device `config`, with `lamps` on
+/// the indicator task.
+fn esc_led<L, F>(
+    config: DeviceConfig,
+    lamps: L,
+    led: Led,
+    script: impl FnOnce(TestMaster) -> F + 'static,
+) -> Vec<(u64, bool)>
+where
+    L: Lamps + 'static,
+    F: Future<Output = ()> + 'static,
+{
+    let timeline = Rc::new(RefCell::new(Vec::new()));
+    let out = timeline.clone();
+    harness::run_with_tasks(
+        Device::new(config, AcceptAll, Loopback),
+        indicator_task(lamps, Rc::default()),
+        move |master| async move {
+            let emu = master.emulator().clone();
+            script(master).await;
+            *out.borrow_mut() = emu.led_timeline(led, Instant::now());
+        },
+    );
+    timeline.take()
+}
+
+/// A device whose ESC drives RUN: no RUN pin (`ErrOnly`: ERR on its pin, as before), nothing
+/// written for RUN. The ESC's RUN output, from the AL status the stack writes, shows exactly
+/// the timeline the RUN pin showed above.
+#[test]
+fn the_escs_run_output_follows_the_state_as_the_pin_did() {
+    let log = Log::default();
+    let run = esc_led(
+        common::drive(),
+        ErrOnly(pin("err", &log)),
+        Led::Run,
+        scenario,
+    );
+    assert_eq!(run, RUN, "the ESC's RUN output");
+    assert_eq!(writes(&log, "err"), ERR, "the ERR pin");
+    assert!(writes(&log, "run").is_empty());
+}
+
+/// The ESC's own ERR output in the same walk: the watchdog expiry's double flash lasts only
+/// until the stack enters SAFEOP with the error indication, which the ESC shows as a single
+/// flash (ESC datasheet section I, "ERR LED"): why ERR stays on a pin, or takes the override
+/// 0x0139 (next test), for ETG.1300's double flash.
+#[test]
+fn the_escs_own_err_output_shows_a_single_flash_for_the_watchdog() {
+    let err = esc_led(
+        common::drive(),
+        ErrOnly(pin("err", &Log::default())),
+        Led::Err,
+        scenario,
+    );
+    assert_eq!(
+        err,
+        [
+            (0, false),
+            (4590, true),
+            (4790, false),
+            (5790, true),
+            (5990, false),
+            (6990, true),
+            (7190, false),
+        ]
+    );
+}
+
+/// Both LEDs on the ESC (`DeviceConfig::esc_err_led`, no pin at all): the stack writes the ERR
+/// override after each AL status, and the ESC's ERR output shows exactly the ERR pin's
+/// timeline, the double flash included; RUN as before.
+#[test]
+fn with_the_err_override_the_escs_err_output_is_the_pins() {
+    let mut config = common::drive();
+    config.esc_err_led = true;
+    let err = esc_led(
+        config,
+        ErrOnly(pin("err", &Log::default())),
+        Led::Err,
+        scenario,
+    );
+    assert_eq!(err, ERR, "the ESC's ERR output");
+    let run = esc_led(
+        config,
+        ErrOnly(pin("err", &Log::default())),
+        Led::Run,
+        scenario,
+    );
+    assert_eq!(run, RUN, "the ESC's RUN output");
+}
+
+/// BOOT flickers (50/50 ms); a MainDevice's override (0x0138 = 0x13: three flashes, "device
+/// identification") shows until the next state change, which also clears its enable bit.
+#[test]
+fn the_escs_run_output_in_boot_and_under_an_override() {
+    let lamps = ErrOnly(pin("err", &Log::default()));
+    let run = esc_led(common::drive(), lamps, Led::Run, |master| async move {
+        let ms = Duration::from_millis;
+        master.reset().await;
+        assert_eq!(master.request(0x0001).await, (0x0001, 0));
+        configure(&master);
+        master.settle().await;
+        master.advance(ms(500)).await;
+        assert!(master.write(register::RUN_LED_OVERRIDE, &[0x13]));
+        master.advance(ms(1500)).await;
+        assert_eq!(
+            master.request(0x0001).await,
+            (0x0001, 0),
+            "INIT again: no change"
+        );
+        master.advance(ms(1000)).await;
+        assert_eq!(master.request(0x03).await, (0x03, 0), "BOOT at 3000 ms");
+        assert_eq!(
+            master.read(register::RUN_LED_OVERRIDE, 1),
+            Some(vec![0x03]),
+            "the state change cleared the enable bit"
+        );
+        master.advance(ms(300)).await;
+        assert_eq!(master.request(0x01).await, (0x01, 0), "INIT at 3300 ms");
+        master.advance(ms(200)).await;
+    });
+    assert_eq!(
+        run,
+        [
+            (0, false),
+            // Three flashes from 500 ms, 2000 ms apart.
+            (500, true),
+            (700, false),
+            (900, true),
+            (1100, false),
+            (1300, true),
+            (1500, false),
+            (2500, true),
+            (2700, false),
+            (2900, true),
+            // BOOT at 3000: flickering starts lit, so the flash's light goes on.
+            (3050, false),
+            (3100, true),
+            (3150, false),
+            (3200, true),
+            (3250, false),
+            // INIT at 3300: dark, as the flicker was.
+        ]
+    );
 }

@@ -1,10 +1,12 @@
 //! The register plan: the accesses the core needs, in order (event mask, reads, PDI control,
-//! mailbox, AL status code, AL status), prepared into the core's buffer and completed.
+//! mailbox, AL status code, AL status, the ERR LED override when the ESC drives ERR), prepared
+//! into the core's buffer and completed.
 
 use super::mailbox::MailboxOp;
-use super::targets::Stale;
+use super::targets::{Stale, Written};
 use super::{ESM_EVENTS, RegisterAccess, SM_CHUNK, SubDevice};
 use crate::al::{AlControl, AlEvent, AlState, AlStatusCode};
+use crate::indicator::err_pattern;
 use crate::register;
 use crate::sync_manager::Channel;
 use crate::sync_manager::check::Channels;
@@ -49,6 +51,8 @@ pub(super) enum InFlight {
     WriteStatusCode(u16),
     /// Write AL status (0x0130).
     WriteStatus(u16),
+    /// Write the ERR LED override (0x0139).
+    WriteErrLed(u8),
 }
 
 impl InFlight {
@@ -197,14 +201,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         Some(InFlight::WritePdiControl { sm, value })
     }
 
-    /// The AL status code write due, or else the AL status write.
+    /// The AL status code write due, or else the AL status write, or else (when the ESC drives
+    /// ERR) the ERR LED override's.
     fn next_status(&self) -> Option<InFlight> {
         let code = self.al_status_code().0;
-        let status = self.al_status().bits();
+        let status = self.al_status();
         if self.written.status_code != u32::from(code) {
             Some(InFlight::WriteStatusCode(code))
-        } else if self.written.status != u32::from(status) {
-            Some(InFlight::WriteStatus(status))
+        } else if self.written.status != u32::from(status.bits()) {
+            Some(InFlight::WriteStatus(status.bits()))
+        } else if self.config.esc_err_led {
+            let led = err_pattern(status.error.then_some(self.code)).override_register();
+            (self.written.err_led != led).then_some(InFlight::WriteErrLed(led))
         } else {
             None
         }
@@ -306,6 +314,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             ),
             InFlight::WriteStatusCode(code) => (register::AL_STATUS_CODE, 2, Some(u32::from(code))),
             InFlight::WriteStatus(status) => (register::AL_STATUS, 2, Some(u32::from(status))),
+            InFlight::WriteErrLed(led) => (register::ERR_LED_OVERRIDE, 1, Some(u32::from(led))),
             InFlight::Mailbox(_) => (0, 0, None),
         };
         let buf = self.buf.get_mut(..len).unwrap_or_default();
@@ -341,7 +350,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 }
             }
             InFlight::WriteStatusCode(code) => self.written.status_code = u32::from(code),
-            InFlight::WriteStatus(status) => self.written.status = u32::from(status),
+            InFlight::WriteStatus(status) => {
+                self.written.status = u32::from(status);
+                self.written.err_led = Written::UNKNOWN;
+            }
+            InFlight::WriteErrLed(led) => self.written.err_led = led,
             InFlight::ReadWatchdog => {
                 self.reads &= !read::WATCHDOG;
                 self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);

@@ -1,6 +1,8 @@
 //! The registers the core keeps at a value in the ESC: the AL event mask (0x0204), PDI control of
 //! SM0..SM3 (0x0807 + 8·n, ETG.1000.4 Table 58), AL status code (0x0134) and AL status (0x0130,
-//! ETG.1000.6 Tables 11 and 12), and what the core last wrote there.
+//! ETG.1000.6 Tables 11 and 12), the ERR LED override (0x0139, when the ESC drives ERR:
+//! [`DeviceConfig::esc_err_led`](crate::DeviceConfig::esc_err_led)), and what the core last
+//! wrote there.
 //!
 //! What the ESM state asks for is computed when a poll looks at a stale part of the plan (the
 //! `desired_*` functions of the SubDevice), from the state, the error, the code, the device ID,
@@ -60,10 +62,14 @@ pub(super) struct Written {
     pub(super) status_code: u32,
     /// AL status; 0 until written (a state code is always in it).
     pub(super) status: u32,
+    /// The ERR LED override; [`Written::UNKNOWN`] until written and after each AL status
+    /// write (the ESC clears the override's enable bit on a new error condition).
+    pub(super) err_led: u8,
 }
 
 impl Written {
-    /// A PDI control value never wanted (and with the deactivate bit set): not written yet.
+    /// A PDI control or LED override value never wanted (PDI control with the deactivate bit
+    /// set, an override with reserved bits): not written yet.
     pub(super) const UNKNOWN: u8 = 0xFF;
     /// An AL status code never wanted (codes are 16 bits): not written yet.
     pub(super) const NO_CODE: u32 = u32::MAX;
@@ -74,6 +80,7 @@ impl Written {
             pdi_control: [Self::UNKNOWN; 4],
             status_code: Self::NO_CODE,
             status: 0,
+            err_led: Self::UNKNOWN,
         }
     }
 

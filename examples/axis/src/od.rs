@@ -7,6 +7,7 @@ use ecat_core::device::Identity;
 use ecat_core::diagnosis::DiagnosisHistory;
 use ecat_core::dictionary::{Communication, DeviceInfo};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
+use ecat_core::sync_error::{DEFAULT_LIMIT, ErrorSettings, REACTION_SAFEOP};
 
 /// 0x1018 of the axis; the SII image carries the same value.
 pub const IDENTITY: Identity = Identity {
@@ -82,17 +83,6 @@ pub const TX_PROFILE_MAPPING: [MappingEntry; 10] = [
     MappingEntry::new(0x603F, 0, 16),
 ];
 
-/// 0x10F1 "Error settings" (ETG.1020): a MainDevice's start-up may set the sync error counter
-/// limit (SI2; SSC's default 4: two SYNC0 cycles in a row without new outputs take the axis to
-/// SAFEOP with 0x001A; 0 switches the supervision off).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct ErrorSettings {
-    /// SI1, local error reaction (ETG.1020; the stack's reaction is always SAFEOP + 0x001A).
-    pub local_error_reaction: u32,
-    /// SI2, sync error counter limit.
-    pub sync_error_counter_limit: u16,
-}
-
 /// The object dictionary of the axis; `AxisOd::default()` is the dictionary at power on.
 #[derive(Debug)]
 pub struct AxisOd {
@@ -101,8 +91,8 @@ pub struct AxisOd {
     pub area: Communication,
     /// 0x1001 error register: bit 0 (generic error) while 0x603F is not 0.
     pub error_register: u8,
-    /// 0x10F1 error settings (ETG.1020): the sync error counter limit the stack's sync error
-    /// supervision applies in DC mode (`ecat_core::sync_error`).
+    /// 0x10F1 error settings (ETG.1020): the local error reaction and the sync error counter
+    /// limit the stack's sync error supervision applies in DC mode (`ecat_core::sync_error`).
     pub error_settings: ErrorSettings,
     /// 0x10F3 diagnosis history (ETG.1020): the AL status codes the stack set, and the axis's
     /// own messages, for a MainDevice's "Diag History".
@@ -215,9 +205,13 @@ ecat_core::dictionary! {
     AxisOd {
         communication(area, INFO);
         0x1001 => var(error_register, RO, "Error register");
+        // A MainDevice's start-up may set the sync error counter limit (SSC's default 4: two
+        // SYNC0 cycles in a row without new outputs take the axis to SAFEOP with 0x001A; 0
+        // switches the supervision off); the local error reaction is SSC's 1, the only one.
         0x10F1 => record(error_settings: ErrorSettings, "Error settings") {
-            1 => local_error_reaction, RW, "Local error reaction";
-            2 => sync_error_counter_limit, RW, "Sync error counter limit", default = 4;
+            1 => local_error_reaction, RW, "Local error reaction", default = REACTION_SAFEOP,
+                 min = REACTION_SAFEOP, max = REACTION_SAFEOP;
+            2 => sync_error_counter_limit, RW, "Sync error counter limit", default = DEFAULT_LIMIT;
         };
         0x10F3 => diagnosis(diagnosis);
         0x1600 => pdo(rx_mapping, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&RX_MAPPING));

@@ -10,6 +10,9 @@
 //!
 //! Inputs are sampled at SYNC0 when the MainDevice runs the distributed clock (DC-synchronous
 //! sampling: every SubDevice of the segment samples at the same instant), at the cycle otherwise.
+//!
+//! Feature `storage`: the dictionary also has 0x1010/0x1011 and CiA 401's input polarity 0x6002
+//! (one byte: bit n inverts input n), which a "save" keeps in the firmware's flash.
 #![no_std]
 
 use core::convert::Infallible;
@@ -49,8 +52,16 @@ pub struct IoOd {
     pub rx_assign: PdoAssignment<1>,
     /// 0x1C13.
     pub tx_assign: PdoAssignment<1>,
-    /// 0x6000: input n = pin n active (see [`DigitalIo::new`]).
+    /// 0x6000: input n = pin n active (see [`DigitalIo::new`]), inverted where the polarity
+    /// says so (feature `storage`).
     pub inputs: [bool; 4],
+    /// 0x1010/0x1011 (feature `storage`).
+    #[cfg(feature = "storage")]
+    pub stored: ecat_core::dictionary::parameters::StoredParameters,
+    /// 0x6002 (feature `storage`), CiA 401's input polarity, one byte here: bit n inverts
+    /// input n. Kept by "save" (BACKUP).
+    #[cfg(feature = "storage")]
+    pub polarity: u8,
     /// 0x7000: output n drives pin n.
     pub outputs: [bool; 4],
 }
@@ -73,17 +84,30 @@ const TX: [MappingEntry; 5] = [
     MappingEntry::new(0, 0, 4),
 ];
 
-ecat_core::dictionary! {
-    IoOd {
-        communication(area, INFO);
-        0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&RX));
-        0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&TX));
-        0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
-        0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
-        0x6000 => array(inputs, RO | TXPDO, "Digital inputs", "Input");
-        0x7000 => array(outputs, RW | RXPDO, "Digital outputs", "Output");
-    }
+/// The dictionary's declaration: `$communication` is the area's item, `$polarity` the objects
+/// only the `storage` variant has (between 0x6000 and 0x7000).
+macro_rules! io_dictionary {
+    (($($communication:tt)*) $($polarity:tt)*) => {
+        ecat_core::dictionary! {
+            IoOd {
+                communication($($communication)*);
+                0x1600 => pdo(rx, RO, "Outputs", "Mapped object", default = PdoMapping::mapping(&RX));
+                0x1A00 => pdo(tx, RO, "Inputs", "Mapped object", default = PdoMapping::mapping(&TX));
+                0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+                0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+                0x6000 => array(inputs, RO | TXPDO, "Digital inputs", "Input");
+                $($polarity)*
+                0x7000 => array(outputs, RW | RXPDO, "Digital outputs", "Output");
+            }
+        }
+    };
 }
+
+#[cfg(not(feature = "storage"))]
+io_dictionary!((area, INFO));
+// With storage: 0x1010/0x1011, and the input polarity as the parameter a "save" keeps.
+#[cfg(feature = "storage")]
+io_dictionary!((area, INFO, stored = stored) 0x6002 => var(polarity, RW | BACKUP, "Polarity input", max = 0x0F););
 
 /// The pins, and the inputs as the SYNC0 task latched them.
 pub struct DigitalIo<O, I> {
@@ -199,7 +223,10 @@ where
             None => 0,
         };
         self.apply(image);
+        #[cfg(not(feature = "storage"))]
         let sampled = self.sampled();
+        #[cfg(feature = "storage")]
+        let sampled = self.sampled() ^ od.polarity;
         for (bit, input) in od.inputs.iter_mut().enumerate() {
             *input = sampled >> bit & 1 != 0;
         }
@@ -314,6 +341,32 @@ mod tests {
         Application::<()>::cycle(&mut io, &mut (), None, &mut image);
         assert_eq!(image, [0b1101], "sampled at the cycle again");
         assert_eq!(levels(&out), [false; 4]);
+    }
+
+    /// Feature `storage`: 0x6002 inverts the inputs bit by bit, is backed up (what a "save"
+    /// keeps) and refuses bits beyond the four inputs.
+    #[cfg(feature = "storage")]
+    #[test]
+    fn the_polarity_inverts_inputs_and_is_a_backup_entry() {
+        use ecat_core::dictionary::{Access, ObjectDictionary};
+
+        let (out, inp) = (Default::default(), Default::default());
+        let mut io = io(&out, &inp);
+        let mut od = IoOd {
+            polarity: 0b0110,
+            ..IoOd::default()
+        };
+        set(&inp, [false, true, false, true]);
+        io.cycle(&mut od, None, &mut [0]);
+        assert_eq!(od.inputs, [true, false, true, true]);
+        let object = IoOd::object(0x6002).expect("0x6002");
+        let entry = object.info.entry(0).expect("SI0");
+        assert!(entry.access.0 & Access::BACKUP.0 != 0);
+        assert_eq!(
+            (object.write)(&mut od, 0, &[0x10]),
+            Err(ecat_core::coe::AbortCode::VALUE_TOO_HIGH)
+        );
+        assert!(IoOd::object(0x1010).is_some() && IoOd::object(0x1011).is_some());
     }
 
     #[test]

@@ -15,7 +15,7 @@ pub type DigitalIo = ecat_dio::DigitalIo<Output<'static>, Input<'static>>;
 bind_interrupts!(struct Irqs {
     EXTI9_5 => exti::InterruptHandler<interrupt::typelevel::EXTI9_5>;
     EXTI15_10 => exti::InterruptHandler<interrupt::typelevel::EXTI15_10>;
-    #[cfg(feature = "bootloader")]
+    #[cfg(any(feature = "bootloader", feature = "storage"))]
     FLASH => embassy_stm32::flash::InterruptHandler;
 });
 
@@ -104,8 +104,9 @@ pub struct Board {
     pub io: DigitalIo,
     /// The RUN and ERR LEDs.
     pub leds: Leds,
-    /// The chip's flash, for the firmware update (feature `bootloader`).
-    #[cfg(feature = "bootloader")]
+    /// The chip's flash, for the firmware update (feature `bootloader`) and the stored
+    /// parameters (feature `storage`).
+    #[cfg(any(feature = "bootloader", feature = "storage"))]
     pub flash: embassy_stm32::flash::Flash<'static>,
 }
 
@@ -159,7 +160,7 @@ impl Board {
                 run: Output::new(p.PB10, Level::Low, Speed::Low),
                 err: Output::new(p.PA9, Level::Low, Speed::Low),
             },
-            #[cfg(feature = "bootloader")]
+            #[cfg(any(feature = "bootloader", feature = "storage"))]
             flash: embassy_stm32::flash::Flash::new(p.FLASH, Irqs),
         }
     }

@@ -8,11 +8,20 @@
 
 pub mod board;
 pub mod esc;
+#[cfg(any(feature = "bootloader", feature = "storage"))]
+pub mod flash;
 #[cfg(feature = "fmc")]
 pub mod fmc;
 pub mod mem;
+#[cfg(feature = "storage")]
+pub mod parameters;
 #[cfg(feature = "bootloader")]
 pub mod update;
+
+#[cfg(all(feature = "storage", feature = "no-dictionary"))]
+compile_error!(
+    "feature `storage` keeps dictionary entries: it needs the dictionary (no `no-dictionary`)"
+);
 
 /// The ETG.1300 RUN/ERR LEDs of the SubDevice whose `status` they show, in the thread executor:
 /// woken only at a pattern's edges and when the AL status changes.

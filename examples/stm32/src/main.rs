@@ -6,7 +6,8 @@
 //! variants: feature `no-dictionary` (the dictionary `()`, raw process images) and `no-leds` (no
 //! ETG.1300 LED task). Feature `bootloader`: the firmware under examples/stm32-bootloader, with
 //! the firmware update by FoE in BOOT (`ecat_stm32::update`; the bootstrap mailbox is the
-//! standard one).
+//! standard one). Feature `storage`: 0x1010/0x1011 keep the input polarity 0x6002 in flash
+//! (`ecat_stm32::parameters`), loaded before the runners start.
 //!
 //! Two executors (priorities: README.md):
 //! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
@@ -22,7 +23,7 @@ use defmt_rtt as _;
 use ecat_embassy::{Config, Control, ProcessDataRunner, Resources};
 use ecat_stm32::board::{Board, DigitalIo, Pin};
 use ecat_stm32::{esc, park};
-use embassy_executor::SendSpawner;
+use embassy_executor::{SendSpawner, Spawner};
 use panic_probe as _;
 use static_cell::StaticCell;
 
@@ -57,42 +58,58 @@ ecat_stm32::executors!();
 fn main() -> ! {
     let board = Board::init();
     info!("ecat digital I/O starting");
-    run_executors(|high, spawner| spawner.spawn(unwrap!(state_machine(high, board))))
+    run_executors(|high, low| low.spawn(unwrap!(state_machine(high, low, board))))
 }
 
 /// The thread executor's task: brings the ESC up (the LAN9252 needs a reset sequence), starts the
-/// process-data runner and the SYNC0 task in the interrupt executor, then runs the state machine
+/// process-data runner and the SYNC0 task in the interrupt executor (`high`) and the LED task
+/// (and the update's flash task) in the thread executor (`low`), then runs the state machine
 /// and the mailbox. One task, so the start-up's state shares the task's storage with the runner.
 #[embassy_executor::task]
-async fn state_machine(high: SendSpawner, board: Board) -> ! {
+async fn state_machine(high: SendSpawner, low: Spawner, board: Board) -> ! {
     let Board {
         bus,
         irq,
         sync0,
         io,
         leds,
-        #[cfg(feature = "bootloader")]
+        #[cfg(any(feature = "bootloader", feature = "storage"))]
         flash,
         ..
     } = board;
     let Some(pdi) = esc::start_logged(bus).await else {
         park().await
     };
+    #[cfg(any(feature = "bootloader", feature = "storage"))]
+    let flash = ecat_stm32::flash::share(flash);
     #[cfg(feature = "bootloader")]
     let io = {
-        SendSpawner::for_current_executor()
-            .await
-            .spawn(unwrap!(ecat_stm32::update::run(flash)));
+        low.spawn(unwrap!(ecat_stm32::update::run(flash)));
         ecat_stm32::update::Updatable::new(io)
     };
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, Od::default()));
+    #[cfg(not(feature = "storage"))]
+    let od = Od::default();
+    // The stored parameters, loaded before the runners start.
+    #[cfg(feature = "storage")]
+    let (mut storage, mut od) = (ecat_stm32::parameters::storage(flash), Od::default());
+    #[cfg(feature = "storage")]
+    if let Some(storage) = storage.as_mut() {
+        match storage.load(&mut od).await {
+            Ok(loaded) => info!(
+                "parameters: {} loaded, {} skipped",
+                loaded.applied, loaded.skipped
+            ),
+            Err(e) => error!("parameters: {}", e),
+        }
+    }
+    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, od));
     let (state_machine, process_data, control) = ecat.split();
+    #[cfg(feature = "storage")]
+    let state_machine = state_machine.with_storage(storage);
     #[cfg(not(feature = "no-leds"))]
-    SendSpawner::for_current_executor()
-        .await
-        .spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
+    low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
     #[cfg(feature = "no-leds")]
-    let _ = leds;
+    let _ = (leds, low);
     high.spawn(unwrap!(exchange(process_data, irq)));
     high.spawn(unwrap!(sync(control, sync0)));
     error!("PDI failed: {}", state_machine.run().await);

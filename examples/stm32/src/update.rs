@@ -26,12 +26,11 @@ use ecat_core::mailbox::Handlers;
 use ecat_core::{AlState, AlStatusCode, Transition};
 use ecat_embassy::Application;
 use embassy_boot_stm32::{AlignedBuffer, FirmwareUpdater, FirmwareUpdaterConfig, State};
-use embassy_stm32::flash::Flash;
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
-use embassy_sync::blocking_mutex::raw::{CriticalSectionRawMutex, NoopRawMutex};
-use embassy_sync::mutex::Mutex;
+use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
 use embassy_sync::signal::Signal;
-use static_cell::StaticCell;
+
+use crate::flash::SharedFlash;
 
 /// The file FoE accepts.
 pub const FILE_NAME: &[u8] = b"firmware.bin";
@@ -303,11 +302,10 @@ impl<A: Application<D>, D> Application<D> for Updatable<A> {
 }
 
 /// The flash task, in the thread executor: does the jobs [`UpdateFiles`] and [`Updatable`] hand
-/// it, through embassy-boot's `FirmwareUpdater` over the chip's flash.
+/// it, through embassy-boot's `FirmwareUpdater` over the chip's flash (shared with the stored
+/// parameters, `crate::flash`).
 #[embassy_executor::task]
-pub async fn run(flash: Flash<'static>) -> ! {
-    static FLASH: StaticCell<Mutex<NoopRawMutex, Flash<'static>>> = StaticCell::new();
-    let flash = FLASH.init(Mutex::new(flash));
+pub async fn run(flash: &'static SharedFlash) -> ! {
     let config = FirmwareUpdaterConfig::from_linkerfile(flash, flash);
     let mut aligned = AlignedBuffer([0; 8]);
     let mut updater = FirmwareUpdater::new(config, &mut aligned.0);
