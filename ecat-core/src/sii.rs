@@ -231,9 +231,12 @@ impl Writer<'_> {
 }
 
 /// String indices of the General category (1-based; the PDO and entry names follow from
-/// [`FIRST_PDO_STRING`] on).
-const GROUP: u8 = 1;
-const ORDER: u8 = 2;
+/// [`FIRST_PDO_STRING`] on). The order code comes first, as in Beckhoff's own devices' SII:
+/// SOEM takes string 1 for a SubDevice's name whatever General says (`ecx_config_init`), so it
+/// shows the order code, as it does for an EL1008, rather than the group every device of a
+/// vendor shares (what SSC's tooling puts first).
+const ORDER: u8 = 1;
+const GROUP: u8 = 2;
 const NAME: u8 = 3;
 const FIRST_PDO_STRING: usize = 4;
 
@@ -265,7 +268,7 @@ impl<'a> Strings<'a> {
 
     fn write<D: ObjectDictionary>(&self, w: &mut Writer<'_>, od: &D) {
         w.u8(self.count);
-        for s in [self.names.group, self.names.order_code, self.names.name] {
+        for s in [self.names.order_code, self.names.group, self.names.name] {
             string(w, s);
         }
         for direction in [Direction::Tx, Direction::Rx] {

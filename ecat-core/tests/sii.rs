@@ -165,3 +165,36 @@ fn the_general_category_enables_foe_with_boot() {
     assert_eq!(foe_details(false), 0);
     assert_eq!(foe_details(true), 1);
 }
+
+/// The Strings category starts with the order code, then the group, then the name, and the
+/// General category's indices point at them (ETG.2010 Table 7: GroupIdx, ImgIdx, OrderIdx,
+/// NameIdx): SOEM names a SubDevice after string 1 whatever General says, so it shows the order
+/// code, as for Beckhoff's own devices.
+#[test]
+fn string_one_is_the_order_code() {
+    let image = image(&mailbox_device(false));
+    let category = |wanted: u16| {
+        let mut at = 0x80;
+        loop {
+            let kind = u16::from_le_bytes([image[at], image[at + 1]]);
+            let words = usize::from(u16::from_le_bytes([image[at + 2], image[at + 3]]));
+            assert_ne!(kind, 0xFFFF, "category {wanted}");
+            if kind == wanted {
+                return &image[at + 4..at + 4 + 2 * words];
+            }
+            at += 4 + 2 * words;
+        }
+    };
+    let strings = category(10);
+    let mut names = Vec::new();
+    let mut at = 1;
+    for _ in 0..3 {
+        let len = usize::from(strings[at]);
+        names.push(std::str::from_utf8(&strings[at + 1..at + 1 + len]).unwrap());
+        at += 1 + len;
+    }
+    assert_eq!(names, ["B-1", "Test", "Boot"]);
+    let general = category(30);
+    // GroupIdx, ImgIdx, OrderIdx, NameIdx.
+    assert_eq!(&general[..4], &[2, 0, 1, 3]);
+}

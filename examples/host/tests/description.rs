@@ -764,9 +764,9 @@ fn sensor_image_byte_exact() {
     let sii = Sii(&image);
     let general = sii.category(30).unwrap();
     let mut expected = [0u8; 32];
-    // group 1, order 2, name 3, CoE = SDO | SDO Info | complete access (fixed PDOs).
-    expected[..6].copy_from_slice(&[1, 0, 2, 3, 0, 0x23]);
-    expected[14] = 1; // group index (compatibility)
+    // group 2, order 1, name 3, CoE = SDO | SDO Info | complete access (fixed PDOs).
+    expected[..6].copy_from_slice(&[2, 0, 1, 3, 0, 0x23]);
+    expected[14] = 2; // group index (compatibility)
     expected[16] = 0x11; // ports 0 and 1: MII
     assert_eq!(general, expected);
     assert_eq!(
