@@ -63,15 +63,15 @@ impl OpCode {
 mod field {
     use core::ops::{Range, RangeFrom};
     /// The opcode.
-    pub const OPCODE: usize = 0;
+    pub(super) const OPCODE: usize = 0;
     /// The 32-bit field: password, packet number or error code; for busy, done then entire.
-    pub const VALUE: Range<usize> = 2..6;
+    pub(super) const VALUE: Range<usize> = 2..6;
     /// Busy: the progress made.
-    pub const DONE: Range<usize> = 2..4;
+    pub(super) const DONE: Range<usize> = 2..4;
     /// Busy: the progress to make.
-    pub const ENTIRE: Range<usize> = 4..6;
+    pub(super) const ENTIRE: Range<usize> = 4..6;
     /// File name, file data or error text.
-    pub const DATA: RangeFrom<usize> = 6..;
+    pub(super) const DATA: RangeFrom<usize> = 6..;
 }
 
 /// An FoE frame over a buffer of at least [`Packet::HEADER`] bytes.
