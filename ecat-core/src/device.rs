@@ -30,12 +30,12 @@ impl Area {
     }
 
     /// The area's bytes as a span: the first, and one past the last.
-    pub const fn span(self) -> (u32, u32) {
+    pub(crate) const fn span(self) -> (u32, u32) {
         (self.start as u32, self.end())
     }
 
     /// Whether the two areas share a byte.
-    pub const fn overlaps(self, other: Area) -> bool {
+    pub(crate) const fn overlaps(self, other: Area) -> bool {
         spans_overlap(self.span(), other.span())
     }
 }

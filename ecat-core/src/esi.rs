@@ -14,10 +14,10 @@
 //! | `Profile` (`ProfileNo`, `AddInfo`) | 0x1000 low / high word, when the dictionary has it |
 //! | `Profile/Dictionary/DataTypes` | every base type used, a `DTxxxx` per RECORD and ARRAY (plus `DTxxxxARR`) |
 //! | `Profile/Dictionary/Objects` | every object: type, bit size, declared default/min/max ([`Object::limit`]), flags |
-//! | `Fmmu`, `Sm` | [`sii::fmmus`], [`sii::sync_managers`] (the SII FMMU and SyncManager categories) |
-//! | `RxPdo`, `TxPdo` | the default assignment and mapping ([`sii::for_each_pdo`]) |
-//! | `Mailbox/CoE` | [`sii::coe_details`] (the SII General category's CoE details) |
-//! | `Mailbox/FoE` | [`sii::mailbox_protocols`]: with a bootstrap mailbox (BOOT) |
+//! | `Fmmu`, `Sm` | `sii::fmmus`, [`sii::sync_managers`] (the SII FMMU and SyncManager categories) |
+//! | `RxPdo`, `TxPdo` | the default assignment and mapping (`sii::for_each_pdo`) |
+//! | `Mailbox/CoE` | `sii::coe_details` (the SII General category's CoE details) |
+//! | `Mailbox/FoE` | `sii::mailbox_protocols`: with a bootstrap mailbox (BOOT) |
 //! | `Dc/OpMode` | when [`DeviceConfig::sync_modes`] supports DC SYNC0 |
 //! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!

@@ -11,7 +11,7 @@
 //! | 0x08..0x0F | identity: vendor ID, product code, revision, serial number |
 //! | 0x14..0x17 | bootstrap mailbox (receive offset/size, send offset/size), zero without BOOT |
 //! | 0x18..0x1B | standard mailbox |
-//! | 0x1C | mailbox protocols ([`mailbox_protocols`]): CoE, and FoE with BOOT (then also the General category's FoE details) |
+//! | 0x1C | mailbox protocols (`mailbox_protocols`): CoE, and FoE with BOOT (then also the General category's FoE details) |
 //! | 0x3E, 0x3F | EEPROM size (16 Kbit → 15), version 1 |
 //! | 0x40.. | categories: Strings (10), General (30), FMMU (40), SyncManager (41), TxPDO (50), RxPDO (51), DC (60, DC SYNC0 devices), end 0xFFFF |
 //!
@@ -20,7 +20,7 @@
 //! default PDO assignment describes. Every reserved bit is 0: some MainDevices reject unknown bits.
 //!
 //! The parts of the description the ESI file ([`crate::esi`]) repeats are computed here once and
-//! shared: [`sync_managers`], [`fmmus`], [`coe_details`], [`for_each_pdo`].
+//! shared: [`sync_managers`], `fmmus`, `coe_details`, `for_each_pdo`.
 
 use crate::chip::{Chip, ConfigArea};
 use crate::device::{DeviceConfig, Identity, MailboxConfig};
@@ -52,7 +52,7 @@ pub enum SiiError {
 /// Mailbox protocol CoE (word 0x1C, bit 2).
 const PROTOCOL_COE: u16 = 0x0004;
 /// Mailbox protocol FoE (word 0x1C, bit 3).
-pub const PROTOCOL_FOE: u16 = 0x0008;
+pub(crate) const PROTOCOL_FOE: u16 = 0x0008;
 /// SyncManager control bytes: mailbox out/in, 3-buffer out with watchdog, 3-buffer in.
 const SM_CONTROL: [u8; 4] = [0x26, 0x22, 0x64, 0x20];
 /// Category types (ETG.2010 Table 3).
@@ -66,7 +66,7 @@ const CAT_DC: u16 = 60;
 const CAT_END: u16 = 0xFFFF;
 /// DC AssignActivate (register 0x0980/0x0981 as the MainDevice should write them): cyclic
 /// operation with SYNC0.
-pub const ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
+pub(crate) const ASSIGN_ACTIVATE_SYNC0: u16 = 0x0300;
 /// Word 0x3E: EEPROM size in Kbit − 1 (16 Kbit).
 const SIZE_KBIT_MINUS_ONE: u16 = 15;
 /// Largest image: 16 Kbit.
@@ -75,7 +75,7 @@ pub const MAX_SIZE: usize = 2048;
 /// The mailbox protocols word (0x1C; ETG.2010 Table 2, bit 2 CoE, bit 3 FoE): CoE always, FoE
 /// when the device supports BOOT, whose only protocol FoE is (ETG.1000.6 §6.4.1). A device with
 /// a bootstrap mailbox serves FoE ([`crate::foe::Foe`] among its mailbox handlers).
-pub const fn mailbox_protocols(config: &DeviceConfig) -> u16 {
+pub(crate) const fn mailbox_protocols(config: &DeviceConfig) -> u16 {
     if config.bootstrap_mailbox.is_some() {
         PROTOCOL_COE | PROTOCOL_FOE
     } else {
@@ -301,7 +301,7 @@ pub const FLAG_IDENT_AL_STATUS: u8 = 1 << 3;
 
 /// The General category's flags: [`FLAG_IDENT_AL_STATUS`] for a device with an explicit device
 /// ID ([`DeviceConfig::explicit_device_id`]).
-pub fn general_flags(config: &DeviceConfig) -> u8 {
+pub(crate) fn general_flags(config: &DeviceConfig) -> u8 {
     if config.explicit_device_id {
         FLAG_IDENT_AL_STATUS
     } else {
@@ -323,29 +323,29 @@ fn general(w: &mut Writer<'_>, coe: CoeDetails, foe: u8, flags: u8) {
 /// The CoE details byte of the General category (ETG.2010 Table 6, "CoE Details"); the ESI
 /// `Mailbox/CoE` attributes carry the same flags (ETG.2000 `Device/Mailbox/CoE`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct CoeDetails(pub u8);
+pub(crate) struct CoeDetails(pub(crate) u8);
 
 impl CoeDetails {
     /// Bit 0: SDO supported.
-    pub const SDO: u8 = 0x01;
+    pub(crate) const SDO: u8 = 0x01;
     /// Bit 1: SDO Information.
-    pub const SDO_INFO: u8 = 0x02;
+    pub(crate) const SDO_INFO: u8 = 0x02;
     /// Bit 2: PDO assignment writable.
-    pub const PDO_ASSIGN: u8 = 0x04;
+    pub(crate) const PDO_ASSIGN: u8 = 0x04;
     /// Bit 3: PDO mapping writable.
-    pub const PDO_CONFIG: u8 = 0x08;
+    pub(crate) const PDO_CONFIG: u8 = 0x08;
     /// Bit 5: SDO complete access.
-    pub const COMPLETE_ACCESS: u8 = 0x20;
+    pub(crate) const COMPLETE_ACCESS: u8 = 0x20;
 
     /// Whether every bit of `flag` is set.
-    pub const fn has(self, flag: u8) -> bool {
+    pub(crate) const fn has(self, flag: u8) -> bool {
         self.0 & flag == flag
     }
 }
 
 /// The CoE details the dictionary supports: SDO, SDO Information and complete access always;
 /// PDO assignment / configuration when 0x1C12/0x1C13 / their mapping objects are writable.
-pub fn coe_details<D: ObjectDictionary>(od: &D) -> CoeDetails {
+pub(crate) fn coe_details<D: ObjectDictionary>(od: &D) -> CoeDetails {
     let mut details = CoeDetails::SDO | CoeDetails::SDO_INFO | CoeDetails::COMPLETE_ACCESS;
     let writable = |index: u16| {
         D::object(index)
@@ -368,7 +368,7 @@ pub fn coe_details<D: ObjectDictionary>(od: &D) -> CoeDetails {
 /// An FMMU's usage (ETG.2010 Table 9; the ESI `Fmmu` element, ETG.2000 `Device/Fmmu`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
-pub enum Fmmu {
+pub(crate) enum Fmmu {
     /// Maps the outputs (SM2).
     Outputs = 0x01,
     /// Maps the inputs (SM3).
@@ -379,7 +379,7 @@ pub enum Fmmu {
 
 /// The FMMUs the device needs: outputs and inputs for the images that exist, then the mailbox
 /// status.
-pub fn fmmus<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> impl Iterator<Item = Fmmu> {
+pub(crate) fn fmmus<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> impl Iterator<Item = Fmmu> {
     let image = ProcessImage::of(config, od);
     let outputs = Some(Fmmu::Outputs).filter(|_| image.outputs > 0);
     let inputs = Some(Fmmu::Inputs).filter(|_| image.inputs > 0);
@@ -497,7 +497,7 @@ fn count_pdos<D: ObjectDictionary>(od: &D, direction: Direction) -> usize {
 
 /// Calls `f(pdo index, pdo name, entries)` for every PDO the default assignment of `direction`
 /// lists (ETG.1000.6 §5.6.7.4; the SII PDO categories and the ESI `RxPdo`/`TxPdo` elements).
-pub fn for_each_pdo<D: ObjectDictionary>(
+pub(crate) fn for_each_pdo<D: ObjectDictionary>(
     od: &D,
     direction: Direction,
     mut f: impl FnMut(u16, &'static str, &[MappingEntry]),
@@ -531,7 +531,7 @@ pub fn for_each_pdo<D: ObjectDictionary>(
 /// Calls `f(pdo index, pdo name, entries)` for every PDO mapping object of `direction` the
 /// dictionary declares but the default assignment does not list: the alternatives a MainDevice
 /// may assign instead (the ESI lists them without a SyncManager, ETG.2000 `RxPdo`/`TxPdo`).
-pub fn for_each_alternative_pdo<D: ObjectDictionary>(
+pub(crate) fn for_each_alternative_pdo<D: ObjectDictionary>(
     od: &D,
     direction: Direction,
     mut f: impl FnMut(u16, &'static str, &[MappingEntry]),

@@ -105,10 +105,6 @@ fn main() {
             "SubDevice<1024>: {} bytes",
             core::mem::size_of::<ecat_core::SubDevice<'static, 1024>>()
         );
-        println!(
-            "Mailbox<128>: {} bytes",
-            core::mem::size_of::<ecat_core::mailbox::Mailbox<128>>()
-        );
         return;
     }
     if case == "expedited-upload-pdo" {

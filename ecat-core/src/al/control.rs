@@ -32,7 +32,7 @@ impl AlControl {
     }
 
     /// Bits 3:0, the requested state code as written.
-    pub const fn requested_bits(self) -> u8 {
+    const fn requested_bits(self) -> u8 {
         (self.0 & 0x0F) as u8
     }
 

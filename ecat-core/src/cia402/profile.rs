@@ -194,7 +194,7 @@ fn stopping_speed(one_cycle: i64, brake: i64) -> i64 {
 
 /// `target` clamped into the software position limits 0x607D (active when `min < max`), and
 /// whether it was outside (statusword bit 11, internal limit active).
-pub fn clamp_position(limit: super::SoftwarePositionLimit, target: i64) -> (i64, bool) {
+pub(crate) fn clamp_position(limit: super::SoftwarePositionLimit, target: i64) -> (i64, bool) {
     if limit.min >= limit.max {
         return (target, false);
     }
@@ -203,7 +203,7 @@ pub fn clamp_position(limit: super::SoftwarePositionLimit, target: i64) -> (i64,
 }
 
 /// `velocity` clamped into ±0x607F max profile velocity, and whether it was outside.
-pub fn clamp_velocity(velocity: i64, max: u32) -> (i64, bool) {
+pub(crate) fn clamp_velocity(velocity: i64, max: u32) -> (i64, bool) {
     let max = i64::from(max);
     let clamped = velocity.max(-max).min(max);
     (clamped, clamped != velocity)

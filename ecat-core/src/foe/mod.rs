@@ -27,7 +27,7 @@
 //!   same packet again later.
 
 mod error;
-pub mod packet;
+mod packet;
 
 pub use error::FoeError;
 pub use packet::{OpCode, Packet};

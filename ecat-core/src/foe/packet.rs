@@ -63,15 +63,15 @@ impl OpCode {
 mod field {
     use core::ops::{Range, RangeFrom};
     /// The opcode.
-    pub const OPCODE: usize = 0;
+    pub(super) const OPCODE: usize = 0;
     /// The 32-bit field: password, packet number or error code; for busy, done then entire.
-    pub const VALUE: Range<usize> = 2..6;
+    pub(super) const VALUE: Range<usize> = 2..6;
     /// Busy: the progress made.
-    pub const DONE: Range<usize> = 2..4;
+    pub(super) const DONE: Range<usize> = 2..4;
     /// Busy: the progress to make.
-    pub const ENTIRE: Range<usize> = 4..6;
+    pub(super) const ENTIRE: Range<usize> = 4..6;
     /// File name, file data or error text.
-    pub const DATA: RangeFrom<usize> = 6..;
+    pub(super) const DATA: RangeFrom<usize> = 6..;
 }
 
 /// An FoE frame over a buffer of at least [`Packet::HEADER`] bytes.
@@ -130,7 +130,7 @@ impl<T: AsRef<[u8]>> Packet<T> {
 
 impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
     /// Writes the header: `opcode`, the reserved byte 0 and `value`.
-    pub fn set_header(&mut self, opcode: OpCode, value: u32) {
+    pub(crate) fn set_header(&mut self, opcode: OpCode, value: u32) {
         let buffer = self.buffer.as_mut();
         if let Some(b) = buffer.get_mut(field::OPCODE..field::VALUE.start) {
             b.copy_from_slice(&[opcode.code(), 0]);
@@ -141,7 +141,7 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
     }
 
     /// The data area, for writing.
-    pub fn data_mut(&mut self) -> &mut [u8] {
+    pub(crate) fn data_mut(&mut self) -> &mut [u8] {
         self.buffer
             .as_mut()
             .get_mut(field::DATA)
@@ -151,7 +151,7 @@ impl<T: AsRef<[u8]> + AsMut<[u8]>> Packet<T> {
 
 /// Writes an FoE frame of `opcode` and `value` with no data into `out`: its length, 0 when `out`
 /// is shorter than the header.
-pub fn write_header(out: &mut [u8], opcode: OpCode, value: u32) -> usize {
+pub(crate) fn write_header(out: &mut [u8], opcode: OpCode, value: u32) -> usize {
     match Packet::new_checked(out) {
         Some(mut packet) => {
             packet.set_header(opcode, value);
@@ -162,12 +162,12 @@ pub fn write_header(out: &mut [u8], opcode: OpCode, value: u32) -> usize {
 }
 
 /// Writes an FoE error frame of `error` (no text) into `out`: its length.
-pub fn write_error(out: &mut [u8], error: FoeError) -> usize {
+pub(crate) fn write_error(out: &mut [u8], error: FoeError) -> usize {
     write_header(out, OpCode::Error, error.0)
 }
 
 /// Writes an FoE busy frame into `out`: its length.
-pub fn write_busy(out: &mut [u8], done: u16, entire: u16) -> usize {
+pub(crate) fn write_busy(out: &mut [u8], done: u16, entire: u16) -> usize {
     let value = u32::from(done) | (u32::from(entire) << 16);
     write_header(out, OpCode::Busy, value)
 }

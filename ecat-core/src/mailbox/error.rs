@@ -24,7 +24,7 @@ impl MailboxError {
     pub const INVALID_SIZE: Self = Self(0x0008);
 
     /// The 4-byte payload of the reply: service 0x0001, then the detail.
-    pub const fn payload(self) -> [u8; 4] {
+    pub(crate) const fn payload(self) -> [u8; 4] {
         let d = self.0.to_le_bytes();
         [0x01, 0x00, d[0], d[1]]
     }

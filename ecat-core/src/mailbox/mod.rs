@@ -44,33 +44,33 @@ use crate::{AlEvent, AlState};
 /// (may a request be read, is a write due, is there work) is one test.
 mod flag {
     /// SM0 holds a message the SubDevice has not read yet.
-    pub const RX_WAITING: u8 = 1 << 0;
+    pub(super) const RX_WAITING: u8 = 1 << 0;
     /// The receive buffer holds a request not yet served.
-    pub const RX_PENDING: u8 = 1 << 1;
+    pub(super) const RX_PENDING: u8 = 1 << 1;
     /// The send buffer holds a message not yet written to SM1.
-    pub const TX_PENDING: u8 = 1 << 2;
+    pub(super) const TX_PENDING: u8 = 1 << 2;
     /// SM1 holds a message the MainDevice has not read yet.
-    pub const SEND_BUSY: u8 = 1 << 3;
+    pub(super) const SEND_BUSY: u8 = 1 << 3;
     /// SM1's repeat request differs from the acknowledge: the last message is written again,
     /// then the acknowledge follows the request.
-    pub const REPEAT_PENDING: u8 = 1 << 4;
+    pub(super) const REPEAT_PENDING: u8 = 1 << 4;
     /// The repeat acknowledge bit as last written to SM1's PDI control.
-    pub const REPEAT_ACK: u8 = 1 << 5;
+    pub(super) const REPEAT_ACK: u8 = 1 << 5;
     /// One of the handlers beside CoE had a message of its own after the last service.
-    pub const HANDLER_MESSAGE: u8 = 1 << 6;
+    pub(super) const HANDLER_MESSAGE: u8 = 1 << 6;
     /// What keeps a request in SM0: its answer could not be written at once.
-    pub const BLOCKING: u8 = RX_PENDING | TX_PENDING | SEND_BUSY | REPEAT_PENDING;
+    pub(super) const BLOCKING: u8 = RX_PENDING | TX_PENDING | SEND_BUSY | REPEAT_PENDING;
     /// What keeps SM1 from taking a new message.
-    pub const SM1_TAKEN: u8 = TX_PENDING | SEND_BUSY | REPEAT_PENDING;
+    pub(super) const SM1_TAKEN: u8 = TX_PENDING | SEND_BUSY | REPEAT_PENDING;
 }
 
 /// What the handlers beside CoE need from the next service whether SM1 is free or not: a byte
 /// of its own beside [`flag`], so that a device without such handlers tests nothing more.
 mod due {
     /// The handlers have not been reset since the mailbox stopped.
-    pub const RESET: u8 = 1 << 0;
+    pub(super) const RESET: u8 = 1 << 0;
     /// A handler's timeout passed.
-    pub const TIMEOUT: u8 = 1 << 1;
+    pub(super) const TIMEOUT: u8 = 1 << 1;
 }
 
 /// The mailbox of a SubDevice whose mailboxes hold at most `N` bytes: what SM0 and SM1 hold,
@@ -78,7 +78,7 @@ mod due {
 #[derive(Debug)]
 // `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
 #[repr(C)]
-pub struct Mailbox<const N: usize> {
+pub(crate) struct Mailbox<const N: usize> {
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
@@ -108,7 +108,7 @@ impl<const N: usize> Default for Mailbox<N> {
 
 impl<const N: usize> Mailbox<N> {
     /// An idle mailbox.
-    pub const fn new() -> Self {
+    pub(crate) const fn new() -> Self {
         Self {
             rx: [0; N],
             tx: [0; N],
@@ -140,23 +140,23 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// Stops the mailbox: everything in flight is dropped.
-    pub fn stop(&mut self) {
+    pub(crate) fn stop(&mut self) {
         *self = Self::new();
     }
 
     /// The MainDevice filled SM0 (AL event bit 8).
-    pub fn receive_event(&mut self) {
+    pub(crate) fn receive_event(&mut self) {
         self.flags |= flag::RX_WAITING;
     }
 
     /// The MainDevice read SM1 (AL event bit 9).
-    pub fn send_event(&mut self) {
+    pub(crate) fn send_event(&mut self) {
         self.flags &= !flag::SEND_BUSY;
     }
 
     /// SM1's activate register as last read: a toggled repeat request asks for the last message
     /// again.
-    pub fn repeat_request(&mut self, request: bool) {
+    pub(crate) fn repeat_request(&mut self, request: bool) {
         if request != self.repeat_ack() && self.tx_len != 0 {
             // The acknowledge stays until the last message is written again.
             self.flags |= flag::REPEAT_PENDING;
@@ -173,7 +173,7 @@ impl<const N: usize> Mailbox<N> {
     /// The SM0/SM1 bits the AL event mask needs now ([`Mailbox::wants_receive_event`],
     /// [`Mailbox::wants_send_event`]); `first_message` tells whether the first handler has a
     /// message of its own (asked only when it matters).
-    pub fn event_mask(&self, first_message: impl FnOnce() -> bool) -> AlEvent {
+    pub(crate) fn event_mask(&self, first_message: impl FnOnce() -> bool) -> AlEvent {
         let mut mask = AlEvent::NONE;
         if self.wants_receive_event() {
             mask |= AlEvent::sync_manager(0);
@@ -185,18 +185,18 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// Whether SM0 may be read now: its answer could be sent at once.
-    pub fn can_receive(&self) -> bool {
+    pub(crate) fn can_receive(&self) -> bool {
         self.flags & flag::BLOCKING == 0
     }
 
     /// Whether a repeat request waits for the last message to be written again.
-    pub fn repeat_pending(&self) -> bool {
+    pub(crate) fn repeat_pending(&self) -> bool {
         self.flags & flag::REPEAT_PENDING != 0
     }
 
     /// Whether the SM0 event belongs in the AL event mask: always, except while a request
     /// already waits in SM0 that cannot be read yet (its event would hold the IRQ line).
-    pub fn wants_receive_event(&self) -> bool {
+    pub(crate) fn wants_receive_event(&self) -> bool {
         self.flags & flag::RX_WAITING == 0 || self.can_receive()
     }
 
@@ -207,7 +207,7 @@ impl<const N: usize> Mailbox<N> {
     /// `first_message` tells whether the first handler (CoE) has a message of its own: its
     /// messages (emergencies) are queued between services, so the caller asks it, and only when
     /// the answer matters.
-    pub fn wants_send_event(&self, first_message: impl FnOnce() -> bool) -> bool {
+    pub(crate) fn wants_send_event(&self, first_message: impl FnOnce() -> bool) -> bool {
         let more = self.flags & (flag::TX_PENDING | flag::RX_WAITING | flag::HANDLER_MESSAGE)
             != 0
             || first_message();
@@ -215,12 +215,12 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// Whether SM0 should be read now.
-    pub fn read_due(&self) -> bool {
+    pub(crate) fn read_due(&self) -> bool {
         self.flags & (flag::RX_WAITING | flag::BLOCKING) == flag::RX_WAITING
     }
 
     /// SM0's address and the receive buffer for reading it (SM0's length).
-    pub fn rx_buffer(&mut self) -> (u16, &mut [u8]) {
+    pub(crate) fn rx_buffer(&mut self) -> (u16, &mut [u8]) {
         let size = self.receive_size();
         (
             self.receive.start,
@@ -229,17 +229,17 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// Whether a request read from SM0 waits to be served.
-    pub fn request_pending(&self) -> bool {
+    pub(crate) fn request_pending(&self) -> bool {
         self.flags & flag::RX_PENDING != 0
     }
 
     /// SM0 was read into the receive buffer.
-    pub fn received(&mut self) {
+    pub(crate) fn received(&mut self) {
         self.flags = (self.flags & !flag::RX_WAITING) | flag::RX_PENDING;
     }
 
     /// Whether a message must be written to SM1 now: the next message, or the last one again.
-    pub fn write_due(&self) -> bool {
+    pub(crate) fn write_due(&self) -> bool {
         self.flags & (flag::TX_PENDING | flag::SEND_BUSY) == flag::TX_PENDING
             || self.repeat_pending()
     }
@@ -247,7 +247,7 @@ impl<const N: usize> Mailbox<N> {
     /// What writing the message into SM1 takes: SM1's address, the message (the last one built)
     /// and, when it is shorter than SM1, the address of SM1's last byte, whose write hands SM1
     /// to the MainDevice.
-    pub fn message(&self) -> (u16, &[u8], Option<u16>) {
+    pub(crate) fn message(&self) -> (u16, &[u8], Option<u16>) {
         let message = self.tx.get(..self.tx_len).unwrap_or_default();
         let last = self
             .send
@@ -258,7 +258,7 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// The message ([`Mailbox::message`]) is now in SM1.
-    pub fn written(&mut self) {
+    pub(crate) fn written(&mut self) {
         // The acknowledge follows the request: it toggles if a repeat was pending.
         let toggle = if self.repeat_pending() {
             flag::REPEAT_ACK
@@ -271,18 +271,18 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// The repeat acknowledge bit for SM1's PDI control.
-    pub fn repeat_ack(&self) -> bool {
+    pub(crate) fn repeat_ack(&self) -> bool {
         self.flags & flag::REPEAT_ACK != 0
     }
 
     /// When [`Mailbox::handle_timeout`] must be called: a handler's timeout as of the last
     /// service (the first handler's own the caller asks it for).
-    pub fn poll_timeout(&self) -> Option<Instant> {
+    pub(crate) fn poll_timeout(&self) -> Option<Instant> {
         self.handler_timeout
     }
 
     /// A handler's timeout that passed makes work for the next service, which hands it on.
-    pub fn handle_timeout(&mut self, now: Instant) {
+    pub(crate) fn handle_timeout(&mut self, now: Instant) {
         if self.handler_timeout.is_some_and(|t| t <= now) {
             self.handler_due |= due::TIMEOUT;
         }
@@ -291,7 +291,7 @@ impl<const N: usize> Mailbox<N> {
     /// Whether the mailbox has anything to serve: SM1 is free and a request or a message of a
     /// handler's own (`first_message`: the first handler's, an SDO Information fragment or an
     /// emergency) waits for it, or a handler's timeout passed.
-    pub fn has_work(&self, first_message: impl FnOnce() -> bool) -> bool {
+    pub(crate) fn has_work(&self, first_message: impl FnOnce() -> bool) -> bool {
         let free = self.flags & flag::SM1_TAKEN == 0;
         let messages = flag::RX_PENDING | flag::HANDLER_MESSAGE;
         free && (self.flags & messages != 0 || first_message())

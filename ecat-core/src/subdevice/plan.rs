@@ -73,14 +73,14 @@ impl InFlight {
 pub(super) mod read {
     /// The process-data watchdog time (0x0420), with every AL control event: for the watchdog
     /// consistency check at PREOP→SAFEOP.
-    pub const WATCHDOG: u8 = 1 << 0;
+    pub(crate) const WATCHDOG: u8 = 1 << 0;
     /// The watchdog status (0x0440) after AL event bit 6 in OP; reading it acknowledges the event.
-    pub const WATCHDOG_STATUS: u8 = 1 << 1;
+    pub(crate) const WATCHDOG_STATUS: u8 = 1 << 1;
     /// The DC activation (and, on a DC-capable device, the SYNC0 cycle), with every AL control
     /// event: for the DC checks at PREOP→SAFEOP.
-    pub const DC: u8 = 1 << 2;
+    pub(crate) const DC: u8 = 1 << 2;
     /// AL control (0x0120), after all the others.
-    pub const AL_CONTROL: u8 = 1 << 3;
+    pub(crate) const AL_CONTROL: u8 = 1 << 3;
 }
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
