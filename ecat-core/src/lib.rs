@@ -56,6 +56,7 @@ mod bytes;
 pub mod chip;
 pub mod cia402;
 pub mod coe;
+mod declaration;
 pub mod device;
 pub mod diagnosis;
 pub mod dictionary;
