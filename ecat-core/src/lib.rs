@@ -63,6 +63,7 @@ pub mod dictionary;
 pub mod esi;
 pub mod esm;
 pub mod foe;
+mod history;
 pub mod indicator;
 pub mod mailbox;
 pub mod pdo;

@@ -122,7 +122,7 @@ pub trait ObjectDictionary: Sized + 'static {
 
     /// The diagnosis history (0x10F3) the stack logs its events into, when the dictionary
     /// declares one (`dictionary!`'s `diagnosis` item).
-    fn diagnosis(&mut self) -> Option<crate::diagnosis::History<'_>> {
+    fn diagnosis(&mut self) -> Option<crate::history::History<'_>> {
         None
     }
 
