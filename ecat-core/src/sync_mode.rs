@@ -158,8 +158,9 @@ impl SyncParameters {
     };
 
     /// 0x1C33 at power-on: SM2-synchronous (SI1 = 0x22), the inputs' type that follows from
-    /// SM-synchronous outputs ([`input_sync_type`]; replaced when the configuration is
-    /// refreshed).
+    /// SM-synchronous outputs
+    /// ([`input_sync_type`](crate::sync_parameters::input_sync_type); replaced when the
+    /// configuration is refreshed).
     pub const INPUTS: Self = Self {
         sync_type: INPUT_SYNC_DEFAULT,
         ..Self::DEFAULT

@@ -217,7 +217,10 @@ fn mappable_entries_are_numbered_in_dictionary_order() {
     assert_eq!(number(0x1600, 1), None, "a mapping object");
     assert_eq!(number(0x6040, 1), None);
     assert_eq!(mappable_entries(Od::OBJECTS), 18);
-    assert_eq!(<<Od as ObjectDictionary>::Mappable as Length>::array(0u16).len(), 18);
+    assert_eq!(
+        <<Od as ObjectDictionary>::Mappable as Length>::array(0u16).len(),
+        18
+    );
 }
 
 /// The lookup (binary search + each object's first number) gives every subindex of every object
