@@ -28,7 +28,7 @@ use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, 
 use crate::abort::AbortCode;
 use crate::device::Identity;
 use crate::sync_manager;
-use crate::sync_parameters::SyncParameters;
+use crate::sync_mode::SyncParameters;
 
 /// The description constants of the communication area, one `const` per device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

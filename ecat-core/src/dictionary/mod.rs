@@ -78,7 +78,6 @@
 mod access;
 pub mod communication;
 mod data_type;
-mod macros;
 mod object;
 pub mod parameters;
 mod value;
@@ -92,28 +91,21 @@ pub use object::{
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
 use crate::abort::AbortCode;
-use crate::pdo::layout::Repeat;
 
 /// A dictionary: the `const` table of its objects. Implemented by [`dictionary!`](crate::dictionary!).
 pub trait ObjectDictionary: Sized + 'static {
     /// Every object, sorted by index.
     const OBJECTS: &'static [Object<Self>];
 
-    /// A bit offset per PDO-mappable entry, indexed by
-    /// [entry number](crate::pdo::layout::number): `[u16; N]`, `N` =
-    /// [`mappable_entries`](crate::pdo::layout::mappable_entries) of [`Self::OBJECTS`].
-    type Offsets: AsRef<[u16]> + AsMut<[u16]> + Copy;
+    /// The number of PDO-mappable entries (RxPDO or TxPDO), as a [`Length`]: the PDO layout
+    /// keeps one bit offset per entry, indexed by its
+    /// [number](crate::pdo::layout::number) ([`PerMappable`]).
+    type Mappable: Length;
 
-    /// Every entry [unmapped](crate::pdo::layout::UNMAPPED).
-    const UNMAPPED: Self::Offsets;
-
-    /// Room for the TxPDO entries a configuration maps a second time: `[Repeat; N]`, `N` =
+    /// How many TxPDO entries a configuration may map a second time, as a [`Length`]:
     /// [`repeat_room`](crate::pdo::layout::repeat_room) of the mappable entries — none for a
     /// dictionary without PDO-mappable entries, whose layouts then take no space for them.
-    type Repeats: AsRef<[Repeat]> + AsMut<[Repeat]> + Copy;
-
-    /// Every slot of [`Self::Repeats`] [empty](Repeat::EMPTY).
-    const NO_REPEATS: Self::Repeats;
+    type Repeatable: Length;
 
     /// The number of each object's first PDO-mappable entry, parallel to [`Self::OBJECTS`]
     /// ([`first_entries`](crate::pdo::layout::first_entries)): what makes finding an entry's
@@ -122,15 +114,15 @@ pub trait ObjectDictionary: Sized + 'static {
 
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
     /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
-    fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]);
+    fn unpack_mapped(&mut self, offsets: &PerMappable<Self, u16>, image: &[u8]);
 
     /// Copies every TxPDO-mappable entry into `image` at its offset (generated: one
     /// [`Mapped::pack`](crate::pdo::image::Mapped::pack) per field).
-    fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]);
+    fn pack_mapped(&self, offsets: &PerMappable<Self, u16>, image: &mut [u8]);
 
     /// The diagnosis history (0x10F3) the stack logs its events into, when the dictionary
     /// declares one (`dictionary!`'s `diagnosis` item).
-    fn diagnosis(&mut self) -> Option<crate::diagnosis::History<'_>> {
+    fn diagnosis(&mut self) -> Option<crate::history::History<'_>> {
         None
     }
 
@@ -153,14 +145,36 @@ pub trait ObjectDictionary: Sized + 'static {
 /// dictionary comes from [`dictionary!`](crate::dictionary!) with its communication area.
 impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
-    type Offsets = [u16; 0];
-    const UNMAPPED: [u16; 0] = [];
-    type Repeats = [Repeat; 0];
-    const NO_REPEATS: [Repeat; 0] = [];
+    type Mappable = Len<0>;
+    type Repeatable = Len<0>;
     const FIRST_ENTRIES: &'static [usize] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
 }
+
+/// A length as a type, for arrays of any element: what a dictionary tells the PDO layout about
+/// its shape ([`ObjectDictionary::Mappable`]) without naming the layout's types.
+pub trait Length {
+    /// `[T; N]`.
+    type Array<T: Copy>: AsRef<[T]> + AsMut<[T]> + Copy;
+
+    /// `[value; N]`.
+    fn array<T: Copy>(value: T) -> Self::Array<T>;
+}
+
+/// The length `N`.
+pub struct Len<const N: usize>;
+
+impl<const N: usize> Length for Len<N> {
+    type Array<T: Copy> = [T; N];
+
+    fn array<T: Copy>(value: T) -> [T; N] {
+        [value; N]
+    }
+}
+
+/// One `T` per PDO-mappable entry of `D`: `[T; N]`.
+pub type PerMappable<D, T> = <<D as ObjectDictionary>::Mappable as Length>::Array<T>;
 
 /// What [`Object::read`] returns: bytes copied and the entry's whole size.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -11,7 +11,7 @@
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{EntryInfo, Object, ObjectDictionary, ObjectInfo};
+use crate::dictionary::{EntryInfo, Length, Object, ObjectDictionary, ObjectInfo, PerMappable};
 
 /// The offset of an entry the configuration does not map.
 pub const UNMAPPED: u16 = u16::MAX;
@@ -47,7 +47,7 @@ pub struct Repeat {
 }
 
 impl Repeat {
-    /// An unused slot of [`ObjectDictionary::Repeats`].
+    /// An unused slot of a layout's repeats.
     pub const EMPTY: Self = Self {
         from: 0,
         to: 0,
@@ -55,7 +55,7 @@ impl Repeat {
     };
 }
 
-/// The length of [`ObjectDictionary::Repeats`] for a dictionary with `mappable` PDO-mappable
+/// [`ObjectDictionary::Repeatable`] for a dictionary with `mappable` PDO-mappable
 /// entries: [`MAX_REPEATS`], or none when there is no entry to map twice (a layout of such a
 /// dictionary then carries no room for repeats).
 pub const fn repeat_room(mappable: usize) -> usize {
@@ -64,10 +64,10 @@ pub const fn repeat_room(mappable: usize) -> usize {
 
 /// One direction's image: the offset of every mappable entry and the image size.
 pub struct Layout<D: ObjectDictionary> {
-    offsets: D::Offsets,
+    offsets: PerMappable<D, u16>,
     bits: u16,
     gaps: bool,
-    repeats: D::Repeats,
+    repeats: <D::Repeatable as Length>::Array<Repeat>,
     repeat_count: u8,
 }
 
@@ -89,10 +89,10 @@ impl<D: ObjectDictionary> Layout<D> {
             return Ok(None);
         }
         let mut layout = Self {
-            offsets: D::UNMAPPED,
+            offsets: <D::Mappable as Length>::array(UNMAPPED),
             bits: 0,
             gaps: false,
-            repeats: D::NO_REPEATS,
+            repeats: <D::Repeatable as Length>::array(Repeat::EMPTY),
             repeat_count: 0,
         };
         let mut valid = true;
@@ -147,7 +147,7 @@ impl<D: ObjectDictionary> Layout<D> {
     }
 
     /// The offset of every mappable entry, by [entry number](number), as [`stored`].
-    pub fn offsets(&self) -> &D::Offsets {
+    pub fn offsets(&self) -> &PerMappable<D, u16> {
         &self.offsets
     }
 
@@ -179,7 +179,7 @@ impl<D: ObjectDictionary> Layout<D> {
 }
 
 /// The number of PDO-mappable entries in `objects` (the length of
-/// [`ObjectDictionary::Offsets`]).
+/// [`ObjectDictionary::Mappable`]).
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
     let mut n = 0;

@@ -1,4 +1,10 @@
-//! [`dictionary!`](crate::dictionary!): the declaration of a device's object dictionary.
+//! [`dictionary!`](crate::dictionary!): the declaration of a device's object dictionary, and
+//! where the features meet. A declaration expands into the dictionary's table
+//! ([`dictionary`](crate::dictionary)), the process-image copy and the shape the PDO layout
+//! derives from the table ([`pdo`](crate::pdo)), the communication area with its sync parameter
+//! records ([`sync_parameters`](crate::sync_parameters)) and the diagnosis history
+//! ([`diagnosis`](crate::diagnosis)): the macro sits above them all, so none of them imports
+//! another for the declaration's sake.
 
 /// Maps object indices onto the fields of a dictionary struct; see the [module
 /// documentation](mod@crate::dictionary) for an example.
@@ -227,21 +233,13 @@ macro_rules! __ecat_impl {
                 }
             )?
 
-            type Offsets = [u16; $crate::pdo::layout::mappable_entries(
+            type Mappable = $crate::dictionary::Len<{ $crate::pdo::layout::mappable_entries(
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
-            )];
+            ) }>;
 
-            const UNMAPPED: Self::Offsets = [$crate::pdo::layout::UNMAPPED; $crate::pdo::layout::mappable_entries(
-                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
-            )];
-
-            type Repeats = [$crate::pdo::layout::Repeat; $crate::pdo::layout::repeat_room(
+            type Repeatable = $crate::dictionary::Len<{ $crate::pdo::layout::repeat_room(
                 $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
-            )];
-
-            const NO_REPEATS: Self::Repeats = [$crate::pdo::layout::Repeat::EMPTY; $crate::pdo::layout::repeat_room(
-                $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
-            )];
+            ) }>;
 
             const FIRST_ENTRIES: &'static [usize] = &$crate::pdo::layout::first_entries::<
                 $dict,
@@ -249,13 +247,13 @@ macro_rules! __ecat_impl {
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
 
             #[allow(unused_variables)] // a dictionary without RxPDO-mappable entries
-            fn unpack_mapped(&mut self, offsets: &Self::Offsets, image: &[u8]) {
+            fn unpack_mapped(&mut self, offsets: &$crate::dictionary::PerMappable<Self, u16>, image: &[u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(unpack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
             }
 
             #[allow(unused_variables)] // a dictionary without TxPDO-mappable entries
-            fn pack_mapped(&self, offsets: &Self::Offsets, image: &mut [u8]) {
+            fn pack_mapped(&self, offsets: &$crate::dictionary::PerMappable<Self, u16>, image: &mut [u8]) {
                 let od = self;
                 $( $crate::__ecat_mapped!(pack, $dict, od, offsets, image, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?); )*
             }
