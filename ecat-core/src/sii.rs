@@ -379,7 +379,10 @@ pub(crate) enum Fmmu {
 
 /// The FMMUs the device needs: outputs and inputs for the images that exist, then the mailbox
 /// status.
-pub(crate) fn fmmus<D: ObjectDictionary>(config: &DeviceConfig, od: &D) -> impl Iterator<Item = Fmmu> {
+pub(crate) fn fmmus<D: ObjectDictionary>(
+    config: &DeviceConfig,
+    od: &D,
+) -> impl Iterator<Item = Fmmu> {
     let image = ProcessImage::of(config, od);
     let outputs = Some(Fmmu::Outputs).filter(|_| image.outputs > 0);
     let inputs = Some(Fmmu::Inputs).filter(|_| image.inputs > 0);

@@ -2,13 +2,13 @@
 //! pack/unpack against a reference model (ETG.1000.6 §5.6.7, conformance.md "CoE SDO").
 
 use ecat_core::coe::AbortCode;
+use ecat_core::coe::sdo::Writes;
 use ecat_core::coe::sdo::{Context, SdoServer};
 use ecat_core::device::{DeviceConfig, MailboxConfig, ProcessDataSizes};
 use ecat_core::dictionary::{Bits, Length, ObjectDictionary};
 use ecat_core::pdo::image::{pack, unpack};
 use ecat_core::pdo::layout::Layout;
 use ecat_core::pdo::{Direction, MappingEntry, PdoAssignment, PdoMapping};
-use ecat_core::coe::sdo::Writes;
 use ecat_core::{AlState, AlStatusCode, Instant};
 use proptest::prelude::*;
 

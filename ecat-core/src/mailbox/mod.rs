@@ -208,8 +208,7 @@ impl<const N: usize> Mailbox<N> {
     /// messages (emergencies) are queued between services, so the caller asks it, and only when
     /// the answer matters.
     pub(crate) fn wants_send_event(&self, first_message: impl FnOnce() -> bool) -> bool {
-        let more = self.flags & (flag::TX_PENDING | flag::RX_WAITING | flag::HANDLER_MESSAGE)
-            != 0
+        let more = self.flags & (flag::TX_PENDING | flag::RX_WAITING | flag::HANDLER_MESSAGE) != 0
             || first_message();
         self.flags & flag::SEND_BUSY != 0 && more
     }

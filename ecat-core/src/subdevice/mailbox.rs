@@ -175,7 +175,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         // Nothing due, nothing changed. Nothing is served either while an access is in flight:
         // an SM0 read the request's event made due (`mailbox_due`) goes first, so that the
         // request's answer finds SM1 free.
-        if !self.state.has_mailbox() || self.in_flight.is_some() || !self.mailbox.has_work(|| self.coe.has_message()) {
+        if !self.state.has_mailbox()
+            || self.in_flight.is_some()
+            || !self.mailbox.has_work(|| self.coe.has_message())
+        {
             return false;
         }
         let request = self.mailbox.request_pending();

@@ -36,11 +36,11 @@
 //! | `diagnosis.rs` | the diagnosis history: the stack's AL status codes logged, the application's messages |
 
 use crate::al::{AlEvent, AlState, AlStatus, AlStatusCode};
+use crate::coe::sdo::Writes;
+use crate::coe::server::CoeServer;
 use crate::device::{DeviceConfig, ProcessDataSizes};
 use crate::esm::Transition;
-use crate::coe::server::CoeServer;
 use crate::mailbox::Mailbox;
-use crate::coe::sdo::Writes;
 use crate::ring::Ring;
 use crate::sync_manager::check::Channels;
 use crate::sync_mode::SyncMode;
