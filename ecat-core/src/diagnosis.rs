@@ -17,7 +17,8 @@
 //! clock's; bits 8..15 the number of parameters), text ID UNSIGNED16, timestamp UNSIGNED64 (ns),
 //! then per parameter its flags UNSIGNED16 (bits 12..15 = 0: bits 0..11 are the CoE data type
 //! of the value that follows) and the value, little endian. The stack's own messages
-//! ([`Message::al_status_code`]) take the AL status code as text ID, which the ESI names
+//! ([`Message::al_status_code`]) take the AL status code as text ID, a refused mailbox request
+//! ([`Message::mailbox_error`]) [`MAILBOX_ERROR_TEXT`] + its error code; the ESI names both
 //! (`DiagMessages`, [`crate::esi`]).
 //!
 //! Modes (flags bit 4): in *overwrite* mode a new message replaces the oldest; in *acknowledge*
@@ -29,8 +30,8 @@
 //! `dictionary!`'s `diagnosis` item at 0x10F3); its code ([`Log`]) is shared by every `N`.
 
 pub use crate::history::{
-    DIAG_CODE, DiagnosisHistory, FIRST_MESSAGE, Flags, History, Log, MAX_PARAMETERS, MESSAGE_MAX,
-    Message, Parameter, Severity,
+    DIAG_CODE, DiagnosisHistory, FIRST_MESSAGE, Flags, History, Log, MAILBOX_ERROR_TEXT,
+    MAX_PARAMETERS, MESSAGE_MAX, Message, Parameter, Severity,
 };
 
 use crate::abort::AbortCode;

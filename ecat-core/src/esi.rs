@@ -30,9 +30,11 @@ use crate::DeviceConfig;
 use crate::al::AlStatusCode;
 use crate::coe::sdo::complete_access;
 use crate::device::Identity;
+use crate::diagnosis::MAILBOX_ERROR_TEXT;
 use crate::dictionary::{
     Access, DataType, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
 };
+use crate::mailbox::MailboxError;
 use crate::pdo::Direction;
 use crate::sii::{self, ASSIGN_ACTIVATE_SYNC0, CoeDetails, Names};
 use crate::sync_manager::SmKind;
@@ -753,16 +755,19 @@ fn has_diagnosis<D: ObjectDictionary>() -> bool {
 
 /// `Profile/DiagMessages` (ETG.2000 `DiagnosticsType`): the text of every text ID the stack logs
 /// in the diagnosis history, the AL status codes ETG.1000.6 Table 11 names
-/// ([`crate::diagnosis::Message::al_status_code`]), so a MainDevice shows them as text.
+/// ([`crate::diagnosis::Message::al_status_code`]) and the mailbox error replies of ETG.1000.4
+/// Table 30 ([`crate::diagnosis::Message::mailbox_error`]), so a MainDevice shows them as text.
 fn diag_messages<W: Write>(x: &mut Xml<'_, W>) -> fmt::Result {
     x.open("DiagMessages", &[])?;
-    for code in 1..=u16::from(u8::MAX) {
-        if let Some(text) = AlStatusCode(code).name() {
-            x.open("DiagMessage", &[])?;
-            x.leaf("TextId", Index(code))?;
-            x.leaf("MessageText", text)?;
-            x.close("DiagMessage")?;
-        }
+    let codes = || 1..=u16::from(u8::MAX);
+    let al = codes().filter_map(|code| Some((code, AlStatusCode(code).name()?)));
+    let mailbox =
+        codes().filter_map(|code| Some((MAILBOX_ERROR_TEXT + code, MailboxError(code).name()?)));
+    for (id, text) in al.chain(mailbox) {
+        x.open("DiagMessage", &[])?;
+        x.leaf("TextId", Index(id))?;
+        x.leaf("MessageText", text)?;
+        x.close("DiagMessage")?;
     }
     x.close("DiagMessages")
 }

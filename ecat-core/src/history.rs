@@ -109,6 +109,10 @@ impl Parameter {
     }
 }
 
+/// The text IDs of the mailbox error replies the stack logs ([`Message::mailbox_error`]): this
+/// plus the detail code, 0x0101..=0x0108, above the AL status codes' 0x0001..=0x00FF.
+pub const MAILBOX_ERROR_TEXT: u16 = 0x0100;
+
 /// One diagnosis message.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Message {
@@ -141,6 +145,17 @@ impl Message {
     /// code.
     pub const fn al_status_code(code: u16, timestamp: Instant) -> Self {
         Self::new(Severity::Error, code, timestamp)
+    }
+
+    /// The stack's message for a request it answered with the mailbox error reply `code`
+    /// (ETG.1000.4 Table 30): a warning (the device goes on; the MainDevice's request was
+    /// refused) whose text ID is [`MAILBOX_ERROR_TEXT`] + the code.
+    pub const fn mailbox_error(code: u16, timestamp: Instant) -> Self {
+        Self::new(
+            Severity::Warning,
+            MAILBOX_ERROR_TEXT.wrapping_add(code),
+            timestamp,
+        )
     }
 
     /// Adds a parameter; beyond [`MAX_PARAMETERS`] it is ignored.

@@ -506,6 +506,17 @@ fn a_diagnosis_history_is_advertised_with_its_text_ids() {
               <MessageText>synchronization error</MessageText>
             </DiagMessage>",
     );
+    // The mailbox error replies the stack logs: text ID 0x0100 + the code (ETG.1000.4 Table 30).
+    has(
+        &xml,
+        "
+            <DiagMessage>
+              <TextId>#x0102</TextId>
+              <MessageText>mailbox error: mailbox protocol not supported</MessageText>
+            </DiagMessage>",
+    );
+    assert!(xml.contains("<TextId>#x0108</TextId>"));
+    assert!(!xml.contains("<TextId>#x0109</TextId>"));
     // Without 0x10F3: neither.
     assert!(!sm_only().contains("Diag"));
 }

@@ -881,3 +881,44 @@ fn stack_emergencies_are_rate_limited_per_code_and_diagnosis_emergencies_follow_
     );
     assert_eq!(history_entry(&od, 2), [9]);
 }
+
+#[test]
+fn a_refused_mailbox_request_is_logged_as_a_warning_in_the_diagnosis_history() {
+    // ETG.1020 §13: the stack logs its own events, mailbox errors among them. An EoE request
+    // (type 2), which the device does not serve, gets the error reply 0x0002 and the history a
+    // warning whose text ID is 0x0100 + 0x0002 (the ESI names it); a request served normally
+    // logs nothing.
+    let mut regs = Regs::new();
+    let mut sub = in_preop(&mut regs);
+    let mut od = DiagOd::default();
+    let receive = common::MAILBOX.receive.start;
+    regs.put(receive, &[4, 0, 0, 0, 0, (1 << 4) | 2, 0, 0, 0, 0]);
+    sub.handle_al_event(AlEvent::sync_manager(0));
+    let t1 = Instant::from_micros(7);
+    regs.drive(&mut sub, t1);
+    let sent = serve_with(&mut regs, &mut sub, t1, &mut od);
+    assert_eq!(sent, [vec![4, 0, 0, 0, 0, 0x10, 0x01, 0x00, 0x02, 0x00]]);
+    assert_eq!(
+        (history_entry(&od, 2), history_entry(&od, 4)),
+        (vec![6], vec![1])
+    );
+    assert_eq!(
+        history_entry(&od, 6),
+        [
+            0x00, 0xE0, 0x00, 0x00, // diag code
+            0x11, 0x00, // warning, local timestamp, no parameters
+            0x02, 0x01, // text ID 0x0102
+            0x58, 0x1B, 0, 0, 0, 0, 0, 0, // 7 µs
+        ]
+    );
+    // The MainDevice reads the reply, then sends an upload (refused by an SDO abort, which is
+    // an answer, not a mailbox error): nothing more is logged.
+    sub.handle_al_event(AlEvent::sync_manager(1));
+    regs.drive(&mut sub, t1);
+    put_request(&mut regs, 2);
+    sub.handle_al_event(AlEvent::sync_manager(0));
+    regs.drive(&mut sub, t1);
+    let sent = serve_with(&mut regs, &mut sub, t1, &mut od);
+    assert_eq!(sent.len(), 1);
+    assert_eq!(history_entry(&od, 2), [6], "still one message");
+}

@@ -23,6 +23,23 @@ impl MailboxError {
     /// 0x0008: the length of the data is inconsistent.
     pub const INVALID_SIZE: Self = Self(0x0008);
 
+    /// The meaning of the code as ETG.1000.4 Table 30 states it, `None` for a code it does not
+    /// define: the text of the diagnosis message the stack logs for a refused request
+    /// ([`crate::diagnosis::Message::mailbox_error`]).
+    pub const fn name(self) -> Option<&'static str> {
+        Some(match self.0 {
+            0x0001 => "mailbox error: syntax of the mailbox header wrong",
+            0x0002 => "mailbox error: mailbox protocol not supported",
+            0x0003 => "mailbox error: channel field wrong",
+            0x0004 => "mailbox error: service not supported",
+            0x0005 => "mailbox error: mailbox protocol header wrong",
+            0x0006 => "mailbox error: received data too short",
+            0x0007 => "mailbox error: no more memory",
+            0x0008 => "mailbox error: data length inconsistent",
+            _ => return None,
+        })
+    }
+
     /// The 4-byte payload of the reply: service 0x0001, then the detail.
     pub(crate) const fn payload(self) -> [u8; 4] {
         let d = self.0.to_le_bytes();

@@ -88,6 +88,9 @@ pub(crate) struct Mailbox<const N: usize> {
     rx_counter: u8,
     /// The counter of the last message sent (0: none).
     tx_counter: u8,
+    /// The detail code of the last error reply to a request not yet taken
+    /// ([`Mailbox::take_refused`]); 0: none.
+    refused: u16,
     /// SM0, its length clamped to `N`.
     receive: Area,
     /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
@@ -119,6 +122,7 @@ impl<const N: usize> Mailbox<N> {
             handler_due: due::RESET,
             rx_counter: 0,
             tx_counter: 0,
+            refused: 0,
             handler_timeout: None,
         }
     }
@@ -398,7 +402,18 @@ impl<const N: usize> Mailbox<N> {
         self.build_error(MailboxError::INVALID_CHANNEL)
     }
 
+    /// The error reply to the last request, once: what the SubDevice logs in the diagnosis
+    /// history (ETG.1020 §13: the stack's own events).
+    pub(crate) fn take_refused(&mut self) -> Option<MailboxError> {
+        // Tested before it is cleared: no store on the service's way when nothing was refused.
+        if self.refused == 0 {
+            return None;
+        }
+        Some(MailboxError(core::mem::take(&mut self.refused)))
+    }
+
     fn build_error(&mut self, error: MailboxError) -> bool {
+        self.refused = error.0;
         let payload = error.payload();
         if let Some(dst) = self
             .tx

@@ -6,6 +6,7 @@ use super::{Logged, SubDevice};
 use crate::coe::Emergency;
 use crate::diagnosis::Message;
 use crate::dictionary::ObjectDictionary;
+use crate::mailbox::MailboxError;
 use crate::time::{Duration, Instant};
 
 /// The shortest time between two emergencies for the same AL status code: a MainDevice that
@@ -31,6 +32,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// ([`Emergency::error_register`]).
     pub fn error_register(&self) -> u8 {
         Emergency::error_register(self.al_status(), self.code)
+    }
+
+    /// Logs a request the mailbox answered with an error reply (a warning; no emergency of its
+    /// own unless 0x10F3:05 asks for one per message).
+    #[cold]
+    #[inline(never)] // rare: off the mailbox service's path
+    pub(super) fn log_refused<D: ObjectDictionary>(
+        &mut self,
+        now: Instant,
+        od: &mut D,
+        error: MailboxError,
+    ) {
+        self.diagnose(od, Message::mailbox_error(error.0, now));
     }
 
     /// Logs the AL status codes set since the last call, stamped `now` (the stack sets them

@@ -194,6 +194,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             .mailbox
             .serve(self.coe.handler(&mut cx), handlers, self.state, now);
         self.due.refresh |= core::mem::take(&mut self.writes.configured);
+        if let Some(error) = self.mailbox.take_refused() {
+            self.log_refused(now, od, error);
+        }
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
         // the events the mask wants stay; only the answer's write is new. A message of the
         // SubDevice's own or a request dropped without answer may change both.
