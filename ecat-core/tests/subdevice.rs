@@ -760,6 +760,15 @@ fn history_entry(od: &DiagOd, sub: u8) -> Vec<u8> {
     out[..read.size].to_vec()
 }
 
+/// The history holds one message, new (SI2 = 6, SI4 = 1), and it is `message` byte for byte.
+fn assert_only_message(od: &DiagOd, message: [u8; 16]) {
+    assert_eq!(
+        (history_entry(od, 2), history_entry(od, 4)),
+        (vec![6], vec![1])
+    );
+    assert_eq!(history_entry(od, 6), message);
+}
+
 /// The mailbox served with `od` at `now` until it has nothing more; the SM1 messages written.
 fn serve_with(
     regs: &mut Regs,
@@ -811,18 +820,14 @@ fn a_watchdog_expiry_raises_0x8100_and_logs_0x001b_in_the_diagnosis_history() {
             [0x00, 0x81, 0x11, 0x1B, 0x00, 0, 0, 0]
         )]
     );
-    assert_eq!(
-        (history_entry(&od, 2), history_entry(&od, 4)),
-        (vec![6], vec![1])
-    );
-    assert_eq!(
-        history_entry(&od, 6),
+    assert_only_message(
+        &od,
         [
             0x00, 0xE0, 0x00, 0x00, // diag code
             0x12, 0x00, // error, local timestamp, no parameters
             0x1B, 0x00, // text ID: the AL status code
             0x88, 0x13, 0, 0, 0, 0, 0, 0, // 5 µs
-        ]
+        ],
     );
 }
 
@@ -898,18 +903,14 @@ fn a_refused_mailbox_request_is_logged_as_a_warning_in_the_diagnosis_history() {
     regs.drive(&mut sub, t1);
     let sent = serve_with(&mut regs, &mut sub, t1, &mut od);
     assert_eq!(sent, [vec![4, 0, 0, 0, 0, 0x10, 0x01, 0x00, 0x02, 0x00]]);
-    assert_eq!(
-        (history_entry(&od, 2), history_entry(&od, 4)),
-        (vec![6], vec![1])
-    );
-    assert_eq!(
-        history_entry(&od, 6),
+    assert_only_message(
+        &od,
         [
             0x00, 0xE0, 0x00, 0x00, // diag code
             0x11, 0x00, // warning, local timestamp, no parameters
             0x02, 0x01, // text ID 0x0102
             0x58, 0x1B, 0, 0, 0, 0, 0, 0, // 7 µs
-        ]
+        ],
     );
     // The MainDevice reads the reply, then sends an upload (refused by an SDO abort, which is
     // an answer, not a mailbox error): nothing more is logged.
