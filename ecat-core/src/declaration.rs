@@ -694,7 +694,7 @@ macro_rules! __ecat_default {
 }
 
 /// The record of a sync manager parameter object (0x1C32 outputs, 0x1C33 inputs; ETG.1000.6
-/// Table 74): the standard entries ([`sync_parameters::PARAMETER_ENTRIES`](crate::sync_parameters::PARAMETER_ENTRIES)),
+/// Table 74): the standard entries (`sync_parameters::PARAMETER_ENTRIES`),
 /// read and written by the non-generic [`SyncParameters`](crate::sync_parameters::SyncParameters) methods
 /// every dictionary shares (`$write`: `write`, or `write_input` for 0x1C33); `$limit` declares
 /// SI1's default.

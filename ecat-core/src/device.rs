@@ -161,9 +161,9 @@ pub struct DeviceConfig {
 
 impl DeviceConfig {
     /// Default for [`DeviceConfig::transition_timeout`]: 1 s.
-    pub const DEFAULT_TRANSITION_TIMEOUT: Duration = Duration::from_millis(1_000);
+    pub(crate) const DEFAULT_TRANSITION_TIMEOUT: Duration = Duration::from_millis(1_000);
     /// Default for [`DeviceConfig::process_ram_end`]: 8 KiB of process RAM.
-    pub const DEFAULT_PROCESS_RAM_END: u32 = 0x3000;
+    pub(crate) const DEFAULT_PROCESS_RAM_END: u32 = 0x3000;
 
     /// A device with the given standard mailbox and process-data sizes, no BOOT support, 8 KiB of
     /// process RAM and the default transition timeout.

@@ -30,16 +30,17 @@
 //! `dictionary!`'s `diagnosis` item at 0x10F3); its code ([`Log`]) is shared by every `N`.
 
 pub use crate::history::{
-    DIAG_CODE, DiagnosisHistory, FIRST_MESSAGE, Flags, History, Log, MAILBOX_ERROR_TEXT,
-    MAX_PARAMETERS, MESSAGE_MAX, Message, Parameter, Severity,
+    DIAG_CODE, DiagnosisHistory, Flags, History, Log, MAILBOX_ERROR_TEXT, MAX_PARAMETERS, Message,
+    Parameter, Severity,
 };
+pub(crate) use crate::history::{FIRST_MESSAGE, MESSAGE_MAX};
 
 use crate::abort::AbortCode;
 use crate::coe::Emergency;
 use crate::dictionary::{Access, DataType, EntryInfo, Limits, ObjectCode, ObjectInfo, Read};
 
 /// The index of the diagnosis history.
-pub const DIAGNOSIS_HISTORY: u16 = 0x10F3;
+pub(crate) const DIAGNOSIS_HISTORY: u16 = 0x10F3;
 /// The emergency error code of a diagnosis message sent as emergency (CiA 301 0xFF00
 /// "device specific"), with the text ID and the message flags in the data.
 pub const EMERGENCY_CODE: u16 = 0xFF00;
@@ -179,6 +180,7 @@ const fn entry(
 
 /// The description of 0x10F3 (its `max_sub` set by the `diagnosis` item): a RECORD whose last
 /// entry, SI6, describes every message.
+#[doc(hidden)]
 pub const OBJECT: ObjectInfo = ObjectInfo {
     index: DIAGNOSIS_HISTORY,
     code: ObjectCode::Record,

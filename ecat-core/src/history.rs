@@ -6,12 +6,12 @@
 use crate::time::Instant;
 
 /// The subindex of the first message.
-pub const FIRST_MESSAGE: u8 = 6;
+pub(crate) const FIRST_MESSAGE: u8 = 6;
 /// Parameters a message carries at most.
 pub const MAX_PARAMETERS: usize = 2;
 /// The largest encoded message: 16 bytes of header, then each parameter's flags and 32-bit
 /// value.
-pub const MESSAGE_MAX: usize = 16 + MAX_PARAMETERS * 6;
+pub(crate) const MESSAGE_MAX: usize = 16 + MAX_PARAMETERS * 6;
 /// The diag code of a message named by its text ID alone (ETG.1020: 0xE000..0xE7FF
 /// manufacturer-specific codes; the text ID says what happened).
 pub const DIAG_CODE: u32 = 0x0000_E000;
@@ -31,17 +31,17 @@ pub struct Flags(pub u16);
 
 impl Flags {
     /// Bit 0: send each new message as an emergency.
-    pub const EMERGENCY: u16 = 1 << 0;
+    pub(crate) const EMERGENCY: u16 = 1 << 0;
     /// Bit 1: info messages are not stored.
-    pub const DISABLE_INFO: u16 = 1 << 1;
+    pub(crate) const DISABLE_INFO: u16 = 1 << 1;
     /// Bit 2: warnings are not stored.
-    pub const DISABLE_WARNING: u16 = 1 << 2;
+    pub(crate) const DISABLE_WARNING: u16 = 1 << 2;
     /// Bit 3: errors are not stored.
-    pub const DISABLE_ERROR: u16 = 1 << 3;
+    pub(crate) const DISABLE_ERROR: u16 = 1 << 3;
     /// Bit 4: acknowledge mode (0: overwrite mode).
-    pub const ACKNOWLEDGE_MODE: u16 = 1 << 4;
+    pub(crate) const ACKNOWLEDGE_MODE: u16 = 1 << 4;
     /// Bit 5 (read-only): messages were lost unacknowledged.
-    pub const LOST: u16 = 1 << 5;
+    pub(crate) const LOST: u16 = 1 << 5;
     /// The bits the MainDevice writes.
     pub const WRITABLE: u16 = 0x1F;
 

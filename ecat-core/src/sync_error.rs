@@ -38,7 +38,7 @@ pub const ERROR_SETTINGS: u16 = 0x10F1;
 /// 0x10F1:01, the local error reaction.
 pub const LOCAL_ERROR_REACTION: u8 = 1;
 /// 0x10F1:02, the sync error counter limit.
-pub const SYNC_ERROR_COUNTER_LIMIT: u8 = 2;
+pub(crate) const SYNC_ERROR_COUNTER_LIMIT: u8 = 2;
 /// The value of 0x10F1:01 for this stack's reaction to a local error, SSC's value: SAFEOP with
 /// the error indication and the AL status code (see the module docs).
 pub const REACTION_SAFEOP: u32 = 1;

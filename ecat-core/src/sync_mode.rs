@@ -167,5 +167,6 @@ impl SyncParameters {
     };
 
     /// The highest subindex, SI0.
+    #[doc(hidden)]
     pub const MAX_SUB: u8 = 0x20;
 }

@@ -84,6 +84,7 @@ impl SyncParameters {
 impl SyncParameters {
     /// [`SyncParameters::write`] of 0x1C33: SI1 must name a sync mode of the inputs
     /// ([`check_input_sync_write`]).
+    #[doc(hidden)]
     pub fn write_input(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         check_input_sync_write(sub, data)?;
         self.write(sub, data)
@@ -117,6 +118,7 @@ fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usi
 /// The entries of 0x1C32 and 0x1C33 (ETG.1000.6 Table 74, SSC's `asEntryDesc0x1C3x`): SI1 and
 /// SI2 writable in PREOP (the MainDevice's choice of sync mode and cycle), SI8 (get cycle time)
 /// writable in every state, the rest read-only; SI1 declares its default.
+#[doc(hidden)]
 pub const PARAMETER_ENTRIES: &[EntryInfo] = &[
     EntryInfo::subindex_count("Highest sub-index supported"),
     sync_entry(
@@ -286,9 +288,9 @@ fn below_min_cycle(ns: u32, device: &DeviceConfig) -> bool {
 }
 
 /// The output sync manager parameter object.
-pub const OUTPUT_PARAMETERS: u16 = 0x1C32;
+pub(crate) const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
-pub const INPUT_PARAMETERS: u16 = 0x1C33;
+pub(crate) const INPUT_PARAMETERS: u16 = 0x1C33;
 
 /// The sync mode of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
 /// SM-synchronous mode the inputs are latched with the SM2 event when there are outputs
@@ -401,7 +403,7 @@ impl Chosen {
 
     /// The period of the local timer in free-run: the cycle time the MainDevice chose, else
     /// [`DeviceConfig::free_run_cycle`].
-    pub fn free_run_cycle(self, device: &DeviceConfig) -> Duration {
+    pub(crate) fn free_run_cycle(self, device: &DeviceConfig) -> Duration {
         self.cycle_ns().map_or(device.free_run_cycle, |ns| {
             Duration::from_micros(u64::from(ns) / 1_000)
         })

@@ -4,7 +4,7 @@
 //!
 //! A [`Layout`] is a copy plan, computed once when the configuration is accepted and used every
 //! cycle by [`image`](super::image): it holds the bit offset of every PDO-mappable entry of the
-//! dictionary, indexed by the entry's [`number`] ([`UNMAPPED`] where the
+//! dictionary, indexed by the entry's [`number`] (`UNMAPPED` where the
 //! configuration does not map it). The copy itself is code `dictionary!` generates per dictionary
 //! (`ObjectDictionary::unpack_mapped`/`pack_mapped`): a straight line over the mappable fields, so
 //! a cycle costs no lookup and no dispatch per entry.
@@ -14,11 +14,11 @@ use crate::AlStatusCode;
 use crate::dictionary::{EntryInfo, Length, Object, ObjectDictionary, ObjectInfo, PerMappable};
 
 /// The offset of an entry the configuration does not map.
-pub const UNMAPPED: u16 = u16::MAX;
+pub(crate) const UNMAPPED: u16 = u16::MAX;
 
 /// How a layout stores a bit offset: rotated right by 3, the byte index in bits 0..13 and the bit
 /// within the byte in bits 13..16, so an entry at a byte boundary is stored as its byte index
-/// (below [`BYTE_ALIGNED`]) and the copy needs no shift. [`UNMAPPED`] stores as itself.
+/// (below `BYTE_ALIGNED`) and the copy needs no shift. `UNMAPPED` stores as itself.
 pub const fn stored(bit_offset: u16) -> u16 {
     bit_offset.rotate_right(3)
 }
@@ -29,7 +29,7 @@ pub const fn bit_offset(stored: u16) -> u16 {
 }
 
 /// Stored offsets below this are byte indices of entries at a byte boundary.
-pub const BYTE_ALIGNED: u16 = 1 << 13;
+pub(crate) const BYTE_ALIGNED: u16 = 1 << 13;
 
 /// How many entries a TxPDO configuration may map a second time (the image carries the value
 /// at each place).
@@ -48,7 +48,7 @@ pub struct Repeat {
 
 impl Repeat {
     /// An unused slot of a layout's repeats.
-    pub const EMPTY: Self = Self {
+    pub(crate) const EMPTY: Self = Self {
         from: 0,
         to: 0,
         len: 0,

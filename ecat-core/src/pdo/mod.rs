@@ -13,7 +13,7 @@
 //! mapping range or to a missing PDO with 0x06090030, a mapping entry that names no mappable
 //! entry of the right direction or with the wrong bit length with 0x06040041, an SI0 that
 //! makes the image of its direction longer than the device can take with 0x06040042
-//! ([`check_length`]).
+//! (`check_length`).
 
 pub mod image;
 pub mod layout;
@@ -223,7 +223,10 @@ pub const fn configuration_preop_only<D>(objects: &[Object<D>]) -> bool {
 
 /// Checks a mapping entry written into mapping object `mapping` (ETG.1000.6 PDO rules).
 #[doc(hidden)]
-pub fn check_mapping_entry<D: ObjectDictionary>(mapping: u16, value: u32) -> Result<(), AbortCode> {
+pub(crate) fn check_mapping_entry<D: ObjectDictionary>(
+    mapping: u16,
+    value: u32,
+) -> Result<(), AbortCode> {
     let entry = MappingEntry(value);
     if entry.index() == 0 {
         return Ok(());
@@ -242,7 +245,7 @@ pub fn check_mapping_entry<D: ObjectDictionary>(mapping: u16, value: u32) -> Res
 
 /// Checks an assignment entry written into assignment object `assignment`.
 #[doc(hidden)]
-pub fn check_assignment_entry<D: ObjectDictionary>(
+pub(crate) fn check_assignment_entry<D: ObjectDictionary>(
     assignment: u16,
     value: u16,
 ) -> Result<(), AbortCode> {
@@ -276,7 +279,7 @@ pub fn check_counted_entries<D: ObjectDictionary, T: Copy + Into<u32>>(
 
 /// Checks an entry written into PDO configuration object `index` against the dictionary.
 #[doc(hidden)]
-pub fn check_entry<D: ObjectDictionary>(index: u16, data: &[u8]) -> Result<(), AbortCode> {
+pub(crate) fn check_entry<D: ObjectDictionary>(index: u16, data: &[u8]) -> Result<(), AbortCode> {
     match (data, Direction::of_assignment(index)) {
         ([a, b, c, d], None) if Direction::of_mapping(index).is_some() => {
             check_mapping_entry::<D>(index, u32::from_le_bytes([*a, *b, *c, *d]))
@@ -339,7 +342,7 @@ where
 /// The PDO configuration write rules shared by mapping and assignment objects: SI0 up to the
 /// capacity `n`; entries only while SI0 is 0 and within the capacity.
 #[doc(hidden)]
-pub fn check_counted_write(
+pub(crate) fn check_counted_write(
     count: u8,
     capacity: usize,
     sub: u8,
@@ -368,7 +371,7 @@ pub fn check_counted_write(
     Ok(())
 }
 
-/// The bytes of process RAM the process images can occupy ([`check_length`]): from the first
+/// The bytes of process RAM the process images can occupy (`check_length`): from the first
 /// 8-aligned byte after the mailboxes (where the SII places SM2, `sii::sync_managers`) to
 /// [`DeviceConfig::process_ram_end`].
 pub fn process_ram(config: &DeviceConfig) -> u32 {
@@ -392,7 +395,7 @@ pub fn process_ram(config: &DeviceConfig) -> u32 {
 /// SSC 5.12 and SOES never send 0x06040042 (SSC lists it in `cAbortCode` only); SSC refuses
 /// an image its SyncManager cannot take at PREOP→SAFEOP, as this stack still does too.
 #[doc(hidden)]
-pub fn check_length<D: ObjectDictionary>(
+pub(crate) fn check_length<D: ObjectDictionary>(
     od: &D,
     room: u32,
     index: u16,

@@ -88,7 +88,7 @@ pub struct Context<'a, D, H> {
     pub writes: &'a mut Writes,
     /// The device, for what its process RAM can take ([`pdo::process_ram`]): an SI0 written
     /// into a PDO configuration object that makes its image longer than three buffers of it can
-    /// hold is refused with 0x06040042 ([`pdo::check_length`]). `None`: no such limit (an image
+    /// hold is refused with 0x06040042 (`pdo::check_length`). `None`: no such limit (an image
     /// over 65 535 bits is refused all the same).
     pub device: Option<&'a DeviceConfig>,
 }
