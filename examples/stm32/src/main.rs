@@ -130,9 +130,6 @@ async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, App, Od>, irq: Pi
 async fn sync(control: Control<'static, esc::Pdi, App, Od>, mut sync0: Pin) {
     loop {
         sync0.wait_for_falling_edge().await;
-        #[cfg(not(feature = "bootloader"))]
         control.lock(|io, _| io.on_sync0());
-        #[cfg(feature = "bootloader")]
-        control.lock(|app, _| app.app.on_sync0());
     }
 }

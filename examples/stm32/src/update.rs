@@ -267,6 +267,21 @@ impl<A> Updatable<A> {
     }
 }
 
+/// The application's own methods (the digital I/O's `on_sync0`) reach through the update.
+impl<A> core::ops::Deref for Updatable<A> {
+    type Target = A;
+
+    fn deref(&self) -> &A {
+        &self.app
+    }
+}
+
+impl<A> core::ops::DerefMut for Updatable<A> {
+    fn deref_mut(&mut self) -> &mut A {
+        &mut self.app
+    }
+}
+
 impl<A: Application<D>, D> Application<D> for Updatable<A> {
     fn cycle(&mut self, od: &mut D, outputs: Option<&[u8]>, inputs: &mut [u8]) {
         self.app.cycle(od, outputs, inputs);
