@@ -54,10 +54,10 @@ use ecat_core::AlEvent;
 use ecat_core::chip::{Chip, SpiMode};
 use ecat_core::register::{AL_EVENT_REQUEST, PROCESS_RAM};
 use embassy_time::{Duration, Instant, Timer};
-use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
 use crate::pdi::{Data, Sample};
+use crate::spi::port::{Part, Port};
 
 /// The SPI mode the bus must run in ([`Chip::LAN9252`]'s, which the SII image's configuration
 /// area is written for): the LAN9252's SPI host interface takes mode 0 or 3.
@@ -225,7 +225,7 @@ pub struct Lan9252<S> {
     spi: S,
 }
 
-impl<S: SpiDevice> Lan9252<S> {
+impl<S: Port> Lan9252<S> {
     /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
     /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
     /// output, active low, push-pull. `spi` must be in [`SPI_MODE`].
@@ -261,13 +261,12 @@ impl<S: SpiDevice> Lan9252<S> {
         Ok(chip)
     }
 
-    /// One SPI transaction: the driver's only await on the SPI device (one instance of its
+    /// One SPI transaction: the driver's only await on the SPI port (one instance of its
     /// transaction future in the firmware, about 0.5 KB of flash less than one per call site).
-    async fn transfer(
-        &mut self,
-        operations: &mut [Operation<'_, u8>],
-    ) -> Result<(), Error<S::Error>> {
-        self.spi.transaction(operations).await.map_err(Error::Spi)
+    /// Four parts: the instruction and address, then the data, in up to three pieces (a FIFO
+    /// stream's padding before and after the data); a read's data is clocked out as zeros.
+    async fn transfer(&mut self, parts: &mut [Part<'_>; 4]) -> Result<(), Error<S::Error>> {
+        self.spi.transaction(parts).await.map_err(Error::Spi)
     }
 
     /// Reads one LAN9252 register (a DWORD).
@@ -300,17 +299,18 @@ impl<S: SpiDevice> Lan9252<S> {
         let data = match write {
             None => {
                 header = Header::read(self.config.read, address);
-                Operation::Read(bytes.get_mut(..4).unwrap_or_default())
+                Part::Exchange(bytes.get_mut(..4).unwrap_or_default())
             }
             Some(values) => {
                 for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
                     chunk.copy_from_slice(&value.to_le_bytes());
                 }
                 header = Header::write(address, values.len() > 1);
-                Operation::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
+                Part::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
             }
         };
-        self.transfer(&mut [Operation::Write(header.as_slice()), data])
+        let header = Part::Write(header.as_slice());
+        self.transfer(&mut [header, data, Part::Write(&[]), Part::Write(&[])])
             .await?;
         let [b0, b1, b2, b3, ..] = bytes;
         Ok(u32::from_le_bytes([b0, b1, b2, b3]))
@@ -435,27 +435,29 @@ impl<S: SpiDevice> Lan9252<S> {
             let layout = stream.layout(position..end);
             let (mut head, mut tail) = ([0; 3], [0; 3]);
             let header;
-            let mut operations = match &mut data {
+            let mut parts = match &mut data {
                 Data::Read(buf) => {
                     header = Header::read(self.config.read, PRAM_READ_FIFO);
+                    let buf = buf.get_mut(layout.data).unwrap_or_default();
+                    buf.fill(0);
                     [
-                        Operation::Write(header.as_slice()),
-                        Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
-                        Operation::Read(buf.get_mut(layout.data).unwrap_or_default()),
-                        Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
+                        Part::Write(header.as_slice()),
+                        Part::Exchange(head.get_mut(..layout.head).unwrap_or_default()),
+                        Part::Exchange(buf),
+                        Part::Exchange(tail.get_mut(..layout.tail).unwrap_or_default()),
                     ]
                 }
                 Data::Write(bytes) => {
                     header = Header::write(PRAM_WRITE_FIFO, false);
                     [
-                        Operation::Write(header.as_slice()),
-                        Operation::Write(head.get(..layout.head).unwrap_or_default()),
-                        Operation::Write(bytes.get(layout.data).unwrap_or_default()),
-                        Operation::Write(tail.get(..layout.tail).unwrap_or_default()),
+                        Part::Write(header.as_slice()),
+                        Part::Write(head.get(..layout.head).unwrap_or_default()),
+                        Part::Write(bytes.get(layout.data).unwrap_or_default()),
+                        Part::Write(tail.get(..layout.tail).unwrap_or_default()),
                     ]
                 }
             };
-            self.transfer(&mut operations).await?;
+            self.transfer(&mut parts).await?;
             space -= end - position;
             position = end;
         }
@@ -463,7 +465,7 @@ impl<S: SpiDevice> Lan9252<S> {
     }
 }
 
-impl<S: SpiDevice> Pdi for Lan9252<S> {
+impl<S: Port> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
     /// 4 SyncManagers, 4 KiB of process RAM.
