@@ -315,154 +315,6 @@ impl<S: Port> Lan9252<S> {
         let [b0, b1, b2, b3, ..] = bytes;
         Ok(u32::from_le_bytes([b0, b1, b2, b3]))
     }
-
-    /// One EtherCAT CSR command of `size` (1, 2 or 4) bytes at `address`: a read (`write` is
-    /// `None`; returns the value in the low bytes) or a write of the low bytes of `write`.
-    ///
-    /// A read writes [`CSR_MARKER`] into the data register together with the command (one
-    /// transaction), then reads the data register: a value other than the marker is the result.
-    /// The marker means still busy, or a register that holds the marker's value: the command
-    /// register tells which. A write waits for the command to finish (the next CSR command must
-    /// not overlap it).
-    async fn csr(
-        &mut self,
-        address: u16,
-        size: usize,
-        write: Option<u32>,
-    ) -> Result<u32, Error<S::Error>> {
-        let (data, read) = match write {
-            Some(value) => (value, 0),
-            None => (CSR_MARKER, CSR_READ),
-        };
-        self.write_dwords(CSR_DATA, &[data, csr_command(read, address, size)])
-            .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        let first = if write.is_none() { CSR_DATA } else { CSR_CMD };
-        let mut register = first;
-        let mut done = false;
-        loop {
-            let value = self.read_register(register).await?;
-            if register == CSR_DATA {
-                if done || value != CSR_MARKER {
-                    return Ok(value);
-                }
-                register = CSR_CMD;
-            } else if value & CSR_BUSY == 0 {
-                if write.is_some() {
-                    return Ok(0);
-                }
-                done = true;
-                register = CSR_DATA;
-            } else {
-                deadline
-                    .pause()
-                    .await
-                    .map_err(|Expired| Error::Timeout(Wait::Csr))?;
-                register = first;
-            }
-        }
-    }
-
-    /// Reads or writes ESC registers (all of `data` below 0x1000) through the CSR interface, in
-    /// the largest pieces the CSR interface takes.
-    async fn registers(
-        &mut self,
-        address: u16,
-        data: &mut Data<'_>,
-    ) -> Result<(), Error<S::Error>> {
-        let mut offset = 0;
-        while offset < data.len() {
-            let position = address.wrapping_add(offset as u16);
-            let size = csr_size(position, data.len() - offset);
-            let write = match data {
-                Data::Read(_) => None,
-                Data::Write(bytes) => {
-                    let mut value = [0; 4];
-                    for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size))
-                    {
-                        *byte = data;
-                    }
-                    Some(u32::from_le_bytes(value))
-                }
-            };
-            let value = self.csr(position, size, write).await?.to_le_bytes();
-            if let Data::Read(buf) = data {
-                for (byte, value) in buf.iter_mut().skip(offset).take(size).zip(value) {
-                    *byte = value;
-                }
-            }
-            offset += size;
-        }
-        Ok(())
-    }
-
-    /// Reads or writes process RAM through the PRAM read or write FIFO.
-    async fn pram(&mut self, address: u16, mut data: Data<'_>) -> Result<(), Error<S::Error>> {
-        if data.is_empty() {
-            return Ok(());
-        }
-        let (address_length, command, wait, mut space) = match data {
-            Data::Read(_) => (PRAM_READ_ADDR_LEN, PRAM_READ_CMD, Wait::PramRead, 0),
-            Data::Write(_) => (
-                PRAM_WRITE_ADDR_LEN,
-                PRAM_WRITE_CMD,
-                Wait::PramWrite,
-                match self.config.write_space {
-                    WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
-                    WriteSpace::Polled => 0,
-                },
-            ),
-        };
-        let stream = FifoStream::new(address, data.len());
-        self.write_dwords(address_length, &[stream.address_length(address), PRAM_BUSY])
-            .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        let mut position = 0;
-        while position < stream.len() {
-            // A read polls the data available before every FIFO load, a write when the space it
-            // knows of is used up.
-            if space == 0 {
-                space = fifo_bytes(self.read_register(command).await?);
-                if space == 0 {
-                    deadline
-                        .pause()
-                        .await
-                        .map_err(|Expired| Error::Timeout(wait))?;
-                    continue;
-                }
-            }
-            let end = stream.len().min(position + space);
-            let layout = stream.layout(position..end);
-            let (mut head, mut tail) = ([0; 3], [0; 3]);
-            let header;
-            let mut parts = match &mut data {
-                Data::Read(buf) => {
-                    header = Header::read(self.config.read, PRAM_READ_FIFO);
-                    let buf = buf.get_mut(layout.data).unwrap_or_default();
-                    buf.fill(0);
-                    [
-                        Part::Write(header.as_slice()),
-                        Part::Exchange(head.get_mut(..layout.head).unwrap_or_default()),
-                        Part::Exchange(buf),
-                        Part::Exchange(tail.get_mut(..layout.tail).unwrap_or_default()),
-                    ]
-                }
-                Data::Write(bytes) => {
-                    header = Header::write(PRAM_WRITE_FIFO, false);
-                    [
-                        Part::Write(header.as_slice()),
-                        Part::Write(head.get(..layout.head).unwrap_or_default()),
-                        Part::Write(bytes.get(layout.data).unwrap_or_default()),
-                        Part::Write(tail.get(..layout.tail).unwrap_or_default()),
-                    ]
-                }
-            };
-            self.transfer(&mut parts).await?;
-            space -= end - position;
-            position = end;
-        }
-        Ok(())
-    }
 }
 
 impl<S: Port> Pdi for Lan9252<S> {
@@ -516,27 +368,199 @@ impl<S: Port> Pdi for Lan9252<S> {
             };
             let reading = matches!(data, Data::Read(_));
             let len = data.len();
-            let (mut registers, ram) = data.split_at(register_bytes(address, len));
+            let (mut registers, mut ram) = data.split_at(register_bytes(address, len));
             // Taken by every access: only the next one may report it.
             let sampled = core::mem::replace(&mut self.sampled, AlEvent::NONE);
             let sample = core::mem::replace(&mut self.sample, Sample::Usual);
             let prompted = reading && (len == 0 || !ram.is_empty() && sample != Sample::Continued);
-            let mut fresh = None;
-            if prompted || sample == Sample::Fresh {
-                let mut event = sampled;
-                if len == 0 || event.is_empty() {
-                    let mut value = [0; 4];
-                    self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
-                        .await?;
-                    event = AlEvent(u32::from_le_bytes(value));
-                }
+            let sampling = prompted || sample == Sample::Fresh;
+            // The AL event register is read first where the access must report a fresh value
+            // and no empty read just before left one.
+            let read_event = sampling && (len == 0 || sampled.is_empty());
+            let mut event = [0; 4];
+            let ram_address = address.max(PROCESS_RAM);
+            let stream = FifoStream::new(ram_address, ram.len());
+            let (address_length, command, wait, fresh_space) = match &ram {
+                Data::Read(_) => (PRAM_READ_ADDR_LEN, PRAM_READ_CMD, Wait::PramRead, 0),
+                Data::Write(_) => (
+                    PRAM_WRITE_ADDR_LEN,
+                    PRAM_WRITE_CMD,
+                    Wait::PramWrite,
+                    match self.config.write_space {
+                        WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
+                        WriteSpace::Polled => 0,
+                    },
+                ),
+            };
+            let mut step = Step::Piece(if read_event {
+                Region::Event
+            } else {
+                Region::Access
+            });
+            let (mut offset, mut piece) = (0, Piece::NONE);
+            let (mut position, mut space) = (0, 0);
+            let mut deadline = Deadline(Instant::MIN);
+            // One pause or one transaction per pass: the driver's only two awaits.
+            loop {
+                let (register, write) = match step {
+                    Step::Piece(region) => {
+                        let (base, len, write) = match (region, &registers) {
+                            (Region::Event, _) => (AL_EVENT_REQUEST, event.len(), None),
+                            (Region::Access, Data::Read(buf)) => (address, buf.len(), None),
+                            (Region::Access, Data::Write(bytes)) => {
+                                (address, bytes.len(), Some(*bytes))
+                            }
+                        };
+                        if offset >= len {
+                            offset = 0;
+                            step = match region {
+                                Region::Event => Step::Piece(Region::Access),
+                                Region::Access if ram.is_empty() => break,
+                                Region::Access => Step::Pram,
+                            };
+                            continue;
+                        }
+                        piece = Piece::new(region, base, offset, len, write);
+                        (CSR_DATA, Some(piece.command()))
+                    }
+                    Step::Poll(register) => (register, None),
+                    Step::Pram => {
+                        let value = [stream.address_length(ram_address), PRAM_BUSY];
+                        (address_length, Some(value))
+                    }
+                    Step::Load if position >= stream.len() => break,
+                    Step::Load if space == 0 => (command, None),
+                    Step::Load => (PRAM_READ_FIFO, None),
+                    Step::Pause(wait) => {
+                        deadline
+                            .pause()
+                            .await
+                            .map_err(|Expired| Error::Timeout(wait))?;
+                        step = match wait {
+                            Wait::Csr => Step::Poll(piece.first_poll()),
+                            _ => Step::Load,
+                        };
+                        continue;
+                    }
+                };
+                let mut bytes = [0; 8];
+                let (mut head, mut tail) = ([0; 3], [0; 3]);
+                let end = stream.len().min(position + space);
+                let header;
+                let mut parts = match (step, write, &mut ram) {
+                    (Step::Load, _, Data::Read(buf)) if space > 0 => {
+                        let layout = stream.layout(position..end);
+                        header = Header::read(self.config.read, PRAM_READ_FIFO);
+                        let buf = buf.get_mut(layout.data).unwrap_or_default();
+                        buf.fill(0);
+                        [
+                            Part::Write(header.as_slice()),
+                            Part::Exchange(head.get_mut(..layout.head).unwrap_or_default()),
+                            Part::Exchange(buf),
+                            Part::Exchange(tail.get_mut(..layout.tail).unwrap_or_default()),
+                        ]
+                    }
+                    (Step::Load, _, Data::Write(data)) if space > 0 => {
+                        let layout = stream.layout(position..end);
+                        header = Header::write(PRAM_WRITE_FIFO, false);
+                        [
+                            Part::Write(header.as_slice()),
+                            Part::Write(head.get(..layout.head).unwrap_or_default()),
+                            Part::Write(data.get(layout.data).unwrap_or_default()),
+                            Part::Write(tail.get(..layout.tail).unwrap_or_default()),
+                        ]
+                    }
+                    // One LAN9252 register read, or two consecutive ones written.
+                    (_, None, _) => {
+                        header = Header::read(self.config.read, register);
+                        let bytes = bytes.get_mut(..4).unwrap_or_default();
+                        let none = Part::Write(&[]);
+                        [
+                            Part::Write(header.as_slice()),
+                            Part::Exchange(bytes),
+                            none,
+                            Part::Write(&[]),
+                        ]
+                    }
+                    (_, Some(values), _) => {
+                        for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
+                            chunk.copy_from_slice(&value.to_le_bytes());
+                        }
+                        header = Header::write(register, true);
+                        let none = Part::Write(&[]);
+                        [
+                            Part::Write(header.as_slice()),
+                            Part::Write(&bytes),
+                            none,
+                            Part::Write(&[]),
+                        ]
+                    }
+                };
+                self.transfer(&mut parts).await?;
+                let [b0, b1, b2, b3, ..] = bytes;
+                let value = u32::from_le_bytes([b0, b1, b2, b3]);
+                step = match step {
+                    Step::Piece(_) => {
+                        deadline = Deadline::after(self.config.busy_timeout);
+                        Step::Poll(piece.first_poll())
+                    }
+                    // A read's data register: the marker means still busy, or a register that
+                    // holds the marker's value; the command register tells which.
+                    Step::Poll(CSR_DATA) if value == CSR_MARKER && !piece.done => {
+                        Step::Poll(CSR_CMD)
+                    }
+                    Step::Poll(CSR_CMD) if value & CSR_BUSY != 0 => Step::Pause(Wait::Csr),
+                    Step::Poll(CSR_CMD) if piece.write.is_none() => {
+                        piece.done = true;
+                        Step::Poll(CSR_DATA)
+                    }
+                    // The piece is done: a read's value is the data register's.
+                    Step::Poll(_) => {
+                        let buf = match (piece.region, &mut registers) {
+                            (Region::Event, _) => &mut event[..],
+                            (Region::Access, Data::Read(buf)) => &mut buf[..],
+                            (Region::Access, Data::Write(_)) => &mut [],
+                        };
+                        let bytes = buf.iter_mut().skip(offset).take(piece.size);
+                        for (byte, value) in bytes.zip(value.to_le_bytes()) {
+                            *byte = value;
+                        }
+                        offset += piece.size;
+                        Step::Piece(piece.region)
+                    }
+                    Step::Pram => {
+                        deadline = Deadline::after(self.config.busy_timeout);
+                        space = fresh_space;
+                        Step::Load
+                    }
+                    // A read polls the data available before every FIFO load, a write when the
+                    // space it knows of is used up.
+                    Step::Load if space == 0 => match fifo_bytes(value) {
+                        0 => Step::Pause(wait),
+                        bytes => {
+                            space = bytes;
+                            Step::Load
+                        }
+                    },
+                    Step::Load => {
+                        space -= end - position;
+                        position = end;
+                        Step::Load
+                    }
+                    Step::Pause(_) => step,
+                };
+            }
+            let fresh = sampling.then(|| {
+                let event = if read_event {
+                    AlEvent(u32::from_le_bytes(event))
+                } else {
+                    sampled
+                };
                 if len == 0 {
                     self.sampled = event;
                 }
-                fresh = Some(event);
-            }
-            self.registers(address, &mut registers).await?;
-            self.pram(address.max(PROCESS_RAM), ram).await?;
+                event
+            });
             let fresh = match &registers {
                 Data::Read(registers) => fresh.or_else(|| al_event_in(address, registers)),
                 Data::Write(_) => fresh,
@@ -546,6 +570,100 @@ impl<S: Port> Pdi for Lan9252<S> {
                 .map_or(self.known, |e| e.intersection(TRACKED))
                 .difference(clears);
             Ok(event)
+        }
+    }
+}
+
+/// Where an access is: one step per pass of [`Pdi::access`]'s loop, which moves the ESC
+/// registers one CSR command at a time, then the process RAM one FIFO load at a time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Step {
+    /// Start the CSR command of the next piece of the region, or move on when it is done.
+    Piece(Region),
+    /// Read this register (`ECAT_CSR_DATA` or `ECAT_CSR_CMD`) for the CSR command in flight.
+    ///
+    /// A read writes [`CSR_MARKER`] into the data register together with the command (one
+    /// transaction), then reads the data register: a value other than the marker is the result.
+    /// The marker means still busy, or a register that holds the marker's value: the command
+    /// register tells which. A write waits for the command to finish (the next CSR command must
+    /// not overlap it).
+    Poll(u16),
+    /// Start the PRAM command: address and length, then the start bit.
+    Pram,
+    /// The next FIFO load; first the FIFO's count when no data or space is known.
+    Load,
+    /// Wait [`POLL_INTERVAL`] before polling again, or give up at the deadline.
+    Pause(Wait),
+}
+
+/// ESC registers an access moves through the CSR interface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Region {
+    /// The AL event register, read for the access's report.
+    Event,
+    /// The registers of the access itself.
+    Access,
+}
+
+/// One EtherCAT CSR command: 1, 2 or 4 bytes of a [`Region`].
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    region: Region,
+    /// The ESC address.
+    position: u16,
+    size: usize,
+    /// The value a write stores (in the low bytes); `None` for a read.
+    write: Option<u32>,
+    /// A read's command register read not busy: the data register holds the value.
+    done: bool,
+}
+
+impl Piece {
+    /// No command yet.
+    const NONE: Self = Self {
+        region: Region::Access,
+        position: 0,
+        size: 0,
+        write: None,
+        done: false,
+    };
+
+    /// The command for the bytes from `offset` (below `len`) of the region at `base`, in the
+    /// largest piece the CSR interface takes; `write` holds the region's bytes of a write.
+    fn new(region: Region, base: u16, offset: usize, len: usize, write: Option<&[u8]>) -> Self {
+        let position = base.wrapping_add(offset as u16);
+        let size = csr_size(position, len - offset);
+        let write = write.map(|bytes| {
+            let mut value = [0; 4];
+            for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size)) {
+                *byte = data;
+            }
+            u32::from_le_bytes(value)
+        });
+        Self {
+            region,
+            position,
+            size,
+            write,
+            done: false,
+        }
+    }
+
+    /// The `ECAT_CSR_DATA` and `ECAT_CSR_CMD` values that start it: the value to write, or
+    /// [`CSR_MARKER`] for a read.
+    fn command(&self) -> [u32; 2] {
+        let (data, read) = match self.write {
+            Some(value) => (value, 0),
+            None => (CSR_MARKER, CSR_READ),
+        };
+        [data, csr_command(read, self.position, self.size)]
+    }
+
+    /// The register polled first: a read's data register, a write's command register.
+    fn first_poll(&self) -> u16 {
+        match self.write {
+            None => CSR_DATA,
+            Some(_) => CSR_CMD,
         }
     }
 }
