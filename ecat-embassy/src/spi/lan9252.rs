@@ -130,6 +130,16 @@ pub const PRAM_FIFO_DWORDS: usize = 16;
 /// ([`AlEvent::cleared_by_register_read`]), which are also the state-machine events.
 const TRACKED: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
 
+/// The start-up's register transactions: a value to write, or `None` for a register read until
+/// it shows the chip ready (see [`Lan9252::start`]).
+const START_UP: [(u16, Option<u32>); 5] = [
+    (RESET_CTL, Some(DIGITAL_RST)),
+    (BYTE_TEST, None),
+    (HW_CFG, None),
+    (IRQ_CFG, Some(IRQ_CFG_ENABLED_ACTIVE_LOW_PUSH_PULL)),
+    (INT_EN, Some(ECAT_EVENT_EN)),
+];
+
 /// Between two polls of a register that is not ready yet.
 const POLL_INTERVAL: Duration = Duration::from_micros(10);
 
@@ -237,27 +247,28 @@ impl<S: Port> Lan9252<S> {
             sampled: AlEvent::NONE,
             sample: Sample::Usual,
         };
-        chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
-        let deadline = Deadline::after(config.startup_timeout);
-        loop {
-            let read = chip.read_register(BYTE_TEST).await?;
-            if read == BYTE_TEST_PATTERN {
-                break;
+        let mut deadline = Deadline(Instant::MAX);
+        // One transaction per pass, the register polls repeated after a pause.
+        for &(register, write) in &START_UP {
+            loop {
+                let (mut header, mut bytes) = (Header::NONE, [0; 8]);
+                let write = write.as_ref().map(core::slice::from_ref);
+                let mut parts =
+                    register_parts(&mut header, &mut bytes, config.read, register, write);
+                chip.transfer(&mut parts).await?;
+                let read = dword(&bytes);
+                let failure = match register {
+                    RESET_CTL => {
+                        deadline = Deadline::after(config.startup_timeout);
+                        break;
+                    }
+                    BYTE_TEST if read != BYTE_TEST_PATTERN => Error::ByteTest { read },
+                    HW_CFG if read & HW_CFG_READY == 0 => Error::Timeout(Wait::Ready),
+                    _ => break,
+                };
+                deadline.pause().await.map_err(|Expired| failure)?;
             }
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::ByteTest { read })?;
         }
-        while chip.read_register(HW_CFG).await? & HW_CFG_READY == 0 {
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::Timeout(Wait::Ready))?;
-        }
-        chip.write_dwords(IRQ_CFG, &[IRQ_CFG_ENABLED_ACTIVE_LOW_PUSH_PULL])
-            .await?;
-        chip.write_dwords(INT_EN, &[ECAT_EVENT_EN]).await?;
         Ok(chip)
     }
 
@@ -267,53 +278,6 @@ impl<S: Port> Lan9252<S> {
     /// stream's padding before and after the data); a read's data is clocked out as zeros.
     async fn transfer(&mut self, parts: &mut [Part<'_>; 4]) -> Result<(), Error<S::Error>> {
         self.spi.transaction(parts).await.map_err(Error::Spi)
-    }
-
-    /// Reads one LAN9252 register (a DWORD).
-    fn read_register(
-        &mut self,
-        address: u16,
-    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
-        self.dwords(address, None)
-    }
-
-    /// Writes consecutive LAN9252 registers (at most two) in one transaction.
-    fn write_dwords(
-        &mut self,
-        address: u16,
-        values: &[u32],
-    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
-        self.dwords(address, Some(values))
-    }
-
-    /// One transaction on the LAN9252's own registers: reads the DWORD at `address` (`write` is
-    /// `None`) and returns it, or writes the DWORDs of `write` (at most two) from `address` on.
-    /// Both kinds share one future, so the firmware carries one copy of it.
-    async fn dwords(
-        &mut self,
-        address: u16,
-        write: Option<&[u32]>,
-    ) -> Result<u32, Error<S::Error>> {
-        let mut bytes = [0; 8];
-        let header;
-        let data = match write {
-            None => {
-                header = Header::read(self.config.read, address);
-                Part::Exchange(bytes.get_mut(..4).unwrap_or_default())
-            }
-            Some(values) => {
-                for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-                    chunk.copy_from_slice(&value.to_le_bytes());
-                }
-                header = Header::write(address, values.len() > 1);
-                Part::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
-            }
-        };
-        let header = Part::Write(header.as_slice());
-        self.transfer(&mut [header, data, Part::Write(&[]), Part::Write(&[])])
-            .await?;
-        let [b0, b1, b2, b3, ..] = bytes;
-        Ok(u32::from_le_bytes([b0, b1, b2, b3]))
     }
 }
 
@@ -446,7 +410,7 @@ impl<S: Port> Pdi for Lan9252<S> {
                 let mut bytes = [0; 8];
                 let (mut head, mut tail) = ([0; 3], [0; 3]);
                 let end = stream.len().min(position + space);
-                let header;
+                let mut header = Header::NONE;
                 let mut parts = match (step, write, &mut ram) {
                     (Step::Load, _, Data::Read(buf)) if space > 0 => {
                         let layout = stream.layout(position..end);
@@ -471,34 +435,13 @@ impl<S: Port> Pdi for Lan9252<S> {
                         ]
                     }
                     // One LAN9252 register read, or two consecutive ones written.
-                    (_, None, _) => {
-                        header = Header::read(self.config.read, register);
-                        let bytes = bytes.get_mut(..4).unwrap_or_default();
-                        let none = Part::Write(&[]);
-                        [
-                            Part::Write(header.as_slice()),
-                            Part::Exchange(bytes),
-                            none,
-                            Part::Write(&[]),
-                        ]
-                    }
-                    (_, Some(values), _) => {
-                        for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-                            chunk.copy_from_slice(&value.to_le_bytes());
-                        }
-                        header = Header::write(register, true);
-                        let none = Part::Write(&[]);
-                        [
-                            Part::Write(header.as_slice()),
-                            Part::Write(&bytes),
-                            none,
-                            Part::Write(&[]),
-                        ]
+                    (_, write, _) => {
+                        let write = write.as_ref().map(|values| &values[..]);
+                        register_parts(&mut header, &mut bytes, self.config.read, register, write)
                     }
                 };
                 self.transfer(&mut parts).await?;
-                let [b0, b1, b2, b3, ..] = bytes;
-                let value = u32::from_le_bytes([b0, b1, b2, b3]);
+                let value = dword(&bytes);
                 step = match step {
                     Step::Piece(_) => {
                         deadline = Deadline::after(self.config.busy_timeout);
@@ -754,6 +697,43 @@ impl FifoStream {
     }
 }
 
+/// The parts of one transaction on the LAN9252's own registers: a read of the DWORD at
+/// `register` into `bytes` (`write` is `None`), or a write of the DWORDs of `write` (at most
+/// two, consecutive registers) from `register` on.
+fn register_parts<'b>(
+    header: &'b mut Header,
+    bytes: &'b mut [u8; 8],
+    instruction: ReadInstruction,
+    register: u16,
+    write: Option<&[u32]>,
+) -> [Part<'b>; 4] {
+    let data = match write {
+        None => {
+            *header = Header::read(instruction, register);
+            Part::Exchange(bytes.get_mut(..4).unwrap_or_default())
+        }
+        Some(values) => {
+            for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
+                chunk.copy_from_slice(&value.to_le_bytes());
+            }
+            *header = Header::write(register, values.len() > 1);
+            Part::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
+        }
+    };
+    [
+        Part::Write(header.as_slice()),
+        data,
+        Part::Write(&[]),
+        Part::Write(&[]),
+    ]
+}
+
+/// The DWORD a register read brought ([`register_parts`]).
+fn dword(bytes: &[u8; 8]) -> u32 {
+    let [b0, b1, b2, b3, ..] = *bytes;
+    u32::from_le_bytes([b0, b1, b2, b3])
+}
+
 /// Instruction and address bytes of one transaction.
 struct Header {
     bytes: [u8; 4],
@@ -761,6 +741,12 @@ struct Header {
 }
 
 impl Header {
+    /// No transaction yet.
+    const NONE: Self = Self {
+        bytes: [0; 4],
+        len: 0,
+    };
+
     /// A read of `address`, without address increment (a burst drains a FIFO or reads one DWORD).
     fn read(instruction: ReadInstruction, address: u16) -> Self {
         let [high, low] = address.to_be_bytes();
