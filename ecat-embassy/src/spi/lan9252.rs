@@ -255,7 +255,7 @@ impl<S: Port> Lan9252<S> {
                 let write = write.as_ref().map(core::slice::from_ref);
                 let mut parts =
                     register_parts(&mut header, &mut bytes, config.read, register, write);
-                chip.transfer(&mut parts).await?;
+                chip.spi.transaction(&mut parts).await.map_err(Error::Spi)?;
                 let read = dword(&bytes);
                 let failure = match register {
                     RESET_CTL => {
@@ -270,14 +270,6 @@ impl<S: Port> Lan9252<S> {
             }
         }
         Ok(chip)
-    }
-
-    /// One SPI transaction: the driver's only await on the SPI port (one instance of its
-    /// transaction future in the firmware, about 0.5 KB of flash less than one per call site).
-    /// Four parts: the instruction and address, then the data, in up to three pieces (a FIFO
-    /// stream's padding before and after the data); a read's data is clocked out as zeros.
-    async fn transfer(&mut self, parts: &mut [Part<'_>; 4]) -> Result<(), Error<S::Error>> {
-        self.spi.transaction(parts).await.map_err(Error::Spi)
     }
 }
 
@@ -440,7 +432,7 @@ impl<S: Port> Pdi for Lan9252<S> {
                         register_parts(&mut header, &mut bytes, self.config.read, register, write)
                     }
                 };
-                self.transfer(&mut parts).await?;
+                self.spi.transaction(&mut parts).await.map_err(Error::Spi)?;
                 let value = dword(&bytes);
                 step = match step {
                     Step::Piece(_) => {
@@ -699,7 +691,9 @@ impl FifoStream {
 
 /// The parts of one transaction on the LAN9252's own registers: a read of the DWORD at
 /// `register` into `bytes` (`write` is `None`), or a write of the DWORDs of `write` (at most
-/// two, consecutive registers) from `register` on.
+/// two, consecutive registers) from `register` on. Every transaction of the driver is four
+/// parts: the instruction and address, then the data in up to three pieces (a FIFO stream's
+/// padding before and after the data); a read's data is clocked out as zeros.
 fn register_parts<'b>(
     header: &'b mut Header,
     bytes: &'b mut [u8; 8],
