@@ -386,6 +386,7 @@ impl<S: Port> Pdi for Lan9252<S> {
                     }
                     Step::Load if position >= stream.len() => break,
                     Step::Load if space == 0 => (command, None),
+                    // A FIFO load: its parts are the stream's (below), not a register's.
                     Step::Load => (PRAM_READ_FIFO, None),
                     Step::Pause(wait) => {
                         deadline
