@@ -21,10 +21,10 @@
 
 use ecat_core::AlEvent;
 use ecat_core::chip::{Chip, SpiMode};
-use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
 use crate::pdi::Data;
+use crate::spi::port::{Part, Port};
 
 /// The SPI commands CMD0/CMD1 (ESC datasheet section II, Table "SPI commands CMD0 and CMD1").
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -178,9 +178,10 @@ pub struct BeckhoffSpi<S> {
     spi: S,
 }
 
-impl<S: SpiDevice> BeckhoffSpi<S> {
+impl<S: Port> BeckhoffSpi<S> {
     /// The driver on `spi`, which must be set up for the ESC's SPI mode (PDI configuration
-    /// register 0x0150, usually mode 3) with its chip-select line. The ESC needs no start-up
+    /// register 0x0150, usually mode 3) with its chip-select line: an
+    /// [`Exclusive`](crate::spi::port::Exclusive) bus, or any `SpiDevice`. The ESC needs no start-up
     /// sequence over SPI.
     pub const fn new(spi: S, config: Config) -> Self {
         Self {
@@ -199,7 +200,7 @@ impl<S: SpiDevice> BeckhoffSpi<S> {
     }
 }
 
-impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
+impl<S: Port> Pdi for BeckhoffSpi<S> {
     type Error = S::Error;
 
     /// The ET1100's SyncManagers and process RAM, which the AX58100 shares.
@@ -238,12 +239,12 @@ impl<S: SpiDevice> Pdi for BeckhoffSpi<S> {
                             }
                             None => Command::Nop,
                         };
-                        (command, Operation::TransferInPlace(buf))
+                        (command, Part::Exchange(buf))
                     }
-                    Data::Write(data) => (Command::Write, Operation::Write(data)),
+                    Data::Write(data) => (Command::Write, Part::Write(data)),
                 };
                 self.phase = AddressPhase::new(at, command);
-                let phase = Operation::TransferInPlace(self.phase.as_mut_slice());
+                let phase = Part::Exchange(self.phase.as_mut_slice());
                 self.spi.transaction(&mut [phase, data]).await?;
                 if core::mem::take(&mut first) {
                     event = self.phase.al_event();

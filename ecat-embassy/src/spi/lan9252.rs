@@ -54,10 +54,10 @@ use ecat_core::AlEvent;
 use ecat_core::chip::{Chip, SpiMode};
 use ecat_core::register::{AL_EVENT_REQUEST, PROCESS_RAM};
 use embassy_time::{Duration, Instant, Timer};
-use embedded_hal_async::spi::{Operation, SpiDevice};
 
 use crate::Pdi;
 use crate::pdi::{Data, Sample};
+use crate::spi::port::{Part, Port};
 
 /// The SPI mode the bus must run in ([`Chip::LAN9252`]'s, which the SII image's configuration
 /// area is written for): the LAN9252's SPI host interface takes mode 0 or 3.
@@ -129,6 +129,16 @@ pub const PRAM_FIFO_DWORDS: usize = 16;
 /// The events the driver keeps reporting after reading them: those whose clearing it can follow
 /// ([`AlEvent::cleared_by_register_read`]), which are also the state-machine events.
 const TRACKED: AlEvent = AlEvent::AL_CONTROL.union(AlEvent::SM_CHANGE);
+
+/// The start-up's register transactions: a value to write, or `None` for a register read until
+/// it shows the chip ready (see [`Lan9252::start`]).
+const START_UP: [(u16, Option<u32>); 5] = [
+    (RESET_CTL, Some(DIGITAL_RST)),
+    (BYTE_TEST, None),
+    (HW_CFG, None),
+    (IRQ_CFG, Some(IRQ_CFG_ENABLED_ACTIVE_LOW_PUSH_PULL)),
+    (INT_EN, Some(ECAT_EVENT_EN)),
+];
 
 /// Between two polls of a register that is not ready yet.
 const POLL_INTERVAL: Duration = Duration::from_micros(10);
@@ -225,7 +235,7 @@ pub struct Lan9252<S> {
     spi: S,
 }
 
-impl<S: SpiDevice> Lan9252<S> {
+impl<S: Port> Lan9252<S> {
     /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
     /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
     /// output, active low, push-pull. `spi` must be in [`SPI_MODE`].
@@ -237,233 +247,33 @@ impl<S: SpiDevice> Lan9252<S> {
             sampled: AlEvent::NONE,
             sample: Sample::Usual,
         };
-        chip.write_dwords(RESET_CTL, &[DIGITAL_RST]).await?;
-        let deadline = Deadline::after(config.startup_timeout);
-        loop {
-            let read = chip.read_register(BYTE_TEST).await?;
-            if read == BYTE_TEST_PATTERN {
-                break;
-            }
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::ByteTest { read })?;
-        }
-        while chip.read_register(HW_CFG).await? & HW_CFG_READY == 0 {
-            deadline
-                .pause()
-                .await
-                .map_err(|Expired| Error::Timeout(Wait::Ready))?;
-        }
-        chip.write_dwords(IRQ_CFG, &[IRQ_CFG_ENABLED_ACTIVE_LOW_PUSH_PULL])
-            .await?;
-        chip.write_dwords(INT_EN, &[ECAT_EVENT_EN]).await?;
-        Ok(chip)
-    }
-
-    /// One SPI transaction: the driver's only await on the SPI device (one instance of its
-    /// transaction future in the firmware, about 0.5 KB of flash less than one per call site).
-    async fn transfer(
-        &mut self,
-        operations: &mut [Operation<'_, u8>],
-    ) -> Result<(), Error<S::Error>> {
-        self.spi.transaction(operations).await.map_err(Error::Spi)
-    }
-
-    /// Reads one LAN9252 register (a DWORD).
-    fn read_register(
-        &mut self,
-        address: u16,
-    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
-        self.dwords(address, None)
-    }
-
-    /// Writes consecutive LAN9252 registers (at most two) in one transaction.
-    fn write_dwords(
-        &mut self,
-        address: u16,
-        values: &[u32],
-    ) -> impl Future<Output = Result<u32, Error<S::Error>>> {
-        self.dwords(address, Some(values))
-    }
-
-    /// One transaction on the LAN9252's own registers: reads the DWORD at `address` (`write` is
-    /// `None`) and returns it, or writes the DWORDs of `write` (at most two) from `address` on.
-    /// Both kinds share one future, so the firmware carries one copy of it.
-    async fn dwords(
-        &mut self,
-        address: u16,
-        write: Option<&[u32]>,
-    ) -> Result<u32, Error<S::Error>> {
-        let mut bytes = [0; 8];
-        let header;
-        let data = match write {
-            None => {
-                header = Header::read(self.config.read, address);
-                Operation::Read(bytes.get_mut(..4).unwrap_or_default())
-            }
-            Some(values) => {
-                for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-                    chunk.copy_from_slice(&value.to_le_bytes());
-                }
-                header = Header::write(address, values.len() > 1);
-                Operation::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
-            }
-        };
-        self.transfer(&mut [Operation::Write(header.as_slice()), data])
-            .await?;
-        let [b0, b1, b2, b3, ..] = bytes;
-        Ok(u32::from_le_bytes([b0, b1, b2, b3]))
-    }
-
-    /// One EtherCAT CSR command of `size` (1, 2 or 4) bytes at `address`: a read (`write` is
-    /// `None`; returns the value in the low bytes) or a write of the low bytes of `write`.
-    ///
-    /// A read writes [`CSR_MARKER`] into the data register together with the command (one
-    /// transaction), then reads the data register: a value other than the marker is the result.
-    /// The marker means still busy, or a register that holds the marker's value: the command
-    /// register tells which. A write waits for the command to finish (the next CSR command must
-    /// not overlap it).
-    async fn csr(
-        &mut self,
-        address: u16,
-        size: usize,
-        write: Option<u32>,
-    ) -> Result<u32, Error<S::Error>> {
-        let (data, read) = match write {
-            Some(value) => (value, 0),
-            None => (CSR_MARKER, CSR_READ),
-        };
-        self.write_dwords(CSR_DATA, &[data, csr_command(read, address, size)])
-            .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        let first = if write.is_none() { CSR_DATA } else { CSR_CMD };
-        let mut register = first;
-        let mut done = false;
-        loop {
-            let value = self.read_register(register).await?;
-            if register == CSR_DATA {
-                if done || value != CSR_MARKER {
-                    return Ok(value);
-                }
-                register = CSR_CMD;
-            } else if value & CSR_BUSY == 0 {
-                if write.is_some() {
-                    return Ok(0);
-                }
-                done = true;
-                register = CSR_DATA;
-            } else {
-                deadline
-                    .pause()
-                    .await
-                    .map_err(|Expired| Error::Timeout(Wait::Csr))?;
-                register = first;
-            }
-        }
-    }
-
-    /// Reads or writes ESC registers (all of `data` below 0x1000) through the CSR interface, in
-    /// the largest pieces the CSR interface takes.
-    async fn registers(
-        &mut self,
-        address: u16,
-        data: &mut Data<'_>,
-    ) -> Result<(), Error<S::Error>> {
-        let mut offset = 0;
-        while offset < data.len() {
-            let position = address.wrapping_add(offset as u16);
-            let size = csr_size(position, data.len() - offset);
-            let write = match data {
-                Data::Read(_) => None,
-                Data::Write(bytes) => {
-                    let mut value = [0; 4];
-                    for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size))
-                    {
-                        *byte = data;
+        let mut deadline = Deadline(Instant::MAX);
+        // One transaction per pass, the register polls repeated after a pause.
+        for &(register, write) in &START_UP {
+            loop {
+                let (mut header, mut bytes) = (Header::NONE, [0; 8]);
+                let write = write.as_ref().map(core::slice::from_ref);
+                let mut parts =
+                    register_parts(&mut header, &mut bytes, config.read, register, write);
+                chip.spi.transaction(&mut parts).await.map_err(Error::Spi)?;
+                let read = dword(&bytes);
+                let failure = match register {
+                    RESET_CTL => {
+                        deadline = Deadline::after(config.startup_timeout);
+                        break;
                     }
-                    Some(u32::from_le_bytes(value))
-                }
-            };
-            let value = self.csr(position, size, write).await?.to_le_bytes();
-            if let Data::Read(buf) = data {
-                for (byte, value) in buf.iter_mut().skip(offset).take(size).zip(value) {
-                    *byte = value;
-                }
+                    BYTE_TEST if read != BYTE_TEST_PATTERN => Error::ByteTest { read },
+                    HW_CFG if read & HW_CFG_READY == 0 => Error::Timeout(Wait::Ready),
+                    _ => break,
+                };
+                deadline.pause().await.map_err(|Expired| failure)?;
             }
-            offset += size;
         }
-        Ok(())
-    }
-
-    /// Reads or writes process RAM through the PRAM read or write FIFO.
-    async fn pram(&mut self, address: u16, mut data: Data<'_>) -> Result<(), Error<S::Error>> {
-        if data.is_empty() {
-            return Ok(());
-        }
-        let (address_length, command, wait, mut space) = match data {
-            Data::Read(_) => (PRAM_READ_ADDR_LEN, PRAM_READ_CMD, Wait::PramRead, 0),
-            Data::Write(_) => (
-                PRAM_WRITE_ADDR_LEN,
-                PRAM_WRITE_CMD,
-                Wait::PramWrite,
-                match self.config.write_space {
-                    WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
-                    WriteSpace::Polled => 0,
-                },
-            ),
-        };
-        let stream = FifoStream::new(address, data.len());
-        self.write_dwords(address_length, &[stream.address_length(address), PRAM_BUSY])
-            .await?;
-        let deadline = Deadline::after(self.config.busy_timeout);
-        let mut position = 0;
-        while position < stream.len() {
-            // A read polls the data available before every FIFO load, a write when the space it
-            // knows of is used up.
-            if space == 0 {
-                space = fifo_bytes(self.read_register(command).await?);
-                if space == 0 {
-                    deadline
-                        .pause()
-                        .await
-                        .map_err(|Expired| Error::Timeout(wait))?;
-                    continue;
-                }
-            }
-            let end = stream.len().min(position + space);
-            let layout = stream.layout(position..end);
-            let (mut head, mut tail) = ([0; 3], [0; 3]);
-            let header;
-            let mut operations = match &mut data {
-                Data::Read(buf) => {
-                    header = Header::read(self.config.read, PRAM_READ_FIFO);
-                    [
-                        Operation::Write(header.as_slice()),
-                        Operation::Read(head.get_mut(..layout.head).unwrap_or_default()),
-                        Operation::Read(buf.get_mut(layout.data).unwrap_or_default()),
-                        Operation::Read(tail.get_mut(..layout.tail).unwrap_or_default()),
-                    ]
-                }
-                Data::Write(bytes) => {
-                    header = Header::write(PRAM_WRITE_FIFO, false);
-                    [
-                        Operation::Write(header.as_slice()),
-                        Operation::Write(head.get(..layout.head).unwrap_or_default()),
-                        Operation::Write(bytes.get(layout.data).unwrap_or_default()),
-                        Operation::Write(tail.get(..layout.tail).unwrap_or_default()),
-                    ]
-                }
-            };
-            self.transfer(&mut operations).await?;
-            space -= end - position;
-            position = end;
-        }
-        Ok(())
+        Ok(chip)
     }
 }
 
-impl<S: SpiDevice> Pdi for Lan9252<S> {
+impl<S: Port> Pdi for Lan9252<S> {
     type Error = Error<S::Error>;
 
     /// 4 SyncManagers, 4 KiB of process RAM.
@@ -514,27 +324,179 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
             };
             let reading = matches!(data, Data::Read(_));
             let len = data.len();
-            let (mut registers, ram) = data.split_at(register_bytes(address, len));
+            let (mut registers, mut ram) = data.split_at(register_bytes(address, len));
             // Taken by every access: only the next one may report it.
             let sampled = core::mem::replace(&mut self.sampled, AlEvent::NONE);
             let sample = core::mem::replace(&mut self.sample, Sample::Usual);
             let prompted = reading && (len == 0 || !ram.is_empty() && sample != Sample::Continued);
-            let mut fresh = None;
-            if prompted || sample == Sample::Fresh {
-                let mut event = sampled;
-                if len == 0 || event.is_empty() {
-                    let mut value = [0; 4];
-                    self.registers(AL_EVENT_REQUEST, &mut Data::Read(&mut value))
-                        .await?;
-                    event = AlEvent(u32::from_le_bytes(value));
-                }
+            let sampling = prompted || sample == Sample::Fresh;
+            // The AL event register is read first where the access must report a fresh value
+            // and no empty read just before left one.
+            let read_event = sampling && (len == 0 || sampled.is_empty());
+            let mut event = [0; 4];
+            let ram_address = address.max(PROCESS_RAM);
+            let stream = FifoStream::new(ram_address, ram.len());
+            let (address_length, command, wait, fresh_space) = match &ram {
+                Data::Read(_) => (PRAM_READ_ADDR_LEN, PRAM_READ_CMD, Wait::PramRead, 0),
+                Data::Write(_) => (
+                    PRAM_WRITE_ADDR_LEN,
+                    PRAM_WRITE_CMD,
+                    Wait::PramWrite,
+                    match self.config.write_space {
+                        WriteSpace::EmptyAtStart => 4 * PRAM_FIFO_DWORDS,
+                        WriteSpace::Polled => 0,
+                    },
+                ),
+            };
+            let mut step = Step::Piece(if read_event {
+                Region::Event
+            } else {
+                Region::Access
+            });
+            let (mut offset, mut piece) = (0, Piece::NONE);
+            let (mut position, mut space) = (0, 0);
+            let mut deadline = Deadline(Instant::MIN);
+            // One pause or one transaction per pass: the driver's only two awaits.
+            loop {
+                let (register, write) = match step {
+                    Step::Piece(region) => {
+                        let (base, len, write) = match (region, &registers) {
+                            (Region::Event, _) => (AL_EVENT_REQUEST, event.len(), None),
+                            (Region::Access, Data::Read(buf)) => (address, buf.len(), None),
+                            (Region::Access, Data::Write(bytes)) => {
+                                (address, bytes.len(), Some(*bytes))
+                            }
+                        };
+                        if offset >= len {
+                            offset = 0;
+                            step = match region {
+                                Region::Event => Step::Piece(Region::Access),
+                                Region::Access if ram.is_empty() => break,
+                                Region::Access => Step::Pram,
+                            };
+                            continue;
+                        }
+                        piece = Piece::new(region, base, offset, len, write);
+                        (CSR_DATA, Some(piece.command()))
+                    }
+                    Step::Poll(register) => (register, None),
+                    Step::Pram => {
+                        let value = [stream.address_length(ram_address), PRAM_BUSY];
+                        (address_length, Some(value))
+                    }
+                    Step::Load if position >= stream.len() => break,
+                    Step::Load if space == 0 => (command, None),
+                    // A FIFO load: its parts are the stream's (below), not a register's.
+                    Step::Load => (PRAM_READ_FIFO, None),
+                    Step::Pause(wait) => {
+                        deadline
+                            .pause()
+                            .await
+                            .map_err(|Expired| Error::Timeout(wait))?;
+                        step = match wait {
+                            Wait::Csr => Step::Poll(piece.first_poll()),
+                            _ => Step::Load,
+                        };
+                        continue;
+                    }
+                };
+                let mut bytes = [0; 8];
+                let (mut head, mut tail) = ([0; 3], [0; 3]);
+                let end = stream.len().min(position + space);
+                let mut header = Header::NONE;
+                let mut parts = match (step, write, &mut ram) {
+                    (Step::Load, _, Data::Read(buf)) if space > 0 => {
+                        let layout = stream.layout(position..end);
+                        header = Header::read(self.config.read, PRAM_READ_FIFO);
+                        let buf = buf.get_mut(layout.data).unwrap_or_default();
+                        buf.fill(0);
+                        [
+                            Part::Write(header.as_slice()),
+                            Part::Exchange(head.get_mut(..layout.head).unwrap_or_default()),
+                            Part::Exchange(buf),
+                            Part::Exchange(tail.get_mut(..layout.tail).unwrap_or_default()),
+                        ]
+                    }
+                    (Step::Load, _, Data::Write(data)) if space > 0 => {
+                        let layout = stream.layout(position..end);
+                        header = Header::write(PRAM_WRITE_FIFO, false);
+                        [
+                            Part::Write(header.as_slice()),
+                            Part::Write(head.get(..layout.head).unwrap_or_default()),
+                            Part::Write(data.get(layout.data).unwrap_or_default()),
+                            Part::Write(tail.get(..layout.tail).unwrap_or_default()),
+                        ]
+                    }
+                    // One LAN9252 register read, or two consecutive ones written.
+                    (_, write, _) => {
+                        let write = write.as_ref().map(|values| &values[..]);
+                        register_parts(&mut header, &mut bytes, self.config.read, register, write)
+                    }
+                };
+                self.spi.transaction(&mut parts).await.map_err(Error::Spi)?;
+                let value = dword(&bytes);
+                step = match step {
+                    Step::Piece(_) => {
+                        deadline = Deadline::after(self.config.busy_timeout);
+                        Step::Poll(piece.first_poll())
+                    }
+                    // A read's data register: the marker means still busy, or a register that
+                    // holds the marker's value; the command register tells which.
+                    Step::Poll(CSR_DATA) if value == CSR_MARKER && !piece.done => {
+                        Step::Poll(CSR_CMD)
+                    }
+                    Step::Poll(CSR_CMD) if value & CSR_BUSY != 0 => Step::Pause(Wait::Csr),
+                    Step::Poll(CSR_CMD) if piece.write.is_none() => {
+                        piece.done = true;
+                        Step::Poll(CSR_DATA)
+                    }
+                    // The piece is done: a read's value is the data register's.
+                    Step::Poll(_) => {
+                        let buf = match (piece.region, &mut registers) {
+                            (Region::Event, _) => &mut event[..],
+                            (Region::Access, Data::Read(buf)) => &mut buf[..],
+                            (Region::Access, Data::Write(_)) => &mut [],
+                        };
+                        let bytes = buf.iter_mut().skip(offset).take(piece.size);
+                        for (byte, value) in bytes.zip(value.to_le_bytes()) {
+                            *byte = value;
+                        }
+                        offset += piece.size;
+                        Step::Piece(piece.region)
+                    }
+                    Step::Pram => {
+                        deadline = Deadline::after(self.config.busy_timeout);
+                        space = fresh_space;
+                        Step::Load
+                    }
+                    // A read polls the data available before every FIFO load, a write when the
+                    // space it knows of is used up.
+                    Step::Load if space == 0 => match fifo_bytes(value) {
+                        0 => Step::Pause(wait),
+                        bytes => {
+                            space = bytes;
+                            Step::Load
+                        }
+                    },
+                    Step::Load => {
+                        space -= end - position;
+                        position = end;
+                        Step::Load
+                    }
+                    Step::Pause(_) => step,
+                };
+            }
+            let fresh = sampling.then(|| {
+                let event = if read_event {
+                    AlEvent(u32::from_le_bytes(event))
+                } else {
+                    sampled
+                };
                 if len == 0 {
                     self.sampled = event;
                 }
-                fresh = Some(event);
-            }
-            self.registers(address, &mut registers).await?;
-            self.pram(address.max(PROCESS_RAM), ram).await?;
+                event
+            });
             let fresh = match &registers {
                 Data::Read(registers) => fresh.or_else(|| al_event_in(address, registers)),
                 Data::Write(_) => fresh,
@@ -544,6 +506,100 @@ impl<S: SpiDevice> Pdi for Lan9252<S> {
                 .map_or(self.known, |e| e.intersection(TRACKED))
                 .difference(clears);
             Ok(event)
+        }
+    }
+}
+
+/// Where an access is: one step per pass of [`Pdi::access`]'s loop, which moves the ESC
+/// registers one CSR command at a time, then the process RAM one FIFO load at a time.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Step {
+    /// Start the CSR command of the next piece of the region, or move on when it is done.
+    Piece(Region),
+    /// Read this register (`ECAT_CSR_DATA` or `ECAT_CSR_CMD`) for the CSR command in flight.
+    ///
+    /// A read writes [`CSR_MARKER`] into the data register together with the command (one
+    /// transaction), then reads the data register: a value other than the marker is the result.
+    /// The marker means still busy, or a register that holds the marker's value: the command
+    /// register tells which. A write waits for the command to finish (the next CSR command must
+    /// not overlap it).
+    Poll(u16),
+    /// Start the PRAM command: address and length, then the start bit.
+    Pram,
+    /// The next FIFO load; first the FIFO's count when no data or space is known.
+    Load,
+    /// Wait [`POLL_INTERVAL`] before polling again, or give up at the deadline.
+    Pause(Wait),
+}
+
+/// ESC registers an access moves through the CSR interface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Region {
+    /// The AL event register, read for the access's report.
+    Event,
+    /// The registers of the access itself.
+    Access,
+}
+
+/// One EtherCAT CSR command: 1, 2 or 4 bytes of a [`Region`].
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    region: Region,
+    /// The ESC address.
+    position: u16,
+    size: usize,
+    /// The value a write stores (in the low bytes); `None` for a read.
+    write: Option<u32>,
+    /// A read's command register read not busy: the data register holds the value.
+    done: bool,
+}
+
+impl Piece {
+    /// No command yet.
+    const NONE: Self = Self {
+        region: Region::Access,
+        position: 0,
+        size: 0,
+        write: None,
+        done: false,
+    };
+
+    /// The command for the bytes from `offset` (below `len`) of the region at `base`, in the
+    /// largest piece the CSR interface takes; `write` holds the region's bytes of a write.
+    fn new(region: Region, base: u16, offset: usize, len: usize, write: Option<&[u8]>) -> Self {
+        let position = base.wrapping_add(offset as u16);
+        let size = csr_size(position, len - offset);
+        let write = write.map(|bytes| {
+            let mut value = [0; 4];
+            for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size)) {
+                *byte = data;
+            }
+            u32::from_le_bytes(value)
+        });
+        Self {
+            region,
+            position,
+            size,
+            write,
+            done: false,
+        }
+    }
+
+    /// The `ECAT_CSR_DATA` and `ECAT_CSR_CMD` values that start it: the value to write, or
+    /// [`CSR_MARKER`] for a read.
+    fn command(&self) -> [u32; 2] {
+        let (data, read) = match self.write {
+            Some(value) => (value, 0),
+            None => (CSR_MARKER, CSR_READ),
+        };
+        [data, csr_command(read, self.position, self.size)]
+    }
+
+    /// The register polled first: a read's data register, a write's command register.
+    fn first_poll(&self) -> u16 {
+        match self.write {
+            None => CSR_DATA,
+            Some(_) => CSR_CMD,
         }
     }
 }
@@ -634,6 +690,45 @@ impl FifoStream {
     }
 }
 
+/// The parts of one transaction on the LAN9252's own registers: a read of the DWORD at
+/// `register` into `bytes` (`write` is `None`), or a write of the DWORDs of `write` (at most
+/// two, consecutive registers) from `register` on. Every transaction of the driver is four
+/// parts: the instruction and address, then the data in up to three pieces (a FIFO stream's
+/// padding before and after the data); a read's data is clocked out as zeros.
+fn register_parts<'b>(
+    header: &'b mut Header,
+    bytes: &'b mut [u8; 8],
+    instruction: ReadInstruction,
+    register: u16,
+    write: Option<&[u32]>,
+) -> [Part<'b>; 4] {
+    let data = match write {
+        None => {
+            *header = Header::read(instruction, register);
+            Part::Exchange(bytes.get_mut(..4).unwrap_or_default())
+        }
+        Some(values) => {
+            for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
+                chunk.copy_from_slice(&value.to_le_bytes());
+            }
+            *header = Header::write(register, values.len() > 1);
+            Part::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
+        }
+    };
+    [
+        Part::Write(header.as_slice()),
+        data,
+        Part::Write(&[]),
+        Part::Write(&[]),
+    ]
+}
+
+/// The DWORD a register read brought ([`register_parts`]).
+fn dword(bytes: &[u8; 8]) -> u32 {
+    let [b0, b1, b2, b3, ..] = *bytes;
+    u32::from_le_bytes([b0, b1, b2, b3])
+}
+
 /// Instruction and address bytes of one transaction.
 struct Header {
     bytes: [u8; 4],
@@ -641,6 +736,12 @@ struct Header {
 }
 
 impl Header {
+    /// No transaction yet.
+    const NONE: Self = Self {
+        bytes: [0; 4],
+        len: 0,
+    };
+
     /// A read of `address`, without address increment (a burst drains a FIFO or reads one DWORD).
     fn read(instruction: ReadInstruction, address: u16) -> Self {
         let [high, low] = address.to_be_bytes();

@@ -1,5 +1,6 @@
-//! PDI drivers over `embedded-hal-async` SPI ([`SpiDevice`](embedded_hal_async::spi::SpiDevice):
-//! the bus with its chip-select line, one transaction per chip-select cycle).
+//! PDI drivers over `embedded-hal-async` SPI, through a [`port::Port`]: an `SpiBus` with the
+//! chip's chip-select pin ([`port::Exclusive`]) or any `SpiDevice`, one transaction per
+//! chip-select cycle.
 //!
 //! | module | chips | how the registers and the process RAM are reached |
 //! |---|---|---|
@@ -10,3 +11,4 @@
 
 pub mod beckhoff;
 pub mod lan9252;
+pub mod port;

@@ -2,11 +2,11 @@
 //! README.md).
 
 use ecat_core::chip::SpiMode;
+use ecat_embassy::spi::port::Exclusive;
 use embassy_rp::gpio::{Input, Level, Output, Pull};
 use embassy_rp::peripherals::{DMA_CH0, DMA_CH1};
 use embassy_rp::spi::{self, Async, Phase, Polarity, Spi};
 use embassy_rp::{bind_interrupts, dma, peripherals};
-use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
 /// The ETG.1300 RUN (green) and ERR (red) LEDs: GP14 and GP15, lit when high.
 pub type Leds = ecat_embassy::indicator::RunErr<Output<'static>, Output<'static>>;
@@ -19,7 +19,7 @@ bind_interrupts!(struct Irqs {
 });
 
 /// SPI0 with DMA and the ESC's chip select: the bus the PDI driver owns.
-pub type EscSpi = ExclusiveDevice<Spi<'static, peripherals::SPI0, Async>, Output<'static>, NoDelay>;
+pub type EscSpi = Exclusive<Spi<'static, peripherals::SPI0, Async>, Output<'static>>;
 
 /// SPI clock: the LAN9252 takes 20 MHz for the READ instruction (mode 0 or 3); clk_peri (125 MHz)
 /// divided by 8 gives 15.6 MHz, the fastest rate not above it (embassy-rp rounds down).
@@ -66,7 +66,7 @@ impl Board {
             p.SPI0, p.PIN_18, p.PIN_19, p.PIN_16, p.DMA_CH0, p.DMA_CH1, Irqs, config,
         );
         let cs = Output::new(p.PIN_17, Level::High);
-        let spi = ExclusiveDevice::new_no_delay(bus, cs).unwrap_or_else(|e| match e {});
+        let spi = Exclusive::new(bus, cs);
 
         Self {
             spi,

@@ -23,12 +23,12 @@ bind_interrupts!(struct Irqs {
 mod esc_bus {
     //! The ESC on SPI1 with DMA.
     use ecat_core::chip::SpiMode;
+    use ecat_embassy::spi::port::Exclusive;
     use embassy_stm32::gpio::{Level, Output, Speed};
     use embassy_stm32::mode::Async;
     use embassy_stm32::spi::{self, Spi};
     use embassy_stm32::time::Hertz;
     use embassy_stm32::{Peri, bind_interrupts, dma, peripherals};
-    use embedded_hal_bus::spi::{ExclusiveDevice, NoDelay};
 
     bind_interrupts!(struct Irqs {
         DMA1_CHANNEL1 => dma::InterruptHandler<peripherals::DMA1_CH1>;
@@ -36,8 +36,7 @@ mod esc_bus {
     });
 
     /// SPI1 with DMA and the ESC's chip select: the bus the PDI driver owns.
-    pub type EscBus =
-        ExclusiveDevice<Spi<'static, Async, spi::mode::Master>, Output<'static>, NoDelay>;
+    pub type EscBus = Exclusive<Spi<'static, Async, spi::mode::Master>, Output<'static>>;
 
     /// SPI clock: the AX58100 and the LAN9252 (READ instruction) both take 20 MHz; SPI1's kernel
     /// clock (170 MHz) divided by 16 gives 10.6 MHz, the fastest rate not above it.
@@ -75,7 +74,7 @@ mod esc_bus {
         config.frequency = SPI_CLOCK;
         let bus = Spi::new(spi1, sck, mosi, miso, tx, rx, Irqs, config);
         let cs = Output::new(cs, Level::High, Speed::VeryHigh);
-        ExclusiveDevice::new_no_delay(bus, cs).unwrap_or_else(|e| match e {})
+        Exclusive::new(bus, cs)
     }
 }
 

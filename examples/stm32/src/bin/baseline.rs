@@ -12,6 +12,8 @@ use core::cell::RefCell;
 use defmt::error;
 use defmt::{info, unwrap};
 use defmt_rtt as _;
+#[cfg(not(feature = "fmc"))]
+use ecat_embassy::spi::port::{Part, Port};
 use ecat_stm32::board::{Board, DigitalIo, EscBus, Pin};
 use embassy_sync::blocking_mutex::Mutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
@@ -49,9 +51,7 @@ async fn exchange(mut bus: EscBus, mut irq: Pin) {
     loop {
         irq.wait_for_low().await;
         #[cfg(not(feature = "fmc"))]
-        if let Err(e) =
-            embedded_hal_async::spi::SpiDevice::transfer_in_place(&mut bus, &mut frame).await
-        {
+        if let Err(e) = bus.transaction(&mut [Part::Exchange(&mut frame)]).await {
             error!("SPI failed: {}", e);
         }
         #[cfg(feature = "fmc")]
