@@ -22,8 +22,7 @@ use crate::AlStatusCode;
 use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, Value, read_value,
-    write_value,
+    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, Value, write_value,
 };
 use crate::register::DcActivation;
 pub use crate::sync_mode::SyncParameters;
@@ -34,51 +33,62 @@ impl SyncParameters {
     /// Copies the encoded value of `sub` from `offset` into `out` (the typed read of the
     /// standard record: one function for 0x1C32 and 0x1C33 of every dictionary).
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        Ok(match sub {
-            0 => read_value(&Self::MAX_SUB, offset, out),
-            1 => read_value(&self.sync_type, offset, out),
-            2 => read_value(&self.cycle_time, offset, out),
-            3 => read_value(&self.shift_time, offset, out),
-            4 => read_value(&self.supported, offset, out),
-            5 => read_value(&self.min_cycle_time, offset, out),
-            6 => read_value(&self.calc_copy_time, offset, out),
-            7 => read_value(&self.min_delay_time, offset, out),
-            8 => read_value(&self.get_cycle_time, offset, out),
-            9 => read_value(&self.delay_time, offset, out),
-            0x0A => read_value(&self.sync0_cycle_time, offset, out),
-            0x0B => read_value(&self.sm_event_missed, offset, out),
-            0x0C => read_value(&self.cycle_time_too_small, offset, out),
-            0x0D => read_value(&self.shift_time_too_short, offset, out),
-            0x20 => read_value(&self.sync_error, offset, out),
-            _ => return Err(AbortCode::NO_SUBINDEX),
+        let mut this = *self;
+        let (value, size) = match sub {
+            0 => (u32::from(Self::MAX_SUB), 1),
+            0x20 => (u32::from(self.sync_error), 1),
+            _ => match this.entry(sub).ok_or(AbortCode::NO_SUBINDEX)? {
+                Entry::U16(value) => (u32::from(*value), 2),
+                Entry::U32(value) => (*value, 4),
+            },
+        };
+        let bytes = value.to_le_bytes();
+        let bytes = bytes.get(..size).unwrap_or_default();
+        Ok(Read {
+            copied: crate::bytes::copy(out, bytes.get(offset..).unwrap_or_default()),
+            size,
         })
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how
     /// the stack fills the read-only entries (`fill`, [`CycleMonitor`]).
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        fn put<T: Value + PartialOrd>(slot: &mut T, data: &[u8]) -> Result<(), AbortCode> {
-            write_value(slot, data, None, None)
-        }
         match sub {
             0 => Err(AbortCode::READ_ONLY),
-            1 => put(&mut self.sync_type, data),
-            2 => put(&mut self.cycle_time, data),
-            3 => put(&mut self.shift_time, data),
-            4 => put(&mut self.supported, data),
-            5 => put(&mut self.min_cycle_time, data),
-            6 => put(&mut self.calc_copy_time, data),
-            7 => put(&mut self.min_delay_time, data),
-            8 => put(&mut self.get_cycle_time, data),
-            9 => put(&mut self.delay_time, data),
-            0x0A => put(&mut self.sync0_cycle_time, data),
-            0x0B => put(&mut self.sm_event_missed, data),
-            0x0C => put(&mut self.cycle_time_too_small, data),
-            0x0D => put(&mut self.shift_time_too_short, data),
-            0x20 => put(&mut self.sync_error, data),
-            _ => Err(AbortCode::NO_SUBINDEX),
+            0x20 => write_value(&mut self.sync_error, data, None, None),
+            _ => match self.entry(sub).ok_or(AbortCode::NO_SUBINDEX)? {
+                Entry::U16(slot) => write_value(slot, data, None, None),
+                Entry::U32(slot) => write_value(slot, data, None, None),
+            },
         }
     }
+
+    /// The UNSIGNED16 or UNSIGNED32 entry `sub` (SI1..SI 0x0D): one read and one write per
+    /// width instead of one per entry.
+    fn entry(&mut self, sub: u8) -> Option<Entry<'_>> {
+        Some(match sub {
+            1 => Entry::U16(&mut self.sync_type),
+            2 => Entry::U32(&mut self.cycle_time),
+            3 => Entry::U32(&mut self.shift_time),
+            4 => Entry::U16(&mut self.supported),
+            5 => Entry::U32(&mut self.min_cycle_time),
+            6 => Entry::U32(&mut self.calc_copy_time),
+            7 => Entry::U32(&mut self.min_delay_time),
+            8 => Entry::U16(&mut self.get_cycle_time),
+            9 => Entry::U32(&mut self.delay_time),
+            0x0A => Entry::U32(&mut self.sync0_cycle_time),
+            0x0B => Entry::U16(&mut self.sm_event_missed),
+            0x0C => Entry::U16(&mut self.cycle_time_too_small),
+            0x0D => Entry::U16(&mut self.shift_time_too_short),
+            _ => return None,
+        })
+    }
+}
+
+/// An entry of the record by its width ([`SyncParameters::entry`]).
+enum Entry<'a> {
+    U16(&'a mut u16),
+    U32(&'a mut u32),
 }
 
 impl SyncParameters {
