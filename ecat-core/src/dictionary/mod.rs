@@ -97,6 +97,10 @@ pub trait ObjectDictionary: Sized + 'static {
     /// Every object, sorted by index.
     const OBJECTS: &'static [Object<Self>];
 
+    /// Every object's index, parallel to [`Self::OBJECTS`] ([`indices`]): what [`Self::object`]
+    /// searches, two bytes a step instead of a whole [`Object`].
+    const INDICES: &'static [u16];
+
     /// The number of PDO-mappable entries (RxPDO or TxPDO), as a [`Length`]: the PDO layout
     /// keeps one bit offset per entry, indexed by its
     /// [number](crate::pdo::layout::number) ([`PerMappable`]).
@@ -132,11 +136,9 @@ pub trait ObjectDictionary: Sized + 'static {
         None
     }
 
-    /// The object at `index`, by binary search.
+    /// The object at `index`, by binary search over [`Self::INDICES`].
     fn object(index: u16) -> Option<&'static Object<Self>> {
-        let i = Self::OBJECTS
-            .binary_search_by_key(&index, |o| o.info.index)
-            .ok()?;
+        let i = Self::INDICES.binary_search(&index).ok()?;
         Self::OBJECTS.get(i)
     }
 }
@@ -145,6 +147,7 @@ pub trait ObjectDictionary: Sized + 'static {
 /// dictionary comes from [`dictionary!`](crate::dictionary!) with its communication area.
 impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
+    const INDICES: &'static [u16] = &[];
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
     const FIRST_ENTRIES: &'static [usize] = &[];
@@ -291,6 +294,19 @@ pub trait ObjectHooks<D> {
 impl<D> ObjectHooks<D> for () {}
 
 // --- helpers for the code `dictionary!` generates -------------------------------------------
+
+/// The index of each of `objects`, `N` = their number: [`ObjectDictionary::INDICES`].
+#[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn indices<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
+    let mut indices = [0; N];
+    let mut i = 0;
+    while i < N && i < objects.len() {
+        indices[i] = objects[i].info.index;
+        i += 1;
+    }
+    indices
+}
 
 #[doc(hidden)]
 pub const fn data_type_of<S, T: Value>(_: fn(&S) -> &T) -> DataType {
