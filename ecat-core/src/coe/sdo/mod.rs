@@ -470,10 +470,10 @@ fn resolve<D: ObjectDictionary>(
         check_complete(object, target, state, direction)?;
         return Ok((object, target));
     }
-    let entry = object
-        .info
-        .entry(target.sub)
-        .ok_or_else(|| missing_entry(&object.info, target.sub))?;
+    let info = &object.info;
+    let entry = (info.dense_entry(target.sub))
+        .or_else(|| info.entry(target.sub))
+        .ok_or_else(|| missing_entry(info, target.sub))?;
     check_access(entry, state, direction)?;
     Ok((
         object,
@@ -490,6 +490,7 @@ fn resolve<D: ObjectDictionary>(
 /// answers an access to such an entry (`OBJ_Read`/`OBJ_Write`, change V5.12 COE7); any other
 /// with 0x06090011 (ETG.1000.6 Table 41).
 #[cold]
+#[inline(never)]
 fn missing_entry(object: &ObjectInfo, sub: u8) -> AbortCode {
     let gap = object.code == ObjectCode::Record && sub > 0 && sub <= object.max_sub;
     if gap {
