@@ -223,13 +223,13 @@ impl<const N: usize> SdoServer<N> {
             let value = match data.first_chunk::<4>() {
                 // The four bytes after the header, of which the value's `size` count.
                 Some(&bytes) if sent == size => {
-                    (u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))).to_le_bytes()
+                    u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))
                 }
                 // A mailbox too small for four bytes behind the header.
-                _ => fetch_expedited(cx, object, target)?,
+                _ => u32::from_le_bytes(fetch_expedited(cx, object, target)?),
             };
             let command = response::upload_expedited(size, target.complete);
-            *head = header(Service::SdoResponse, command, target, value);
+            *head = header(Service::SdoResponse, command, target, value.to_le_bytes());
             return Ok(RESPONSE_HEADER);
         }
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
