@@ -39,25 +39,55 @@ pub fn entries(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = (u8, &Entry
     (sub..=object.max_sub).filter_map(|s| Some((s, object.entry(s)?)))
 }
 
-fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
-    let mut bit = 0usize;
-    entries(object, sub).map(move |(s, entry)| {
-        let bit_len = if s == 0 {
-            16
-        } else {
-            usize::from(entry.bit_len)
-        };
-        if bit_len.is_multiple_of(8) {
-            bit = bit.div_ceil(8) * 8;
+/// The slots of a complete access from `sub`. One walk, out of line, that the size, the upload,
+/// the download's entry values and the ESI's bit offsets share.
+fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
+    Slots {
+        object,
+        next: u16::from(sub),
+        bit: 0,
+    }
+}
+
+/// [`slots`]: the entries from subindex `next` on, the image's bits before it.
+struct Slots<'a> {
+    object: &'a ObjectInfo,
+    next: u16,
+    bit: usize,
+}
+
+impl Iterator for Slots<'_> {
+    type Item = Slot;
+
+    #[inline(never)]
+    fn next(&mut self) -> Option<Slot> {
+        while let Ok(s) = u8::try_from(self.next) {
+            self.next += 1;
+            if s > self.object.max_sub {
+                break;
+            }
+            // A gap of a sparse RECORD has no description: skipped.
+            let Some(entry) = self.object.entry(s) else {
+                continue;
+            };
+            let bit_len = if s == 0 {
+                16
+            } else {
+                usize::from(entry.bit_len)
+            };
+            if bit_len.is_multiple_of(8) {
+                self.bit = self.bit.div_ceil(8) * 8;
+            }
+            let slot = Slot {
+                sub: s,
+                bit_offset: self.bit,
+                bit_len,
+            };
+            self.bit += bit_len;
+            return Some(slot);
         }
-        let slot = Slot {
-            sub: s,
-            bit_offset: bit,
-            bit_len,
-        };
-        bit += bit_len;
-        slot
-    })
+        None
+    }
 }
 
 /// Where each entry of a complete access from subindex 0 starts, in bits: `(subindex, bit
