@@ -520,7 +520,7 @@ fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8
         true => (target.sub.max(1), object.info.max_sub),
         false => (target.sub, target.sub),
     };
-    (first..=last).filter_map(|s| Some((s, object.info.entry(s)?)))
+    complete_access::declared(&object.info, first, last)
 }
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
@@ -704,7 +704,7 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         None => {}
     }
     // A gap of a sparse RECORD has no value in the image.
-    for sub in (from.max(1)..=last).filter(|s| object.info.entry(*s).is_some()) {
+    for (sub, _) in complete_access::declared(&object.info, from.max(1), last) {
         let (value, len) = value_of(sub)?;
         store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
     }
