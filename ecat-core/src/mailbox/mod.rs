@@ -394,7 +394,7 @@ impl<const N: usize> Mailbox<N> {
         let payload = self.rx.get(start..start + length).unwrap_or_default();
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self.tx.get_mut(start..start + capacity).unwrap_or_default();
-        let code = header.kind.code();
+        let code = header::code(&self.rx);
         match handlers.request(code, env, payload, out) {
             Some(Reply::Send(len)) => Some((code, len)),
             Some(Reply::Silent) => None,
