@@ -496,11 +496,12 @@ fn gap_description(object: &ObjectInfo, sub: u8, data: &mut [u8]) -> Result<Resp
     if !w.put(&[i0, i1, sub, 0, 0, 0, 0, 0, 0, 0]) {
         return Err(AbortCode::EXCEEDS_MAILBOX);
     }
-    let digit = |n: u8| b'0' + n % 10;
-    let (h, t, u) = (digit(sub / 100), digit(sub / 10), digit(sub));
-    let name = [
-        b'S', b'u', b'b', b'I', b'n', b'd', b'e', b'x', b' ', h, t, u,
-    ];
+    let mut name = *b"SubIndex 000";
+    let mut n = sub;
+    for digit in name.iter_mut().rev().take(3) {
+        *digit = b'0' + n % 10;
+        n /= 10;
+    }
     w.put_name(&name);
     Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
 }
