@@ -227,6 +227,11 @@ macro_rules! __ecat_impl {
         impl $crate::dictionary::ObjectDictionary for $dict {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
 
+            const INDICES: &'static [u16] = &$crate::dictionary::indices::<
+                $dict,
+                { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
+            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
             $(
                 fn stored_parameters(&mut self) -> Option<&mut $crate::dictionary::parameters::StoredParameters> {
                     Some(&mut self.$stored)

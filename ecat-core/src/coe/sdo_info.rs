@@ -443,7 +443,7 @@ fn object_description<D: ObjectDictionary>(
     if !w.put(&[i0, i1, t0, t1, info.max_sub, info.code as u8]) {
         return Err(AbortCode::EXCEEDS_MAILBOX);
     }
-    w.put_name(info.name);
+    w.put_name(info.name.as_bytes());
     Ok(Response::whole(Opcode::GetObjectDescriptionResponse, w.len))
 }
 
@@ -474,7 +474,7 @@ fn entry_description<D: ObjectDictionary>(
             honoured |= bit;
         }
     }
-    w.put_name(entry.name);
+    w.put_name(entry.name.as_bytes());
     w.patch(VALUE_INFO_AT, honoured);
     Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
 }
@@ -496,12 +496,13 @@ fn gap_description(object: &ObjectInfo, sub: u8, data: &mut [u8]) -> Result<Resp
     if !w.put(&[i0, i1, sub, 0, 0, 0, 0, 0, 0, 0]) {
         return Err(AbortCode::EXCEEDS_MAILBOX);
     }
-    let digit = |n: u8| b'0' + n % 10;
-    let (h, t, u) = (digit(sub / 100), digit(sub / 10), digit(sub));
-    let name = [
-        b'S', b'u', b'b', b'I', b'n', b'd', b'e', b'x', b' ', h, t, u,
-    ];
-    w.put_name(core::str::from_utf8(&name).unwrap_or_default());
+    let mut name = *b"SubIndex 000";
+    let mut n = sub;
+    for digit in name.iter_mut().rev().take(3) {
+        *digit = b'0' + n % 10;
+        n /= 10;
+    }
+    w.put_name(&name);
     Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
 }
 
@@ -644,11 +645,15 @@ impl<'a> Writer<'a> {
         true
     }
 
-    /// Appends as much of `name` as fits, cut at a character boundary.
-    fn put_name(&mut self, name: &str) {
-        let fit = self.room().min(name.len());
-        let cut = (0..=fit).rev().find_map(|end| name.get(..end));
-        self.put(cut.unwrap_or_default().as_bytes());
+    /// Appends as much of the UTF-8 text `name` as fits, cut at a character boundary (not
+    /// before a byte that continues a character). Bytes, not `&str`: the gap's name, built
+    /// from digits, needs no UTF-8 validation (300 bytes of firmware).
+    fn put_name(&mut self, name: &[u8]) {
+        let mut cut = self.room().min(name.len());
+        while cut > 0 && name.get(cut).is_some_and(|&b| b & 0xC0 == 0x80) {
+            cut -= 1;
+        }
+        self.put(name.get(..cut).unwrap_or_default());
     }
 
     /// Overwrites the byte at `at` of what was written.

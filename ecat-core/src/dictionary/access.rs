@@ -33,18 +33,12 @@ impl Access {
 
     /// Whether readable in `state` (BOOT and INIT have no CoE).
     pub const fn readable_in(self, state: AlState) -> bool {
-        match state_bit(state) {
-            Some(bit) => self.0 & (1 << bit) != 0,
-            None => false,
-        }
+        self.0 & state_bits(state) != 0
     }
 
     /// Whether writable in `state`.
     pub const fn writable_in(self, state: AlState) -> bool {
-        match state_bit(state) {
-            Some(bit) => self.0 & (1 << (bit + 3)) != 0,
-            None => false,
-        }
+        self.0 & (state_bits(state) << 3) != 0
     }
 
     /// Whether readable in some state.
@@ -85,12 +79,30 @@ impl core::ops::BitOr for Access {
     }
 }
 
-/// Bit position of `state` in the read triple (PREOP 0, SAFEOP 1, OP 2).
-const fn state_bit(state: AlState) -> Option<u16> {
-    match state {
-        AlState::PreOp => Some(0),
-        AlState::SafeOp => Some(1),
-        AlState::Op => Some(2),
-        AlState::Init | AlState::Boot => None,
+/// The bit of `state` in the read triple (PREOP 0, SAFEOP 1, OP 2), none for INIT and BOOT: a
+/// nibble of one constant indexed by the state's code (1, 2, 3, 4, 8), a shift rather than a
+/// branch or a table.
+const fn state_bits(state: AlState) -> u16 {
+    /// Nibble n: the bits of the state whose code is n.
+    const BITS: u64 = (0b001 << (4 * AlState::PreOp as u32))
+        | (0b010 << (4 * AlState::SafeOp as u32))
+        | (0b100 << (4 * AlState::Op as u32));
+    ((BITS >> (4 * state as u32)) & 0b111) as u16
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_state_has_its_own_bit_and_init_and_boot_none() {
+        let bits = AlState::ALL.map(state_bits);
+        // Init, PreOp, Boot, SafeOp, Op.
+        assert_eq!(bits, [0, 0b001, 0, 0b010, 0b100]);
+        let rw_preop = Access::RW_PREOP;
+        let readable = AlState::ALL.map(|s| rw_preop.readable_in(s));
+        let writable = AlState::ALL.map(|s| rw_preop.writable_in(s));
+        assert_eq!(readable, [false, true, false, true, true]);
+        assert_eq!(writable, [false, true, false, false, false]);
     }
 }

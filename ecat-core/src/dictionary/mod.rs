@@ -97,6 +97,10 @@ pub trait ObjectDictionary: Sized + 'static {
     /// Every object, sorted by index.
     const OBJECTS: &'static [Object<Self>];
 
+    /// Every object's index, parallel to [`Self::OBJECTS`] ([`indices`]): what [`Self::object`]
+    /// searches, two bytes a step instead of a whole [`Object`].
+    const INDICES: &'static [u16];
+
     /// The number of PDO-mappable entries (RxPDO or TxPDO), as a [`Length`]: the PDO layout
     /// keeps one bit offset per entry, indexed by its
     /// [number](crate::pdo::layout::number) ([`PerMappable`]).
@@ -132,11 +136,9 @@ pub trait ObjectDictionary: Sized + 'static {
         None
     }
 
-    /// The object at `index`, by binary search.
+    /// The object at `index`, by binary search over [`Self::INDICES`].
     fn object(index: u16) -> Option<&'static Object<Self>> {
-        let i = Self::OBJECTS
-            .binary_search_by_key(&index, |o| o.info.index)
-            .ok()?;
+        let i = Self::INDICES.binary_search(&index).ok()?;
         Self::OBJECTS.get(i)
     }
 }
@@ -145,6 +147,7 @@ pub trait ObjectDictionary: Sized + 'static {
 /// dictionary comes from [`dictionary!`](crate::dictionary!) with its communication area.
 impl ObjectDictionary for () {
     const OBJECTS: &'static [Object<Self>] = &[];
+    const INDICES: &'static [u16] = &[];
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
     const FIRST_ENTRIES: &'static [usize] = &[];
@@ -212,26 +215,27 @@ impl<D> Copy for Object<D> {}
 impl<D> Object<D> {
     /// Subindex 0 (the number of entries of an ARRAY or RECORD), 0 when it cannot be read.
     pub(crate) fn count(&self, od: &D) -> u8 {
-        let mut b = [0u8; 1];
-        (self.read)(od, 0, 0, &mut b).map_or(0, |_| b[0])
+        self.read_uint(od, 0, 1).map_or(0, |n| n as u8)
     }
 
     /// A 16-bit entry.
     pub(crate) fn read_u16(&self, od: &D, sub: u8) -> Option<u16> {
-        let mut b = [0u8; 2];
-        (self.read)(od, sub, 0, &mut b)
-            .ok()
-            .filter(|r| r.copied == 2)
-            .map(|_| u16::from_le_bytes(b))
+        self.read_uint(od, sub, 2).map(|v| v as u16)
     }
 
     /// A 32-bit entry.
     pub(crate) fn read_u32(&self, od: &D, sub: u8) -> Option<u32> {
-        let mut b = [0u8; 4];
-        (self.read)(od, sub, 0, &mut b)
-            .ok()
-            .filter(|r| r.copied == 4)
-            .map(|_| u32::from_le_bytes(b))
+        self.read_uint(od, sub, 4)
+    }
+
+    /// The first `width` bytes (1, 2 or 4) of an entry, little endian; `None` when it cannot
+    /// be read or gives fewer. One copy for the three readers above.
+    #[inline(never)]
+    fn read_uint(&self, od: &D, sub: u8, width: usize) -> Option<u32> {
+        let mut bytes = [0u8; 4];
+        let buf = bytes.get_mut(..width)?;
+        let read = (self.read)(od, sub, 0, buf).ok()?;
+        (read.copied == width).then(|| u32::from_le_bytes(bytes))
     }
 }
 
@@ -291,6 +295,19 @@ pub trait ObjectHooks<D> {
 impl<D> ObjectHooks<D> for () {}
 
 // --- helpers for the code `dictionary!` generates -------------------------------------------
+
+/// The index of each of `objects`, `N` = their number: [`ObjectDictionary::INDICES`].
+#[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn indices<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
+    let mut indices = [0; N];
+    let mut i = 0;
+    while i < N && i < objects.len() {
+        indices[i] = objects[i].info.index;
+        i += 1;
+    }
+    indices
+}
 
 #[doc(hidden)]
 pub const fn data_type_of<S, T: Value>(_: fn(&S) -> &T) -> DataType {

@@ -122,21 +122,31 @@ impl ObjectInfo {
 
     /// The description of subindex `sub`, `None` if it does not exist.
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
+        if let Some(entry) = self.dense_entry(sub) {
+            return Some(entry);
+        }
         if sub > self.max_sub {
             return None;
         }
-        match self.entries.get(usize::from(sub)) {
-            // SI0, and most records are dense (subindex n at position n): a look there saves
-            // the search.
-            Some(entry) if entry.sub == sub => Some(entry),
-            _ if self.is_uniform() => self.entries.get(1),
-            // A RECORD's entries beyond the last declared repeat it (0x10F3's messages).
-            _ => match self.entries.binary_search_by_key(&sub, |e| e.sub) {
-                Ok(i) => self.entries.get(i),
-                Err(i) if i == self.entries.len() => self.entries.last(),
-                Err(_) => None,
-            },
+        if self.is_uniform() {
+            return self.entries.get(1);
         }
+        // A RECORD's entries beyond the last declared repeat it (0x10F3's messages).
+        match self.entries.binary_search_by_key(&sub, |e| e.sub) {
+            Ok(i) => self.entries.get(i),
+            Err(i) if i == self.entries.len() => self.entries.last(),
+            Err(_) => None,
+        }
+    }
+
+    /// The description of subindex `sub` where a dense object keeps it, at position `sub`: SI0,
+    /// every entry of most records, an ARRAY's SI1. `None` when it is elsewhere or missing
+    /// ([`ObjectInfo::entry`] looks further). Inline, for the SDO server's way without a call.
+    #[inline]
+    pub(crate) fn dense_entry(&self, sub: u8) -> Option<&EntryInfo> {
+        self.entries
+            .get(usize::from(sub))
+            .filter(|entry| entry.sub == sub && sub <= self.max_sub)
     }
 
     /// The data type SDO Information reports for the object (ETG.1000.6 Table 64, as SSC's

@@ -347,50 +347,59 @@ impl<const N: usize> Mailbox<N> {
         usize::from(self.send.length)
     }
 
+    /// Serves the received request, or else the handlers' next message, and builds the answer
+    /// (one place: `build` is inline on the way of every message).
     fn serve_handlers<P: Handlers>(&mut self, handlers: &mut P, env: Env) -> bool {
-        if self.flags & flag::RX_PENDING != 0 {
+        let message = if self.flags & flag::RX_PENDING != 0 {
             self.flags &= !flag::RX_PENDING;
-            return self.serve_request(handlers, env);
-        }
-        let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
-        let out = self
-            .tx
-            .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
-            .unwrap_or_default();
-        match handlers.message(env, out) {
-            Some((kind, len)) => self.build(kind.code(), len),
+            self.serve_request(handlers, env)
+        } else {
+            let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
+            let out = self
+                .tx
+                .get_mut(MailboxHeader::SIZE..MailboxHeader::SIZE + capacity)
+                .unwrap_or_default();
+            handlers
+                .message(env, out)
+                .map(|(kind, len)| (kind.code(), len))
+        };
+        match message {
+            Some((code, len)) => {
+                self.build(code, len);
+                true
+            }
             None => false,
         }
     }
 
-    fn serve_request<P: Handlers>(&mut self, handlers: &mut P, env: Env) -> bool {
-        let Some(header) = MailboxHeader::parse(&self.rx) else {
-            return false;
-        };
+    /// The answer to the received request, in `tx` behind the header: its type and length;
+    /// `None` for none (a repeat, or a request its handler answers with silence).
+    fn serve_request<P: Handlers>(&mut self, handlers: &mut P, env: Env) -> Option<(u8, usize)> {
+        let header = MailboxHeader::parse(&self.rx)?;
         let length = usize::from(header.length);
         if length == 0 {
-            return self.build_error(MailboxError::INVALID_HEADER);
+            return Some(self.error_reply(MailboxError::INVALID_HEADER));
         }
         if length > env.max_request {
-            return self.build_error(MailboxError::INVALID_SIZE);
+            return Some(self.error_reply(MailboxError::INVALID_SIZE));
         }
         if header.counter != 0 && header.counter == self.rx_counter {
-            return false;
+            return None;
         }
         self.rx_counter = header.counter;
         if header.channel != 0 {
-            return self.refuse_channel();
+            return Some(self.refuse_channel());
         }
         let start = MailboxHeader::SIZE;
         let payload = self.rx.get(start..start + length).unwrap_or_default();
         let capacity = self.send_size().saturating_sub(MailboxHeader::SIZE);
         let out = self.tx.get_mut(start..start + capacity).unwrap_or_default();
-        let code = header.kind.code();
+        let code = header::code(&self.rx);
         match handlers.request(code, env, payload, out) {
-            Some(Reply::Send(len)) => self.build(code, len),
-            Some(Reply::Silent) => false,
-            Some(Reply::Error(error)) => self.build_error(error),
-            None => self.build_error(MailboxError::UNSUPPORTED_PROTOCOL),
+            Some(Reply::Send(len)) => Some((code, len)),
+            Some(Reply::Silent) => None,
+            Some(Reply::Error(error)) => Some(self.error_reply(error)),
+            None => Some(self.error_reply(MailboxError::UNSUPPORTED_PROTOCOL)),
         }
     }
 
@@ -398,8 +407,8 @@ impl<const N: usize> Mailbox<N> {
     /// way.
     #[cold]
     #[inline(never)]
-    fn refuse_channel(&mut self) -> bool {
-        self.build_error(MailboxError::INVALID_CHANNEL)
+    fn refuse_channel(&mut self) -> (u8, usize) {
+        self.error_reply(MailboxError::INVALID_CHANNEL)
     }
 
     /// The error reply to the last request, once: what the SubDevice logs in the diagnosis
@@ -412,7 +421,9 @@ impl<const N: usize> Mailbox<N> {
         Some(MailboxError(core::mem::take(&mut self.refused)))
     }
 
-    fn build_error(&mut self, error: MailboxError) -> bool {
+    /// Writes the error reply `error` behind the header and notes it ([`Mailbox::take_refused`]):
+    /// its type and length.
+    fn error_reply(&mut self, error: MailboxError) -> (u8, usize) {
         self.refused = error.0;
         let payload = error.payload();
         if let Some(dst) = self
@@ -421,11 +432,11 @@ impl<const N: usize> Mailbox<N> {
         {
             dst.copy_from_slice(&payload);
         }
-        self.build(MailboxType::Error.code(), payload.len())
+        (MailboxType::Error.code(), payload.len())
     }
 
     /// Puts the header in front of `len` bytes already in `tx`, with the next counter.
-    fn build(&mut self, code: u8, len: usize) -> bool {
+    fn build(&mut self, code: u8, len: usize) {
         self.tx_counter = next_counter(self.tx_counter);
         let length = u16::try_from(len).unwrap_or(u16::MAX);
         let header = header::bytes(code, length, self.tx_counter);
@@ -435,6 +446,5 @@ impl<const N: usize> Mailbox<N> {
         let end = (MailboxHeader::SIZE + len).min(N);
         self.tx_len = end;
         self.flags |= flag::TX_PENDING;
-        true
     }
 }

@@ -35,29 +35,81 @@ pub fn check(object: &ObjectInfo, sub: u8) -> Result<(), AbortCode> {
 
 /// The entries a complete access from `sub` covers, with their descriptions.
 pub fn entries(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = (u8, &EntryInfo)> {
-    // A gap of a sparse RECORD has no description: skipped.
-    (sub..=object.max_sub).filter_map(|s| Some((s, object.entry(s)?)))
+    declared(object, sub, object.max_sub)
 }
 
-fn slots(object: &ObjectInfo, sub: u8) -> impl Iterator<Item = Slot> + '_ {
-    let mut bit = 0usize;
-    entries(object, sub).map(move |(s, entry)| {
-        let bit_len = if s == 0 {
+/// The entries `object` declares from subindex `first` through `last`, with their
+/// descriptions: a gap of a sparse RECORD is skipped.
+pub(super) fn declared(object: &ObjectInfo, first: u8, last: u8) -> Declared<'_> {
+    Declared {
+        object,
+        next: u16::from(first),
+        last,
+    }
+}
+
+/// [`declared`]: one walk, out of line, that every walk over an object's entries shares (the
+/// complete-access checks, slots and stores, the RxPDO check of a download).
+pub(super) struct Declared<'a> {
+    object: &'a ObjectInfo,
+    /// The next subindex to look at (`u16`: the walk ends after 255).
+    next: u16,
+    last: u8,
+}
+
+impl<'a> Iterator for Declared<'a> {
+    type Item = (u8, &'a EntryInfo);
+
+    #[inline(never)]
+    fn next(&mut self) -> Option<Self::Item> {
+        while let Ok(s) = u8::try_from(self.next) {
+            if s > self.last {
+                break;
+            }
+            self.next += 1;
+            if let Some(entry) = self.object.entry(s) {
+                return Some((s, entry));
+            }
+        }
+        None
+    }
+}
+
+/// The slots of a complete access from `sub`, in subindex order.
+fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
+    Slots {
+        entries: declared(object, sub, object.max_sub),
+        bit: 0,
+    }
+}
+
+/// [`slots`]: the entries still to place, the image's bits before them.
+struct Slots<'a> {
+    entries: Declared<'a>,
+    bit: usize,
+}
+
+impl Iterator for Slots<'_> {
+    type Item = Slot;
+
+    fn next(&mut self) -> Option<Slot> {
+        let (sub, entry) = self.entries.next()?;
+        let bit_len = if sub == 0 {
             16
         } else {
             usize::from(entry.bit_len)
         };
         if bit_len.is_multiple_of(8) {
-            bit = bit.div_ceil(8) * 8;
+            self.bit = self.bit.div_ceil(8) * 8;
         }
         let slot = Slot {
-            sub: s,
-            bit_offset: bit,
+            sub,
+            bit_offset: self.bit,
             bit_len,
         };
-        bit += bit_len;
-        slot
-    })
+        self.bit += bit_len;
+        Some(slot)
+    }
 }
 
 /// Where each entry of a complete access from subindex 0 starts, in bits: `(subindex, bit

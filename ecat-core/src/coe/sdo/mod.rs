@@ -223,13 +223,13 @@ impl<const N: usize> SdoServer<N> {
             let value = match data.first_chunk::<4>() {
                 // The four bytes after the header, of which the value's `size` count.
                 Some(&bytes) if sent == size => {
-                    (u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))).to_le_bytes()
+                    u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))
                 }
                 // A mailbox too small for four bytes behind the header.
-                _ => fetch_expedited(cx, object, target)?,
+                _ => u32::from_le_bytes(fetch_expedited(cx, object, target)?),
             };
             let command = response::upload_expedited(size, target.complete);
-            *head = header(Service::SdoResponse, command, target, value);
+            *head = header(Service::SdoResponse, command, target, value.to_le_bytes());
             return Ok(RESPONSE_HEADER);
         }
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
@@ -470,10 +470,10 @@ fn resolve<D: ObjectDictionary>(
         check_complete(object, target, state, direction)?;
         return Ok((object, target));
     }
-    let entry = object
-        .info
-        .entry(target.sub)
-        .ok_or_else(|| missing_entry(&object.info, target.sub))?;
+    let info = &object.info;
+    let entry = (info.dense_entry(target.sub))
+        .or_else(|| info.entry(target.sub))
+        .ok_or_else(|| missing_entry(info, target.sub))?;
     check_access(entry, state, direction)?;
     Ok((
         object,
@@ -490,6 +490,7 @@ fn resolve<D: ObjectDictionary>(
 /// answers an access to such an entry (`OBJ_Read`/`OBJ_Write`, change V5.12 COE7); any other
 /// with 0x06090011 (ETG.1000.6 Table 41).
 #[cold]
+#[inline(never)]
 fn missing_entry(object: &ObjectInfo, sub: u8) -> AbortCode {
     let gap = object.code == ObjectCode::Record && sub > 0 && sub <= object.max_sub;
     if gap {
@@ -519,7 +520,7 @@ fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8
         true => (target.sub.max(1), object.info.max_sub),
         false => (target.sub, target.sub),
     };
-    (first..=last).filter_map(|s| Some((s, object.info.entry(s)?)))
+    complete_access::declared(&object.info, first, last)
 }
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
@@ -703,7 +704,7 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         None => {}
     }
     // A gap of a sparse RECORD has no value in the image.
-    for sub in (from.max(1)..=last).filter(|s| object.info.entry(*s).is_some()) {
+    for (sub, _) in complete_access::declared(&object.info, from.max(1), last) {
         let (value, len) = value_of(sub)?;
         store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
     }
