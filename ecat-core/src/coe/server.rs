@@ -21,7 +21,7 @@ pub const EMERGENCY_QUEUE: usize = 4;
 #[derive(Debug)]
 // `repr(C)`: the small fields first, the SDO server's buffer last (see `SubDevice`).
 #[repr(C)]
-pub struct CoeServer<const N: usize> {
+pub(crate) struct CoeServer<const N: usize> {
     emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
     sdo_info: SdoInfo,
     sdo: SdoServer<N>,
@@ -29,7 +29,7 @@ pub struct CoeServer<const N: usize> {
 
 impl<const N: usize> CoeServer<N> {
     /// No transfer in progress, no emergency queued.
-    pub const fn new() -> Self {
+    pub(crate) const fn new() -> Self {
         Self {
             sdo: SdoServer::new(),
             sdo_info: SdoInfo::new(),
@@ -46,32 +46,32 @@ impl<const N: usize> CoeServer<N> {
     }
 
     /// Queues an emergency; when the queue is full the oldest is dropped.
-    pub fn emergency(&mut self, emergency: Emergency) {
+    pub(crate) fn emergency(&mut self, emergency: Emergency) {
         self.emergencies.push(emergency);
     }
 
     /// Emergencies dropped because the queue was full.
-    pub fn emergencies_dropped(&self) -> u16 {
+    pub(crate) fn emergencies_dropped(&self) -> u16 {
         self.emergencies.dropped()
     }
 
     /// Whether an SDO Information fragment or an emergency waits for SM1.
-    pub fn has_message(&self) -> bool {
+    pub(crate) fn has_message(&self) -> bool {
         self.sdo_info.is_pending() || !self.emergencies.is_empty()
     }
 
     /// When an SDO transfer waiting for its next segment expires.
-    pub fn poll_timeout(&self) -> Option<Instant> {
+    pub(crate) fn poll_timeout(&self) -> Option<Instant> {
         self.sdo.poll_timeout()
     }
 
     /// Expires an SDO transfer that waited too long for its next segment.
-    pub fn handle_timeout(&mut self, now: Instant) {
+    pub(crate) fn handle_timeout(&mut self, now: Instant) {
         self.sdo.handle_timeout(now);
     }
 
     /// The mailbox stopped: every transfer in flight and every queued emergency is dropped.
-    pub fn stop(&mut self) {
+    pub(crate) fn stop(&mut self) {
         *self = Self::new();
     }
 }
@@ -83,7 +83,7 @@ impl<const N: usize> Default for CoeServer<N> {
 }
 
 /// CoE's [`Handler`]: the [`CoeServer`] with the dictionary and hooks of one service call.
-pub struct Coe<'a, 'c, const N: usize, D, H> {
+pub(crate) struct Coe<'a, 'c, const N: usize, D, H> {
     server: &'a mut CoeServer<N>,
     cx: &'a mut Context<'c, D, H>,
 }

@@ -3,7 +3,7 @@
 
 /// A request from the SDO client (the MainDevice), decoded from its command byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Request {
+pub(crate) enum Request {
     /// ccs 1: initiate download. `expedited` with `size` given or not; `complete` access.
     Download {
         expedited: bool,
@@ -29,7 +29,7 @@ pub enum Request {
 
 impl Request {
     /// Decodes a command byte.
-    pub const fn from_byte(b: u8) -> Self {
+    pub(crate) const fn from_byte(b: u8) -> Self {
         let toggle = b & 0x10 != 0;
         match b >> 5 {
             1 => Self::Download {
@@ -54,35 +54,35 @@ impl Request {
 }
 
 /// Server command bytes.
-pub mod response {
+pub(crate) mod response {
     /// scs 3: download initiate response (plus the complete-access bit).
-    pub const fn download(complete: bool) -> u8 {
+    pub(crate) const fn download(complete: bool) -> u8 {
         0x60 | complete_bit(complete)
     }
 
     /// scs 1: download segment response with toggle.
-    pub const fn download_segment(toggle: bool) -> u8 {
+    pub(crate) const fn download_segment(toggle: bool) -> u8 {
         0x20 | toggle_bit(toggle)
     }
 
     /// scs 2, expedited, size indicated: `size` of 1..=4 bytes.
-    pub const fn upload_expedited(size: usize, complete: bool) -> u8 {
+    pub(crate) const fn upload_expedited(size: usize, complete: bool) -> u8 {
         let unused = (4usize.saturating_sub(size) as u8) & 0x03;
         0x43 | (unused << 2) | complete_bit(complete)
     }
 
     /// scs 2, normal, size indicated.
-    pub const fn upload_normal(complete: bool) -> u8 {
+    pub(crate) const fn upload_normal(complete: bool) -> u8 {
         0x41 | complete_bit(complete)
     }
 
     /// scs 0: upload segment with toggle, `unused` bytes of the 7, `last`.
-    pub const fn upload_segment(toggle: bool, unused: u8, last: bool) -> u8 {
+    pub(crate) const fn upload_segment(toggle: bool, unused: u8, last: bool) -> u8 {
         toggle_bit(toggle) | ((unused & 0x07) << 1) | (last as u8)
     }
 
     /// Abort transfer.
-    pub const ABORT: u8 = 0x80;
+    pub(crate) const ABORT: u8 = 0x80;
 
     const fn toggle_bit(toggle: bool) -> u8 {
         if toggle { 0x10 } else { 0 }

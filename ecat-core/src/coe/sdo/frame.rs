@@ -16,25 +16,25 @@ mod field {
     use core::ops::{Range, RangeFrom};
 
     /// The command, index and subindex.
-    pub const HEAD: Range<usize> = 0..4;
+    pub(crate) const HEAD: Range<usize> = 0..4;
     /// An expedited download's data, a normal one's size.
-    pub const DATA: Range<usize> = 4..8;
+    pub(crate) const DATA: Range<usize> = 4..8;
     /// A normal download's first data.
-    pub const PAYLOAD: RangeFrom<usize> = 8..;
+    pub(crate) const PAYLOAD: RangeFrom<usize> = 8..;
     /// A segment's data, after the command.
-    pub const SEGMENT: RangeFrom<usize> = 1..;
+    pub(crate) const SEGMENT: RangeFrom<usize> = 1..;
 }
 
 /// An SDO request as it came: `buffer` holds at least the command, index and subindex.
 #[derive(Debug, Clone, Copy)]
-pub struct Frame<T: AsRef<[u8]>> {
+pub(crate) struct Frame<T: AsRef<[u8]>> {
     buffer: T,
 }
 
 impl<T: AsRef<[u8]>> Frame<T> {
     /// The frame in `buffer`; shorter than command, index and subindex: no request a server
     /// knows (0x05040001).
-    pub fn new_checked(buffer: T) -> Result<Self, AbortCode> {
+    pub(crate) fn new_checked(buffer: T) -> Result<Self, AbortCode> {
         match buffer.as_ref().len() >= field::HEAD.end {
             true => Ok(Self { buffer }),
             false => Err(AbortCode::COMMAND_SPECIFIER),
@@ -47,31 +47,31 @@ impl<T: AsRef<[u8]>> Frame<T> {
     }
 
     /// The command byte.
-    pub fn command(&self) -> u8 {
+    pub(crate) fn command(&self) -> u8 {
         let [command, ..] = self.head();
         command
     }
 
     /// The object index.
-    pub fn index(&self) -> u16 {
+    pub(crate) fn index(&self) -> u16 {
         let [_, i0, i1, _] = self.head();
         u16::from_le_bytes([i0, i1])
     }
 
     /// The subindex.
-    pub fn sub(&self) -> u8 {
+    pub(crate) fn sub(&self) -> u8 {
         let [.., sub] = self.head();
         sub
     }
 
     /// The first `len` bytes of an expedited download's data; `None` when the frame is shorter.
-    pub fn expedited(&self, len: usize) -> Option<&[u8]> {
+    pub(crate) fn expedited(&self, len: usize) -> Option<&[u8]> {
         let data = self.buffer.as_ref().get(field::DATA.start..)?;
         data.get(..len.min(field::DATA.len()))
     }
 
     /// A normal download's size (the bytes the frame lacks count as 0).
-    pub fn size(&self) -> u32 {
+    pub(crate) fn size(&self) -> u32 {
         let mut size = [0u8; 4];
         let data = self.buffer.as_ref().get(field::DATA.start..);
         crate::bytes::copy(&mut size, data.unwrap_or_default());
@@ -79,12 +79,12 @@ impl<T: AsRef<[u8]>> Frame<T> {
     }
 
     /// A normal download's data in this frame.
-    pub fn payload(&self) -> &[u8] {
+    pub(crate) fn payload(&self) -> &[u8] {
         self.buffer.as_ref().get(field::PAYLOAD).unwrap_or_default()
     }
 
     /// A segment's data: what follows the command.
-    pub fn segment(&self) -> &[u8] {
+    pub(crate) fn segment(&self) -> &[u8] {
         self.buffer.as_ref().get(field::SEGMENT).unwrap_or_default()
     }
 }
