@@ -22,9 +22,11 @@ cd "$(dirname "$self")/../.."
 
 build() { cargo build --locked --release -q -p ecat-examples --bin ecat-virtual-slave; }
 if [ "$(id -u)" -ne 0 ]; then
-    # With the caller's toolchain; root's environment under sudo may have none.
+    # With the caller's toolchain; root's environment under sudo may have none. The target
+    # directory goes along, so that the root half finds what this half built.
     build
-    exec sudo "$self" --built "$file"
+    exec sudo env CARGO_TARGET_DIR="$(realpath -m "${CARGO_TARGET_DIR:-target}")" \
+        "$self" --built "$file"
 fi
 [ -n "$built" ] || build
 command -v ip >/dev/null || { apt-get update -qq && apt-get install -y -qq iproute2 >/dev/null; }
