@@ -405,19 +405,15 @@ impl<P: Pdi> SharedEsc<P> {
         });
     }
 
-    /// Takes what the process-data runner reported.
-    pub(crate) fn take_reports(&self) -> Reports {
-        self.with(|r| r.reports.replace(Reports::NONE))
-    }
-
-    /// Takes the oldest emergency the application raised. One at a time, so the queue is
-    /// never copied out of the critical section.
-    pub(crate) fn take_emergency(&self) -> Option<Emergency> {
+    /// Takes what the process-data runner reported and the oldest emergency the application
+    /// raised, in one critical section. One emergency at a time, so the queue is never copied
+    /// out of the critical section.
+    pub(crate) fn take_reports(&self) -> (Reports, Option<Emergency>) {
         self.with(|r| {
             let mut queue = r.emergencies.get();
             let emergency = queue.pop();
             r.emergencies.set(queue);
-            emergency
+            (r.reports.replace(Reports::NONE), emergency)
         })
     }
 
