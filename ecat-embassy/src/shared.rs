@@ -232,7 +232,9 @@ impl<P: Pdi> SharedEsc<P> {
                 esm_started: Cell::new(false),
                 pd_generation: Cell::new(0),
                 indication: Cell::new(Indication(0)),
-                emergencies: Cell::new(Ring::new(Emergency::NONE)),
+                // Evaluated at compile time: no call of `Ring::new` where the firmware builds
+                // its resources.
+                emergencies: Cell::new(const { Ring::new(Emergency::NONE) }),
                 reports: Cell::new(Reports::NONE),
                 pd_waiting: Cell::new(false),
                 pd_seen: Cell::new(0),
