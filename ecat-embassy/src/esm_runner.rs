@@ -311,21 +311,28 @@ fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize>(
 /// application raised and what the process-data runner saw (outputs, SYNC0). Taking them is
 /// what lets the runner's wait ([`SharedEsc::poll_esm_events`]) wait again.
 fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevice<'_, MBX>) {
-    let reports = esc.take_reports();
-    if reports.contains(Reports::SYNC_RECEIVED) {
-        sub.sync0_received();
-    }
-    if reports.contains(Reports::SYNC_LOST) {
-        sub.sync0_lost();
-    }
-    if reports.contains(Reports::SYNC_ERROR) {
-        sub.sync_error();
-    }
-    if reports.contains(Reports::OUTPUTS_RECEIVED) {
-        sub.outputs_received();
-    }
-    while let Some(emergency) = esc.take_emergency() {
-        sub.emergency(emergency);
+    // Each pass takes the reports so far with the oldest emergency, in one critical section:
+    // one in the code, not one for each.
+    loop {
+        let (reports, emergency) = esc.take_reports();
+        if reports.contains(Reports::SYNC_RECEIVED) {
+            sub.sync0_received();
+        }
+        if reports.contains(Reports::SYNC_LOST) {
+            sub.sync0_lost();
+        }
+        if reports.contains(Reports::SYNC_ERROR) {
+            sub.sync_error();
+        }
+        if reports.contains(Reports::OUTPUTS_RECEIVED) {
+            sub.outputs_received();
+        }
+        match emergency {
+            Some(emergency) => {
+                sub.emergency(emergency);
+            }
+            None => break,
+        }
     }
 }
 

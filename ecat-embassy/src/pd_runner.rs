@@ -124,7 +124,6 @@ where
     D: ObjectDictionary,
 {
     async move {
-        let (irq, sync0) = (&mut irq, &mut sync0);
         let mut exchange = Exchange {
             esc,
             app,

@@ -232,7 +232,9 @@ impl<P: Pdi> SharedEsc<P> {
                 esm_started: Cell::new(false),
                 pd_generation: Cell::new(0),
                 indication: Cell::new(Indication(0)),
-                emergencies: Cell::new(Ring::new(Emergency::NONE)),
+                // Evaluated at compile time: no call of `Ring::new` where the firmware builds
+                // its resources.
+                emergencies: Cell::new(const { Ring::new(Emergency::NONE) }),
                 reports: Cell::new(Reports::NONE),
                 pd_waiting: Cell::new(false),
                 pd_seen: Cell::new(0),
@@ -405,19 +407,15 @@ impl<P: Pdi> SharedEsc<P> {
         });
     }
 
-    /// Takes what the process-data runner reported.
-    pub(crate) fn take_reports(&self) -> Reports {
-        self.with(|r| r.reports.replace(Reports::NONE))
-    }
-
-    /// Takes the oldest emergency the application raised. One at a time, so the queue is
-    /// never copied out of the critical section.
-    pub(crate) fn take_emergency(&self) -> Option<Emergency> {
+    /// Takes what the process-data runner reported and the oldest emergency the application
+    /// raised, in one critical section. One emergency at a time, so the queue is never copied
+    /// out of the critical section.
+    pub(crate) fn take_reports(&self) -> (Reports, Option<Emergency>) {
         self.with(|r| {
             let mut queue = r.emergencies.get();
             let emergency = queue.pop();
             r.emergencies.set(queue);
-            emergency
+            (r.reports.replace(Reports::NONE), emergency)
         })
     }
 
