@@ -231,15 +231,9 @@ pub(crate) fn check_mapping_entry<D: ObjectDictionary>(
     if entry.index() == 0 {
         return Ok(());
     }
-    let direction = Direction::of_mapping(mapping).ok_or(AbortCode::NOT_MAPPABLE)?;
-    let info = D::object(entry.index())
-        .and_then(|o| o.info.entry(entry.sub()))
-        .ok_or(AbortCode::NOT_MAPPABLE)?;
-    let fits = u16::from(entry.bit_len()) == info.bit_len;
-    if fits && direction.allows(info.access) && info.data_type.is_pdo_mappable() {
-        Ok(())
-    } else {
-        Err(AbortCode::NOT_MAPPABLE)
+    match Direction::of_mapping(mapping).and_then(|d| layout::mappable::<D>(entry, d)) {
+        Some(_) => Ok(()),
+        None => Err(AbortCode::NOT_MAPPABLE),
     }
 }
 
