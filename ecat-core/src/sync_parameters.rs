@@ -344,12 +344,12 @@ pub(crate) fn fill<D: ObjectDictionary>(
     let cycle_ns = match (active, chosen_cycle) {
         (_, Some(_)) => None,
         (Some(SyncMode::FreeRun), None) => {
-            Some(device.free_run_cycle.as_micros().saturating_mul(1_000))
+            Some(nanoseconds(device.free_run_cycle.as_micros()))
         }
-        (Some(SyncMode::DcSync0), None) => Some(u64::from(dc.sync0_cycle_ns)),
+        (Some(SyncMode::DcSync0), None) => Some(dc.sync0_cycle_ns),
         _ => None,
     };
-    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    let min_ns = nanoseconds(device.min_cycle_time.as_micros());
     let sync0_ns = match active {
         Some(SyncMode::DcSync0) => dc.sync0_cycle_ns,
         _ => 0,
@@ -359,9 +359,9 @@ pub(crate) fn fill<D: ObjectDictionary>(
             continue;
         };
         set(od, object, 4, &device.sync_modes.0.to_le_bytes());
-        set(od, object, 5, &saturated_u32(min_ns).to_le_bytes());
+        set(od, object, 5, &min_ns.to_le_bytes());
         if let Some(ns) = cycle_ns {
-            set(od, object, 2, &saturated_u32(ns).to_le_bytes());
+            set(od, object, 2, &ns.to_le_bytes());
         }
         set(od, object, 0x0A, &sync0_ns.to_le_bytes());
         if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
@@ -378,9 +378,13 @@ fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
     let _ = (object.write)(od, sub, bytes);
 }
 
-/// A nanosecond count as the UNSIGNED32 of 0x1C32/0x1C33, saturated.
-fn saturated_u32(ns: u64) -> u32 {
-    u32::try_from(ns).unwrap_or(u32::MAX)
+/// A count of microseconds in nanoseconds, as the UNSIGNED32 of 0x1C32/0x1C33: saturated (at
+/// 4 294 967 µs and above), in 32-bit arithmetic.
+fn nanoseconds(micros: u64) -> u32 {
+    u32::try_from(micros)
+        .ok()
+        .and_then(|us| us.checked_mul(1_000))
+        .unwrap_or(u32::MAX)
 }
 
 /// What the MainDevice wrote into 0x1C32 over SDO since the SubDevice entered PREOP from INIT:
@@ -534,7 +538,7 @@ pub struct CycleMonitor {
 /// The diagnostic entries the monitor keeps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Diagnostics {
-    measured_ns: Option<u64>,
+    measured_ns: Option<u32>,
     missed: u16,
     overruns: u16,
     error: bool,
@@ -575,9 +579,7 @@ impl CycleMonitor {
         self.last = Some(report.now);
         let missed = report.expects_outputs && !report.new_outputs;
         let overrun = match (elapsed, report.nominal) {
-            (Some(elapsed), Some(cycle)) => {
-                elapsed.saturating_mul(2) > cycle.as_micros().saturating_mul(3)
-            }
+            (Some(elapsed), Some(cycle)) => overran(elapsed, cycle.as_micros()),
             _ => false,
         };
         self.missed = self.missed.saturating_add(u16::from(missed));
@@ -585,7 +587,7 @@ impl CycleMonitor {
         let now = Diagnostics {
             measured_ns: elapsed
                 .filter(|_| report.nominal.is_none())
-                .map(|us| us.saturating_mul(1_000).min(u64::from(u32::MAX))),
+                .map(nanoseconds),
             missed: self.missed,
             overruns: self.overruns,
             error: missed || overrun || self.supervision.tripped(),
@@ -610,6 +612,13 @@ impl CycleMonitor {
     }
 }
 
+/// Whether a clocked cycle started `elapsed` µs after the previous one is late by more than half
+/// its nominal `cycle` (µs): `2 · elapsed > 3 · cycle`, as `elapsed > ⌊1.5 · cycle⌋` (no 64-bit
+/// products).
+fn overran(elapsed: u64, cycle: u64) -> bool {
+    elapsed > cycle.saturating_add(cycle / 2)
+}
+
 /// Whether `objects` has 0x1C32 or 0x1C33.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
@@ -631,7 +640,7 @@ fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
             continue;
         };
         if let Some(ns) = d.measured_ns {
-            set(od, object, 2, &saturated_u32(ns).to_le_bytes());
+            set(od, object, 2, &ns.to_le_bytes());
         }
         set(od, object, 0x0B, &d.missed.to_le_bytes());
         set(od, object, 0x0C, &d.overruns.to_le_bytes());
@@ -663,6 +672,34 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A cycle overran exactly when it started more than 1.5 nominal cycles after the previous
+    /// one (`2 · elapsed > 3 · cycle`), odd cycles included.
+    #[test]
+    fn a_cycle_overruns_past_one_and_a_half_cycles() {
+        for cycle in 0..300u64 {
+            for elapsed in 0..600u64 {
+                assert_eq!(
+                    overran(elapsed, cycle),
+                    2 * elapsed > 3 * cycle,
+                    "{elapsed} µs after a {cycle} µs cycle"
+                );
+            }
+        }
+        assert!(!overran(u64::MAX, u64::MAX));
+        assert!(overran(u64::MAX, u64::MAX / 2));
+    }
+
+    /// Microseconds become the UNSIGNED32 nanoseconds of 0x1C32/0x1C33, saturated.
+    #[test]
+    fn nanoseconds_saturate_at_u32_max() {
+        assert_eq!(nanoseconds(0), 0);
+        assert_eq!(nanoseconds(1_000), 1_000_000);
+        assert_eq!(nanoseconds(4_294_967), 4_294_967_000);
+        assert_eq!(nanoseconds(4_294_968), u32::MAX);
+        assert_eq!(nanoseconds(1 << 32), u32::MAX);
+        assert_eq!(nanoseconds(u64::MAX), u32::MAX);
     }
 
     /// A free-run cycle the local timer cannot count (under 1 µs) is refused even on a device
