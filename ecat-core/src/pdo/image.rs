@@ -144,10 +144,11 @@ fn get_bits(image: &[u8], offset: u16, len: u8) -> Option<u64> {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return None;
     }
-    Some((0..usize::from(len).min(64)).fold(0, |bits, i| {
+    // From the last bit down, each shifted in at the bottom: no shift by a variable amount.
+    Some((0..usize::from(len).min(64)).rev().fold(0, |bits, i| {
         let bit = offset + i;
         let set = image.get(bit / 8).is_some_and(|b| b >> (bit % 8) & 1 != 0);
-        bits | (u64::from(set) << i)
+        bits << 1 | u64::from(set)
     }))
 }
 
@@ -158,10 +159,12 @@ fn put_bits(image: &mut [u8], offset: u16, len: u8, bits: u64) {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return;
     }
-    for i in 0..usize::from(len).min(64) {
-        let bit = offset + i;
+    let mut rest = bits;
+    for bit in offset..offset + usize::from(len).min(64) {
+        // The lowest bit left goes next: no shift by a variable amount.
+        let set = u8::from(rest & 1 != 0);
+        rest >>= 1;
         if let Some(byte) = image.get_mut(bit / 8) {
-            let set = u8::from(bits >> i & 1 != 0);
             *byte = (*byte & !(1 << (bit % 8))) | (set << (bit % 8));
         }
     }
