@@ -343,9 +343,7 @@ pub(crate) fn fill<D: ObjectDictionary>(
 ) {
     let cycle_ns = match (active, chosen_cycle) {
         (_, Some(_)) => None,
-        (Some(SyncMode::FreeRun), None) => {
-            Some(nanoseconds(device.free_run_cycle.as_micros()))
-        }
+        (Some(SyncMode::FreeRun), None) => Some(nanoseconds(device.free_run_cycle.as_micros())),
         (Some(SyncMode::DcSync0), None) => Some(dc.sync0_cycle_ns),
         _ => None,
     };

@@ -304,7 +304,13 @@ impl<const N: usize> Counted<u32, N> {
         sub: u8,
         data: &[u8],
     ) -> Result<(), AbortCode> {
-        write_counted::<D>(index, &mut self.count, Slots::U32(&mut self.items), sub, data)
+        write_counted::<D>(
+            index,
+            &mut self.count,
+            Slots::U32(&mut self.items),
+            sub,
+            data,
+        )
     }
 }
 
@@ -326,7 +332,13 @@ impl<const N: usize> Counted<u16, N> {
         sub: u8,
         data: &[u8],
     ) -> Result<(), AbortCode> {
-        write_counted::<D>(index, &mut self.count, Slots::U16(&mut self.items), sub, data)
+        write_counted::<D>(
+            index,
+            &mut self.count,
+            Slots::U16(&mut self.items),
+            sub,
+            data,
+        )
     }
 }
 
@@ -373,8 +385,12 @@ impl Slots<'_> {
     /// Decodes `data` into entry `i` (exactly the entry's width, as any UNSIGNED16/32 entry).
     fn set(&mut self, i: usize, data: &[u8]) -> Result<(), AbortCode> {
         let slot = match self {
-            Self::U16(items) => items.get_mut(i).map(|slot| write_value(slot, data, None, None)),
-            Self::U32(items) => items.get_mut(i).map(|slot| write_value(slot, data, None, None)),
+            Self::U16(items) => items
+                .get_mut(i)
+                .map(|slot| write_value(slot, data, None, None)),
+            Self::U32(items) => items
+                .get_mut(i)
+                .map(|slot| write_value(slot, data, None, None)),
         };
         slot.unwrap_or(Err(AbortCode::NO_SUBINDEX))
     }
