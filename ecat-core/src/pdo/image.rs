@@ -96,6 +96,10 @@ fn get<T: Value>(image: &[u8], stored: u16) -> Option<u64> {
         (true, 32) => chunk(image, i).map(|b| u32::from_le_bytes(b).into()),
         (true, 64) => chunk(image, i).map(u64::from_le_bytes),
         _ if stored == UNMAPPED => None,
+        (_, 1) => {
+            let bit = usize::from(bit_offset(stored));
+            image.get(bit / 8).map(|b| u64::from(b >> (bit % 8) & 1))
+        }
         _ => get_bits(image, bit_offset(stored), u8::try_from(T::BIT_LEN).ok()?),
     }
 }
@@ -112,6 +116,13 @@ fn put<T: Value>(image: &mut [u8], stored: u16, bits: u64) {
         (true, 32) => set(chunk_mut(image, i), (bits as u32).to_le_bytes()),
         (true, 64) => set(chunk_mut(image, i), bits.to_le_bytes()),
         _ if stored == UNMAPPED => {}
+        (_, 1) => {
+            let bit = usize::from(bit_offset(stored));
+            if let Some(byte) = image.get_mut(bit / 8) {
+                let set = (bits & 1) as u8;
+                *byte = (*byte & !(1 << (bit % 8))) | (set << (bit % 8));
+            }
+        }
         _ => {
             if let Ok(len) = u8::try_from(T::BIT_LEN) {
                 put_bits(image, bit_offset(stored), len, bits);
