@@ -314,6 +314,10 @@ fn an_entry_mapped_twice() {
     // bits 0..16 word, 16..19 level, 19..35 word, 35..38 level, 38..40 padding.
     let expected = 0xBEEFu64 | 0b101 << 16 | 0xBEEF << 19 | 0b101 << 35;
     assert_eq!(image, expected.to_le_bytes()[..5]);
+    // An image too short for the repeats: the entries it holds, no part of a repeat.
+    let mut short = [0xFF; 3];
+    pack(&tx, &od, &mut short);
+    assert_eq!(short, [0xEF, 0xBE, 0b101]);
 
     let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
     let image = (0x1234u64 | 0b001 << 16 | 0x5678 << 19 | 0b110 << 35).to_le_bytes();

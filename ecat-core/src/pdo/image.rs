@@ -8,7 +8,7 @@
 //! and an unmapped one a compare; only entries that are not whole bytes at a byte boundary (BOOL,
 //! BITn, anything after them) go bit by bit.
 
-use super::layout::{BYTE_ALIGNED, Layout, UNMAPPED, bit_offset};
+use super::layout::{BYTE_ALIGNED, Layout, Repeat, UNMAPPED, bit_offset};
 use crate::dictionary::{ObjectDictionary, Value};
 
 /// Copies the image's entries into the dictionary (outputs: MainDevice → application). An entry
@@ -26,8 +26,27 @@ pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
     }
     od.pack_mapped(layout.offsets(), image);
     for repeat in layout.repeats() {
-        if let Some(bits) = get_bits(image, repeat.from, repeat.len) {
-            put_bits(image, repeat.to, repeat.len, bits);
+        copy_bits(image, repeat);
+    }
+}
+
+/// Copies a repeated entry's bits, LSB first, from its first place to the repeat's (places of
+/// one image never overlap), unless either place is not wholly inside `image`.
+fn copy_bits(image: &mut [u8], repeat: &Repeat) {
+    let (from, to, len) = (
+        usize::from(repeat.from),
+        usize::from(repeat.to),
+        usize::from(repeat.len),
+    );
+    let bits = image.len().saturating_mul(8);
+    if from + len > bits || to + len > bits {
+        return;
+    }
+    for i in 0..len.min(64) {
+        let (s, d) = (from + i, to + i);
+        let bit = image.get(s / 8).map_or(0, |b| b >> (s % 8) & 1);
+        if let Some(byte) = image.get_mut(d / 8) {
+            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
         }
     }
 }
