@@ -124,9 +124,7 @@ impl<T: Copy + Default, const N: usize> Default for Counted<T, N> {
 /// manager parameter object (0x1C32/0x1C33). A write to one makes the SubDevice recompute its
 /// process-data layout and sync type.
 pub const fn configures_process_data(index: u16) -> bool {
-    Direction::of_mapping(index).is_some()
-        || Direction::of_assignment(index).is_some()
-        || matches!(index, 0x1C32 | 0x1C33)
+    Direction::of_configuration(index).is_some() || matches!(index, 0x1C32 | 0x1C33)
 }
 
 /// Which way a PDO goes.
@@ -149,20 +147,20 @@ impl Direction {
 
     /// Whether `index` is a PDO mapping index of the direction.
     pub const fn is_mapping(self, index: u16) -> bool {
-        match self {
-            Self::Rx => index >= 0x1600 && index <= 0x17FF,
-            Self::Tx => index >= 0x1A00 && index <= 0x1BFF,
-        }
+        // 0x1600..=0x17FF and 0x1A00..=0x1BFF: 512 indices each, from a multiple of 512.
+        index & !0x01FF
+            == match self {
+                Self::Rx => 0x1600,
+                Self::Tx => 0x1A00,
+            }
     }
 
     /// The direction of mapping object `index`.
     pub const fn of_mapping(index: u16) -> Option<Self> {
-        if Self::Rx.is_mapping(index) {
-            Some(Self::Rx)
-        } else if Self::Tx.is_mapping(index) {
-            Some(Self::Tx)
-        } else {
-            None
+        match index & !0x01FF {
+            0x1600 => Some(Self::Rx),
+            0x1A00 => Some(Self::Tx),
+            _ => None,
         }
     }
 
@@ -172,6 +170,15 @@ impl Direction {
             0x1C12 => Some(Self::Rx),
             0x1C13 => Some(Self::Tx),
             _ => None,
+        }
+    }
+
+    /// The direction of PDO configuration object `index`: a mapping or an assignment.
+    #[inline]
+    pub const fn of_configuration(index: u16) -> Option<Self> {
+        match Self::of_mapping(index) {
+            Some(direction) => Some(direction),
+            None => Self::of_assignment(index),
         }
     }
 
@@ -205,8 +212,7 @@ pub const fn configuration_preop_only<D>(objects: &[Object<D>]) -> bool {
     let mut i = 0;
     while i < objects.len() {
         let index = objects[i].info.index;
-        let configures =
-            Direction::of_mapping(index).is_some() || Direction::of_assignment(index).is_some();
+        let configures = Direction::of_configuration(index).is_some();
         let entries = objects[i].info.entries;
         let mut j = 0;
         while configures && j < entries.len() {
@@ -503,12 +509,8 @@ pub(crate) fn check_length<D: ObjectDictionary>(
     count: u8,
     entry: &dyn Fn(u8) -> Option<u32>,
 ) -> Result<(), AbortCode> {
-    let direction = match (
-        Direction::of_mapping(index),
-        Direction::of_assignment(index),
-    ) {
-        (Some(d), _) | (_, Some(d)) => d,
-        _ => return Ok(()),
+    let Some(direction) = Direction::of_configuration(index) else {
+        return Ok(());
     };
     let pending = layout::Pending {
         index,
