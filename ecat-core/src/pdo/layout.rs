@@ -283,13 +283,13 @@ const fn mappable_position(
     info: &ObjectInfo,
     wanted: Option<u8>,
 ) -> Result<(usize, &EntryInfo), usize> {
+    // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
+    let count = if info.is_uniform() { info.max_sub } else { 1 };
     let mut n = 0;
     let mut j = 0;
     while j < info.entries.len() {
         let entry = &info.entries[j];
         if entry.access.rxpdo() || entry.access.txpdo() {
-            // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
-            let count = if info.is_uniform() { info.max_sub } else { 1 };
             if let Some(sub) = wanted
                 && sub >= entry.sub
                 && sub - entry.sub < count
