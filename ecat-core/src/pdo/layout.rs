@@ -335,7 +335,8 @@ pub(crate) fn walk<D: ObjectDictionary>(
     let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
     let assigned = pending_of(assignment);
     let pdos = assigned.map_or_else(|| assignment.count(od), |p| p.count);
-    for pdo in 1..=pdos {
+    // 1..=n as 0..n shifted: no inclusive range's exhaustion state.
+    for pdo in (0..pdos).map(|i| i + 1) {
         let index = match assigned {
             Some(p) => (p.entry)(pdo).and_then(|v| u16::try_from(v).ok()),
             None => assignment.read_u16(od, pdo),
@@ -349,7 +350,7 @@ pub(crate) fn walk<D: ObjectDictionary>(
         };
         let changed = pending_of(mapping);
         let entries = changed.map_or_else(|| mapping.count(od), |p| p.count);
-        for sub in 1..=entries {
+        for sub in (0..entries).map(|i| i + 1) {
             let value = match changed {
                 Some(p) => (p.entry)(sub),
                 None => mapping.read_u32(od, sub),
