@@ -302,6 +302,12 @@ pub(crate) const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
 pub(crate) const INPUT_PARAMETERS: u16 = 0x1C33;
 
+/// Both parameter objects, 0x1C32 then 0x1C33, as a range: a loop over them needs no array
+/// iterator (whose state the firmware kept beside its own, 132 bytes more for `fill` and the
+/// cycle monitor).
+const PARAMETER_OBJECTS: core::ops::Range<u16> = OUTPUT_PARAMETERS..INPUT_PARAMETERS + 1;
+const _: () = assert!(INPUT_PARAMETERS == OUTPUT_PARAMETERS + 1);
+
 /// The sync mode of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
 /// SM-synchronous mode the inputs are latched with the SM2 event when there are outputs
 /// (0x22), with the SM3 event otherwise (1); free-run and DC modes are the same for both.
@@ -352,7 +358,7 @@ pub(crate) fn fill<D: ObjectDictionary>(
         Some(SyncMode::DcSync0) => dc.sync0_cycle_ns,
         _ => 0,
     };
-    for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
+    for index in PARAMETER_OBJECTS {
         let Some(object) = D::object(index) else {
             continue;
         };
@@ -633,7 +639,7 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
 
 /// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).
 fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
-    for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
+    for index in PARAMETER_OBJECTS {
         let Some(object) = D::object(index) else {
             continue;
         };
