@@ -302,11 +302,35 @@ pub(crate) const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
 pub(crate) const INPUT_PARAMETERS: u16 = 0x1C33;
 
-/// Both parameter objects, 0x1C32 then 0x1C33, as a range: a loop over them needs no array
-/// iterator (whose state the firmware kept beside its own, 132 bytes more for `fill` and the
-/// cycle monitor).
+/// Both parameter objects, 0x1C32 then 0x1C33, as a range: `fill`'s loop over them needs no
+/// array iterator (whose state the firmware kept beside the loop's own).
 const PARAMETER_OBJECTS: core::ops::Range<u16> = OUTPUT_PARAMETERS..INPUT_PARAMETERS + 1;
 const _: () = assert!(INPUT_PARAMETERS == OUTPUT_PARAMETERS + 1);
+
+/// Parameter object `index` (0x1C32, else 0x1C33) of `D`, if it has it: its place in
+/// `D::OBJECTS` is found at compile time, so the cycle monitor's [`store`] (in the
+/// process-data path) and [`requested`] search nothing. (`fill` loops over both with
+/// [`D::object`](ObjectDictionary::object): with constant places the loop is unrolled, larger.)
+fn parameters<D: ObjectDictionary>(index: u16) -> Option<&'static Object<D>> {
+    let at = match index {
+        OUTPUT_PARAMETERS => const { position(D::OBJECTS, OUTPUT_PARAMETERS) },
+        _ => const { position(D::OBJECTS, INPUT_PARAMETERS) },
+    };
+    D::OBJECTS.get(at?)
+}
+
+/// Where object `index` is in `objects`.
+#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
+const fn position<D>(objects: &[Object<D>], index: u16) -> Option<usize> {
+    let mut i = 0;
+    while i < objects.len() {
+        if objects[i].info.index == index {
+            return Some(i);
+        }
+        i += 1;
+    }
+    None
+}
 
 /// The sync mode of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
 /// SM-synchronous mode the inputs are latched with the SM2 event when there are outputs
@@ -461,7 +485,7 @@ pub(crate) fn requested<D: ObjectDictionary>(
     device: &DeviceConfig,
     chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
-    let Some(object) = D::object(OUTPUT_PARAMETERS) else {
+    let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) else {
         let sm = device.sync_modes.supports(SyncMode::SmSynchronous);
         let mode = if sm {
             SyncMode::SmSynchronous
@@ -624,32 +648,29 @@ fn overran(elapsed: u64, cycle: u64) -> bool {
 }
 
 /// Whether `objects` has 0x1C32 or 0x1C33.
-#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
-    let mut i = 0;
-    while i < objects.len() {
-        let index = objects[i].info.index;
-        if index == OUTPUT_PARAMETERS || index == INPUT_PARAMETERS {
-            return true;
-        }
-        i += 1;
-    }
-    false
+    position(objects, OUTPUT_PARAMETERS).is_some() || position(objects, INPUT_PARAMETERS).is_some()
 }
 
 /// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).
 fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
-    for index in PARAMETER_OBJECTS {
-        let Some(object) = D::object(index) else {
-            continue;
-        };
-        if let Some(ns) = d.measured_ns {
-            set(od, object, 2, &ns.to_le_bytes());
-        }
-        set(od, object, 0x0B, &d.missed.to_le_bytes());
-        set(od, object, 0x0C, &d.overruns.to_le_bytes());
-        set(od, object, 0x20, &[u8::from(d.error)]);
+    if let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) {
+        store_in(od, object, &d);
     }
+    if let Some(object) = parameters::<D>(INPUT_PARAMETERS) {
+        store_in(od, object, &d);
+    }
+}
+
+/// [`store`] into one parameter object.
+#[inline(never)]
+fn store_in<D>(od: &mut D, object: &Object<D>, d: &Diagnostics) {
+    if let Some(ns) = d.measured_ns {
+        set(od, object, 2, &ns.to_le_bytes());
+    }
+    set(od, object, 0x0B, &d.missed.to_le_bytes());
+    set(od, object, 0x0C, &d.overruns.to_le_bytes());
+    set(od, object, 0x20, &[u8::from(d.error)]);
 }
 
 #[cfg(test)]
