@@ -515,11 +515,10 @@ macro_rules! __ecat_object {
                 ],
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::pdo::read_counted(d.$field.count, &d.$field.items, sub, offset, out)
+                d.$field.read(sub, offset, out)
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                let field = &mut d.$field;
-                $crate::pdo::write_counted::<$dict, _>($index, &mut field.count, &mut field.items, sub, data)
+                d.$field.write::<$dict>($index, sub, data)
             },
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }

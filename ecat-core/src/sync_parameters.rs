@@ -302,6 +302,36 @@ pub(crate) const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
 pub(crate) const INPUT_PARAMETERS: u16 = 0x1C33;
 
+/// Both parameter objects, 0x1C32 then 0x1C33, as a range: `fill`'s loop over them needs no
+/// array iterator (whose state the firmware kept beside the loop's own).
+const PARAMETER_OBJECTS: core::ops::Range<u16> = OUTPUT_PARAMETERS..INPUT_PARAMETERS + 1;
+const _: () = assert!(INPUT_PARAMETERS == OUTPUT_PARAMETERS + 1);
+
+/// Parameter object `index` (0x1C32, else 0x1C33) of `D`, if it has it: its place in
+/// `D::OBJECTS` is found at compile time, so the cycle monitor's [`store`] (in the
+/// process-data path) and [`requested`] search nothing. (`fill` loops over both with
+/// [`D::object`](ObjectDictionary::object): with constant places the loop is unrolled, larger.)
+fn parameters<D: ObjectDictionary>(index: u16) -> Option<&'static Object<D>> {
+    let at = match index {
+        OUTPUT_PARAMETERS => const { position(D::OBJECTS, OUTPUT_PARAMETERS) },
+        _ => const { position(D::OBJECTS, INPUT_PARAMETERS) },
+    };
+    D::OBJECTS.get(at?)
+}
+
+/// Where object `index` is in `objects`.
+#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
+const fn position<D>(objects: &[Object<D>], index: u16) -> Option<usize> {
+    let mut i = 0;
+    while i < objects.len() {
+        if objects[i].info.index == index {
+            return Some(i);
+        }
+        i += 1;
+    }
+    None
+}
+
 /// The sync mode of the inputs (0x1C33:01) that follows from the outputs' (ETG.1020 §6.3): in
 /// SM-synchronous mode the inputs are latched with the SM2 event when there are outputs
 /// (0x22), with the SM3 event otherwise (1); free-run and DC modes are the same for both.
@@ -343,25 +373,23 @@ pub(crate) fn fill<D: ObjectDictionary>(
 ) {
     let cycle_ns = match (active, chosen_cycle) {
         (_, Some(_)) => None,
-        (Some(SyncMode::FreeRun), None) => {
-            Some(device.free_run_cycle.as_micros().saturating_mul(1_000))
-        }
-        (Some(SyncMode::DcSync0), None) => Some(u64::from(dc.sync0_cycle_ns)),
+        (Some(SyncMode::FreeRun), None) => Some(nanoseconds(device.free_run_cycle.as_micros())),
+        (Some(SyncMode::DcSync0), None) => Some(dc.sync0_cycle_ns),
         _ => None,
     };
-    let min_ns = device.min_cycle_time.as_micros().saturating_mul(1_000);
+    let min_ns = nanoseconds(device.min_cycle_time.as_micros());
     let sync0_ns = match active {
         Some(SyncMode::DcSync0) => dc.sync0_cycle_ns,
         _ => 0,
     };
-    for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
+    for index in PARAMETER_OBJECTS {
         let Some(object) = D::object(index) else {
             continue;
         };
         set(od, object, 4, &device.sync_modes.0.to_le_bytes());
-        set(od, object, 5, &saturated_u32(min_ns).to_le_bytes());
+        set(od, object, 5, &min_ns.to_le_bytes());
         if let Some(ns) = cycle_ns {
-            set(od, object, 2, &saturated_u32(ns).to_le_bytes());
+            set(od, object, 2, &ns.to_le_bytes());
         }
         set(od, object, 0x0A, &sync0_ns.to_le_bytes());
         if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
@@ -378,9 +406,13 @@ fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
     let _ = (object.write)(od, sub, bytes);
 }
 
-/// A nanosecond count as the UNSIGNED32 of 0x1C32/0x1C33, saturated.
-fn saturated_u32(ns: u64) -> u32 {
-    u32::try_from(ns).unwrap_or(u32::MAX)
+/// A count of microseconds in nanoseconds, as the UNSIGNED32 of 0x1C32/0x1C33: saturated (at
+/// 4 294 967 µs and above), in 32-bit arithmetic.
+fn nanoseconds(micros: u64) -> u32 {
+    u32::try_from(micros)
+        .ok()
+        .and_then(|us| us.checked_mul(1_000))
+        .unwrap_or(u32::MAX)
 }
 
 /// What the MainDevice wrote into 0x1C32 over SDO since the SubDevice entered PREOP from INIT:
@@ -453,7 +485,7 @@ pub(crate) fn requested<D: ObjectDictionary>(
     device: &DeviceConfig,
     chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
-    let Some(object) = D::object(OUTPUT_PARAMETERS) else {
+    let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) else {
         let sm = device.sync_modes.supports(SyncMode::SmSynchronous);
         let mode = if sm {
             SyncMode::SmSynchronous
@@ -534,7 +566,7 @@ pub struct CycleMonitor {
 /// The diagnostic entries the monitor keeps.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Diagnostics {
-    measured_ns: Option<u64>,
+    measured_ns: Option<u32>,
     missed: u16,
     overruns: u16,
     error: bool,
@@ -575,9 +607,7 @@ impl CycleMonitor {
         self.last = Some(report.now);
         let missed = report.expects_outputs && !report.new_outputs;
         let overrun = match (elapsed, report.nominal) {
-            (Some(elapsed), Some(cycle)) => {
-                elapsed.saturating_mul(2) > cycle.as_micros().saturating_mul(3)
-            }
+            (Some(elapsed), Some(cycle)) => overran(elapsed, cycle.as_micros()),
             _ => false,
         };
         self.missed = self.missed.saturating_add(u16::from(missed));
@@ -585,7 +615,7 @@ impl CycleMonitor {
         let now = Diagnostics {
             measured_ns: elapsed
                 .filter(|_| report.nominal.is_none())
-                .map(|us| us.saturating_mul(1_000).min(u64::from(u32::MAX))),
+                .map(nanoseconds),
             missed: self.missed,
             overruns: self.overruns,
             error: missed || overrun || self.supervision.tripped(),
@@ -610,33 +640,37 @@ impl CycleMonitor {
     }
 }
 
+/// Whether a clocked cycle started `elapsed` µs after the previous one is late by more than half
+/// its nominal `cycle` (µs): `2 · elapsed > 3 · cycle`, as `elapsed > ⌊1.5 · cycle⌋` (no 64-bit
+/// products).
+fn overran(elapsed: u64, cycle: u64) -> bool {
+    elapsed > cycle.saturating_add(cycle / 2)
+}
+
 /// Whether `objects` has 0x1C32 or 0x1C33.
-#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
-    let mut i = 0;
-    while i < objects.len() {
-        let index = objects[i].info.index;
-        if index == OUTPUT_PARAMETERS || index == INPUT_PARAMETERS {
-            return true;
-        }
-        i += 1;
-    }
-    false
+    position(objects, OUTPUT_PARAMETERS).is_some() || position(objects, INPUT_PARAMETERS).is_some()
 }
 
 /// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).
 fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
-    for index in [OUTPUT_PARAMETERS, INPUT_PARAMETERS] {
-        let Some(object) = D::object(index) else {
-            continue;
-        };
-        if let Some(ns) = d.measured_ns {
-            set(od, object, 2, &saturated_u32(ns).to_le_bytes());
-        }
-        set(od, object, 0x0B, &d.missed.to_le_bytes());
-        set(od, object, 0x0C, &d.overruns.to_le_bytes());
-        set(od, object, 0x20, &[u8::from(d.error)]);
+    if let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) {
+        store_in(od, object, &d);
     }
+    if let Some(object) = parameters::<D>(INPUT_PARAMETERS) {
+        store_in(od, object, &d);
+    }
+}
+
+/// [`store`] into one parameter object.
+#[inline(never)]
+fn store_in<D>(od: &mut D, object: &Object<D>, d: &Diagnostics) {
+    if let Some(ns) = d.measured_ns {
+        set(od, object, 2, &ns.to_le_bytes());
+    }
+    set(od, object, 0x0B, &d.missed.to_le_bytes());
+    set(od, object, 0x0C, &d.overruns.to_le_bytes());
+    set(od, object, 0x20, &[u8::from(d.error)]);
 }
 
 #[cfg(test)]
@@ -663,6 +697,34 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A cycle overran exactly when it started more than 1.5 nominal cycles after the previous
+    /// one (`2 · elapsed > 3 · cycle`), odd cycles included.
+    #[test]
+    fn a_cycle_overruns_past_one_and_a_half_cycles() {
+        for cycle in 0..300u64 {
+            for elapsed in 0..600u64 {
+                assert_eq!(
+                    overran(elapsed, cycle),
+                    2 * elapsed > 3 * cycle,
+                    "{elapsed} µs after a {cycle} µs cycle"
+                );
+            }
+        }
+        assert!(!overran(u64::MAX, u64::MAX));
+        assert!(overran(u64::MAX, u64::MAX / 2));
+    }
+
+    /// Microseconds become the UNSIGNED32 nanoseconds of 0x1C32/0x1C33, saturated.
+    #[test]
+    fn nanoseconds_saturate_at_u32_max() {
+        assert_eq!(nanoseconds(0), 0);
+        assert_eq!(nanoseconds(1_000), 1_000_000);
+        assert_eq!(nanoseconds(4_294_967), 4_294_967_000);
+        assert_eq!(nanoseconds(4_294_968), u32::MAX);
+        assert_eq!(nanoseconds(1 << 32), u32::MAX);
+        assert_eq!(nanoseconds(u64::MAX), u32::MAX);
     }
 
     /// A free-run cycle the local timer cannot count (under 1 µs) is refused even on a device

@@ -314,6 +314,10 @@ fn an_entry_mapped_twice() {
     // bits 0..16 word, 16..19 level, 19..35 word, 35..38 level, 38..40 padding.
     let expected = 0xBEEFu64 | 0b101 << 16 | 0xBEEF << 19 | 0b101 << 35;
     assert_eq!(image, expected.to_le_bytes()[..5]);
+    // An image too short for the repeats: the entries it holds, no part of a repeat.
+    let mut short = [0xFF; 3];
+    pack(&tx, &od, &mut short);
+    assert_eq!(short, [0xEF, 0xBE, 0b101]);
 
     let rx = Layout::of(&od, Direction::Rx).unwrap().unwrap();
     let image = (0x1234u64 | 0b001 << 16 | 0x5678 << 19 | 0b110 << 35).to_le_bytes();
@@ -849,4 +853,47 @@ fn a_complete_access_upload_of_an_assignment_carries_the_pdos_si0_counts() {
         ],
         "full: every slot"
     );
+}
+
+/// The PDO configuration indices and their directions (ETG.1000.6 §5.6.7): mappings
+/// 0x1600..=0x17FF (RxPDO) and 0x1A00..=0x1BFF (TxPDO), assignments 0x1C12/0x1C13.
+#[test]
+fn configuration_indices_name_their_direction() {
+    use Direction::{Rx, Tx};
+    let mapping = [
+        (0x15FF, None),
+        (0x1600, Some(Rx)),
+        (0x17FF, Some(Rx)),
+        (0x1800, None),
+        (0x19FF, None),
+        (0x1A00, Some(Tx)),
+        (0x1BFF, Some(Tx)),
+        (0x1C00, None),
+        (0x3600, None),
+    ];
+    for (index, direction) in mapping {
+        assert_eq!(Direction::of_mapping(index), direction, "{index:#06x}");
+        assert_eq!(Rx.is_mapping(index), direction == Some(Rx), "{index:#06x}");
+        assert_eq!(Tx.is_mapping(index), direction == Some(Tx), "{index:#06x}");
+        assert_eq!(
+            Direction::of_configuration(index),
+            direction,
+            "{index:#06x}"
+        );
+    }
+    for (index, direction) in [
+        (0x1C11, None),
+        (0x1C12, Some(Rx)),
+        (0x1C13, Some(Tx)),
+        (0x1C14, None),
+    ] {
+        assert_eq!(Direction::of_assignment(index), direction, "{index:#06x}");
+        assert_eq!(
+            Direction::of_configuration(index),
+            direction,
+            "{index:#06x}"
+        );
+    }
+    assert!(ecat_core::pdo::configures_process_data(0x1C32));
+    assert!(!ecat_core::pdo::configures_process_data(0x1C00));
 }

@@ -8,7 +8,7 @@
 //! and an unmapped one a compare; only entries that are not whole bytes at a byte boundary (BOOL,
 //! BITn, anything after them) go bit by bit.
 
-use super::layout::{BYTE_ALIGNED, Layout, UNMAPPED, bit_offset};
+use super::layout::{BYTE_ALIGNED, Layout, Repeat, UNMAPPED, bit_offset};
 use crate::dictionary::{ObjectDictionary, Value};
 
 /// Copies the image's entries into the dictionary (outputs: MainDevice → application). An entry
@@ -26,8 +26,27 @@ pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
     }
     od.pack_mapped(layout.offsets(), image);
     for repeat in layout.repeats() {
-        if let Some(bits) = get_bits(image, repeat.from, repeat.len) {
-            put_bits(image, repeat.to, repeat.len, bits);
+        copy_bits(image, repeat);
+    }
+}
+
+/// Copies a repeated entry's bits, LSB first, from its first place to the repeat's (places of
+/// one image never overlap), unless either place is not wholly inside `image`.
+fn copy_bits(image: &mut [u8], repeat: &Repeat) {
+    let (from, to, len) = (
+        usize::from(repeat.from),
+        usize::from(repeat.to),
+        usize::from(repeat.len),
+    );
+    let bits = image.len().saturating_mul(8);
+    if from + len > bits || to + len > bits {
+        return;
+    }
+    for i in 0..len.min(64) {
+        let (s, d) = (from + i, to + i);
+        let bit = image.get(s / 8).map_or(0, |b| b >> (s % 8) & 1);
+        if let Some(byte) = image.get_mut(d / 8) {
+            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
         }
     }
 }
@@ -96,6 +115,10 @@ fn get<T: Value>(image: &[u8], stored: u16) -> Option<u64> {
         (true, 32) => chunk(image, i).map(|b| u32::from_le_bytes(b).into()),
         (true, 64) => chunk(image, i).map(u64::from_le_bytes),
         _ if stored == UNMAPPED => None,
+        (_, 1) => {
+            let bit = usize::from(bit_offset(stored));
+            image.get(bit / 8).map(|b| u64::from(b >> (bit % 8) & 1))
+        }
         _ => get_bits(image, bit_offset(stored), u8::try_from(T::BIT_LEN).ok()?),
     }
 }
@@ -112,6 +135,13 @@ fn put<T: Value>(image: &mut [u8], stored: u16, bits: u64) {
         (true, 32) => set(chunk_mut(image, i), (bits as u32).to_le_bytes()),
         (true, 64) => set(chunk_mut(image, i), bits.to_le_bytes()),
         _ if stored == UNMAPPED => {}
+        (_, 1) => {
+            let bit = usize::from(bit_offset(stored));
+            if let Some(byte) = image.get_mut(bit / 8) {
+                let set = (bits & 1) as u8;
+                *byte = (*byte & !(1 << (bit % 8))) | (set << (bit % 8));
+            }
+        }
         _ => {
             if let Ok(len) = u8::try_from(T::BIT_LEN) {
                 put_bits(image, bit_offset(stored), len, bits);
@@ -144,10 +174,11 @@ fn get_bits(image: &[u8], offset: u16, len: u8) -> Option<u64> {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return None;
     }
-    Some((0..usize::from(len).min(64)).fold(0, |bits, i| {
+    // From the last bit down, each shifted in at the bottom: no shift by a variable amount.
+    Some((0..usize::from(len).min(64)).rev().fold(0, |bits, i| {
         let bit = offset + i;
         let set = image.get(bit / 8).is_some_and(|b| b >> (bit % 8) & 1 != 0);
-        bits | (u64::from(set) << i)
+        bits << 1 | u64::from(set)
     }))
 }
 
@@ -158,10 +189,12 @@ fn put_bits(image: &mut [u8], offset: u16, len: u8, bits: u64) {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return;
     }
-    for i in 0..usize::from(len).min(64) {
-        let bit = offset + i;
+    let mut rest = bits;
+    for bit in offset..offset + usize::from(len).min(64) {
+        // The lowest bit left goes next: no shift by a variable amount.
+        let set = u8::from(rest & 1 != 0);
+        rest >>= 1;
         if let Some(byte) = image.get_mut(bit / 8) {
-            let set = u8::from(bits >> i & 1 != 0);
             *byte = (*byte & !(1 << (bit % 8))) | (set << (bit % 8));
         }
     }

@@ -113,10 +113,7 @@ impl<D: ObjectDictionary> Layout<D> {
             self.gaps = true;
             return Some(());
         }
-        let (info, number) = find::<D>(entry.index(), entry.sub())?;
-        if !direction.allows(info.access) || info.bit_len != entry.bit_len().into() {
-            return None;
-        }
+        let number = mappable::<D>(entry, direction)?;
         let offset = self.offsets.as_mut().get_mut(number)?;
         let first = core::mem::replace(offset, stored(at));
         if direction == Direction::Tx && first != UNMAPPED {
@@ -225,15 +222,28 @@ pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
 /// The description of the PDO-mappable entry `index:sub` and its [number](number): one
 /// search at run time, where [`number`] serves the `const` code of `dictionary!`.
 fn find<D: ObjectDictionary>(index: u16, sub: u8) -> Option<(&'static EntryInfo, usize)> {
-    let i = D::OBJECTS
-        .binary_search_by_key(&index, |o| o.info.index)
-        .ok()?;
+    let i = D::INDICES.binary_search(&index).ok()?;
     let info = &D::OBJECTS.get(i)?.info;
     let first = *D::FIRST_ENTRIES.get(i)?;
     match mappable_position(info, Some(sub)) {
         Ok((position, entry)) => Some((entry, first + position)),
         Err(_) => None,
     }
+}
+
+/// The [number](number) of the entry `entry` maps, when it names a PDO-mappable entry of `D`
+/// that `direction` may map, with the entry's bit length: what a mapping entry must be, when it
+/// is written (0x06040041, [`check_mapping_entry`](super::check_mapping_entry)) and when the
+/// layout is made (0x0024/0x0025). `dictionary!` asserts that every PDO-mappable entry has a
+/// mappable type. Out of line: one copy for both.
+#[inline(never)]
+pub(crate) fn mappable<D: ObjectDictionary>(
+    entry: MappingEntry,
+    direction: Direction,
+) -> Option<usize> {
+    let (info, number) = find::<D>(entry.index(), entry.sub())?;
+    let fits = info.bit_len == u16::from(entry.bit_len());
+    (fits && direction.allows(info.access)).then_some(number)
 }
 
 /// The number of each object's first mappable entry (the count of mappable entries before it):
@@ -273,13 +283,13 @@ const fn mappable_position(
     info: &ObjectInfo,
     wanted: Option<u8>,
 ) -> Result<(usize, &EntryInfo), usize> {
+    // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
+    let count = if info.is_uniform() { info.max_sub } else { 1 };
     let mut n = 0;
     let mut j = 0;
     while j < info.entries.len() {
         let entry = &info.entries[j];
         if entry.access.rxpdo() || entry.access.txpdo() {
-            // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
-            let count = if info.is_uniform() { info.max_sub } else { 1 };
             if let Some(sub) = wanted
                 && sub >= entry.sub
                 && sub - entry.sub < count
@@ -325,7 +335,8 @@ pub(crate) fn walk<D: ObjectDictionary>(
     let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
     let assigned = pending_of(assignment);
     let pdos = assigned.map_or_else(|| assignment.count(od), |p| p.count);
-    for pdo in 1..=pdos {
+    // 1..=n as 0..n shifted: no inclusive range's exhaustion state.
+    for pdo in (0..pdos).map(|i| i + 1) {
         let index = match assigned {
             Some(p) => (p.entry)(pdo).and_then(|v| u16::try_from(v).ok()),
             None => assignment.read_u16(od, pdo),
@@ -339,7 +350,7 @@ pub(crate) fn walk<D: ObjectDictionary>(
         };
         let changed = pending_of(mapping);
         let entries = changed.map_or_else(|| mapping.count(od), |p| p.count);
-        for sub in 1..=entries {
+        for sub in (0..entries).map(|i| i + 1) {
             let value = match changed {
                 Some(p) => (p.entry)(sub),
                 None => mapping.read_u32(od, sub),

@@ -20,7 +20,7 @@ pub mod layout;
 
 use crate::abort::AbortCode;
 use crate::device::{DeviceConfig, MailboxConfig};
-use crate::dictionary::{Access, Object, ObjectCode, ObjectDictionary};
+use crate::dictionary::{Access, Object, ObjectCode, ObjectDictionary, Read, write_value};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -124,9 +124,7 @@ impl<T: Copy + Default, const N: usize> Default for Counted<T, N> {
 /// manager parameter object (0x1C32/0x1C33). A write to one makes the SubDevice recompute its
 /// process-data layout and sync type.
 pub const fn configures_process_data(index: u16) -> bool {
-    Direction::of_mapping(index).is_some()
-        || Direction::of_assignment(index).is_some()
-        || matches!(index, 0x1C32 | 0x1C33)
+    Direction::of_configuration(index).is_some() || matches!(index, 0x1C32 | 0x1C33)
 }
 
 /// Which way a PDO goes.
@@ -149,20 +147,20 @@ impl Direction {
 
     /// Whether `index` is a PDO mapping index of the direction.
     pub const fn is_mapping(self, index: u16) -> bool {
-        match self {
-            Self::Rx => index >= 0x1600 && index <= 0x17FF,
-            Self::Tx => index >= 0x1A00 && index <= 0x1BFF,
-        }
+        // 0x1600..=0x17FF and 0x1A00..=0x1BFF: 512 indices each, from a multiple of 512.
+        index & !0x01FF
+            == match self {
+                Self::Rx => 0x1600,
+                Self::Tx => 0x1A00,
+            }
     }
 
     /// The direction of mapping object `index`.
     pub const fn of_mapping(index: u16) -> Option<Self> {
-        if Self::Rx.is_mapping(index) {
-            Some(Self::Rx)
-        } else if Self::Tx.is_mapping(index) {
-            Some(Self::Tx)
-        } else {
-            None
+        match index & !0x01FF {
+            0x1600 => Some(Self::Rx),
+            0x1A00 => Some(Self::Tx),
+            _ => None,
         }
     }
 
@@ -172,6 +170,15 @@ impl Direction {
             0x1C12 => Some(Self::Rx),
             0x1C13 => Some(Self::Tx),
             _ => None,
+        }
+    }
+
+    /// The direction of PDO configuration object `index`: a mapping or an assignment.
+    #[inline]
+    pub const fn of_configuration(index: u16) -> Option<Self> {
+        match Self::of_mapping(index) {
+            Some(direction) => Some(direction),
+            None => Self::of_assignment(index),
         }
     }
 
@@ -205,8 +212,7 @@ pub const fn configuration_preop_only<D>(objects: &[Object<D>]) -> bool {
     let mut i = 0;
     while i < objects.len() {
         let index = objects[i].info.index;
-        let configures =
-            Direction::of_mapping(index).is_some() || Direction::of_assignment(index).is_some();
+        let configures = Direction::of_configuration(index).is_some();
         let entries = objects[i].info.entries;
         let mut j = 0;
         while configures && j < entries.len() {
@@ -231,15 +237,9 @@ pub(crate) fn check_mapping_entry<D: ObjectDictionary>(
     if entry.index() == 0 {
         return Ok(());
     }
-    let direction = Direction::of_mapping(mapping).ok_or(AbortCode::NOT_MAPPABLE)?;
-    let info = D::object(entry.index())
-        .and_then(|o| o.info.entry(entry.sub()))
-        .ok_or(AbortCode::NOT_MAPPABLE)?;
-    let fits = u16::from(entry.bit_len()) == info.bit_len;
-    if fits && direction.allows(info.access) && info.data_type.is_pdo_mappable() {
-        Ok(())
-    } else {
-        Err(AbortCode::NOT_MAPPABLE)
+    match Direction::of_mapping(mapping).and_then(|d| layout::mappable::<D>(entry, d)) {
+        Some(_) => Ok(()),
+        None => Err(AbortCode::NOT_MAPPABLE),
     }
 }
 
@@ -261,20 +261,23 @@ pub(crate) fn check_assignment_entry<D: ObjectDictionary>(
 /// (SI1..): entries written while SI0 was 0 were checked one by one, but an entry never written
 /// (0x0000) is no PDO: 0x06090030 (conformance.md "CoE SDO"). A mapping object's entries need no
 /// such check: each was checked when written, and one never written (0) is a 0-bit gap.
-#[doc(hidden)]
-pub fn check_counted_entries<D: ObjectDictionary, T: Copy + Into<u32>>(
+fn check_counted_entries<D: ObjectDictionary>(
     index: u16,
-    items: &[T],
+    items: Items<'_>,
     data: &[u8],
 ) -> Result<(), AbortCode> {
     if Direction::of_assignment(index).is_none() {
         return Ok(());
     }
-    let n = usize::from(data.first().copied().unwrap_or(0));
-    items.iter().take(n).try_for_each(|item| {
-        let pdo = u16::try_from((*item).into()).map_err(|_| AbortCode::VALUE_RANGE)?;
-        check_assignment_entry::<D>(index, pdo)
-    })
+    let n = data.first().copied().unwrap_or(0);
+    for i in 0..usize::from(n) {
+        let Some((value, _)) = items.get(i) else {
+            break;
+        };
+        let pdo = u16::try_from(value).map_err(|_| AbortCode::VALUE_RANGE)?;
+        check_assignment_entry::<D>(index, pdo)?;
+    }
+    Ok(())
 }
 
 /// Checks an entry written into PDO configuration object `index` against the dictionary.
@@ -289,52 +292,156 @@ pub(crate) fn check_entry<D: ObjectDictionary>(index: u16, data: &[u8]) -> Resul
     }
 }
 
-/// Reads SI `sub` of a PDO mapping or assignment object (`count` = SI0, `items` = SI1..):
-/// one copy per item type for every such object of every dictionary (the code `dictionary!`
-/// generates per object is a call).
-#[doc(hidden)]
-pub fn read_counted<T: crate::dictionary::Value>(
+impl<const N: usize> Counted<u32, N> {
+    /// Reads SI `sub` of a PDO mapping object: a call in the code `dictionary!` generates.
+    #[doc(hidden)]
+    #[inline]
+    pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
+        read_counted(self.count, Items::U32(&self.items), sub, offset, out)
+    }
+
+    /// Writes `data` into SI `sub` of PDO mapping object `index` after the PDO configuration
+    /// rules: a call in the code `dictionary!` generates.
+    #[doc(hidden)]
+    #[inline]
+    pub fn write<D: ObjectDictionary>(
+        &mut self,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), AbortCode> {
+        write_counted::<D>(
+            index,
+            &mut self.count,
+            Slots::U32(&mut self.items),
+            sub,
+            data,
+        )
+    }
+}
+
+impl<const N: usize> Counted<u16, N> {
+    /// Reads SI `sub` of a PDO assignment object: a call in the code `dictionary!` generates.
+    #[doc(hidden)]
+    #[inline]
+    pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
+        read_counted(self.count, Items::U16(&self.items), sub, offset, out)
+    }
+
+    /// Writes `data` into SI `sub` of PDO assignment object `index` after the PDO configuration
+    /// rules: a call in the code `dictionary!` generates.
+    #[doc(hidden)]
+    #[inline]
+    pub fn write<D: ObjectDictionary>(
+        &mut self,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), AbortCode> {
+        write_counted::<D>(
+            index,
+            &mut self.count,
+            Slots::U16(&mut self.items),
+            sub,
+            data,
+        )
+    }
+}
+
+/// The entries SI1.. of a [`Counted`] value by their width: UNSIGNED32 mapping entries or
+/// UNSIGNED16 assigned PDOs. One read and one write serve both.
+#[derive(Clone, Copy)]
+enum Items<'a> {
+    U16(&'a [u16]),
+    U32(&'a [u32]),
+}
+
+impl Items<'_> {
+    /// How many entries there are (the capacity).
+    fn len(self) -> usize {
+        match self {
+            Self::U16(items) => items.len(),
+            Self::U32(items) => items.len(),
+        }
+    }
+
+    /// Entry `i` (SI `i + 1`) and its encoded size in bytes.
+    fn get(self, i: usize) -> Option<(u32, usize)> {
+        match self {
+            Self::U16(items) => items.get(i).map(|&v| (u32::from(v), 2)),
+            Self::U32(items) => items.get(i).map(|&v| (v, 4)),
+        }
+    }
+}
+
+/// [`Items`] to write into.
+enum Slots<'a> {
+    U16(&'a mut [u16]),
+    U32(&'a mut [u32]),
+}
+
+impl Slots<'_> {
+    fn items(&self) -> Items<'_> {
+        match self {
+            Self::U16(items) => Items::U16(items),
+            Self::U32(items) => Items::U32(items),
+        }
+    }
+
+    /// Decodes `data` into entry `i` (exactly the entry's width, as any UNSIGNED16/32 entry).
+    fn set(&mut self, i: usize, data: &[u8]) -> Result<(), AbortCode> {
+        let slot = match self {
+            Self::U16(items) => items
+                .get_mut(i)
+                .map(|slot| write_value(slot, data, None, None)),
+            Self::U32(items) => items
+                .get_mut(i)
+                .map(|slot| write_value(slot, data, None, None)),
+        };
+        slot.unwrap_or(Err(AbortCode::NO_SUBINDEX))
+    }
+}
+
+/// Reads SI `sub` of a PDO mapping or assignment object (`count` = SI0, `items` = SI1..): one
+/// function for both widths and every dictionary.
+fn read_counted(
     count: u8,
-    items: &[T],
+    items: Items<'_>,
     sub: u8,
     offset: usize,
     out: &mut [u8],
-) -> Result<crate::dictionary::Read, AbortCode> {
-    match sub.checked_sub(1) {
-        None => Ok(crate::dictionary::read_value(&count, offset, out)),
-        Some(n) => items
-            .get(usize::from(n))
-            .map(|v| crate::dictionary::read_value(v, offset, out))
-            .ok_or(AbortCode::NO_SUBINDEX),
-    }
+) -> Result<Read, AbortCode> {
+    let (value, size) = match sub.checked_sub(1) {
+        None => (u32::from(count), 1),
+        Some(n) => items.get(usize::from(n)).ok_or(AbortCode::NO_SUBINDEX)?,
+    };
+    let bytes = value.to_le_bytes();
+    let bytes = bytes.get(..size).unwrap_or_default();
+    Ok(Read {
+        copied: crate::bytes::copy(out, bytes.get(offset..).unwrap_or_default()),
+        size,
+    })
 }
 
 /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
 /// configuration rules ([`check_counted_write`], [`check_counted_entries`], [`check_entry`]):
-/// one copy per dictionary and item type, a call in the code `dictionary!` generates.
-#[doc(hidden)]
-pub fn write_counted<D: ObjectDictionary, T>(
+/// one copy per dictionary for both widths.
+fn write_counted<D: ObjectDictionary>(
     index: u16,
     count: &mut u8,
-    items: &mut [T],
+    mut items: Slots<'_>,
     sub: u8,
     data: &[u8],
-) -> Result<(), AbortCode>
-where
-    T: crate::dictionary::Value + PartialOrd + Copy + Into<u32>,
-{
-    check_counted_write(*count, items.len(), sub, data)?;
+) -> Result<(), AbortCode> {
+    check_counted_write(*count, items.items().len(), sub, data)?;
     match sub.checked_sub(1) {
         None => {
-            check_counted_entries::<D, T>(index, items, data)?;
-            crate::dictionary::write_value(count, data, None, None)
+            check_counted_entries::<D>(index, items.items(), data)?;
+            write_value(count, data, None, None)
         }
         Some(n) => {
             check_entry::<D>(index, data)?;
-            match items.get_mut(usize::from(n)) {
-                Some(slot) => crate::dictionary::write_value(slot, data, None, None),
-                None => Err(AbortCode::NO_SUBINDEX),
-            }
+            items.set(usize::from(n), data)
         }
     }
 }
@@ -402,12 +509,8 @@ pub(crate) fn check_length<D: ObjectDictionary>(
     count: u8,
     entry: &dyn Fn(u8) -> Option<u32>,
 ) -> Result<(), AbortCode> {
-    let direction = match (
-        Direction::of_mapping(index),
-        Direction::of_assignment(index),
-    ) {
-        (Some(d), _) | (_, Some(d)) => d,
-        _ => return Ok(()),
+    let Some(direction) = Direction::of_configuration(index) else {
+        return Ok(());
     };
     let pending = layout::Pending {
         index,
