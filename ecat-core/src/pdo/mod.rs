@@ -17,10 +17,12 @@
 
 pub mod image;
 pub mod layout;
+mod width;
 
 use crate::abort::AbortCode;
 use crate::device::{DeviceConfig, MailboxConfig};
 use crate::dictionary::{Access, Object, ObjectCode, ObjectDictionary, Read, write_value};
+use width::{Items, Slots, Width};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -292,16 +294,17 @@ pub(crate) fn check_entry<D: ObjectDictionary>(index: u16, data: &[u8]) -> Resul
     }
 }
 
-impl<const N: usize> Counted<u32, N> {
-    /// Reads SI `sub` of a PDO mapping object: a call in the code `dictionary!` generates.
+impl<T: Width, const N: usize> Counted<T, N> {
+    /// Reads SI `sub` of a PDO mapping or assignment object: a call in the code `dictionary!`
+    /// generates.
     #[doc(hidden)]
     #[inline]
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        read_counted(self.count, Items::U32(&self.items), sub, offset, out)
+        read_counted(self.count, T::items(&self.items), sub, offset, out)
     }
 
-    /// Writes `data` into SI `sub` of PDO mapping object `index` after the PDO configuration
-    /// rules: a call in the code `dictionary!` generates.
+    /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
+    /// configuration rules: a call in the code `dictionary!` generates.
     #[doc(hidden)]
     #[inline]
     pub fn write<D: ObjectDictionary>(
@@ -310,95 +313,7 @@ impl<const N: usize> Counted<u32, N> {
         sub: u8,
         data: &[u8],
     ) -> Result<(), AbortCode> {
-        write_counted::<D>(
-            index,
-            &mut self.count,
-            Slots::U32(&mut self.items),
-            sub,
-            data,
-        )
-    }
-}
-
-impl<const N: usize> Counted<u16, N> {
-    /// Reads SI `sub` of a PDO assignment object: a call in the code `dictionary!` generates.
-    #[doc(hidden)]
-    #[inline]
-    pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        read_counted(self.count, Items::U16(&self.items), sub, offset, out)
-    }
-
-    /// Writes `data` into SI `sub` of PDO assignment object `index` after the PDO configuration
-    /// rules: a call in the code `dictionary!` generates.
-    #[doc(hidden)]
-    #[inline]
-    pub fn write<D: ObjectDictionary>(
-        &mut self,
-        index: u16,
-        sub: u8,
-        data: &[u8],
-    ) -> Result<(), AbortCode> {
-        write_counted::<D>(
-            index,
-            &mut self.count,
-            Slots::U16(&mut self.items),
-            sub,
-            data,
-        )
-    }
-}
-
-/// The entries SI1.. of a [`Counted`] value by their width: UNSIGNED32 mapping entries or
-/// UNSIGNED16 assigned PDOs. One read and one write serve both.
-#[derive(Clone, Copy)]
-enum Items<'a> {
-    U16(&'a [u16]),
-    U32(&'a [u32]),
-}
-
-impl Items<'_> {
-    /// How many entries there are (the capacity).
-    fn len(self) -> usize {
-        match self {
-            Self::U16(items) => items.len(),
-            Self::U32(items) => items.len(),
-        }
-    }
-
-    /// Entry `i` (SI `i + 1`) and its encoded size in bytes.
-    fn get(self, i: usize) -> Option<(u32, usize)> {
-        match self {
-            Self::U16(items) => items.get(i).map(|&v| (u32::from(v), 2)),
-            Self::U32(items) => items.get(i).map(|&v| (v, 4)),
-        }
-    }
-}
-
-/// [`Items`] to write into.
-enum Slots<'a> {
-    U16(&'a mut [u16]),
-    U32(&'a mut [u32]),
-}
-
-impl Slots<'_> {
-    fn items(&self) -> Items<'_> {
-        match self {
-            Self::U16(items) => Items::U16(items),
-            Self::U32(items) => Items::U32(items),
-        }
-    }
-
-    /// Decodes `data` into entry `i` (exactly the entry's width, as any UNSIGNED16/32 entry).
-    fn set(&mut self, i: usize, data: &[u8]) -> Result<(), AbortCode> {
-        let slot = match self {
-            Self::U16(items) => items
-                .get_mut(i)
-                .map(|slot| write_value(slot, data, None, None)),
-            Self::U32(items) => items
-                .get_mut(i)
-                .map(|slot| write_value(slot, data, None, None)),
-        };
-        slot.unwrap_or(Err(AbortCode::NO_SUBINDEX))
+        write_counted::<D>(index, &mut self.count, T::slots(&mut self.items), sub, data)
     }
 }
 
