@@ -212,16 +212,20 @@ pub fn identity_limit(identity: &Identity, sub: u8, which: Limit, out: &mut [u8]
     }
 }
 
-/// Reads 0x1C00.
+/// 0x1C00's values by subindex: SI0 (the number of SyncManagers), then SM0..SM3's types.
+const SM_TYPE_VALUES: [u8; 5] = {
+    let [sm0, sm1, sm2, sm3] = sync_manager::STANDARD_KINDS;
+    [SM_TYPES.max_sub, sm0, sm1, sm2, sm3]
+};
+
+/// Reads 0x1C00: every entry one byte of [`SM_TYPE_VALUES`], a constant's copy.
 #[doc(hidden)]
 pub fn read_sm_types(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-    match sub {
-        0 => Ok(read_value(&SM_TYPES.max_sub, offset, out)),
-        n => sync_manager::STANDARD_KINDS
-            .get(usize::from(n) - 1)
-            .map(|t| read_value(t, offset, out))
-            .ok_or(AbortCode::NO_SUBINDEX),
-    }
+    let at = usize::from(sub);
+    SM_TYPE_VALUES
+        .get(at..=at)
+        .map(|value| copy(value, offset, out))
+        .ok_or(AbortCode::NO_SUBINDEX)
 }
 
 /// The declared defaults of 0x1C00: each SyncManager's type.
