@@ -151,7 +151,8 @@ fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
     Read { copied, size }
 }
 
-/// Reads a constant VAR: `bytes` at subindex 0.
+/// Reads a constant VAR (0x1000, 0x1008, 0x1009, 0x100A): `bytes`, its encoded value, at
+/// subindex 0.
 #[doc(hidden)]
 pub fn read_constant(
     bytes: &[u8],
@@ -165,18 +166,11 @@ pub fn read_constant(
     }
 }
 
-/// Reads the constant UNSIGNED32 VAR 0x1000.
+/// The declared default of a constant VAR: its value. `bytes` last, after the arguments of
+/// [`Object::limit`](super::Object::limit) in their order: the code `dictionary!` generates
+/// per object adds it without moving the others.
 #[doc(hidden)]
-pub fn read_u32(value: u32, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-    match sub {
-        0 => Ok(read_value(&value, offset, out)),
-        _ => Err(AbortCode::NO_SUBINDEX),
-    }
-}
-
-/// The declared default of a constant VAR: its value.
-#[doc(hidden)]
-pub fn constant_limit(bytes: &[u8], sub: u8, which: Limit, out: &mut [u8]) -> usize {
+pub fn constant_limit(sub: u8, which: Limit, out: &mut [u8], bytes: &[u8]) -> usize {
     match (sub, which) {
         (0, Limit::Default) => copy(bytes, 0, out).copied,
         _ => 0,
