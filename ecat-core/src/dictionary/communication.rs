@@ -143,12 +143,12 @@ pub const SM_TYPES: ObjectInfo = ObjectInfo {
 
 // --- the shared code ---------------------------------------------------------------------------
 
-/// Copies `bytes` from `offset` into `out`.
+/// Copies `bytes` from `offset` into `out`: the copy every value's read makes.
 fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
-    let size = bytes.len();
-    let rest = bytes.get(offset..).unwrap_or_default();
-    let copied = crate::bytes::copy(out, rest);
-    Read { copied, size }
+    Read {
+        copied: super::value::copy_from(bytes, offset, out),
+        size: bytes.len(),
+    }
 }
 
 /// Reads a constant VAR (0x1000, 0x1008, 0x1009, 0x100A): `bytes`, its encoded value, at
