@@ -327,15 +327,20 @@ macro_rules! __ecat_communication {
             $crate::dictionary::Object::<$dict> {
                 info: $crate::dictionary::communication::DEVICE_TYPE,
                 read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                    $crate::dictionary::communication::read_u32($info.device_type, sub, offset, out)
+                    $crate::dictionary::communication::read_constant(
+                        const { &$info.device_type.to_le_bytes() },
+                        sub,
+                        offset,
+                        out,
+                    )
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
                 limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
                     $crate::dictionary::communication::constant_limit(
-                        &$info.device_type.to_le_bytes(),
                         sub,
                         which,
                         out,
+                        const { &$info.device_type.to_le_bytes() },
                     )
                 },
             },
@@ -418,7 +423,7 @@ macro_rules! __ecat_text {
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                $crate::dictionary::communication::constant_limit($text.as_bytes(), sub, which, out)
+                $crate::dictionary::communication::constant_limit(sub, which, out, $text.as_bytes())
             },
         }
     };

@@ -143,15 +143,16 @@ pub const SM_TYPES: ObjectInfo = ObjectInfo {
 
 // --- the shared code ---------------------------------------------------------------------------
 
-/// Copies `bytes` from `offset` into `out`.
+/// Copies `bytes` from `offset` into `out`: the copy every value's read makes.
 fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
-    let size = bytes.len();
-    let rest = bytes.get(offset..).unwrap_or_default();
-    let copied = crate::bytes::copy(out, rest);
-    Read { copied, size }
+    Read {
+        copied: super::value::copy_from(bytes, offset, out),
+        size: bytes.len(),
+    }
 }
 
-/// Reads a constant VAR: `bytes` at subindex 0.
+/// Reads a constant VAR (0x1000, 0x1008, 0x1009, 0x100A): `bytes`, its encoded value, at
+/// subindex 0.
 #[doc(hidden)]
 pub fn read_constant(
     bytes: &[u8],
@@ -165,18 +166,11 @@ pub fn read_constant(
     }
 }
 
-/// Reads the constant UNSIGNED32 VAR 0x1000.
+/// The declared default of a constant VAR: its value. `bytes` last, after the arguments of
+/// [`Object::limit`](super::Object::limit) in their order: the code `dictionary!` generates
+/// per object adds it without moving the others.
 #[doc(hidden)]
-pub fn read_u32(value: u32, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-    match sub {
-        0 => Ok(read_value(&value, offset, out)),
-        _ => Err(AbortCode::NO_SUBINDEX),
-    }
-}
-
-/// The declared default of a constant VAR: its value.
-#[doc(hidden)]
-pub fn constant_limit(bytes: &[u8], sub: u8, which: Limit, out: &mut [u8]) -> usize {
+pub fn constant_limit(sub: u8, which: Limit, out: &mut [u8], bytes: &[u8]) -> usize {
     match (sub, which) {
         (0, Limit::Default) => copy(bytes, 0, out).copied,
         _ => 0,
@@ -212,16 +206,20 @@ pub fn identity_limit(identity: &Identity, sub: u8, which: Limit, out: &mut [u8]
     }
 }
 
-/// Reads 0x1C00.
+/// 0x1C00's values by subindex: SI0 (the number of SyncManagers), then SM0..SM3's types.
+const SM_TYPE_VALUES: [u8; 5] = {
+    let [sm0, sm1, sm2, sm3] = sync_manager::STANDARD_KINDS;
+    [SM_TYPES.max_sub, sm0, sm1, sm2, sm3]
+};
+
+/// Reads 0x1C00: every entry one byte of [`SM_TYPE_VALUES`], a constant's copy.
 #[doc(hidden)]
 pub fn read_sm_types(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-    match sub {
-        0 => Ok(read_value(&SM_TYPES.max_sub, offset, out)),
-        n => sync_manager::STANDARD_KINDS
-            .get(usize::from(n) - 1)
-            .map(|t| read_value(t, offset, out))
-            .ok_or(AbortCode::NO_SUBINDEX),
-    }
+    let at = usize::from(sub);
+    SM_TYPE_VALUES
+        .get(at..=at)
+        .map(|value| copy(value, offset, out))
+        .ok_or(AbortCode::NO_SUBINDEX)
 }
 
 /// The declared defaults of 0x1C00: each SyncManager's type.

@@ -383,8 +383,11 @@ pub fn read_var<T: Value>(
     }
 }
 
-/// Writes `data` into a VAR (SI0 only) after the range check; one copy per type.
+/// Writes `data` into a VAR (SI0 only) after the range check; one copy per type, never
+/// inlined: the code `dictionary!` generates per VAR stays a call, where an inlined decode
+/// and range check cost 40 B and more per object.
 #[doc(hidden)]
+#[inline(never)]
 pub fn write_var<T: Value + PartialOrd>(
     slot: &mut T,
     sub: u8,

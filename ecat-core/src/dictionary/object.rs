@@ -120,23 +120,23 @@ impl ObjectInfo {
         sub > 0 && (self.is_uniform() || (last < self.max_sub && sub >= last))
     }
 
-    /// The description of subindex `sub`, `None` if it does not exist.
+    /// The description of subindex `sub`, `None` if it does not exist: an entry of a uniform
+    /// object shares the second description; otherwise the entry declared for `sub`, and a
+    /// RECORD's entries beyond the last declared repeat it (0x10F3's messages). A walk, not a
+    /// search: the tables are short, and the SDO server finds most entries at their position
+    /// first ([`ObjectInfo::dense_entry`]).
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
-        if let Some(entry) = self.dense_entry(sub) {
-            return Some(entry);
-        }
         if sub > self.max_sub {
             return None;
         }
-        if self.is_uniform() {
+        if sub > 0 && self.is_uniform() {
             return self.entries.get(1);
         }
-        // A RECORD's entries beyond the last declared repeat it (0x10F3's messages).
-        match self.entries.binary_search_by_key(&sub, |e| e.sub) {
-            Ok(i) => self.entries.get(i),
-            Err(i) if i == self.entries.len() => self.entries.last(),
-            Err(_) => None,
+        let last = self.entries.last()?;
+        if sub >= last.sub {
+            return Some(last);
         }
+        self.entries.iter().find(|e| e.sub == sub)
     }
 
     /// The description of subindex `sub` where a dense object keeps it, at position `sub`: SI0,

@@ -39,7 +39,7 @@ pub trait Value: Sized {
 
 /// Copies `bytes[offset..]` into `out` as far as both go.
 #[inline]
-fn copy_from(bytes: &[u8], offset: usize, out: &mut [u8]) -> usize {
+pub(super) fn copy_from(bytes: &[u8], offset: usize, out: &mut [u8]) -> usize {
     // The whole value (an SDO upload): a copy of the value's own length, which a fixed-size
     // value turns into a plain store.
     if offset == 0
