@@ -102,7 +102,7 @@ impl Written {
             (2, false),
             (3, false),
         ];
-        ORDER.into_iter().find_map(|(n, deactivation)| {
+        ORDER.iter().find_map(|&(n, deactivation)| {
             let i = usize::from(n);
             let (d, w) = (*desired.get(i)?, *self.pdi_control.get(i)?);
             let counts = !deactivation || d & Channel::PDI_DEACTIVATE != 0;
