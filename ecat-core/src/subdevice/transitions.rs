@@ -66,15 +66,13 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         result: Result<(), AlStatusCode>,
     ) {
         self.pending = None;
-        let verified = result
-            .map_err(|code| match code {
-                AlStatusCode::NO_ERROR => (AlStatusCode::UNSPECIFIED_ERROR, transition.from),
-                code => (code, transition.from),
-            })
-            .and_then(|()| self.verify(transition.to));
-        match verified {
-            Ok(()) => self.change_state(transition),
-            Err((code, fallback)) => self.fail(code, fallback),
+        match result {
+            Ok(()) if self.check(transition.to) => self.change_state(transition),
+            Ok(()) => {}
+            Err(AlStatusCode::NO_ERROR) => {
+                self.fail(AlStatusCode::UNSPECIFIED_ERROR, transition.from);
+            }
+            Err(code) => self.fail(code, transition.from),
         }
     }
 
@@ -108,8 +106,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     fn begin_upward(&mut self, now: Instant, t: Transition) {
-        if let Err((code, fallback)) = self.verify(t.to) {
-            self.fail(code, fallback);
+        if !self.check(t.to) {
             return;
         }
         let deadline = now.saturating_add(self.config.transition_timeout);
@@ -126,6 +123,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             },
         });
         self.events.push(Event::TransitionRequested(t));
+    }
+
+    /// [`SubDevice::verify`], failing with its code and fallback state when the configuration is
+    /// not valid for `state`: whether it is.
+    fn check(&mut self, state: AlState) -> bool {
+        let verdict = self.verify(state);
+        if let Err((code, fallback)) = verdict {
+            self.fail(code, fallback);
+        }
+        verdict.is_ok()
     }
 
     /// Checks the SyncManagers a SubDevice in `state` relies on. On failure: the code, and the
@@ -164,9 +171,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !core::mem::take(&mut self.due.sm_check) {
             return;
         }
-        if let Err((code, fallback)) = self.verify(self.state) {
-            self.fail(code, fallback);
-        }
+        self.check(self.state);
     }
 
     /// Sets the error indication with `code` and falls back to `state` when it is lower. The
