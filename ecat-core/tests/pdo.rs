@@ -206,8 +206,10 @@ fn rx_layout_is_the_outputs_layout_without_repeat_room() {
         core::mem::size_of::<RxLayout<Od>>() + 8 * core::mem::size_of::<Repeat>()
             <= core::mem::size_of::<Layout<Od>>()
     );
-    let mut big = Big::default();
-    big.rx_assign = PdoAssignment::assignment(&[0x1600, 0x1601]);
+    let big = Big {
+        rx_assign: PdoAssignment::assignment(&[0x1600, 0x1601]),
+        ..Big::default()
+    };
     assert!(matches!(
         RxLayout::outputs(&big),
         Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
