@@ -66,13 +66,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         result: Result<(), AlStatusCode>,
     ) {
         self.pending = None;
-        match result {
-            Ok(()) if self.check(transition.to) => self.change_state(transition),
-            Ok(()) => {}
-            Err(AlStatusCode::NO_ERROR) => {
-                self.fail(AlStatusCode::UNSPECIFIED_ERROR, transition.from);
-            }
-            Err(code) => self.fail(code, transition.from),
+        let verified = result
+            .map_err(|code| match code {
+                AlStatusCode::NO_ERROR => (AlStatusCode::UNSPECIFIED_ERROR, transition.from),
+                code => (code, transition.from),
+            })
+            .and_then(|()| self.verify(transition.to));
+        match verified {
+            Ok(()) => self.change_state(transition),
+            Err((code, fallback)) => self.fail(code, fallback),
         }
     }
 
@@ -106,7 +108,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     fn begin_upward(&mut self, now: Instant, t: Transition) {
-        if !self.check(t.to) {
+        if let Err((code, fallback)) = self.verify(t.to) {
+            self.fail(code, fallback);
             return;
         }
         let deadline = now.saturating_add(self.config.transition_timeout);
@@ -123,16 +126,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             },
         });
         self.events.push(Event::TransitionRequested(t));
-    }
-
-    /// [`SubDevice::verify`], failing with its code and fallback state when the configuration is
-    /// not valid for `state`: whether it is.
-    fn check(&mut self, state: AlState) -> bool {
-        let verdict = self.verify(state);
-        if let Err((code, fallback)) = verdict {
-            self.fail(code, fallback);
-        }
-        verdict.is_ok()
     }
 
     /// Checks the SyncManagers a SubDevice in `state` relies on. On failure: the code, and the
@@ -171,7 +164,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !core::mem::take(&mut self.due.sm_check) {
             return;
         }
-        self.check(self.state);
+        if let Err((code, fallback)) = self.verify(self.state) {
+            self.fail(code, fallback);
+        }
     }
 
     /// Sets the error indication with `code` and falls back to `state` when it is lower. The
