@@ -308,7 +308,10 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         }
         self.images = self.app.lock(|_, od| {
             Some(Images {
-                outputs: RxLayout::outputs(&*od).ok().flatten(),
+                outputs: PdoLayout::of(&*od, Direction::Rx)
+                    .ok()
+                    .flatten()
+                    .map(PdoLayout::into_outputs),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });
