@@ -192,16 +192,13 @@ fn cia402_like_layout_is_11_bytes_each_way() {
 }
 
 /// The outputs' layout the process-data side keeps has no room for repeats and the same image
-/// as `Layout::of`: offsets, size, gaps.
+/// as `Layout::of`: offsets, size, gaps; an unusable mapping is refused the same way.
 #[test]
-fn into_outputs_keeps_the_image_without_repeat_room() {
+fn rx_layout_is_the_outputs_layout_without_repeat_room() {
     use ecat_core::pdo::layout::{Repeat, RxLayout};
     let od = Od::default();
     let full = Layout::of(&od, Direction::Rx).unwrap().unwrap();
-    let rx: RxLayout<Od> = Layout::of(&od, Direction::Rx)
-        .unwrap()
-        .unwrap()
-        .into_outputs();
+    let rx = RxLayout::outputs(&od).unwrap().unwrap();
     assert_eq!(rx.offsets(), full.offsets());
     assert_eq!((rx.bits(), rx.bytes(), rx.has_gaps()), (88, 11, false));
     assert!(rx.repeats().is_empty());
@@ -209,6 +206,14 @@ fn into_outputs_keeps_the_image_without_repeat_room() {
         core::mem::size_of::<RxLayout<Od>>() + 8 * core::mem::size_of::<Repeat>()
             <= core::mem::size_of::<Layout<Od>>()
     );
+    let big = Big {
+        rx_assign: PdoAssignment::assignment(&[0x1600, 0x1601]),
+        ..Big::default()
+    };
+    assert!(matches!(
+        RxLayout::outputs(&big),
+        Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
+    ));
 }
 
 /// The layout's offsets are indexed by entry number: every RxPDO- or TxPDO-mappable entry in

@@ -308,10 +308,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         }
         self.images = self.app.lock(|_, od| {
             Some(Images {
-                outputs: PdoLayout::of(&*od, Direction::Rx)
-                    .ok()
-                    .flatten()
-                    .map(PdoLayout::into_outputs),
+                outputs: RxLayout::outputs(&*od).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });

@@ -77,20 +77,21 @@ pub struct Layout<D: ObjectDictionary, R: Length = <D as ObjectDictionary>::Repe
 
 /// The layout of the outputs (RxPDOs) as the process-data side keeps it: an RxPDO entry mapped
 /// twice takes its value from its last place, so it carries no room for repeats
-/// ([`Layout::into_outputs`]).
+/// ([`Layout::outputs`]).
 pub type RxLayout<D> = Layout<D, Len<0>>;
 
-impl<D: ObjectDictionary> Layout<D> {
-    /// The layout moved into one without room for repeats: an outputs' layout
-    /// ([`Layout::of`] with `Direction::Rx`) as the process-data side keeps it.
-    pub fn into_outputs(self) -> RxLayout<D> {
-        Layout {
-            offsets: self.offsets,
-            bits: self.bits,
-            gaps: self.gaps,
+impl<D: ObjectDictionary> RxLayout<D> {
+    /// [`Layout::of`] the outputs (`Direction::Rx`), moved into a layout without room for
+    /// repeats: one copy of [`Layout::of`]'s code serves both directions.
+    pub fn outputs(od: &D) -> Result<Option<Self>, AlStatusCode> {
+        let layout = Layout::of(od, Direction::Rx)?;
+        Ok(layout.map(|l| Self {
+            offsets: l.offsets,
+            bits: l.bits,
+            gaps: l.gaps,
             repeats: [],
             repeat_count: 0,
-        }
+        }))
     }
 }
 
