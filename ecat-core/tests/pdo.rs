@@ -191,6 +191,31 @@ fn cia402_like_layout_is_11_bytes_each_way() {
     assert!(!rx.has_gaps() && rx.repeats().is_empty());
 }
 
+/// The outputs' layout the process-data side keeps has no room for repeats and the same image
+/// as `Layout::of`: offsets, size, gaps; an unusable mapping is refused the same way.
+#[test]
+fn rx_layout_is_the_outputs_layout_without_repeat_room() {
+    use ecat_core::pdo::layout::{Repeat, RxLayout};
+    let od = Od::default();
+    let full = Layout::of(&od, Direction::Rx).unwrap().unwrap();
+    let rx = RxLayout::outputs(&od).unwrap().unwrap();
+    assert_eq!(rx.offsets(), full.offsets());
+    assert_eq!((rx.bits(), rx.bytes(), rx.has_gaps()), (88, 11, false));
+    assert!(rx.repeats().is_empty());
+    assert!(
+        core::mem::size_of::<RxLayout<Od>>() + 8 * core::mem::size_of::<Repeat>()
+            <= core::mem::size_of::<Layout<Od>>()
+    );
+    let big = Big {
+        rx_assign: PdoAssignment::assignment(&[0x1600, 0x1601]),
+        ..Big::default()
+    };
+    assert!(matches!(
+        RxLayout::outputs(&big),
+        Err(AlStatusCode::INVALID_OUTPUT_MAPPING)
+    ));
+}
+
 /// The layout's offsets are indexed by entry number: every RxPDO- or TxPDO-mappable entry in
 /// index order, a RECORD's by subindex, an ARRAY's element by element; others have none.
 #[test]

@@ -8,7 +8,7 @@ use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
-use ecat_core::pdo::layout::Layout as PdoLayout;
+use ecat_core::pdo::layout::{Layout as PdoLayout, RxLayout};
 use ecat_core::process_data::{Clock, Setup};
 use ecat_core::register::AL_EVENT_REQUEST;
 use ecat_core::sync_parameters::{CycleMonitor, CycleReport};
@@ -248,7 +248,7 @@ enum Then {
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
 struct Images<D: ObjectDictionary> {
-    outputs: Option<PdoLayout<D>>,
+    outputs: Option<RxLayout<D>>,
     inputs: Option<PdoLayout<D>>,
 }
 
@@ -308,7 +308,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         }
         self.images = self.app.lock(|_, od| {
             Some(Images {
-                outputs: PdoLayout::of(&*od, Direction::Rx).ok().flatten(),
+                outputs: RxLayout::outputs(&*od).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });

@@ -9,11 +9,11 @@
 //! BITn, anything after them) go bit by bit.
 
 use super::layout::{BYTE_ALIGNED, Layout, Repeat, UNMAPPED, bit_offset};
-use crate::dictionary::{ObjectDictionary, Value};
+use crate::dictionary::{Length, ObjectDictionary, Value};
 
 /// Copies the image's entries into the dictionary (outputs: MainDevice → application). An entry
 /// not wholly inside `image` is left as it is.
-pub fn unpack<D: ObjectDictionary>(layout: &Layout<D>, image: &[u8], od: &mut D) {
+pub fn unpack<D: ObjectDictionary, R: Length>(layout: &Layout<D, R>, image: &[u8], od: &mut D) {
     od.unpack_mapped(layout.offsets(), image);
 }
 

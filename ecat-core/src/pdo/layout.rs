@@ -11,7 +11,9 @@
 
 use super::{Direction, MappingEntry};
 use crate::AlStatusCode;
-use crate::dictionary::{EntryInfo, Length, Object, ObjectDictionary, ObjectInfo, PerMappable};
+use crate::dictionary::{
+    EntryInfo, Len, Length, Object, ObjectDictionary, ObjectInfo, PerMappable,
+};
 
 /// The offset of an entry the configuration does not map.
 pub(crate) const UNMAPPED: u16 = u16::MAX;
@@ -62,13 +64,35 @@ pub const fn repeat_room(mappable: usize) -> usize {
     if mappable == 0 { 0 } else { MAX_REPEATS }
 }
 
-/// One direction's image: the offset of every mappable entry and the image size.
-pub struct Layout<D: ObjectDictionary> {
+/// One direction's image: the offset of every mappable entry and the image size, with room `R`
+/// for the entries a TxPDO configuration maps again ([`ObjectDictionary::Repeatable`]; none in
+/// an [`RxLayout`]).
+pub struct Layout<D: ObjectDictionary, R: Length = <D as ObjectDictionary>::Repeatable> {
     offsets: PerMappable<D, u16>,
     bits: u16,
     gaps: bool,
-    repeats: <D::Repeatable as Length>::Array<Repeat>,
+    repeats: R::Array<Repeat>,
     repeat_count: u8,
+}
+
+/// The layout of the outputs (RxPDOs) as the process-data side keeps it: an RxPDO entry mapped
+/// twice takes its value from its last place, so it carries no room for repeats
+/// ([`Layout::outputs`]).
+pub type RxLayout<D> = Layout<D, Len<0>>;
+
+impl<D: ObjectDictionary> RxLayout<D> {
+    /// [`Layout::of`] the outputs (`Direction::Rx`), moved into a layout without room for
+    /// repeats: one copy of [`Layout::of`]'s code serves both directions.
+    pub fn outputs(od: &D) -> Result<Option<Self>, AlStatusCode> {
+        let layout = Layout::of(od, Direction::Rx)?;
+        Ok(layout.map(|l| Self {
+            offsets: l.offsets,
+            bits: l.bits,
+            gaps: l.gaps,
+            repeats: [],
+            repeat_count: 0,
+        }))
+    }
 }
 
 impl<D: ObjectDictionary> Layout<D> {
@@ -132,7 +156,9 @@ impl<D: ObjectDictionary> Layout<D> {
         self.repeat_count += 1;
         Some(())
     }
+}
 
+impl<D: ObjectDictionary, R: Length> Layout<D, R> {
     /// The image size in bits.
     pub fn bits(&self) -> u32 {
         self.bits.into()

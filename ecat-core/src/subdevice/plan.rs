@@ -208,7 +208,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let status = self.al_status();
         if self.written.status_code != u32::from(code) {
             Some(InFlight::WriteStatusCode(code))
-        } else if self.written.status != u32::from(status.bits()) {
+        } else if self.written.status != status.bits() {
             Some(InFlight::WriteStatus(status.bits()))
         } else if self.config.esc_err_led {
             let led = err_pattern(status.error.then_some(self.code)).override_register();
@@ -351,7 +351,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             }
             InFlight::WriteStatusCode(code) => self.written.status_code = u32::from(code),
             InFlight::WriteStatus(status) => {
-                self.written.status = u32::from(status);
+                self.written.status = status;
                 self.written.err_led = Written::UNKNOWN;
             }
             InFlight::WriteErrLed(led) => self.written.err_led = led,

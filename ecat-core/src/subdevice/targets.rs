@@ -61,7 +61,7 @@ pub(super) struct Written {
     /// AL status code; [`Written::NO_CODE`] until written.
     pub(super) status_code: u32,
     /// AL status; 0 until written (a state code is always in it).
-    pub(super) status: u32,
+    pub(super) status: u16,
     /// The ERR LED override; [`Written::UNKNOWN`] until written and after each AL status
     /// write (the ESC clears the override's enable bit on a new error condition).
     pub(super) err_led: u8,
@@ -102,7 +102,7 @@ impl Written {
             (2, false),
             (3, false),
         ];
-        ORDER.into_iter().find_map(|(n, deactivation)| {
+        ORDER.iter().find_map(|&(n, deactivation)| {
             let i = usize::from(n);
             let (d, w) = (*desired.get(i)?, *self.pdi_control.get(i)?);
             let counts = !deactivation || d & Channel::PDI_DEACTIVATE != 0;
