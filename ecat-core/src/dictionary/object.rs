@@ -124,7 +124,7 @@ impl ObjectInfo {
     /// object shares the second description; otherwise the entry declared for `sub`, and a
     /// RECORD's entries beyond the last declared repeat it (0x10F3's messages). A walk, not a
     /// search: the tables are short, and the SDO server finds most entries at their position
-    /// first ([`ObjectInfo::dense_entry`]).
+    /// first (`ObjectInfo::dense_entry`).
     pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
         if sub > self.max_sub {
             return None;
