@@ -42,12 +42,7 @@ impl SyncParameters {
                 Entry::U32(value) => (*value, 4),
             },
         };
-        let bytes = value.to_le_bytes();
-        let bytes = bytes.get(..size).unwrap_or_default();
-        Ok(Read {
-            copied: crate::bytes::copy(out, bytes.get(offset..).unwrap_or_default()),
-            size,
-        })
+        Ok(crate::dictionary::read_unsigned(value, size, offset, out))
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how

@@ -349,6 +349,17 @@ pub fn read_value<T: Value>(value: &T, offset: usize, out: &mut [u8]) -> Read {
     }
 }
 
+/// Reads the low `size` bytes (1, 2 or 4) of an UNSIGNED8/16/32 `value`, little endian, from
+/// `offset` on: the one read of the stack's records whose entries differ only in width (the PDO
+/// configuration objects, 0x1C32/0x1C33).
+pub(crate) fn read_unsigned(value: u32, size: usize, offset: usize, out: &mut [u8]) -> Read {
+    let bytes = value.to_le_bytes();
+    Read {
+        copied: value::copy_from(bytes.get(..size).unwrap_or_default(), offset, out),
+        size,
+    }
+}
+
 #[doc(hidden)]
 pub fn write_value<T: Value + PartialOrd>(
     slot: &mut T,

@@ -330,12 +330,7 @@ fn read_counted(
         None => (u32::from(count), 1),
         Some(n) => items.get(usize::from(n)).ok_or(AbortCode::NO_SUBINDEX)?,
     };
-    let bytes = value.to_le_bytes();
-    let bytes = bytes.get(..size).unwrap_or_default();
-    Ok(Read {
-        copied: crate::bytes::copy(out, bytes.get(offset..).unwrap_or_default()),
-        size,
-    })
+    Ok(crate::dictionary::read_unsigned(value, size, offset, out))
 }
 
 /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
