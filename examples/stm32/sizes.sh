@@ -7,6 +7,11 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 export CARGO_TARGET_DIR=target   # the sizes are read from here, whatever the caller set
+# Panic locations (embassy's and the "async fn resumed after completion" of ecat-embassy's
+# futures) carry source paths: remapped to fixed prefixes, the sizes do not depend on where the
+# checkout or cargo's registry lies. Cargo adds these flags to .cargo/config.toml's.
+root=$(cd ../.. && pwd)
+export CARGO_TARGET_THUMBV7EM_NONE_EABIHF_RUSTFLAGS="--remap-path-prefix=$root=/ecat --remap-path-prefix=${CARGO_HOME:-$HOME/.cargo}=/cargo"
 release=target/thumbv7em-none-eabihf/release
 size_tool=$(command -v llvm-size || command -v size || true)
 [ -n "$size_tool" ] || { echo "(neither llvm-size nor size installed: sizes not printed)"; exit 0; }
