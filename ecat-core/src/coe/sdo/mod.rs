@@ -222,7 +222,7 @@ impl<const N: usize> SdoServer<N> {
             )
         } else {
             let read = (object.read)(cx.od, target.sub, 0, data)?;
-            (read.size, read.copied)
+            (read.size(), read.copied())
         };
         if (1..=4).contains(&size) && !target.domain {
             // Expedited: the data moves into the header (ETG.1000.6 Table 37).
@@ -591,7 +591,7 @@ fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
     if target.complete {
         return complete_access::upload_size(cx.od, object, target.sub);
     }
-    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size)
+    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size())
 }
 
 /// Copies the target's bytes from `offset` into `out`.
@@ -609,7 +609,7 @@ fn fetch<D: ObjectDictionary, H: ObjectHooks<D>>(
     if target.complete {
         return complete_access::read(cx.od, object, target.sub, offset, out);
     }
-    Ok((object.read)(cx.od, target.sub, offset, out)?.copied)
+    Ok((object.read)(cx.od, target.sub, offset, out)?.copied())
 }
 
 /// Stores downloaded bytes: into the dictionary through the hooks, or streamed to a DOMAIN.
