@@ -72,7 +72,7 @@ impl<const N: usize> CoeServer<N> {
 
     /// The mailbox stopped: every transfer in flight and every queued emergency is dropped.
     pub(crate) fn stop(&mut self) {
-        self.sdo.stop();
+        self.sdo.reset();
         self.sdo_info = SdoInfo::new();
         self.emergencies.clear();
     }

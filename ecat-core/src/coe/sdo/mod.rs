@@ -127,12 +127,6 @@ impl<const N: usize> SdoServer<N> {
         }
     }
 
-    /// Drops the transfer in progress; the buffer is left as it is (read only up to what a
-    /// transfer received), which a copy of [`SdoServer::new`] would cost in code.
-    pub(crate) fn stop(&mut self) {
-        (self.transfer, self.checked_in, self.timed_out) = (None, AlState::Init, false);
-    }
-
     /// Serves one SDO request: `request` is the mailbox data after the CoE header. Writes the
     /// response (CoE header included) into `out`, the mailbox data area of the send mailbox, and
     /// returns its length; 0 when there is nothing to send (an abort from the client).
