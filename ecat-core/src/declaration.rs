@@ -523,7 +523,7 @@ macro_rules! __ecat_object {
                 d.$field.read(sub, offset, out)
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                d.$field.write::<$dict>($index, sub, data)
+                d.$field.write::<$dict>(sub, data, $index)
             },
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }

@@ -139,10 +139,7 @@ fn reads_stream_from_an_offset() {
     let od = Od::default();
     let object = Od::object(0x1008).unwrap();
     let mut out = [0; 3];
-    assert_eq!(
-        (object.read)(&od, 0, 2, &mut out),
-        Ok(Read::new(2, 4))
-    );
+    assert_eq!((object.read)(&od, 0, 2, &mut out), Ok(Read::new(2, 4)));
     assert_eq!(&out[..2], b"at");
 }
 

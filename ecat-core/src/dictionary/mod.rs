@@ -207,7 +207,6 @@ impl Read {
     }
 }
 
-
 /// One object: its description and the typed code that reaches its fields.
 pub struct Object<D> {
     /// The description.

@@ -304,14 +304,15 @@ impl<T: Width, const N: usize> Counted<T, N> {
     }
 
     /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
-    /// configuration rules: a call in the code `dictionary!` generates.
+    /// configuration rules: a call in the code `dictionary!` generates. `index` last: the
+    /// arguments of [`Object::write`] keep their registers (6 B less per object).
     #[doc(hidden)]
     #[inline]
     pub fn write<D: ObjectDictionary>(
         &mut self,
-        index: u16,
         sub: u8,
         data: &[u8],
+        index: u16,
     ) -> Result<(), AbortCode> {
         write_counted::<D>(index, &mut self.count, T::slots(&mut self.items), sub, data)
     }
