@@ -85,6 +85,7 @@ mod value;
 pub use access::Access;
 pub use communication::{Communication, DeviceInfo};
 pub use data_type::DataType;
+pub(crate) use object::has_domain;
 pub use object::{
     EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, is_well_formed, mappable_types_only,
 };

@@ -209,7 +209,7 @@ impl<const N: usize> SdoServer<N> {
         // The value is read once, straight into the answer's data area; its size then says
         // expedited or normal.
         let (head, data) = split_response(out)?;
-        let (size, sent) = if target.domain || target.complete {
+        let (size, sent) = if is_domain::<D>(target) || target.complete {
             (
                 value_size(cx, object, target)?,
                 fetch(cx, object, target, 0, data)?,
@@ -218,7 +218,7 @@ impl<const N: usize> SdoServer<N> {
             let read = (object.read)(cx.od, target.sub, 0, data)?;
             (read.size(), read.copied())
         };
-        if (1..=4).contains(&size) && !target.domain {
+        if (1..=4).contains(&size) && !is_domain::<D>(target) {
             // Expedited: the data moves into the header (ETG.1000.6 Table 37).
             let value = match data.first_chunk::<4>() {
                 // The four bytes after the header, of which the value's `size` count.
@@ -318,7 +318,7 @@ impl<const N: usize> SdoServer<N> {
         first: &[u8],
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        if target.domain {
+        if is_domain::<D>(target) {
             store(cx, object, target, first, 0, false)?;
         } else {
             if size > N {
@@ -359,7 +359,7 @@ impl<const N: usize> SdoServer<N> {
             resolve::<D>(target, cx.state, Direction::Write)?;
             check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
         }
-        if target.domain {
+        if is_domain::<D>(target) {
             store(cx, object, target, data, received, last)?;
         } else {
             let buf = self.buf.get_mut(received..total);
@@ -438,6 +438,13 @@ impl<const N: usize> SdoServer<N> {
             AbortCode::COMMAND_SPECIFIER
         }
     }
+}
+
+/// Whether `target` is a DOMAIN of `D`: `false` at compile time for a dictionary without one,
+/// whose firmware then carries no DOMAIN paths.
+fn is_domain<D: ObjectDictionary>(target: Target) -> bool {
+    let any = const { crate::dictionary::has_domain(D::OBJECTS) };
+    any && target.domain
 }
 
 impl Target {
@@ -578,7 +585,7 @@ fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
     object: &Object<D>,
     target: Target,
 ) -> Result<usize, AbortCode> {
-    if target.domain {
+    if is_domain::<D>(target) {
         let size = cx.hooks.domain_size(target.index, target.sub)?;
         return usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY);
     }
@@ -596,7 +603,7 @@ fn fetch<D: ObjectDictionary, H: ObjectHooks<D>>(
     offset: usize,
     out: &mut [u8],
 ) -> Result<usize, AbortCode> {
-    if target.domain {
+    if is_domain::<D>(target) {
         let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
         return cx.hooks.domain_read(target.index, target.sub, offset, out);
     }
@@ -615,7 +622,7 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
     offset: usize,
     last: bool,
 ) -> Result<(), AbortCode> {
-    if target.domain {
+    if is_domain::<D>(target) {
         let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
         return cx
             .hooks
@@ -889,6 +896,29 @@ mod tests {
                 4 => fourth, RW, "Fourth", default = 0x4444;
             };
         }
+    }
+
+    struct WithBlob {
+        blob: crate::dictionary::Domain,
+    }
+
+    crate::dictionary! {
+        minimal WithBlob {
+            0x2001 => var(blob, RW, "Blob");
+        }
+    }
+
+    /// The DOMAIN paths are there for a dictionary with a DOMAIN only: `Od` has none, so a
+    /// target it resolved is never taken for one.
+    #[test]
+    fn only_a_dictionary_with_a_domain_has_domain_targets() {
+        let target = Target {
+            domain: true,
+            ..Target::new(0x2001, 0, false)
+        };
+        assert!(!is_domain::<Od>(target));
+        assert!(is_domain::<WithBlob>(target));
+        assert!(!is_domain::<WithBlob>(Target::new(0x2001, 0, false)));
     }
 
     /// The answer of a fresh server in PREOP to `request` (the bytes after the CoE header): the
