@@ -522,8 +522,13 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 d.$field.read(sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                d.$field.write::<$dict>(sub, data, $index)
+            // A read-only object's write is never called (the SDO server refuses the access, and
+            // only BACKUP entries are restored): `read_only`, so that a dictionary whose PDO
+            // configuration is fixed carries none of the configuration checks.
+            write: if $crate::pdo::written($crate::__ecat_access!($($acc)|+)) {
+                |d: &mut $dict, sub: u8, data: &[u8]| d.$field.write::<$dict>(sub, data, $index)
+            } else {
+                $crate::dictionary::communication::read_only::<$dict>
             },
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }

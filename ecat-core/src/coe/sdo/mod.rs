@@ -629,7 +629,7 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
             .domain_write(target.index, target.sub, offset, data, last);
     }
     if !target.complete {
-        if target.sub == 0 {
+        if target.sub == 0 && const { pdo::configurable(D::OBJECTS) } {
             check_pdo_length(cx, object, data)?;
         }
         return store_entry(cx, object, target.sub, data);
@@ -681,10 +681,13 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         complete_access::entry_value(data, &object.info, from, sub)
             .ok_or(AbortCode::LENGTH_MISMATCH)
     };
-    let writable = object
-        .info
-        .entry(0)
-        .is_some_and(|e| e.access.writable_in(cx.state));
+    // Only a PDO configuration object's SI0 is writable; a dictionary without a writable one
+    // has no configuration sequence to follow.
+    let writable = const { pdo::configurable(D::OBJECTS) }
+        && object
+            .info
+            .entry(0)
+            .is_some_and(|e| e.access.writable_in(cx.state));
     let si0 = if from == 0 {
         Some(value_of(0)?.0[0])
     } else {
