@@ -451,10 +451,14 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 $crate::dictionary::read_var(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                $crate::dictionary::write_var(
-                    &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
-                )
+            write: if $crate::__ecat_access!($($acc)|+).is_written() {
+                |d: &mut $dict, sub: u8, data: &[u8]| {
+                    $crate::dictionary::write_var(
+                        &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                    )
+                }
+            } else {
+                $crate::dictionary::communication::read_only::<$dict>
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
@@ -485,10 +489,14 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 $crate::dictionary::read_element(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                $crate::dictionary::write_element(
-                    &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
-                )
+            write: if $crate::__ecat_access!($($acc)|+).is_written() {
+                |d: &mut $dict, sub: u8, data: &[u8]| {
+                    $crate::dictionary::write_element(
+                        &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
+                    )
+                }
+            } else {
+                $crate::dictionary::communication::read_only::<$dict>
             },
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 (0, _, _) => 0,
@@ -522,10 +530,9 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 d.$field.read(sub, offset, out)
             },
-            // A read-only object's write is never called (the SDO server refuses the access, and
-            // only BACKUP entries are restored): `read_only`, so that a dictionary whose PDO
-            // configuration is fixed carries none of the configuration checks.
-            write: if $crate::pdo::written($crate::__ecat_access!($($acc)|+)) {
+            // A read-only object's write is never called (`Access::is_written`): `read_only`,
+            // so that a dictionary whose PDO configuration is fixed carries none of its checks.
+            write: if $crate::__ecat_access!($($acc)|+).is_written() {
                 |d: &mut $dict, sub: u8, data: &[u8]| d.$field.write::<$dict>(sub, data, $index)
             } else {
                 $crate::dictionary::communication::read_only::<$dict>

@@ -24,7 +24,7 @@ struct Od {
 ecat_core::dictionary! {
     minimal Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
-        0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
+        0x1008 => var(name, RW, "Manufacturer device name", default = VisibleString::new(b"ecat"));
         0x1018 => record(identity: Identity, "Identity object") {
             1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
             3 => product_code, RO, "Product code";
@@ -178,6 +178,17 @@ fn writes_decode_check_the_range_and_store() {
     assert_eq!(od.flags, [true, false, true]);
     assert_eq!(write(&mut od, 0x2000, 0, &[2]), Err(AbortCode::READ_ONLY));
     assert_eq!(write(&mut od, 0x1018, 0, &[1]), Err(AbortCode::READ_ONLY));
+    // A read-only VAR or ARRAY is never written (neither writable nor BACKUP): its write is
+    // the shared refusal, with no decoding behind it.
+    assert_eq!(
+        write(&mut od, 0x1000, 0, &[0; 4]),
+        Err(AbortCode::READ_ONLY)
+    );
+    assert_eq!(
+        write(&mut od, 0x1000, 0, &[0; 9]),
+        Err(AbortCode::READ_ONLY)
+    );
+    assert_eq!(od.device_type, 0x0002_0192);
 }
 
 #[test]

@@ -229,14 +229,8 @@ pub const fn configuration_preop_only<D>(objects: &[Object<D>]) -> bool {
     true
 }
 
-/// Whether a PDO configuration object with `access` is ever written: writable by SDO, or a
-/// BACKUP restored from storage. `dictionary!` gives one that is not `read_only` as its write.
-#[doc(hidden)]
-pub const fn written(access: crate::dictionary::Access) -> bool {
-    access.writable() || access.backup()
-}
-
-/// Whether one of `objects`' PDO mapping or assignment objects is ever [`written`]: without
+/// Whether one of `objects`' PDO mapping or assignment objects is ever
+/// [written](crate::dictionary::Access::is_written): without
 /// one the configuration is fixed, known at compile time, and the SDO server carries none of
 /// the configuration checks.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
@@ -246,7 +240,7 @@ pub(crate) const fn configurable<D>(objects: &[Object<D>]) -> bool {
         let info = &objects[i].info;
         let mut j = 0;
         while Direction::of_configuration(info.index).is_some() && j < info.entries.len() {
-            if written(info.entries[j].access) {
+            if info.entries[j].access.is_written() {
                 return true;
             }
             j += 1;
