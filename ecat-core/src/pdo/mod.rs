@@ -468,35 +468,28 @@ mod tests {
 
     const RX: [MappingEntry; 1] = [MappingEntry::new(0x7000, 0, 8)];
 
-    /// A fixed configuration: mapping and assignment read-only.
-    struct Fixed {
-        rx: PdoMapping<1>,
-        rx_assign: PdoAssignment<1>,
-        out: u8,
+    /// A dictionary with 0x1600 of `$access` (0x1C12 read-only).
+    macro_rules! with_mapping {
+        ($od:ident, $($access:ident)|+) => {
+            struct $od {
+                rx: PdoMapping<1>,
+                rx_assign: PdoAssignment<1>,
+                out: u8,
+            }
+
+            crate::dictionary! {
+                minimal $od {
+                    0x1600 => pdo(rx, $($access)|+, "RxPDO", "Mapped object", default = PdoMapping::mapping(&RX));
+                    0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
+                    0x7000 => var(out, RW | RXPDO, "Output");
+                }
+            }
+        };
     }
 
-    crate::dictionary! {
-        minimal Fixed {
-            0x1600 => pdo(rx, RO, "RxPDO", "Mapped object", default = PdoMapping::mapping(&RX));
-            0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
-            0x7000 => var(out, RW | RXPDO, "Output");
-        }
-    }
-
-    /// The same with a mapping the MainDevice may change in PREOP.
-    struct Mapped {
-        rx: PdoMapping<1>,
-        rx_assign: PdoAssignment<1>,
-        out: u8,
-    }
-
-    crate::dictionary! {
-        minimal Mapped {
-            0x1600 => pdo(rx, RW_PREOP, "RxPDO", "Mapped object", default = PdoMapping::mapping(&RX));
-            0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1600]));
-            0x7000 => var(out, RW | RXPDO, "Output");
-        }
-    }
+    // A fixed configuration, and one whose mapping the MainDevice may change in PREOP.
+    with_mapping!(Fixed, RO);
+    with_mapping!(Mapped, RW_PREOP);
 
     /// A dictionary whose PDO configuration no one writes has no configuration checks to run:
     /// its configuration objects' write is `read_only`, and the SDO server knows it at compile
