@@ -451,11 +451,11 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 $crate::dictionary::read_var(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+            write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
                 $crate::dictionary::write_var(
                     &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
                 )
-            },
+            }),
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
                 $( (0, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $min, out), )?
@@ -485,11 +485,11 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 $crate::dictionary::read_element(&d.$field, sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
+            write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
                 $crate::dictionary::write_element(
                     &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
                 )
-            },
+            }),
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
                 (0, _, _) => 0,
                 $( (_, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $default, out), )?
@@ -522,9 +522,9 @@ macro_rules! __ecat_object {
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                 d.$field.read(sub, offset, out)
             },
-            write: |d: &mut $dict, sub: u8, data: &[u8]| {
-                d.$field.write::<$dict>($index, sub, data)
-            },
+            write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
+                d.$field.write::<$dict>(sub, data, $index)
+            }),
             limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
     };
@@ -737,6 +737,22 @@ macro_rules! __ecat_record_limit {
             $( $crate::dictionary::Limit::Max => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $max, $out), )?
             #[allow(unreachable_patterns)]
             _ => 0,
+        }
+    };
+}
+
+/// An object's write: `$write` when its entries are ever written
+/// ([`Access::is_written`](crate::dictionary::Access::is_written)), the shared refusal
+/// otherwise — so that a dictionary carries no decoding, range or PDO configuration checks for
+/// values no one writes (a fixed PDO configuration, read-only inputs).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_write {
+    ($dict:ident, [$($acc:ident)|+], $write:expr) => {
+        if $crate::__ecat_access!($($acc)|+).is_written() {
+            $write
+        } else {
+            $crate::dictionary::communication::read_only::<$dict>
         }
     };
 }

@@ -93,13 +93,13 @@ impl Log {
                 let slot = usize::from(sub - FIRST_MESSAGE);
                 let message = messages.get(slot).ok_or(AbortCode::NO_SUBINDEX)?;
                 if slot >= usize::from(self.stored) {
-                    return Ok(Read { copied: 0, size: 0 });
+                    return Ok(Read::new(0, 0));
                 }
                 let (bytes, len) = message.encode();
                 let bytes = bytes.get(..len).unwrap_or_default();
                 let rest = bytes.get(offset..).unwrap_or_default();
                 let copied = crate::bytes::copy(out, rest);
-                return Ok(Read { copied, size: len });
+                return Ok(Read::new(copied, len));
             }
         };
         Ok(crate::dictionary::read_value(&byte, offset, out))
@@ -223,7 +223,7 @@ mod tests {
     fn read(h: &DiagnosisHistory<3>, sub: u8) -> Vec<u8> {
         let mut out = [0u8; 64];
         let r = h.log.read(&h.messages, sub, 0, &mut out).unwrap();
-        out[..r.size].to_vec()
+        out[..r.size()].to_vec()
     }
 
     fn write(h: &mut DiagnosisHistory<3>, sub: u8, data: &[u8]) -> Result<(), AbortCode> {

@@ -68,6 +68,16 @@ impl<T: Copy, const N: usize> Ring<T, N> {
         }
     }
 
+    /// Empties the queue and its drop count, as [`Ring::new`] does, leaving the slots as they
+    /// are (never returned before a push writes them).
+    pub fn clear(&mut self) {
+        self.cursor = Cursor {
+            head: 0,
+            len: 0,
+            dropped: 0,
+        };
+    }
+
     /// Appends `value`; when the queue is full the oldest element is dropped and counted.
     pub fn push(&mut self, value: T) {
         let slot = self
@@ -122,5 +132,17 @@ mod tests {
             (r.pop(), r.pop(), r.pop(), r.pop()),
             (Some(3), Some(4), Some(5), None)
         );
+    }
+
+    #[test]
+    fn clear_empties_and_resets_the_drop_count() {
+        let mut r: Ring<u8, 2> = Ring::new(0);
+        for v in 1..=3 {
+            r.push(v);
+        }
+        r.clear();
+        assert_eq!((r.len(), r.dropped(), r.pop()), (0, 0, None));
+        r.push(7);
+        assert_eq!((r.pop(), r.pop()), (Some(7), None));
     }
 }

@@ -24,7 +24,7 @@ struct Od {
 ecat_core::dictionary! {
     minimal Od {
         0x1000 => var(device_type, RO, "Device type", default = 0x0002_0192);
-        0x1008 => var(name, RO, "Manufacturer device name", default = VisibleString::new(b"ecat"));
+        0x1008 => var(name, RW, "Manufacturer device name", default = VisibleString::new(b"ecat"));
         0x1018 => record(identity: Identity, "Identity object") {
             1 => vendor_id, RO, "Vendor ID", default = 0xE000_0001;
             3 => product_code, RO, "Product code";
@@ -39,7 +39,8 @@ ecat_core::dictionary! {
 fn read(od: &Od, index: u16, sub: u8) -> Result<Vec<u8>, AbortCode> {
     let object = Od::object(index).ok_or(AbortCode::NO_OBJECT)?;
     let mut out = [0; 16];
-    let Read { copied, size } = (object.read)(od, sub, 0, &mut out)?;
+    let read = (object.read)(od, sub, 0, &mut out)?;
+    let (copied, size) = (read.copied(), read.size());
     assert_eq!(copied, size);
     Ok(out[..copied].to_vec())
 }
@@ -138,10 +139,7 @@ fn reads_stream_from_an_offset() {
     let od = Od::default();
     let object = Od::object(0x1008).unwrap();
     let mut out = [0; 3];
-    assert_eq!(
-        (object.read)(&od, 0, 2, &mut out),
-        Ok(Read { copied: 2, size: 4 })
-    );
+    assert_eq!((object.read)(&od, 0, 2, &mut out), Ok(Read::new(2, 4)));
     assert_eq!(&out[..2], b"at");
 }
 
@@ -180,6 +178,17 @@ fn writes_decode_check_the_range_and_store() {
     assert_eq!(od.flags, [true, false, true]);
     assert_eq!(write(&mut od, 0x2000, 0, &[2]), Err(AbortCode::READ_ONLY));
     assert_eq!(write(&mut od, 0x1018, 0, &[1]), Err(AbortCode::READ_ONLY));
+    // A read-only VAR or ARRAY is never written (neither writable nor BACKUP): its write is
+    // the shared refusal, with no decoding behind it.
+    assert_eq!(
+        write(&mut od, 0x1000, 0, &[0; 4]),
+        Err(AbortCode::READ_ONLY)
+    );
+    assert_eq!(
+        write(&mut od, 0x1000, 0, &[0; 9]),
+        Err(AbortCode::READ_ONLY)
+    );
+    assert_eq!(od.device_type, 0x0002_0192);
 }
 
 #[test]
@@ -252,8 +261,8 @@ mod communication_item {
         let object = Od::object(index).expect("present");
         let mut out = [0u8; 64];
         let read = (object.read)(od, sub, 0, &mut out).unwrap();
-        assert_eq!(read.copied, read.size);
-        out[..read.size].to_vec()
+        assert_eq!(read.copied(), read.size());
+        out[..read.size()].to_vec()
     }
 
     fn default(index: u16, sub: u8) -> Vec<u8> {
@@ -392,10 +401,10 @@ mod communication_item {
             assert_eq!(object.info.entry(0x1F), None);
             let mut od = Od::default();
             let mut out = [0xAA; 4];
-            assert_eq!((object.read)(&od, 0, 0, &mut out).unwrap().copied, 1);
+            assert_eq!((object.read)(&od, 0, 0, &mut out).unwrap().copied(), 1);
             assert_eq!(out[0], 0x20, "SI0");
             // SI8 (get cycle time) takes a command word and keeps it; 0 by default.
-            assert_eq!((object.read)(&od, 8, 0, &mut out).unwrap().size, 2);
+            assert_eq!((object.read)(&od, 8, 0, &mut out).unwrap().size(), 2);
             assert_eq!(out[..2], [0, 0]);
             (object.write)(&mut od, 8, &[0x01, 0x00]).unwrap();
             (object.read)(&od, 8, 0, &mut out).unwrap();
@@ -412,4 +421,13 @@ mod communication_item {
             );
         }
     }
+}
+
+#[test]
+fn a_read_keeps_both_halves_up_to_the_largest_entry() {
+    let read = Read::new(3, 8191);
+    assert_eq!((read.copied(), read.size()), (3, 8191));
+    let full = Read::new(0xFFFF, 0xFFFF);
+    assert_eq!((full.copied(), full.size()), (0xFFFF, 0xFFFF));
+    assert_eq!((Read::new(0, 0).copied(), Read::new(0, 0).size()), (0, 0));
 }

@@ -757,7 +757,7 @@ fn history_entry(od: &DiagOd, sub: u8) -> Vec<u8> {
     let object = DiagOd::object(0x10F3).unwrap();
     let mut out = [0u8; 64];
     let read = (object.read)(od, sub, 0, &mut out).unwrap();
-    out[..read.size].to_vec()
+    out[..read.size()].to_vec()
 }
 
 /// The history holds one message, new (SI2 = 6, SI4 = 1), and it is `message` byte for byte.

@@ -434,7 +434,7 @@ mod tests {
         let read = |od: &Dio, index: u16, sub: u8| {
             let object = Dio::object(index).unwrap();
             let mut out = [0u8; 64];
-            let n = (object.read)(od, sub, 0, &mut out).unwrap().copied;
+            let n = (object.read)(od, sub, 0, &mut out).unwrap().copied();
             out[..n].to_vec()
         };
         let sample = dio();

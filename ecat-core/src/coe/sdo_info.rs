@@ -458,52 +458,59 @@ fn entry_description<D: ObjectDictionary>(
     data: &mut [u8],
 ) -> Result<Response, AbortCode> {
     let object = D::object(index).ok_or(AbortCode::NO_OBJECT)?;
-    let Some(entry) = object.info.entry(sub) else {
-        return gap_description(&object.info, sub, data);
+    let entry = object.info.entry(sub);
+    let mut gap_name = *b"SubIndex 000";
+    let (fixed, name) = match entry {
+        Some(entry) => (entry_fixed_part(index, sub, entry), entry.name.as_bytes()),
+        None => (
+            gap_fixed_part(&object.info, sub, &mut gap_name)?,
+            &gap_name[..],
+        ),
     };
     let mut w = Writer::new(data);
-    if !w.put(&entry_fixed_part(index, sub, entry)) {
+    if !w.put(&fixed) {
         return Err(AbortCode::EXCEEDS_MAILBOX);
     }
     let mut honoured = 0;
-    if requested.has(ValueInfo::UNIT_TYPE) && w.put(&entry.unit.to_le_bytes()) {
-        honoured |= ValueInfo::UNIT_TYPE;
-    }
-    for (bit, limit) in VALUE_FIELDS {
-        if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {
-            honoured |= bit;
+    if let Some(entry) = entry {
+        if requested.has(ValueInfo::UNIT_TYPE) && w.put(&entry.unit.to_le_bytes()) {
+            honoured |= ValueInfo::UNIT_TYPE;
+        }
+        for (bit, limit) in VALUE_FIELDS {
+            if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {
+                honoured |= bit;
+            }
         }
     }
-    w.put_name(entry.name.as_bytes());
+    w.put_name(name);
     w.patch(VALUE_INFO_AT, honoured);
     Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
 }
 
-/// The entry description of a subindex a RECORD does not declare below its highest one (a gap
-/// of a sparse record, 0x1C32:0E..1F): described as SSC describes it (its records are dense
-/// arrays of entry descriptions, a gap `{0x0000, 0, 0}`, Beckhoff SSC 5.12 `objdef.c`
-/// `OBJ_GetEntryDesc`/`OBJ_GetDesc`, `coeappl.c` `asEntryDesc0x1C3x`): data type 0, bit length
-/// 0, access 0, value info 0 (no optional field, whatever the request asks) and the name SSC
-/// gives an entry without one, `SubIndex NNN` (three decimal digits). SOEM's `ecx_readOE` asks
-/// for every subindex 0..max of every object and records an SDO Info error for each one
-/// refused. Any other missing subindex is `0x06090011` (ETG.1000.6 Table 41).
-fn gap_description(object: &ObjectInfo, sub: u8, data: &mut [u8]) -> Result<Response, AbortCode> {
+/// The fixed part of the entry description of a subindex a RECORD does not declare below its
+/// highest one (a gap of a sparse record, 0x1C32:0E..1F), and its name into `name`: described as
+/// SSC describes it (its records are dense arrays of entry descriptions, a gap `{0x0000, 0, 0}`,
+/// Beckhoff SSC 5.12 `objdef.c` `OBJ_GetEntryDesc`/`OBJ_GetDesc`, `coeappl.c`
+/// `asEntryDesc0x1C3x`): data type 0, bit length 0, access 0, value info 0 (no optional field,
+/// whatever the request asks) and the name SSC gives an entry without one, `SubIndex NNN` (three
+/// decimal digits). SOEM's `ecx_readOE` asks for every subindex 0..max of every object and
+/// records an SDO Info error for each one refused. Any other missing subindex is `0x06090011`
+/// (ETG.1000.6 Table 41).
+fn gap_fixed_part(
+    object: &ObjectInfo,
+    sub: u8,
+    name: &mut [u8; 12],
+) -> Result<[u8; 10], AbortCode> {
     if object.code != ObjectCode::Record || sub == 0 || sub > object.max_sub {
         return Err(AbortCode::NO_SUBINDEX);
     }
-    let [i0, i1] = object.index.to_le_bytes();
-    let mut w = Writer::new(data);
-    if !w.put(&[i0, i1, sub, 0, 0, 0, 0, 0, 0, 0]) {
-        return Err(AbortCode::EXCEEDS_MAILBOX);
-    }
-    let mut name = *b"SubIndex 000";
     let mut n = sub;
     for digit in name.iter_mut().rev().take(3) {
         *digit = b'0' + n % 10;
         n /= 10;
     }
-    w.put_name(&name);
-    Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
+    let [i0, i1] = object.index.to_le_bytes();
+    Ok([i0, i1, sub, 0, 0, 0, 0, 0, 0, 0])
 }
 
 /// The first 10 bytes of an entry description, value info 0 (patched once known).

@@ -72,7 +72,9 @@ impl<const N: usize> CoeServer<N> {
 
     /// The mailbox stopped: every transfer in flight and every queued emergency is dropped.
     pub(crate) fn stop(&mut self) {
-        *self = Self::new();
+        self.sdo.reset();
+        self.sdo_info = SdoInfo::new();
+        self.emergencies.clear();
     }
 }
 

@@ -51,6 +51,14 @@ impl Access {
         self.0 & Self::WRITE.0 != 0
     }
 
+    /// Whether an entry with these rights is ever written through its object's `write`:
+    /// writable by SDO, or BACKUP (restored from storage). `dictionary!` gives an object with
+    /// neither the shared `read_only` as its write, so that a dictionary carries no decoding,
+    /// range or PDO configuration checks for values no one writes.
+    pub const fn is_written(self) -> bool {
+        self.writable() || self.backup()
+    }
+
     /// Whether mappable into an RxPDO.
     pub const fn rxpdo(self) -> bool {
         self.0 & Self::RXPDO.0 != 0

@@ -85,6 +85,7 @@ mod value;
 pub use access::Access;
 pub use communication::{Communication, DeviceInfo};
 pub use data_type::DataType;
+pub(crate) use object::has_domain;
 pub use object::{
     EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, is_well_formed, mappable_types_only,
 };
@@ -179,13 +180,32 @@ impl<const N: usize> Length for Len<N> {
 /// One `T` per PDO-mappable entry of `D`: `[T; N]`.
 pub type PerMappable<D, T> = <<D as ObjectDictionary>::Mappable as Length>::Array<T>;
 
-/// What [`Object::read`] returns: bytes copied and the entry's whole size.
+/// What [`Object::read`] returns: bytes copied and the entry's whole size, 16 bits each in one
+/// word.
+///
+/// An entry's size is at most 8 191 bytes (its bit length is a `u16`, [`EntryInfo::bit_len`],
+/// as in SDO Information, ETG.1000.6 Table 44). One word makes `Result<Read, AbortCode>` a pair
+/// of scalars, which every read function returns in two registers rather than through memory.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Read {
+pub struct Read(u32);
+
+impl Read {
+    /// `copied` bytes of a value of `size` bytes; each is taken modulo 65 536 (no entry is that
+    /// large).
+    #[allow(clippy::cast_possible_truncation)] // the sizes of entries, at most 8 191
+    pub const fn new(copied: usize, size: usize) -> Self {
+        Self((size as u32) << 16 | (copied as u32 & 0xFFFF))
+    }
+
     /// Bytes copied into the output.
-    pub copied: usize,
+    pub const fn copied(self) -> usize {
+        (self.0 & 0xFFFF) as usize
+    }
+
     /// The encoded size of the whole value.
-    pub size: usize,
+    pub const fn size(self) -> usize {
+        (self.0 >> 16) as usize
+    }
 }
 
 /// One object: its description and the typed code that reaches its fields.
@@ -235,7 +255,7 @@ impl<D> Object<D> {
         let mut bytes = [0u8; 4];
         let buf = bytes.get_mut(..width)?;
         let read = (self.read)(od, sub, 0, buf).ok()?;
-        (read.copied == width).then(|| u32::from_le_bytes(bytes))
+        (read.copied() == width).then(|| u32::from_le_bytes(bytes))
     }
 }
 
@@ -343,10 +363,7 @@ pub const fn last_sub(subs: &[u8]) -> u8 {
 
 #[doc(hidden)]
 pub fn read_value<T: Value>(value: &T, offset: usize, out: &mut [u8]) -> Read {
-    Read {
-        copied: value.read_at(offset, out),
-        size: value.size(),
-    }
+    Read::new(value.read_at(offset, out), value.size())
 }
 
 /// Reads the low `size` bytes (1, 2 or 4) of an UNSIGNED8/16/32 `value`, little endian, from
@@ -354,10 +371,10 @@ pub fn read_value<T: Value>(value: &T, offset: usize, out: &mut [u8]) -> Read {
 /// configuration objects, 0x1C32/0x1C33).
 pub(crate) fn read_unsigned(value: u32, size: usize, offset: usize, out: &mut [u8]) -> Read {
     let bytes = value.to_le_bytes();
-    Read {
-        copied: value::copy_from(bytes.get(..size).unwrap_or_default(), offset, out),
+    Read::new(
+        value::copy_from(bytes.get(..size).unwrap_or_default(), offset, out),
         size,
-    }
+    )
 }
 
 #[doc(hidden)]

@@ -232,3 +232,23 @@ pub const fn mappable_types_only<D>(objects: &[super::Object<D>]) -> bool {
     }
     true
 }
+
+/// Whether an entry of `objects` is a DOMAIN: a dictionary without one has no use for the SDO
+/// server's DOMAIN paths (the hooks' streaming), known at compile time
+/// (`coe::sdo`'s `is_domain`).
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub(crate) const fn has_domain<D>(objects: &[super::Object<D>]) -> bool {
+    let mut i = 0;
+    while i < objects.len() {
+        let entries = objects[i].info.entries;
+        let mut j = 0;
+        while j < entries.len() {
+            if matches!(entries[j].data_type, DataType::Domain) {
+                return true;
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    false
+}

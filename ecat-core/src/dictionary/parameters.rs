@@ -193,13 +193,13 @@ pub fn save<D: ObjectDictionary>(od: &D, out: &mut [u8]) -> Result<usize, SaveEr
             .split_at_mut_checked(ENTRY_HEADER)
             .ok_or(SaveError::TooSmall)?;
         let read = (object.read)(od, sub, 0, value).map_err(|_| SaveError::TooSmall)?;
-        if read.copied < read.size {
+        if read.copied() < read.size() {
             return Err(SaveError::TooSmall);
         }
-        let size = u8::try_from(read.size).map_err(|_| SaveError::TooLong)?;
+        let size = u8::try_from(read.size()).map_err(|_| SaveError::TooLong)?;
         let [i0, i1] = object.info.index.to_le_bytes();
         header.copy_from_slice(&[i0, i1, sub, size]);
-        let entry = ENTRY_HEADER + read.size;
+        let entry = ENTRY_HEADER + read.size();
         rest = rest.get_mut(entry..).ok_or(SaveError::TooSmall)?;
         len += entry;
     }
@@ -312,7 +312,7 @@ mod tests {
         let mut out = [0u8; 4];
         let object = Od::object(index).unwrap();
         let r = (object.read)(od, sub, 0, &mut out).unwrap();
-        (out, r.size)
+        (out, r.size())
     }
 
     #[test]

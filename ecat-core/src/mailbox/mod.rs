@@ -143,9 +143,25 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// Stops the mailbox: everything in flight is dropped.
+    /// Stops the mailbox: everything in flight is dropped. The state is reset field by field
+    /// and the buffers are left as they are (no message is in them once the flags and
+    /// `tx_len` say so): a copy of a whole new mailbox costs ≈ 40 B of flash more.
     pub(crate) fn stop(&mut self) {
-        *self = Self::new();
+        let Self {
+            flags,
+            handler_due,
+            rx_counter,
+            tx_counter,
+            refused,
+            receive,
+            send,
+            tx_len,
+            handler_timeout,
+            rx: _,
+            tx: _,
+        } = self;
+        (*flags, *handler_due, *rx_counter, *tx_counter, *refused) = (0, due::RESET, 0, 0, 0);
+        (*receive, *send, *tx_len, *handler_timeout) = (Area::new(0, 0), Area::new(0, 0), 0, None);
     }
 
     /// The MainDevice filled SM0 (AL event bit 8).

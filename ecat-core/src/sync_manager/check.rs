@@ -26,12 +26,18 @@ impl Channels {
 
     /// Parses the registers of SM0..SM3 (32 bytes from 0x0800).
     pub fn from_bytes(bytes: &[u8; Self::SIZE]) -> Self {
+        let mut channels = Self::default();
+        channels.update(bytes);
+        channels
+    }
+
+    /// Parses the registers of SM0..SM3 into `self`, in place: what the SubDevice does with
+    /// every read of them (a new value copied over the old costs ≈ 40 B of flash more).
+    pub fn update(&mut self, bytes: &[u8; Self::SIZE]) {
         let (channels, _) = bytes.as_chunks::<{ Channel::SIZE }>();
-        let mut out = [Channel::default(); 4];
-        for (channel, &regs) in out.iter_mut().zip(channels) {
+        for (channel, &regs) in self.0.iter_mut().zip(channels) {
             *channel = Channel::from_bytes(regs);
         }
-        Self(out)
     }
 
     /// The receive mailbox, SM0.

@@ -157,7 +157,7 @@ fn hex(bytes: &[u8]) -> String {
 fn read<D: ObjectDictionary>(od: &D, index: u16, sub: u8) -> Vec<u8> {
     let object = D::object(index).unwrap();
     let mut buf = [0u8; 256];
-    let n = (object.read)(od, sub, 0, &mut buf).unwrap().copied;
+    let n = (object.read)(od, sub, 0, &mut buf).unwrap().copied();
     buf[..n].to_vec()
 }
 

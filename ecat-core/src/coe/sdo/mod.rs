@@ -209,16 +209,16 @@ impl<const N: usize> SdoServer<N> {
         // The value is read once, straight into the answer's data area; its size then says
         // expedited or normal.
         let (head, data) = split_response(out)?;
-        let (size, sent) = if target.domain || target.complete {
+        let (size, sent) = if is_domain::<D>(target) || target.complete {
             (
                 value_size(cx, object, target)?,
                 fetch(cx, object, target, 0, data)?,
             )
         } else {
             let read = (object.read)(cx.od, target.sub, 0, data)?;
-            (read.size, read.copied)
+            (read.size(), read.copied())
         };
-        if (1..=4).contains(&size) && !target.domain {
+        if (1..=4).contains(&size) && !is_domain::<D>(target) {
             // Expedited: the data moves into the header (ETG.1000.6 Table 37).
             let value = match data.first_chunk::<4>() {
                 // The four bytes after the header, of which the value's `size` count.
@@ -318,7 +318,7 @@ impl<const N: usize> SdoServer<N> {
         first: &[u8],
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        if target.domain {
+        if is_domain::<D>(target) {
             store(cx, object, target, first, 0, false)?;
         } else {
             if size > N {
@@ -359,7 +359,7 @@ impl<const N: usize> SdoServer<N> {
             resolve::<D>(target, cx.state, Direction::Write)?;
             check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
         }
-        if target.domain {
+        if is_domain::<D>(target) {
             store(cx, object, target, data, received, last)?;
         } else {
             let buf = self.buf.get_mut(received..total);
@@ -438,6 +438,13 @@ impl<const N: usize> SdoServer<N> {
             AbortCode::COMMAND_SPECIFIER
         }
     }
+}
+
+/// Whether `target` is a DOMAIN of `D`: `false` at compile time for a dictionary without one,
+/// whose firmware then carries no DOMAIN paths.
+fn is_domain<D: ObjectDictionary>(target: Target) -> bool {
+    let any = const { crate::dictionary::has_domain(D::OBJECTS) };
+    any && target.domain
 }
 
 impl Target {
@@ -578,14 +585,14 @@ fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
     object: &Object<D>,
     target: Target,
 ) -> Result<usize, AbortCode> {
-    if target.domain {
+    if is_domain::<D>(target) {
         let size = cx.hooks.domain_size(target.index, target.sub)?;
         return usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY);
     }
     if target.complete {
         return complete_access::upload_size(cx.od, object, target.sub);
     }
-    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size)
+    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size())
 }
 
 /// Copies the target's bytes from `offset` into `out`.
@@ -596,14 +603,14 @@ fn fetch<D: ObjectDictionary, H: ObjectHooks<D>>(
     offset: usize,
     out: &mut [u8],
 ) -> Result<usize, AbortCode> {
-    if target.domain {
+    if is_domain::<D>(target) {
         let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
         return cx.hooks.domain_read(target.index, target.sub, offset, out);
     }
     if target.complete {
         return complete_access::read(cx.od, object, target.sub, offset, out);
     }
-    Ok((object.read)(cx.od, target.sub, offset, out)?.copied)
+    Ok((object.read)(cx.od, target.sub, offset, out)?.copied())
 }
 
 /// Stores downloaded bytes: into the dictionary through the hooks, or streamed to a DOMAIN.
@@ -615,14 +622,14 @@ fn store<D: ObjectDictionary, H: ObjectHooks<D>>(
     offset: usize,
     last: bool,
 ) -> Result<(), AbortCode> {
-    if target.domain {
+    if is_domain::<D>(target) {
         let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
         return cx
             .hooks
             .domain_write(target.index, target.sub, offset, data, last);
     }
     if !target.complete {
-        if target.sub == 0 {
+        if target.sub == 0 && const { pdo::configurable(D::OBJECTS) } {
             check_pdo_length(cx, object, data)?;
         }
         return store_entry(cx, object, target.sub, data);
@@ -674,10 +681,13 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         complete_access::entry_value(data, &object.info, from, sub)
             .ok_or(AbortCode::LENGTH_MISMATCH)
     };
-    let writable = object
-        .info
-        .entry(0)
-        .is_some_and(|e| e.access.writable_in(cx.state));
+    // Only a PDO configuration object's SI0 is writable; a dictionary without a writable one
+    // has no configuration sequence to follow.
+    let writable = const { pdo::configurable(D::OBJECTS) }
+        && object
+            .info
+            .entry(0)
+            .is_some_and(|e| e.access.writable_in(cx.state));
     let si0 = if from == 0 {
         Some(value_of(0)?.0[0])
     } else {
@@ -889,6 +899,29 @@ mod tests {
                 4 => fourth, RW, "Fourth", default = 0x4444;
             };
         }
+    }
+
+    struct WithBlob {
+        blob: crate::dictionary::Domain,
+    }
+
+    crate::dictionary! {
+        minimal WithBlob {
+            0x2001 => var(blob, RW, "Blob");
+        }
+    }
+
+    /// The DOMAIN paths are there for a dictionary with a DOMAIN only: `Od` has none, so a
+    /// target it resolved is never taken for one.
+    #[test]
+    fn only_a_dictionary_with_a_domain_has_domain_targets() {
+        let target = Target {
+            domain: true,
+            ..Target::new(0x2001, 0, false)
+        };
+        assert!(!is_domain::<Od>(target));
+        assert!(is_domain::<WithBlob>(target));
+        assert!(!is_domain::<WithBlob>(Target::new(0x2001, 0, false)));
     }
 
     /// The answer of a fresh server in PREOP to `request` (the bytes after the CoE header): the
