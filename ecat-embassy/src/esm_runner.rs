@@ -131,9 +131,23 @@ where
         // requested it and dropped when the transition is no longer pending.
         let mut decision = pin!(None);
         'run: loop {
-            // Every step is followed by the accesses it asks for: the only place they are made.
-            if let Err(e) = sync(esc, sub).await {
-                return e;
+            // Every step is followed by the accesses it asks for: the only place they are made,
+            // in this loop rather than in a future of their own (docs/performance.md, "Codegen
+            // rules"); then the process-data layout is published.
+            while let Some((mut address, mut data, mut last, clears)) = next_access(sub) {
+                // The access, then, when the message is shorter than SM1, its last byte, which
+                // hands SM1 to the MainDevice: awaited at one place.
+                let event = loop {
+                    match esc.access(Runner::Esm, address, data, clears).await {
+                        Ok(event) => match last.take() {
+                            Some(byte) => (address, data) = (byte, Data::Write(&[0])),
+                            None => break event,
+                        },
+                        Err(e) => return e,
+                    }
+                };
+                sub.access_done(now(), event);
+                esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
             }
             // The transition whose answer the wait is for, `None`: the wait is for news.
             let answering = loop {
@@ -335,30 +349,6 @@ fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevic
             }
             None => break,
         }
-    }
-}
-
-/// Performs every register access the core asks for, then publishes the process-data layout.
-#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-fn sync<'a, P: Pdi, const MBX: usize>(
-    esc: &'a SharedEsc<P>,
-    sub: &'a mut SubDevice<'_, MBX>,
-) -> impl Future<Output = Result<(), P::Error>> + 'a {
-    async move {
-        while let Some((mut address, mut data, mut last, clears)) = next_access(sub) {
-            // The access, then, when the message is shorter than SM1, its last byte, which
-            // hands SM1 to the MainDevice: awaited at one place.
-            let event = loop {
-                let event = esc.access(Runner::Esm, address, data, clears).await?;
-                match last.take() {
-                    Some(byte) => (address, data) = (byte, Data::Write(&[0])),
-                    None => break event,
-                }
-            };
-            sub.access_done(now(), event);
-            esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
-        }
-        Ok(())
     }
 }
 
