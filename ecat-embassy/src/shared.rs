@@ -64,9 +64,12 @@ struct Routing {
     /// The AL status and status code the state-machine runner last published, for the
     /// indicators ([`Indication`]).
     indication: Cell<Indication>,
+    /// The state-machine runner waits for news ([`SharedEsc::poll_esm_events`]).
     esm_waker: WakerCell,
+    /// The process-data runner waits for news ([`SharedEsc::pd_changed_since`]) or for the PDI
+    /// ([`SharedEsc::take_pdi`]): it waits at one place at a time.
     pd_waker: WakerCell,
-    /// The state-machine runner waits for the process-data runner to take the PDI.
+    /// The state-machine runner waits for its turn or for the PDI ([`SharedEsc::take_pdi`]).
     esm_pdi_waker: WakerCell,
     /// The indicator task, woken when the indication changes.
     led_waker: WakerCell,
@@ -292,8 +295,8 @@ impl<P: Pdi> SharedEsc<P> {
     ) -> impl Future<Output = Result<AlEvent, P::Error>> {
         async move {
             let (mut event, mut first) = (AlEvent::NONE, true);
-            // One lock, one driver access and one wait for the other runner's turn, each awaited
-            // at one place for both runners: the driver's access future is inlined once.
+            // One wait for the turn and the lock, one driver access, each awaited at one place
+            // for both runners: the driver's access future is inlined once.
             loop {
                 let (mut pdi, sample) = self.take_pdi(runner, first).await;
                 first = false;
