@@ -298,7 +298,7 @@ impl<P: Pdi> SharedEsc<P> {
             // One wait for the turn and the lock, one driver access, each awaited at one place
             // for both runners: the driver's access future is inlined once.
             loop {
-                let (mut pdi, sample) = self.take_pdi(runner, first).await;
+                let mut pdi = self.take_pdi(runner, first).await;
                 first = false;
                 let len = match (runner, self.chunk) {
                     (Runner::ProcessData, _) | (_, 0) => rest.len(),
@@ -308,21 +308,21 @@ impl<P: Pdi> SharedEsc<P> {
                 };
                 let (piece, tail) = rest.split_at(len);
                 rest = tail;
-                if sample != Sample::Usual {
-                    pdi.sample(sample);
-                }
-                let seen = pdi.access(address, piece).await;
+                // The next chunk's address, taken before the await: the future keeps no length.
+                let at = address;
+                address = address.wrapping_add(len as u16);
+                let seen = pdi.access(at, piece).await;
                 drop(pdi);
                 event = event.union(self.observe_access(runner, seen, clears)?);
                 if rest.is_empty() {
                     return Ok(event);
                 }
-                address = address.wrapping_add(len as u16);
             }
         }
     }
 
-    /// `runner`'s turn and the PDI's lock, in one wait. The process-data runner says that it
+    /// `runner`'s turn and the PDI's lock, in one wait; with the lock taken, the driver is told
+    /// what the chunk's AL event must be ([`Pdi::sample`]; `first`: the access's first chunk). The process-data runner says that it
     /// waits for the PDI. The state-machine runner waits while the process-data runner waits for
     /// the PDI or has news it has not looked at (its trigger seen by a chunk, the IRQ line free
     /// again): that one comes first. In firmware it has always run by then (its interrupt
@@ -335,7 +335,7 @@ impl<P: Pdi> SharedEsc<P> {
         &self,
         runner: Runner,
         first: bool,
-    ) -> impl Future<Output = (MutexGuard<'_, Cs, P>, Sample)> + '_ {
+    ) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
                 let waker = if runner == Runner::ProcessData {
@@ -349,11 +349,11 @@ impl<P: Pdi> SharedEsc<P> {
                     }
                     &r.esm_pdi_waker
                 };
-                let Ok(pdi) = self.pdi.try_lock() else {
+                let Ok(mut pdi) = self.pdi.try_lock() else {
                     waker.register(cx.waker());
                     return Poll::Pending;
                 };
-                // What the chunk's AL event must be, decided with the lock taken.
+                // What the chunk's AL event must be, told the driver with the lock taken.
                 let sample = if runner == Runner::ProcessData {
                     r.pd_waiting.set(false);
                     Sample::Usual
@@ -367,7 +367,10 @@ impl<P: Pdi> SharedEsc<P> {
                 } else {
                     Sample::Continued
                 };
-                Poll::Ready((pdi, sample))
+                if sample != Sample::Usual {
+                    pdi.sample(sample);
+                }
+                Poll::Ready(pdi)
             })
         })
     }
