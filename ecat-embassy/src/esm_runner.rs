@@ -131,9 +131,23 @@ where
         // requested it and dropped when the transition is no longer pending.
         let mut decision = pin!(None);
         'run: loop {
-            // Every step is followed by the accesses it asks for: the only place they are made.
-            if let Err(e) = sync(esc, sub).await {
-                return e;
+            // Every step is followed by the accesses it asks for: the only place they are made,
+            // in this loop rather than in a future of their own (docs/performance.md, "Codegen
+            // rules"); then the process-data layout is published.
+            while let Some((mut address, mut data, mut last, clears)) = next_access(sub) {
+                // The access, then, when the message is shorter than SM1, its last byte, which
+                // hands SM1 to the MainDevice: awaited at one place.
+                let event = loop {
+                    match esc.access(Runner::Esm, address, data, clears).await {
+                        Ok(event) => match last.take() {
+                            Some(byte) => (address, data) = (byte, Data::Write(&[0])),
+                            None => break event,
+                        },
+                        Err(e) => return e,
+                    }
+                };
+                sub.access_done(now(), event);
+                esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
             }
             // The transition whose answer the wait is for, `None`: the wait is for news.
             let answering = loop {
@@ -264,7 +278,9 @@ fn wait<'f, P: Pdi, F: Future<Output = Result<(), AlStatusCode>>>(
 
 /// Serves one mailbox message, if any, with the application locked; then queues the emergencies
 /// its hooks raised. Whether a message was served (or a request dropped). The one call of the
-/// core's mailbox.
+/// core's mailbox. Not inlined into the runner's future, whose poll it would make larger by
+/// more than its own size (docs/performance.md, "Codegen rules").
+#[inline(never)]
 fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize>(
     sub: &mut SubDevice<'_, MBX>,
     app: &AppCell<A, D>,
@@ -336,35 +352,15 @@ fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevic
     }
 }
 
-/// Performs every register access the core asks for, then publishes the process-data layout.
-#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-fn sync<'a, P: Pdi, const MBX: usize>(
-    esc: &'a SharedEsc<P>,
-    sub: &'a mut SubDevice<'_, MBX>,
-) -> impl Future<Output = Result<(), P::Error>> + 'a {
-    async move {
-        while let Some(access) = sub.poll_access() {
-            let (mut address, mut data, mut last, clears) = pdi_access(access);
-            // The access, then, when the message is shorter than SM1, its last byte, which
-            // hands SM1 to the MainDevice: awaited at one place.
-            let event = loop {
-                let event = esc.access(Runner::Esm, address, data, clears).await?;
-                match last.take() {
-                    Some(byte) => (address, data) = (byte, Data::Write(&[0])),
-                    None => break event,
-                }
-            };
-            sub.access_done(now(), event);
-            esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
-        }
-        Ok(())
-    }
-}
-
-/// An access of the core as the PDI performs it: address, data, the address of a last byte to
-/// write after the data ([`RegisterAccess::Send`]), the AL event bits it clears. Taken apart here so
-/// that the runner's future keeps the parts, not the access.
-fn pdi_access(access: RegisterAccess<'_>) -> (u16, Data<'_>, Option<u16>, AlEvent) {
+/// The next access the core asks for, as the PDI performs it: address, data, the address of a
+/// last byte to write after the data ([`RegisterAccess::Send`]), the AL event bits it clears.
+/// Taken apart here so that the runner's future keeps the parts, not the access; not inlined
+/// into that future (docs/performance.md, "Codegen rules").
+#[inline(never)]
+fn next_access<'s, const MBX: usize>(
+    sub: &'s mut SubDevice<'_, MBX>,
+) -> Option<(u16, Data<'s>, Option<u16>, AlEvent)> {
+    let access = sub.poll_access()?;
     let clears = access.clears();
     match access {
         RegisterAccess::Read { address, buf, .. } => (address, Data::Read(buf), None, clears),
@@ -376,4 +372,5 @@ fn pdi_access(access: RegisterAccess<'_>) -> (u16, Data<'_>, Option<u16>, AlEven
             ..
         } => (address, Data::Write(data), last, clears),
     }
+    .into()
 }

@@ -11,7 +11,7 @@ use ecat_core::ring::Ring;
 use ecat_core::{AlEvent, AlStatus, AlStatusCode};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex as Cs;
-use embassy_sync::mutex::Mutex;
+use embassy_sync::mutex::{Mutex, MutexGuard};
 use embassy_sync::waitqueue::WakerRegistration;
 
 use crate::Pdi;
@@ -64,9 +64,12 @@ struct Routing {
     /// The AL status and status code the state-machine runner last published, for the
     /// indicators ([`Indication`]).
     indication: Cell<Indication>,
+    /// The state-machine runner waits for news ([`SharedEsc::poll_esm_events`]).
     esm_waker: WakerCell,
+    /// The process-data runner waits for news ([`SharedEsc::pd_changed_since`]) or for the PDI
+    /// ([`SharedEsc::take_pdi`]): it waits at one place at a time.
     pd_waker: WakerCell,
-    /// The state-machine runner waits for the process-data runner to take the PDI.
+    /// The state-machine runner waits for its turn or for the PDI ([`SharedEsc::take_pdi`]).
     esm_pdi_waker: WakerCell,
     /// The indicator task, woken when the indication changes.
     led_waker: WakerCell,
@@ -104,6 +107,26 @@ impl Routing {
         self.pd_generation
             .set(self.pd_generation.get().wrapping_add(1));
         self.pd_waker.wake();
+    }
+
+    /// Routes one AL event value: state-machine events to the state-machine runner (unless it made
+    /// the access itself: then its core already has them, and they are the freshest news), the
+    /// process-data trigger to the process-data runner.
+    fn observe(&self, runner: Runner, event: AlEvent) {
+        self.last_event.set(event);
+        let esm = self.esm_share(event);
+        if runner == Runner::Esm {
+            self.esm_events.set(AlEvent::NONE);
+        } else if !esm.is_empty() {
+            self.esm_events.set(self.esm_events.get() | esm);
+            self.esm_waker.wake();
+        }
+        let pd = event.intersection(self.trigger());
+        if !pd.is_empty() && runner == Runner::Esm {
+            self.pd_events.set(self.pd_events.get() | pd);
+            self.notify_pd();
+        }
+        self.update_irq_holder();
     }
 }
 
@@ -272,27 +295,10 @@ impl<P: Pdi> SharedEsc<P> {
     ) -> impl Future<Output = Result<AlEvent, P::Error>> {
         async move {
             let (mut event, mut first) = (AlEvent::NONE, true);
-            // One lock, one driver access and one wait for the other runner's turn, each awaited
-            // at one place for both runners: the driver's access future is inlined once.
+            // One wait for the turn and the lock, one driver access, each awaited at one place
+            // for both runners: the driver's access future is inlined once.
             loop {
-                self.turn(runner).await;
-                let mut pdi = self.pdi.lock().await;
-                let sample = self.with(|r| {
-                    if runner == Runner::ProcessData {
-                        r.pd_waiting.set(false);
-                        r.esm_pdi_waker.wake();
-                        Sample::Usual
-                    } else if first {
-                        Sample::Usual
-                    } else if r.esm_holds_irq.get() {
-                        // The trigger makes no edge: a later chunk's AL event is its only news
-                        // before the access ends (the first chunk's is what the driver reports
-                        // for any access: a short access adds no read of its own).
-                        Sample::Fresh
-                    } else {
-                        Sample::Continued
-                    }
-                });
+                let mut pdi = self.take_pdi(runner, first).await;
                 first = false;
                 let len = match (runner, self.chunk) {
                     (Runner::ProcessData, _) | (_, 0) => rest.len(),
@@ -302,72 +308,94 @@ impl<P: Pdi> SharedEsc<P> {
                 };
                 let (piece, tail) = rest.split_at(len);
                 rest = tail;
-                if sample != Sample::Usual {
-                    pdi.sample(sample);
-                }
-                let seen = pdi.access(address, piece).await?;
+                // The next chunk's address, taken before the await: the future keeps no length.
+                let at = address;
+                address = address.wrapping_add(len as u16);
+                let seen = pdi.access(at, piece).await;
                 drop(pdi);
-                event = event.union(self.observe_access(runner, seen, clears));
+                event = event.union(self.observe_access(runner, seen, clears)?);
                 if rest.is_empty() {
                     return Ok(event);
                 }
-                address = address.wrapping_add(len as u16);
             }
         }
     }
 
-    /// Before `runner` takes the PDI. The process-data runner says that it waits for it. The
-    /// state-machine runner waits while the process-data runner waits for the PDI or has news
-    /// it has not looked at (its trigger seen by a chunk, the IRQ line free again): that one
-    /// comes first. In firmware it has always run by then (its interrupt preempts as soon as it
-    /// is woken), so this waits only where the runners share an executor. Both runners must
-    /// run (the process-data runner says when it stops; a firmware that drops its future while
-    /// it waits for the PDI stalls the state machine).
-    fn turn(&self, runner: Runner) -> impl Future<Output = ()> + '_ {
+    /// `runner`'s turn and the PDI's lock, in one wait; with the lock taken, the driver is told
+    /// what the chunk's AL event must be ([`Pdi::sample`]; `first`: the access's first chunk). The process-data runner says that it
+    /// waits for the PDI. The state-machine runner waits while the process-data runner waits for
+    /// the PDI or has news it has not looked at (its trigger seen by a chunk, the IRQ line free
+    /// again): that one comes first. In firmware it has always run by then (its interrupt
+    /// preempts as soon as it is woken), so this waits only where the runners share an
+    /// executor. Both runners must run (the process-data runner says when it stops; a firmware
+    /// that drops its future while it waits for the PDI stalls the state machine). A runner that
+    /// finds the PDI locked is woken when the other releases it ([`SharedEsc::observe_access`]):
+    /// the lock's own waiting is not used (docs/performance.md, "Codegen rules").
+    fn take_pdi(
+        &self,
+        runner: Runner,
+        first: bool,
+    ) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                if runner == Runner::ProcessData {
+                let waker = if runner == Runner::ProcessData {
                     r.pd_waiting.set(true);
-                    return Poll::Ready(());
-                }
-                let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_generation.get();
-                if pd_turn && !r.pd_stopped.get() {
-                    r.esm_pdi_waker.register(cx.waker());
-                    Poll::Pending
+                    &r.pd_waker
                 } else {
-                    Poll::Ready(())
+                    let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_generation.get();
+                    if pd_turn && !r.pd_stopped.get() {
+                        r.esm_pdi_waker.register(cx.waker());
+                        return Poll::Pending;
+                    }
+                    &r.esm_pdi_waker
+                };
+                let Ok(mut pdi) = self.pdi.try_lock() else {
+                    waker.register(cx.waker());
+                    return Poll::Pending;
+                };
+                // What the chunk's AL event must be, told the driver with the lock taken.
+                let sample = if runner == Runner::ProcessData {
+                    r.pd_waiting.set(false);
+                    Sample::Usual
+                } else if first {
+                    Sample::Usual
+                } else if r.esm_holds_irq.get() {
+                    // The trigger makes no edge: a later chunk's AL event is its only news
+                    // before the access ends (the first chunk's is what the driver reports
+                    // for any access: a short access adds no read of its own).
+                    Sample::Fresh
+                } else {
+                    Sample::Continued
+                };
+                if sample != Sample::Usual {
+                    pdi.sample(sample);
                 }
+                Poll::Ready(pdi)
             })
         })
     }
 
-    /// The AL event `runner` saw during its access, less the bits the access cleared, routed.
-    fn observe_access(&self, runner: Runner, seen: AlEvent, clears: AlEvent) -> AlEvent {
-        let event = seen.difference(clears);
-        self.observe(runner, event);
-        event
-    }
-
-    /// Routes one AL event value: state-machine events to the state-machine runner (unless it made
-    /// the access itself: then its core already has them, and they are the freshest news), the
-    /// process-data trigger to the process-data runner.
-    fn observe(&self, runner: Runner, event: AlEvent) {
+    /// After `runner` released the PDI: wakes the other runner, which may wait for it
+    /// ([`SharedEsc::take_pdi`]); the AL event the access saw, less the bits it cleared, routed.
+    fn observe_access<E>(
+        &self,
+        runner: Runner,
+        seen: Result<AlEvent, E>,
+        clears: AlEvent,
+    ) -> Result<AlEvent, E> {
+        let event = seen.map(|seen| seen.difference(clears));
         self.with(|r| {
-            r.last_event.set(event);
-            let esm = r.esm_share(event);
-            if runner == Runner::Esm {
-                r.esm_events.set(AlEvent::NONE);
-            } else if !esm.is_empty() {
-                r.esm_events.set(r.esm_events.get() | esm);
-                r.esm_waker.wake();
+            // The process-data runner's waker is the one of its wait for news: it waits at one
+            // place at a time.
+            if r.pd_waiting.get() {
+                r.pd_waker.wake();
             }
-            let pd = event.intersection(r.trigger());
-            if !pd.is_empty() && runner == Runner::Esm {
-                r.pd_events.set(r.pd_events.get() | pd);
-                r.notify_pd();
+            r.esm_pdi_waker.wake();
+            if let Ok(event) = event {
+                r.observe(runner, event);
             }
-            r.update_irq_holder();
         });
+        event
     }
 
     /// Takes the state-machine events seen by the other runner, ready also when only an
