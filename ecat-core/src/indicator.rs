@@ -172,50 +172,51 @@ impl LedCode {
     /// The level `elapsed` after the code started, and how long it keeps it (`None`: for
     /// ever). Phases are half-open: at an edge the level is already the new one.
     pub fn level_at(self, elapsed: Duration) -> (bool, Option<Duration>) {
-        // On, off between two flashes, off after the last, flashes; in milliseconds.
-        let (on, off, last_off, flashes) = match self.0 {
+        let (slot, slots, bits) = match self.0 {
             0x0 => return (false, None),
             0xF => return (true, None),
-            0xE => (50, 50, 50, 1),
-            0xD => (200, 200, 200, 1),
-            n => (200, 200, 1000, u32::from(n)),
+            _ => self.slots(),
         };
         // At most 5.6 s: microseconds fit 32 bits (the Cortex-M4 divides those in hardware).
-        let (on, step, last) = (on * 1_000, (on + off) * 1_000, (on + last_off) * 1_000);
-        let period = step * (flashes - 1) + last;
-        let at = remainder(elapsed.as_micros(), u64::from(period)) as u32;
-        // The flash `at` falls into (the last one with its long pause), and where in it
-        // (`checked_div`: no division-by-zero panic path, `step` is never 0).
-        let flash = at.checked_div(step).unwrap_or(0).min(flashes - 1);
-        let within = at - flash * step;
-        let (level, end) = if within < on {
-            (true, on)
-        } else if flash + 1 == flashes {
-            (false, last)
+        let at = remainder(elapsed.as_micros(), slot * slots);
+        // `checked_div`: no division-by-zero panic path, `slot` is never 0.
+        let index = at.checked_div(slot).unwrap_or(0);
+        let ahead = bits.wrapping_shr(index);
+        let level = ahead & 1 != 0;
+        // The slots left with this level: every timeline starts on and ends off, so a run of
+        // either level ends within the period, or (dark) at its end.
+        let run = if level {
+            (!ahead).trailing_zeros()
         } else {
-            (false, step)
+            ahead.trailing_zeros().min(slots - index)
         };
-        (level, Some(Duration::from_micros(u64::from(end - within))))
+        let end = (index + run) * slot - at;
+        (level, Some(Duration::from_micros(u64::from(end))))
+    }
+
+    /// A blinking code's timeline (not 0x0, not 0xF) as a row of equal slots: the slot's length
+    /// in microseconds, the slots in a period, and the levels (bit `i`: lit in slot `i`). Every
+    /// ETG.1300 phase is 50 ms or a multiple of 200 ms: flickering is on, off in 50 ms slots,
+    /// blinking the same in 200 ms slots, `n` flashes are on, off `n` times less the last off,
+    /// then 5 slots (1000 ms) off.
+    const fn slots(self) -> (u32, u32, u32) {
+        match self.0 {
+            0xE => (50_000, 2, 0b1),
+            0xD => (200_000, 2, 0b1),
+            // 1..=12: the even slots below slot `2 n - 1`.
+            n => (200_000, 2 * n as u32 + 4, 0x5555_5555 >> (32 - 2 * n as u32)),
+        }
     }
 }
 
-/// `x % m` for `m > 0` by shifts and subtractions (at most 64 steps): a 64-bit `%` would pull
-/// the 64-bit division routine (about 0.9 KB on a Cortex-M4, which divides 32 bits in hardware)
-/// into a firmware that has none otherwise.
-fn remainder(mut x: u64, m: u64) -> u64 {
-    if m == 0 || x < m {
-        return x;
-    }
-    // `x >= m > 0`, so `m`'s highest bit is at or below `x`'s: the shift keeps every bit of `m`.
-    let shift = m.leading_zeros() - x.leading_zeros();
-    let mut d = m << shift;
-    for _ in 0..=shift {
-        if x >= d {
-            x -= d;
-        }
-        d >>= 1;
-    }
-    x
+/// `x % m` for `0 < m < 2^24`, a byte at a time in 32 bits (`r < m`, so `r << 8 | byte` fits):
+/// a 64-bit `%` would pull the 64-bit division routine (about 0.9 KB on a Cortex-M4, which
+/// divides 32 bits in hardware) into a firmware that has none otherwise, and 64-bit shifts
+/// their own routines. `m` is 0 never (`checked_rem`: no panic path).
+fn remainder(x: u64, m: u32) -> u32 {
+    x.to_be_bytes().iter().fold(0, |r: u32, &byte| {
+        (r << 8 | u32::from(byte)).checked_rem(m).unwrap_or(0)
+    })
 }
 
 /// RUN for an AL state (ETG.1300).
@@ -433,20 +434,55 @@ impl Indicators {
 
 #[cfg(test)]
 mod tests {
-    use super::remainder;
+    use super::{LedCode, remainder};
+    use crate::time::Duration;
+
+    /// A code's level and time to its next edge (µs) from its phases in milliseconds (on, off
+    /// between flashes, off after the last, flashes), as ETG.1300 states them.
+    fn by_phases(code: u8, elapsed: u64) -> (bool, Option<u64>) {
+        let (on, off, last_off, flashes) = match code {
+            0x0 => return (false, None),
+            0xF => return (true, None),
+            0xE => (50, 50, 50, 1),
+            0xD => (200, 200, 200, 1),
+            n => (200, 200, 1000, u64::from(n)),
+        };
+        let (on, step, last) = (on * 1_000, (on + off) * 1_000, (on + last_off) * 1_000);
+        let at = elapsed % (step * (flashes - 1) + last);
+        let flash = (at / step).min(flashes - 1);
+        let within = at - flash * step;
+        if within < on {
+            (true, Some(on - within))
+        } else if flash + 1 == flashes {
+            (false, Some(last - within))
+        } else {
+            (false, Some(step - within))
+        }
+    }
+
+    #[test]
+    fn every_code_matches_its_phases() {
+        for code in 0..=0xF {
+            // Every microsecond around each 50 ms boundary of 12 s (two periods of the longest
+            // code), and far out.
+            let boundaries = (0..240u64).map(|i| i * 50_000).chain([1 << 40, u64::MAX - 60_000]);
+            for base in boundaries {
+                for elapsed in base..base + 3 {
+                    let elapsed = elapsed.saturating_sub(1);
+                    let (level, left) = LedCode(code).level_at(Duration::from_micros(elapsed));
+                    assert_eq!(
+                        (level, left.map(Duration::as_micros)),
+                        by_phases(code, elapsed),
+                        "code {code:#x} at {elapsed} µs"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn remainder_is_the_remainder() {
-        let moduli = [
-            1,
-            3,
-            100_000,
-            400_000,
-            1_200_000,
-            1_600_000,
-            u64::from(u32::MAX),
-            u64::MAX,
-        ];
+        let moduli = [1, 3, 100_000, 400_000, 1_200_000, 5_600_000, (1 << 24) - 1];
         let values = [
             0,
             1,
@@ -460,9 +496,8 @@ mod tests {
         ];
         for m in moduli {
             for x in values {
-                assert_eq!(remainder(x, m), x % m, "{x} % {m}");
+                assert_eq!(u64::from(remainder(x, m)), x % u64::from(m), "{x} % {m}");
             }
         }
-        assert_eq!(remainder(7, 0), 7);
     }
 }
