@@ -76,7 +76,7 @@
 //! shows red whenever ERR is on (CiA 303-3's rule for its combined LED).
 
 use crate::al::{AlState, AlStatus, AlStatusCode};
-use crate::time::{Duration, Instant};
+use crate::time::{Duration, Instant, earliest};
 
 /// An indicator's blink pattern (ETG.1300).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -328,17 +328,24 @@ impl LedOutput {
 
     /// The level at `now` (not before the code started).
     pub fn level(&self, now: Instant) -> bool {
-        self.code.level_at(self.elapsed(now)).0
+        self.at(now).0
     }
 
     /// The first instant after `now` at which the level changes; `None` while it is steady.
     pub fn next_edge(&self, now: Instant) -> Option<Instant> {
+        self.at(now).1
+    }
+
+    /// [`LedOutput::level`] and [`LedOutput::next_edge`] at once: one look at the timeline.
+    pub fn at(&self, now: Instant) -> (bool, Option<Instant>) {
+        let (level, left) = self.code.level_at(self.elapsed(now));
         // Before the code started (a `now` from the past) the code's start is the edge.
-        if now < self.since {
-            return Some(self.since);
-        }
-        let (_, left) = self.code.level_at(self.elapsed(now));
-        left.map(|left| now.saturating_add(left))
+        let edge = if now < self.since {
+            Some(self.since)
+        } else {
+            left.map(|left| now.saturating_add(left))
+        };
+        (level, edge)
     }
 }
 
@@ -346,7 +353,8 @@ impl LedOutput {
 ///
 /// Feed it the AL status whenever it may have changed ([`Indicators::update`] or
 /// [`Indicators::update_status`]), read the levels at any instant ([`Indicators::levels`]) and
-/// sleep until [`Indicators::poll_at`], the next edge: no polling loop.
+/// sleep until [`Indicators::poll_at`], the next edge: no polling loop ([`Indicators::at`]: both
+/// at once).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Indicators {
     run: LedOutput,
@@ -415,20 +423,23 @@ impl Indicators {
 
     /// The levels at `now` (not before the last update).
     pub fn levels(&self, now: Instant) -> Levels {
-        Levels {
-            run: self.run.level(now),
-            err: self.err.level(now),
-        }
+        self.at(now).0
     }
 
     /// The first instant after `now` at which either level changes; `None` while both are
     /// steady.
     #[must_use]
     pub fn poll_at(&self, now: Instant) -> Option<Instant> {
-        match (self.run.next_edge(now), self.err.next_edge(now)) {
-            (Some(a), Some(b)) => Some(if a < b { a } else { b }),
-            (a, b) => a.or(b),
-        }
+        self.at(now).1
+    }
+
+    /// [`Indicators::levels`] and [`Indicators::poll_at`] at once, each timeline looked at
+    /// once: what an LED task computes at each wake-up.
+    #[must_use]
+    pub fn at(&self, now: Instant) -> (Levels, Option<Instant>) {
+        let (run, run_edge) = self.run.at(now);
+        let (err, err_edge) = self.err.at(now);
+        (Levels { run, err }, earliest(run_edge, err_edge))
     }
 }
 

@@ -1,6 +1,6 @@
 //! The RUN and ERR indicators of ETG.1300 on GPIO pins: a task that follows the AL status the
 //! state-machine runner publishes ([`Status`]) and sleeps until the next edge
-//! ([`Indicators::poll_at`]) or the next change of the AL status, whichever comes first.
+//! ([`Indicators::at`], with the levels) or the next change of the AL status, whichever comes first.
 //!
 //! The patterns, the code classes and the bicolour rule are [`ecat_core::indicator`]'s. What
 //! this adds is the wiring: [`RunErr`] (two LEDs), [`Bicolour`] (one red/green LED on two pins)
@@ -125,13 +125,13 @@ pub fn run_indicators<'a, P: Pdi, L: Lamps>(
                 Some(status) => indicators.update_status(at, status, seen.code()),
                 None => indicators.update(at, AlState::Init, None),
             }
-            let levels = indicators.levels(at);
+            let (levels, next) = indicators.at(at);
             if shown != Some(levels) {
                 lamps.show(levels, shown);
                 shown = Some(levels);
             }
             if let Either::Second(news) =
-                select(until(indicators.poll_at(at)), status.indication_since(seen)).await
+                select(until(next), status.indication_since(seen)).await
             {
                 seen = news;
             }
