@@ -78,22 +78,23 @@
 use crate::al::{AlState, AlStatus, AlStatusCode};
 use crate::time::{Duration, Instant, earliest};
 
-/// An indicator's blink pattern (ETG.1300).
+/// An indicator's blink pattern (ETG.1300); its value is its LED code ([`Pattern::led_code`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[repr(u8)]
 pub enum Pattern {
     /// Constantly off.
     #[default]
-    Off,
+    Off = 0x0,
     /// Constantly on.
-    On,
+    On = 0xF,
     /// On 50 ms, off 50 ms.
-    Flickering,
+    Flickering = 0xE,
     /// On 200 ms, off 200 ms.
-    Blinking,
+    Blinking = 0xD,
     /// On 200 ms, off 1000 ms.
-    SingleFlash,
+    SingleFlash = 0x1,
     /// On 200 ms, off 200 ms, on 200 ms, off 1000 ms.
-    DoubleFlash,
+    DoubleFlash = 0x2,
 }
 
 /// Bit 4 of the LED override registers 0x0138/0x0139: the code in bits 3:0 drives the LED
@@ -127,14 +128,7 @@ impl Pattern {
     /// The LED code of the ESC's LED override registers (0x0138 RUN, 0x0139 ERR, bits 3:0):
     /// 0x0 off, 0x1..=0xC that many flashes, 0xD blinking, 0xE flickering, 0xF on.
     pub const fn led_code(self) -> u8 {
-        match self {
-            Self::Off => 0x0,
-            Self::SingleFlash => 0x1,
-            Self::DoubleFlash => 0x2,
-            Self::Blinking => 0xD,
-            Self::Flickering => 0xE,
-            Self::On => 0xF,
-        }
+        self as u8
     }
 
     /// The byte to write into an LED override register so that the ESC shows this pattern.
