@@ -198,7 +198,11 @@ impl LedCode {
             0xE => (50_000, 2, 0b1),
             0xD => (200_000, 2, 0b1),
             // 1..=12: the even slots below slot `2 n - 1`.
-            n => (200_000, 2 * n as u32 + 4, 0x5555_5555 >> (32 - 2 * n as u32)),
+            n => (
+                200_000,
+                2 * n as u32 + 4,
+                0x5555_5555 >> (32 - 2 * n as u32),
+            ),
         }
     }
 }
@@ -470,7 +474,9 @@ mod tests {
         for code in 0..=0xF {
             // Every microsecond around each 50 ms boundary of 12 s (two periods of the longest
             // code), and far out.
-            let boundaries = (0..240u64).map(|i| i * 50_000).chain([1 << 40, u64::MAX - 60_000]);
+            let boundaries = (0..240u64)
+                .map(|i| i * 50_000)
+                .chain([1 << 40, u64::MAX - 60_000]);
             for base in boundaries {
                 for elapsed in base..base + 3 {
                     let elapsed = elapsed.saturating_sub(1);

@@ -16,8 +16,8 @@
 use core::convert::Infallible;
 use core::future::Future;
 
-use ecat_core::AlState;
 use ecat_core::indicator::{Colour, Indicators, Levels};
+use ecat_core::{AlState, AlStatus};
 use embassy_futures::select::{Either, select};
 use embedded_hal::digital::{OutputPin, PinState};
 
@@ -121,18 +121,15 @@ pub fn run_indicators<'a, P: Pdi, L: Lamps>(
         let mut shown = None;
         loop {
             let at = now();
-            match seen.status() {
-                Some(status) => indicators.update_status(at, status, seen.code()),
-                None => indicators.update(at, AlState::Init, None),
-            }
+            // Before the state-machine runner's first publication: the ESC's reset state.
+            let state = seen.status().unwrap_or(AlStatus::new(AlState::Init));
+            indicators.update_status(at, state, seen.code());
             let (levels, next) = indicators.at(at);
             if shown != Some(levels) {
                 lamps.show(levels, shown);
                 shown = Some(levels);
             }
-            if let Either::Second(news) =
-                select(until(next), status.indication_since(seen)).await
-            {
+            if let Either::Second(news) = select(until(next), status.indication_since(seen)).await {
                 seen = news;
             }
         }
