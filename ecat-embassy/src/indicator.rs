@@ -111,9 +111,9 @@ impl<E: OutputPin> Lamps for ErrOnly<E> {
 /// and at each change of the AL status or code; a steady state (INIT or OP without error)
 /// sleeps until the next change.
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-pub fn run_indicators<'a, P: Pdi, L: Lamps>(
+pub fn run_indicators<'a, P: Pdi, L: Lamps + 'a>(
     status: Status<'a, P>,
-    lamps: &'a mut L,
+    mut lamps: L,
 ) -> impl Future<Output = Infallible> + 'a {
     async move {
         let mut indicators = Indicators::new();

@@ -123,7 +123,6 @@ fn indicator_task<L: Lamps + 'static>(
     polls: Rc<Cell<u32>>,
 ) -> impl FnOnce(ecat_embassy::Status<'static, ecat_emu::emulator::EmulatedPdi>) -> Vec<BoxedTask> {
     move |status| {
-        let lamps = Box::leak(Box::new(lamps));
         let inner = Box::pin(async move { match run_indicators(status, lamps).await {} });
         vec![Box::pin(Counted { inner, polls })]
     }

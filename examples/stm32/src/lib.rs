@@ -28,9 +28,9 @@ compile_error!(
 #[embassy_executor::task]
 pub async fn indicators(
     status: ecat_embassy::Status<'static, esc::Pdi>,
-    mut leds: board::Leds,
+    leds: board::Leds,
 ) -> ! {
-    match ecat_embassy::run_indicators(status, &mut leds).await {}
+    match ecat_embassy::run_indicators(status, leds).await {}
 }
 
 /// Parks the calling task for good: what a firmware task does once its runner stopped (after
