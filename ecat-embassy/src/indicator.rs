@@ -14,11 +14,12 @@
 //! critical section, a wake-up when they changed); nothing when no indicator task runs.
 
 use core::convert::Infallible;
-use core::future::Future;
+use core::future::{Future, poll_fn};
+use core::pin::Pin;
+use core::task::Poll;
 
 use ecat_core::indicator::{Colour, Indicators, Levels};
 use ecat_core::{AlState, AlStatus};
-use embassy_futures::select::{Either, select};
 use embedded_hal::digital::{OutputPin, PinState};
 
 use crate::Pdi;
@@ -129,9 +130,15 @@ pub fn run_indicators<'a, P: Pdi, L: Lamps + 'a>(
                 lamps.show(levels, shown);
                 shown = Some(levels);
             }
-            if let Either::Second(news) = select(until(next), status.indication_since(seen)).await {
-                seen = news;
-            }
+            // One future: the next edge, or news (`seen` again at the edge).
+            let mut edge = until(next);
+            seen = poll_fn(move |cx| {
+                if Pin::new(&mut edge).poll(cx).is_ready() {
+                    return Poll::Ready(seen);
+                }
+                status.poll_indication(seen, cx)
+            })
+            .await;
         }
     }
 }

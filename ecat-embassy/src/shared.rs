@@ -556,21 +556,20 @@ impl<'a, P: Pdi> Status<'a, P> {
     }
 
     /// The AL status and code last published, once it differs from `seen`: for the indicator
-    /// task, which waits here between two edges.
-    pub(crate) fn indication_since(
+    /// task, which waits for it and for its next edge between two edges.
+    pub(crate) fn poll_indication(
         self,
         seen: Indication,
-    ) -> impl Future<Output = Indication> + 'a {
-        poll_fn(move |cx| {
-            self.0.with(|r| {
-                let now = r.indication.get();
-                if now != seen {
-                    Poll::Ready(now)
-                } else {
-                    r.led_waker.register(cx.waker());
-                    Poll::Pending
-                }
-            })
+        cx: &mut Context<'_>,
+    ) -> Poll<Indication> {
+        self.0.with(|r| {
+            let now = r.indication.get();
+            if now != seen {
+                Poll::Ready(now)
+            } else {
+                r.led_waker.register(cx.waker());
+                Poll::Pending
+            }
         })
     }
 }
