@@ -76,7 +76,7 @@
 //! shows red whenever ERR is on (CiA 303-3's rule for its combined LED).
 
 use crate::al::{AlState, AlStatus, AlStatusCode};
-use crate::time::{Duration, Instant, earliest};
+use crate::time::{Duration, Instant};
 
 /// An indicator's blink pattern (ETG.1300); its value is its LED code ([`Pattern::led_code`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -166,13 +166,23 @@ impl LedCode {
     /// The level `elapsed` after the code started, and how long it keeps it (`None`: for
     /// ever). Phases are half-open: at an edge the level is already the new one.
     pub fn level_at(self, elapsed: Duration) -> (bool, Option<Duration>) {
+        let (level, left) = self.phase(elapsed.as_micros());
+        (
+            level,
+            (left != NEVER).then_some(Duration::from_micros(left)),
+        )
+    }
+
+    /// [`LedCode::level_at`] in microseconds, [`NEVER`] for ever: the LED task compares and
+    /// adds plain numbers.
+    fn phase(self, elapsed: u64) -> (bool, u64) {
         let (slot, slots, bits) = match self.0 {
-            0x0 => return (false, None),
-            0xF => return (true, None),
+            0x0 => return (false, NEVER),
+            0xF => return (true, NEVER),
             _ => self.slots(),
         };
         // At most 5.6 s: microseconds fit 32 bits (the Cortex-M4 divides those in hardware).
-        let at = remainder(elapsed.as_micros(), slot * slots);
+        let at = remainder(elapsed, slot * slots);
         // `checked_div`: no division-by-zero panic path, `slot` is never 0.
         let index = at.checked_div(slot).unwrap_or(0);
         let ahead = bits.wrapping_shr(index);
@@ -184,8 +194,7 @@ impl LedCode {
         } else {
             ahead.trailing_zeros().min(slots - index)
         };
-        let end = (index + run) * slot - at;
-        (level, Some(Duration::from_micros(u64::from(end))))
+        (level, u64::from((index + run) * slot - at))
     }
 
     /// A blinking code's timeline (not 0x0, not 0xF) as a row of equal slots: the slot's length
@@ -329,22 +338,38 @@ impl LedOutput {
         self.at(now).0
     }
 
-    /// The first instant after `now` at which the level changes; `None` while it is steady.
+    /// The first instant after `now` at which the level changes; `None` while it is steady (an
+    /// edge at the end of time, `u64::MAX` µs, counts as none).
     pub fn next_edge(&self, now: Instant) -> Option<Instant> {
         self.at(now).1
     }
 
     /// [`LedOutput::level`] and [`LedOutput::next_edge`] at once: one look at the timeline.
     pub fn at(&self, now: Instant) -> (bool, Option<Instant>) {
-        let (level, left) = self.code.level_at(self.elapsed(now));
+        let (level, edge) = self.edge(now);
+        (level, instant(edge))
+    }
+
+    /// [`LedOutput::at`] in microseconds, [`NEVER`] while the level is steady.
+    fn edge(&self, now: Instant) -> (bool, u64) {
+        let (level, left) = self.code.phase(self.elapsed(now).as_micros());
         // Before the code started (a `now` from the past) the code's start is the edge.
         let edge = if now < self.since {
-            Some(self.since)
+            self.since.as_micros()
         } else {
-            left.map(|left| now.saturating_add(left))
+            now.as_micros().saturating_add(left)
         };
         (level, edge)
     }
+}
+
+/// No edge: the level is steady (in microseconds, as an instant the end of time, which no
+/// clock reaches).
+const NEVER: u64 = u64::MAX;
+
+/// An edge's instant in microseconds as an instant, `None` for [`NEVER`].
+fn instant(micros: u64) -> Option<Instant> {
+    (micros != NEVER).then_some(Instant::from_micros(micros))
 }
 
 /// The RUN and ERR indicators of one SubDevice.
@@ -435,9 +460,9 @@ impl Indicators {
     /// once: what an LED task computes at each wake-up.
     #[must_use]
     pub fn at(&self, now: Instant) -> (Levels, Option<Instant>) {
-        let (run, run_edge) = self.run.at(now);
-        let (err, err_edge) = self.err.at(now);
-        (Levels { run, err }, earliest(run_edge, err_edge))
+        let (run, run_edge) = self.run.edge(now);
+        let (err, err_edge) = self.err.edge(now);
+        (Levels { run, err }, instant(run_edge.min(err_edge)))
     }
 }
 
