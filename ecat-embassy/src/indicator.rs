@@ -28,7 +28,8 @@ use crate::time::{now, until};
 
 /// Where the indicator levels go.
 pub trait Lamps {
-    /// Shows `levels`; called only when they differ from `before` (`None`: nothing shown yet).
+    /// Shows `levels`, writing only what differs from `before`, the levels shown last (`None`:
+    /// nothing shown yet). Called at each wake-up of the task, also when nothing changed.
     fn show(&mut self, levels: Levels, before: Option<Levels>);
 }
 
@@ -126,10 +127,8 @@ pub fn run_indicators<'a, P: Pdi, L: Lamps + 'a>(
             let state = seen.status().unwrap_or(AlStatus::new(AlState::Init));
             indicators.update_status(at, state, seen.code());
             let (levels, next) = indicators.at(at);
-            if shown != Some(levels) {
-                lamps.show(levels, shown);
-                shown = Some(levels);
-            }
+            lamps.show(levels, shown);
+            shown = Some(levels);
             // One future: the next edge, or news (`seen` again at the edge).
             let mut edge = until(next);
             seen = poll_fn(move |cx| {
