@@ -382,8 +382,10 @@ fn instant(micros: u64) -> Option<Instant> {
 pub struct Indicators {
     run: LedOutput,
     err: LedOutput,
-    error: Option<AlStatusCode>,
-    fault: Option<Fault>,
+    /// ERR's pattern from the AL status and code ([`err_pattern`]).
+    al_error: Pattern,
+    /// ERR's pattern for the application's fault, which outranks `al_error`.
+    fault: Option<Pattern>,
 }
 
 impl Default for Indicators {
@@ -398,7 +400,7 @@ impl Indicators {
         Self {
             run: LedOutput::new(),
             err: LedOutput::new(),
-            error: None,
+            al_error: Pattern::Off,
             fault: None,
         }
     }
@@ -408,7 +410,7 @@ impl Indicators {
     /// `now`.
     pub fn update(&mut self, now: Instant, state: AlState, error: Option<AlStatusCode>) {
         self.run.show(now, run_pattern(state).code());
-        self.error = error;
+        self.al_error = err_pattern(error);
         self.refresh_err(now);
     }
 
@@ -421,17 +423,15 @@ impl Indicators {
     /// Reports an error no AL status code tells (`None`: it went away). It takes precedence
     /// over the AL status code on ERR.
     pub fn set_fault(&mut self, now: Instant, fault: Option<Fault>) {
-        self.fault = fault;
+        self.fault = fault.map(|fault| match fault {
+            Fault::Booting => Pattern::Flickering,
+            Fault::ApplicationController => Pattern::On,
+        });
         self.refresh_err(now);
     }
 
     fn refresh_err(&mut self, now: Instant) {
-        let pattern = match self.fault {
-            Some(Fault::Booting) => Pattern::Flickering,
-            Some(Fault::ApplicationController) => Pattern::On,
-            None => err_pattern(self.error),
-        };
-        self.err.show(now, pattern.code());
+        self.err.show(now, self.fault.unwrap_or(self.al_error).code());
     }
 
     /// RUN's current pattern.
