@@ -296,6 +296,10 @@ impl Levels {
 /// firmware's indicators ([`Indicators`]) and the emulated ESC's own LED outputs (`ecat_esc`)
 /// run their LEDs on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// 12 bytes, not 16: the instant is read whole (never borrowed), and 32-bit targets load it
+// from any word (the two in an LED task's state: docs/performance.md, "Session 10: the
+// indicators' code").
+#[repr(C, packed(4))]
 pub struct LedOutput {
     code: LedCode,
     since: Instant,
@@ -353,9 +357,10 @@ impl LedOutput {
     /// [`LedOutput::at`] in microseconds, [`NEVER`] while the level is steady.
     fn edge(&self, now: Instant) -> (bool, u64) {
         let (level, left) = self.code.phase(self.elapsed(now).as_micros());
+        let since = self.since;
         // Before the code started (a `now` from the past) the code's start is the edge.
-        let edge = if now < self.since {
-            self.since.as_micros()
+        let edge = if now < since {
+            since.as_micros()
         } else {
             now.as_micros().saturating_add(left)
         };
