@@ -13,7 +13,6 @@
 //! the layout it already publishes after each access (one compare and one store in the same
 //! critical section, a wake-up when they changed); nothing when no indicator task runs.
 
-use core::convert::Infallible;
 use core::future::{Future, poll_fn};
 use core::pin::Pin;
 use core::task::Poll;
@@ -105,8 +104,10 @@ impl<E: OutputPin> Lamps for ErrOnly<E> {
 }
 
 /// Drives `lamps` from the AL status and code of the SubDevice `status` tells
-/// ([`Control::status`](crate::Control::status)) for ever (the
-/// output type has no value). Before the state-machine runner's first access it shows INIT
+/// ([`Control::status`](crate::Control::status)) for ever: the future never completes. Its
+/// output is `()` nonetheless, so that an Embassy task can be this future itself
+/// (`#[embassy_executor::task] fn leds(…) -> impl Future<Output = ()>`, which takes no `!`): an
+/// `async fn` around it would keep a second copy of its arguments. Before the state-machine runner's first access it shows INIT
 /// without error (both off).
 ///
 /// Wakes at each edge of a blinking pattern (`Timer::at` the next edge, never a polling loop)
@@ -116,7 +117,7 @@ impl<E: OutputPin> Lamps for ErrOnly<E> {
 pub fn run_indicators<'a, P: Pdi, L: Lamps + 'a>(
     status: Status<'a, P>,
     mut lamps: L,
-) -> impl Future<Output = Infallible> + 'a {
+) -> impl Future<Output = ()> + 'a {
     async move {
         let mut indicators = Indicators::new();
         let mut seen = status.indication();

@@ -123,7 +123,7 @@ fn indicator_task<L: Lamps + 'static>(
     polls: Rc<Cell<u32>>,
 ) -> impl FnOnce(ecat_embassy::Status<'static, ecat_emu::emulator::EmulatedPdi>) -> Vec<BoxedTask> {
     move |status| {
-        let inner = Box::pin(async move { match run_indicators(status, lamps).await {} });
+        let inner = Box::pin(run_indicators(status, lamps));
         vec![Box::pin(Counted { inner, polls })]
     }
 }

@@ -106,8 +106,8 @@ async fn sync(control: Control<'static, Pdi, DigitalIo, IoOd>, mut sync0: Pin) {
 
 /// The ETG.1300 RUN/ERR LEDs, in the thread executor.
 #[embassy_executor::task]
-async fn indicators(status: Status<'static, Pdi>, leds: Leds) -> ! {
-    match ecat_embassy::run_indicators(status, leds).await {}
+fn indicators(status: Status<'static, Pdi>, leds: Leds) -> impl core::future::Future<Output = ()> {
+    ecat_embassy::run_indicators(status, leds)
 }
 
 /// Parks the calling task for good once its runner stopped (after logging why): a task that

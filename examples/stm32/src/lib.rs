@@ -24,13 +24,14 @@ compile_error!(
 );
 
 /// The ETG.1300 RUN/ERR LEDs of the SubDevice whose `status` they show, in the thread executor:
-/// woken only at a pattern's edges and when the AL status changes.
+/// woken only at a pattern's edges and when the AL status changes. The task is
+/// `run_indicators`' future itself (no `async fn` around it keeping the arguments twice).
 #[embassy_executor::task]
-pub async fn indicators(
+pub fn indicators(
     status: ecat_embassy::Status<'static, esc::Pdi>,
     leds: board::Leds,
-) -> ! {
-    match ecat_embassy::run_indicators(status, leds).await {}
+) -> impl core::future::Future<Output = ()> {
+    ecat_embassy::run_indicators(status, leds)
 }
 
 /// Parks the calling task for good: what a firmware task does once its runner stopped (after
