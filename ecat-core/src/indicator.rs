@@ -436,7 +436,8 @@ impl Indicators {
     }
 
     fn refresh_err(&mut self, now: Instant) {
-        self.err.show(now, self.fault.unwrap_or(self.al_error).code());
+        self.err
+            .show(now, self.fault.unwrap_or(self.al_error).code());
     }
 
     /// RUN's current pattern.
