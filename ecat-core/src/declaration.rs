@@ -185,7 +185,7 @@ macro_rules! __ecat_dictionary {
                 "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
             );
             &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
-        }, [$area: $crate::dictionary::Communication::new(&$info),] $($items)*);
+        }, [$area: $crate::dictionary::Communication::new(&$info),] communication = $area; $($items)*);
     };
     ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
@@ -201,7 +201,7 @@ macro_rules! __ecat_dictionary {
                 $crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
             &$crate::dictionary::communication::merge::<$dict, { BASE.len() + 2 }>(&STORAGE, &BASE)
         }, [$area: $crate::dictionary::Communication::new(&$info), $stored: $crate::dictionary::parameters::StoredParameters::new(),]
-        stored = $stored; $($items)*);
+        communication = $area; stored = $stored; $($items)*);
     };
     ($mode:ident, $dict:ident { $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [] $($items)*);
@@ -222,7 +222,8 @@ macro_rules! __ecat_objects {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_impl {
-    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*] $(stored = $stored:ident;)?
+    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*] $(communication = $communication:ident;)?
+     $(stored = $stored:ident;)?
      $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
@@ -231,6 +232,12 @@ macro_rules! __ecat_impl {
                 $dict,
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
+            $(
+                fn communication(&mut self) -> Option<&mut $crate::dictionary::Communication> {
+                    Some(&mut self.$communication)
+                }
+            )?
 
             $(
                 fn stored_parameters(&mut self) -> Option<&mut $crate::dictionary::parameters::StoredParameters> {

@@ -45,8 +45,8 @@ impl SyncParameters {
         Ok(crate::dictionary::read_unsigned(value, size, offset, out))
     }
 
-    /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how
-    /// the stack fills the read-only entries (`fill`, [`CycleMonitor`]).
+    /// Decodes `data` into `sub`: what an SDO download stores after the access check (the
+    /// stack fills the read-only entries in the fields themselves: `fill`, [`CycleMonitor`]).
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         match sub {
             0 => Err(AbortCode::READ_ONLY),
@@ -297,23 +297,6 @@ pub(crate) const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
 pub(crate) const INPUT_PARAMETERS: u16 = 0x1C33;
 
-/// Both parameter objects, 0x1C32 then 0x1C33, as a range: `fill`'s loop over them needs no
-/// array iterator (whose state the firmware kept beside the loop's own).
-const PARAMETER_OBJECTS: core::ops::Range<u16> = OUTPUT_PARAMETERS..INPUT_PARAMETERS + 1;
-const _: () = assert!(INPUT_PARAMETERS == OUTPUT_PARAMETERS + 1);
-
-/// Parameter object `index` (0x1C32, else 0x1C33) of `D`, if it has it: its place in
-/// `D::OBJECTS` is found at compile time, so the cycle monitor's [`store`] (in the
-/// process-data path) and [`requested`] search nothing. (`fill` loops over both with
-/// [`D::object`](ObjectDictionary::object): with constant places the loop is unrolled, larger.)
-fn parameters<D: ObjectDictionary>(index: u16) -> Option<&'static Object<D>> {
-    let at = match index {
-        OUTPUT_PARAMETERS => const { position(D::OBJECTS, OUTPUT_PARAMETERS) },
-        _ => const { position(D::OBJECTS, INPUT_PARAMETERS) },
-    };
-    D::OBJECTS.get(at?)
-}
-
 /// Where object `index` is in `objects`.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 const fn position<D>(objects: &[Object<D>], index: u16) -> Option<usize> {
@@ -358,6 +341,10 @@ pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
 /// free-run, the SYNC0 cycle in DC mode), the SYNC0 cycle time (SI 0x0A: the ESC's 0x09A0 while
 /// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync mode (SI1,
 /// [`input_sync_type`]) of the `active` sync mode.
+///
+/// The stack writes the fields themselves ([`ObjectDictionary::communication`]): read-only is
+/// the MainDevice's restriction, not the stack's; 0x1C33:01 gets a sync mode the device
+/// supports, a code [`check_input_sync_write`] accepts.
 pub(crate) fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
@@ -377,28 +364,20 @@ pub(crate) fn fill<D: ObjectDictionary>(
         Some(SyncMode::DcSync0) => dc.sync0_cycle_ns,
         _ => 0,
     };
-    for index in PARAMETER_OBJECTS {
-        let Some(object) = D::object(index) else {
-            continue;
-        };
-        set(od, object, 4, &device.sync_modes.0.to_le_bytes());
-        set(od, object, 5, &min_ns.to_le_bytes());
+    let Some(area) = od.communication() else {
+        return;
+    };
+    for p in [&mut area.outputs, &mut area.inputs] {
+        p.supported = device.sync_modes.0;
+        p.min_cycle_time = min_ns;
         if let Some(ns) = cycle_ns {
-            set(od, object, 2, &ns.to_le_bytes());
+            p.cycle_time = ns;
         }
-        set(od, object, 0x0A, &sync0_ns.to_le_bytes());
-        if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
-            let input = input_sync_type(output, has_outputs);
-            set(od, object, 1, &input.code().to_le_bytes());
-        }
+        p.sync0_cycle_time = sync0_ns;
     }
-}
-
-/// Writes an entry the stack fills, in its encoding, through the object's typed `write` (the
-/// same decoding an SDO download gets; read-only is the MainDevice's restriction, not the
-/// stack's). The entries of [`PARAMETER_ENTRIES`] have the sizes written here.
-fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
-    let _ = (object.write)(od, sub, bytes);
+    if let Some(output) = active {
+        area.inputs.sync_type = input_sync_type(output, has_outputs).code();
+    }
 }
 
 /// A count of microseconds in nanoseconds, as the UNSIGNED32 of 0x1C32/0x1C33: saturated (at
@@ -476,11 +455,11 @@ impl Requested {
 /// 0x0028. `chosen` tells whether the MainDevice wrote it. Without 0x1C32 the device runs
 /// SM-synchronous when it supports it, else free-run.
 pub(crate) fn requested<D: ObjectDictionary>(
-    od: &D,
+    od: &mut D,
     device: &DeviceConfig,
     chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
-    let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) else {
+    let Some(area) = od.communication() else {
         let sm = device.sync_modes.supports(SyncMode::SmSynchronous);
         let mode = if sm {
             SyncMode::SmSynchronous
@@ -492,10 +471,9 @@ pub(crate) fn requested<D: ObjectDictionary>(
             chosen: false,
         });
     };
-    let code = object.read_u16(od, 1).unwrap_or(u16::MAX);
-    let mut default = [0u8; 2];
-    let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
-    let default_kept = declared && u16::from_le_bytes(default) == code;
+    let code = area.outputs.sync_type;
+    // 0x1C32:01's declared default ([`output_limit`]).
+    let default_kept = code == OUTPUT_SYNC_DEFAULT;
     match SyncMode::from_code(code) {
         mode if device.sync_modes.supports(mode) => Ok(Requested {
             mode,
@@ -647,25 +625,21 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
     position(objects, OUTPUT_PARAMETERS).is_some() || position(objects, INPUT_PARAMETERS).is_some()
 }
 
-/// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).
-fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
-    if let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) {
-        store_in(od, object, &d);
-    }
-    if let Some(object) = parameters::<D>(INPUT_PARAMETERS) {
-        store_in(od, object, &d);
-    }
-}
-
-/// [`store`] into one parameter object.
+/// Stores the diagnostics into 0x1C32/0x1C33. Out of line: the process-data path only calls
+/// it when they changed.
 #[inline(never)]
-fn store_in<D>(od: &mut D, object: &Object<D>, d: &Diagnostics) {
-    if let Some(ns) = d.measured_ns {
-        set(od, object, 2, &ns.to_le_bytes());
+fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
+    let Some(area) = od.communication() else {
+        return;
+    };
+    for p in [&mut area.outputs, &mut area.inputs] {
+        if let Some(ns) = d.measured_ns {
+            p.cycle_time = ns;
+        }
+        p.sm_event_missed = d.missed;
+        p.cycle_time_too_small = d.overruns;
+        p.sync_error = d.error;
     }
-    set(od, object, 0x0B, &d.missed.to_le_bytes());
-    set(od, object, 0x0C, &d.overruns.to_le_bytes());
-    set(od, object, 0x20, &[u8::from(d.error)]);
 }
 
 #[cfg(test)]

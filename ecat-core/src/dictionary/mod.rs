@@ -131,6 +131,14 @@ pub trait ObjectDictionary: Sized + 'static {
         None
     }
 
+    /// The communication area's values (0x1018, 0x1C32, 0x1C33): `None` for a dictionary
+    /// without it (the default), the field of `dictionary!`'s `communication` item. The stack
+    /// fills the sync parameters and keeps their diagnostics in the fields themselves
+    /// ([`crate::sync_parameters`]): no lookup, no encoding.
+    fn communication(&mut self) -> Option<&mut Communication> {
+        None
+    }
+
     /// The state of 0x1010/0x1011 ([`parameters`]): `None` for a device without storage (the
     /// default), the `stored` field of a `communication(area, INFO, stored = field)` item.
     fn stored_parameters(&mut self) -> Option<&mut parameters::StoredParameters> {
