@@ -33,57 +33,40 @@ impl SyncParameters {
     /// Copies the encoded value of `sub` from `offset` into `out` (the typed read of the
     /// standard record: one function for 0x1C32 and 0x1C33 of every dictionary).
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        let mut this = *self;
         let (value, size) = match sub {
             0 => (u32::from(Self::MAX_SUB), 1),
+            1 => (u32::from(self.sync_type), 2),
+            2 => (self.cycle_time, 4),
+            3 => (self.shift_time, 4),
+            4 => (u32::from(self.supported), 2),
+            5 => (self.min_cycle_time, 4),
+            6 => (self.calc_copy_time, 4),
+            7 => (self.min_delay_time, 4),
+            8 => (u32::from(self.get_cycle_time), 2),
+            9 => (self.delay_time, 4),
+            0x0A => (self.sync0_cycle_time, 4),
+            0x0B => (u32::from(self.sm_event_missed), 2),
+            0x0C => (u32::from(self.cycle_time_too_small), 2),
+            0x0D => (u32::from(self.shift_time_too_short), 2),
             0x20 => (u32::from(self.sync_error), 1),
-            _ => match this.entry(sub).ok_or(AbortCode::NO_SUBINDEX)? {
-                Entry::U16(value) => (u32::from(*value), 2),
-                Entry::U32(value) => (*value, 4),
-            },
+            _ => return Err(AbortCode::NO_SUBINDEX),
         };
         Ok(crate::dictionary::read_unsigned(value, size, offset, out))
     }
 
-    /// Decodes `data` into `sub`: what an SDO download stores after the access check (the
-    /// stack fills the read-only entries in the fields themselves: `fill`, [`CycleMonitor`]).
+    /// Decodes `data` into `sub`: what an SDO download stores after the access check. Only
+    /// the entries a MainDevice may write are written here (SI1, SI2, SI8:
+    /// [`PARAMETER_ENTRIES`]); the others are read-only, 0x06010002, and the stack fills them
+    /// in the fields themselves (`fill`, [`CycleMonitor`]).
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         match sub {
-            0 => Err(AbortCode::READ_ONLY),
-            0x20 => write_value(&mut self.sync_error, data, None, None),
-            _ => match self.entry(sub).ok_or(AbortCode::NO_SUBINDEX)? {
-                Entry::U16(slot) => write_value(slot, data, None, None),
-                Entry::U32(slot) => write_value(slot, data, None, None),
-            },
+            1 => write_value(&mut self.sync_type, data, None, None),
+            2 => write_value(&mut self.cycle_time, data, None, None),
+            8 => write_value(&mut self.get_cycle_time, data, None, None),
+            0..=0x0D | 0x20 => Err(AbortCode::READ_ONLY),
+            _ => Err(AbortCode::NO_SUBINDEX),
         }
     }
-
-    /// The UNSIGNED16 or UNSIGNED32 entry `sub` (SI1..SI 0x0D): one read and one write per
-    /// width instead of one per entry.
-    fn entry(&mut self, sub: u8) -> Option<Entry<'_>> {
-        Some(match sub {
-            1 => Entry::U16(&mut self.sync_type),
-            2 => Entry::U32(&mut self.cycle_time),
-            3 => Entry::U32(&mut self.shift_time),
-            4 => Entry::U16(&mut self.supported),
-            5 => Entry::U32(&mut self.min_cycle_time),
-            6 => Entry::U32(&mut self.calc_copy_time),
-            7 => Entry::U32(&mut self.min_delay_time),
-            8 => Entry::U16(&mut self.get_cycle_time),
-            9 => Entry::U32(&mut self.delay_time),
-            0x0A => Entry::U32(&mut self.sync0_cycle_time),
-            0x0B => Entry::U16(&mut self.sm_event_missed),
-            0x0C => Entry::U16(&mut self.cycle_time_too_small),
-            0x0D => Entry::U16(&mut self.shift_time_too_short),
-            _ => return None,
-        })
-    }
-}
-
-/// An entry of the record by its width ([`SyncParameters::entry`]).
-enum Entry<'a> {
-    U16(&'a mut u16),
-    U32(&'a mut u32),
 }
 
 impl SyncParameters {
