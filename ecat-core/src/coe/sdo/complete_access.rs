@@ -8,7 +8,7 @@
 //! an object unfit for complete access (0x06010004).
 
 use crate::abort::AbortCode;
-use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo};
+use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo, Read};
 
 /// One entry's place in the complete-access image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -151,20 +151,15 @@ pub fn upload_last<D>(od: &D, object: &Object<D>) -> Result<u8, AbortCode> {
     Ok(si0[0].min(object.info.max_sub))
 }
 
-/// The size in bytes of a complete-access upload from `sub` ([`upload_last`]).
-pub fn upload_size<D>(od: &D, object: &Object<D>, sub: u8) -> Result<usize, AbortCode> {
-    Ok(size_through(&object.info, sub, upload_last(od, object)?))
-}
-
 /// Copies the bytes of a complete-access upload from `sub` ([`upload_last`]) from `offset` on
-/// into `out`; returns how many.
+/// into `out`: how many, and the image's whole size (as [`Object::read`] of one entry).
 pub fn read<D>(
     od: &D,
     object: &Object<D>,
     sub: u8,
     offset: usize,
     out: &mut [u8],
-) -> Result<usize, AbortCode> {
+) -> Result<Read, AbortCode> {
     let last = upload_last(od, object)?;
     let total = size_through(&object.info, sub, last);
     let len = out.len().min(total.saturating_sub(offset));
@@ -177,7 +172,7 @@ pub fn read<D>(
         (object.read)(od, slot.sub, 0, &mut value)?;
         copy_bits(&value, 0, window, slot.bit_offset, offset, slot.bit_len);
     }
-    Ok(len)
+    Ok(Read::new(len, total))
 }
 
 /// The value bytes of one entry in a complete-access image, as a single access carries them:

@@ -209,13 +209,13 @@ impl<const N: usize> SdoServer<N> {
         // The value is read once, straight into the answer's data area; its size then says
         // expedited or normal.
         let (head, data) = split_response(out)?;
-        let (size, sent) = if is_domain::<D>(target) || target.complete {
+        let (size, sent) = if is_domain::<D>(target) {
             (
-                value_size(cx, object, target)?,
+                domain_size(cx, target)?,
                 fetch(cx, object, target, 0, data)?,
             )
         } else {
-            let read = (object.read)(cx.od, target.sub, 0, data)?;
+            let read = read(cx.od, object, target, 0, data)?;
             (read.size(), read.copied())
         };
         if (1..=4).contains(&size) && !is_domain::<D>(target) {
@@ -579,20 +579,28 @@ fn check_not_rx_mapped<D: ObjectDictionary>(
     Ok(())
 }
 
-/// The encoded size of the target's value.
-fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
+/// The size of the DOMAIN `target`, as the application's hook gives it.
+fn domain_size<D, H: ObjectHooks<D>>(
     cx: &mut Context<'_, D, H>,
-    object: &Object<D>,
     target: Target,
 ) -> Result<usize, AbortCode> {
-    if is_domain::<D>(target) {
-        let size = cx.hooks.domain_size(target.index, target.sub)?;
-        return usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY);
-    }
+    let size = cx.hooks.domain_size(target.index, target.sub)?;
+    usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY)
+}
+
+/// Reads the target's encoded value from `offset` into `out`: one entry by its object's read,
+/// a complete access by [`complete_access::read`]; the bytes copied and the whole size.
+fn read<D>(
+    od: &D,
+    object: &Object<D>,
+    target: Target,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<crate::dictionary::Read, AbortCode> {
     if target.complete {
-        return complete_access::upload_size(cx.od, object, target.sub);
+        return complete_access::read(od, object, target.sub, offset, out);
     }
-    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size())
+    (object.read)(od, target.sub, offset, out)
 }
 
 /// Copies the target's bytes from `offset` into `out`.
@@ -607,10 +615,7 @@ fn fetch<D: ObjectDictionary, H: ObjectHooks<D>>(
         let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
         return cx.hooks.domain_read(target.index, target.sub, offset, out);
     }
-    if target.complete {
-        return complete_access::read(cx.od, object, target.sub, offset, out);
-    }
-    Ok((object.read)(cx.od, target.sub, offset, out)?.copied())
+    Ok(read(cx.od, object, target, offset, out)?.copied())
 }
 
 /// Stores downloaded bytes: into the dictionary through the hooks, or streamed to a DOMAIN.
