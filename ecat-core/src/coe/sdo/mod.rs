@@ -682,10 +682,6 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
     from: u8,
     data: &[u8],
 ) -> Result<(), AbortCode> {
-    let value_of = |sub| {
-        complete_access::entry_value(data, &object.info, from, sub)
-            .ok_or(AbortCode::LENGTH_MISMATCH)
-    };
     // Only a PDO configuration object's SI0 is writable; a dictionary without a writable one
     // has no configuration sequence to follow.
     let writable = const { pdo::configurable(D::OBJECTS) }
@@ -693,10 +689,11 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
             .info
             .entry(0)
             .is_some_and(|e| e.access.writable_in(cx.state));
-    let si0 = if from == 0 {
-        Some(value_of(0)?.0[0])
-    } else {
-        None
+    // SI0 travels as one byte and a padding byte.
+    let si0 = match (from, data) {
+        (0, [n, _, ..]) => Some(*n),
+        (0, _) => return Err(AbortCode::LENGTH_MISMATCH),
+        _ => None,
     };
     check_complete_length(&object.info, from, data.len(), si0.filter(|_| writable))?;
     let mut last = object.info.max_sub;
@@ -718,10 +715,13 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         }
         None => {}
     }
-    // A gap of a sparse RECORD has no value in the image.
-    for (sub, _) in complete_access::declared(&object.info, from.max(1), last) {
-        let (value, len) = value_of(sub)?;
-        store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
+    // A gap of a sparse RECORD has no value in the image; SI0 is done.
+    for slot in complete_access::slots(&object.info, from).take_while(|s| s.sub <= last) {
+        if slot.sub == 0 {
+            continue;
+        }
+        let (value, len) = slot.value(data).ok_or(AbortCode::LENGTH_MISMATCH)?;
+        store_entry(cx, object, slot.sub, value.get(..len).unwrap_or_default())?;
     }
     match si0 {
         Some(n) if writable => store_entry(cx, object, 0, &[n]),
