@@ -365,6 +365,7 @@ pub(crate) fn fill<D: ObjectDictionary>(
 
 /// A count of microseconds in nanoseconds, as the UNSIGNED32 of 0x1C32/0x1C33: saturated (at
 /// 4 294 967 µs and above), in 32-bit arithmetic.
+#[inline(never)]
 fn nanoseconds(micros: u64) -> u32 {
     u32::try_from(micros)
         .ok()

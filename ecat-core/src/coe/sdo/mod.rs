@@ -419,15 +419,14 @@ impl<const N: usize> SdoServer<N> {
     /// A segment moved the transfer to `done` bytes: it ends, or waits for the next segment
     /// with the other toggle.
     fn advance(&mut self, now: Instant, done: usize, last: bool) {
-        self.transfer = match self.transfer {
-            Some(t) if !last => Some(Segmented {
-                done,
-                toggle: !t.toggle,
-                deadline: now.saturating_add(Self::SEGMENT_TIMEOUT),
-                ..t
-            }),
-            _ => None,
-        };
+        match &mut self.transfer {
+            Some(t) if !last => {
+                t.done = done;
+                t.toggle = !t.toggle;
+                t.deadline = now.saturating_add(Self::SEGMENT_TIMEOUT);
+            }
+            transfer => *transfer = None,
+        }
     }
 
     /// The abort for a segment that belongs to no transfer.
