@@ -30,7 +30,7 @@ use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
+    Access, DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
 use crate::pdo;
 use crate::time::{Duration, Instant};
@@ -531,22 +531,18 @@ fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
 fn check_access(entry: &EntryInfo, state: AlState, direction: Direction) -> Result<(), AbortCode> {
-    let (anywhere, here, never) = match direction {
-        Direction::Read => (
-            entry.access.readable(),
-            entry.access.readable_in(state),
-            AbortCode::WRITE_ONLY,
-        ),
-        Direction::Write => (
-            entry.access.writable(),
-            entry.access.writable_in(state),
-            AbortCode::READ_ONLY,
-        ),
+    // The write triple shifted onto the read triple: one test for both directions.
+    let (shift, never) = match direction {
+        Direction::Read => (0, AbortCode::WRITE_ONLY),
+        Direction::Write => (3, AbortCode::READ_ONLY),
     };
-    match (anywhere, here) {
-        (false, _) => Err(never),
-        (true, false) => Err(AbortCode::DEVICE_STATE),
-        (true, true) => Ok(()),
+    let rights = Access((entry.access.0 >> shift) & Access::READ.0);
+    if !rights.readable() {
+        Err(never)
+    } else if !rights.readable_in(state) {
+        Err(AbortCode::DEVICE_STATE)
+    } else {
+        Ok(())
     }
 }
 
