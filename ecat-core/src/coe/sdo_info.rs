@@ -244,7 +244,8 @@ impl ListType {
 
     /// Whether `object` is in this list: any of its entries carries the list's access flag.
     /// [`ListType::Lengths`] holds no object.
-    pub fn contains(self, object: &ObjectInfo) -> bool {
+    #[allow(clippy::indexing_slicing)] // bounded by the loop condition
+    pub const fn contains(self, object: &ObjectInfo) -> bool {
         let flag = match self {
             Self::Lengths => return false,
             Self::All => return true,
@@ -253,16 +254,42 @@ impl ListType {
             Self::Backup => Access::BACKUP,
             Self::Settings => Access::SETTINGS,
         };
-        object.entries.iter().any(|e| e.access.0 & flag.0 != 0)
+        let mut i = 0;
+        while i < object.entries.len() {
+            if object.entries[i].access.0 & flag.0 != 0 {
+                return true;
+            }
+            i += 1;
+        }
+        false
     }
 
-    /// How many objects of `D` the list holds (list type 0: its five counts).
+    /// How many objects of `D` the list holds (list type 0: its five counts): counted at
+    /// compile time ([`list_lengths`]).
     fn len<D: ObjectDictionary>(self) -> usize {
-        match self {
-            Self::Lengths => OBJECT_LISTS.len(),
-            list => D::OBJECTS.iter().filter(|o| list.contains(&o.info)).count(),
-        }
+        let lengths = const { list_lengths(D::OBJECTS) };
+        lengths.get(usize::from(self.code())).copied().unwrap_or(0)
     }
+}
+
+/// The length of each list (by its code) of a dictionary of `objects`: what a Get OD List
+/// response counts, a table in flash rather than a count of the dictionary at run time.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+const fn list_lengths<D>(objects: &[Object<D>]) -> [usize; 6] {
+    let mut lengths = [OBJECT_LISTS.len(), 0, 0, 0, 0, 0];
+    let mut l = 0;
+    while l < OBJECT_LISTS.len() {
+        let list = OBJECT_LISTS[l];
+        let mut i = 0;
+        while i < objects.len() {
+            if list.contains(&objects[i].info) {
+                lengths[list as usize] += 1;
+            }
+            i += 1;
+        }
+        l += 1;
+    }
+    lengths
 }
 
 /// The value-info byte of a Get Entry Description request and response: which optional fields
