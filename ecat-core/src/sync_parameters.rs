@@ -515,13 +515,10 @@ pub struct CycleMonitor {
     last: Option<Instant>,
     missed: u16,
     overruns: u16,
-    /// What was last stored into the dictionary: a cycle that changes nothing stores nothing
-    /// (the monitor runs in the process-data path).
-    stored: Option<Diagnostics>,
 }
 
 /// The diagnostic entries the monitor keeps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy)]
 struct Diagnostics {
     measured_ns: Option<u32>,
     missed: u16,
@@ -577,10 +574,7 @@ impl CycleMonitor {
             overruns: self.overruns,
             error: missed || overrun || self.supervision.tripped(),
         };
-        if self.stored != Some(now) {
-            self.stored = Some(now);
-            store(od, now);
-        }
+        store(od, now);
         tripped
     }
 
@@ -609,8 +603,9 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
     position(objects, OUTPUT_PARAMETERS).is_some() || position(objects, INPUT_PARAMETERS).is_some()
 }
 
-/// Stores the diagnostics into 0x1C32/0x1C33. Out of line: the process-data path only calls
-/// it when they changed.
+/// Stores the diagnostics into 0x1C32/0x1C33: a few stores into the fields, every cycle
+/// (cheaper in flash than remembering what was stored to skip them). Out of line: inlined
+/// into the process-data task it is larger.
 #[inline(never)]
 fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
     let Some(area) = od.communication() else {
