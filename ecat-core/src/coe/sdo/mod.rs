@@ -141,18 +141,16 @@ impl<const N: usize> SdoServer<N> {
             Err(code) => return abort(out, 0, 0, code),
         };
         let (index, sub) = (frame.index(), frame.sub());
+        // An initiate's target: bit 4 of either command asks for complete access.
+        let target = Target::new(index, sub, frame.command() & command::COMPLETE != 0);
         let result = match Request::from_byte(frame.command()) {
-            Request::Upload { complete } => self.upload(cx, Target::new(index, sub, complete), out),
+            Request::Upload => self.upload(cx, target, out),
             Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
             Request::Download {
                 expedited,
                 size_indicated,
                 unused,
-                complete,
-            } => {
-                let target = Target::new(index, sub, complete);
-                self.download(cx, target, &frame, (expedited, size_indicated, unused), out)
-            }
+            } => self.download(cx, target, &frame, (expedited, size_indicated, unused), out),
             Request::DownloadSegment {
                 toggle,
                 unused,
