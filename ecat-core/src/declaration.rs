@@ -54,7 +54,10 @@
 /// `pdo` declares a PDO mapping (0x1600..0x17FF, 0x1A00..0x1BFF; field type
 /// [`PdoMapping<N>`](crate::pdo::PdoMapping)) or assignment object (0x1C12, 0x1C13;
 /// [`PdoAssignment<N>`](crate::pdo::PdoAssignment)): SI0 counts the valid entries and follows the
-/// PDO configuration write rules of [`crate::pdo`].
+/// PDO configuration write rules of [`crate::pdo`]. Its `default` is a constant expression
+/// ([`PdoMapping::mapping`](crate::pdo::PdoMapping::mapping),
+/// [`PdoAssignment::assignment`](crate::pdo::PdoAssignment::assignment)): evaluated at compile
+/// time, `Default` copies it rather than building it at run time.
 ///
 /// `diagnosis` declares the diagnosis history at 0x10F3 (field type
 /// [`DiagnosisHistory<N>`](crate::diagnosis::DiagnosisHistory)): the stack logs its own events
@@ -696,7 +699,7 @@ macro_rules! __ecat_default {
         ::core::array::from_fn(|_| $crate::__ecat_or!(::core::default::Default::default() $(, $default)?))
     };
     (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
-        $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
+        $crate::__ecat_or!(::core::default::Default::default() $(, const { $default })?)
     };
     (diagnosis ( $field:ident )) => {
         $crate::diagnosis::DiagnosisHistory::new()
