@@ -188,7 +188,7 @@ macro_rules! __ecat_dictionary {
                 "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
             );
             &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
-        }, [$area: $crate::dictionary::Communication::new(&$info),] communication = $area; $($items)*);
+        }, [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($items)*);
     };
     ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
@@ -203,7 +203,7 @@ macro_rules! __ecat_dictionary {
             const BASE: [$crate::dictionary::Object<$dict>; APPLICATION.len() + AREA.len()] =
                 $crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
             &$crate::dictionary::communication::merge::<$dict, { BASE.len() + 2 }>(&STORAGE, &BASE)
-        }, [$area: $crate::dictionary::Communication::new(&$info), $stored: $crate::dictionary::parameters::StoredParameters::new(),]
+        }, [$area: const { $crate::dictionary::Communication::new(&$info) }, $stored: $crate::dictionary::parameters::StoredParameters::new(),]
         communication = $area; stored = $stored; $($items)*);
     };
     ($mode:ident, $dict:ident { $($items:tt)* }) => {
