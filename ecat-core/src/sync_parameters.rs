@@ -22,7 +22,7 @@ use crate::AlStatusCode;
 use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, Value, write_value,
+    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, write_value,
 };
 use crate::register::DcActivation;
 pub use crate::sync_mode::SyncParameters;
@@ -98,7 +98,10 @@ pub fn input_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
 
 fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
     match (sub, which) {
-        (1, Limit::Default) => default.read_at(0, out),
+        // The encoding of the record's reads (`read_unsigned`), one copy for both.
+        (1, Limit::Default) => {
+            crate::dictionary::read_unsigned(u32::from(default), 2, 0, out).copied()
+        }
         _ => 0,
     }
 }

@@ -482,7 +482,8 @@ fn resolve<D: ObjectDictionary>(
     Ok((
         object,
         Target {
-            domain: entry.data_type == DataType::Domain,
+            domain: const { crate::dictionary::has_domain(D::OBJECTS) }
+                && entry.data_type == DataType::Domain,
             ..target
         },
     ))
