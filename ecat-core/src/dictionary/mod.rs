@@ -115,7 +115,7 @@ pub trait ObjectDictionary: Sized + 'static {
     /// The number of each object's first PDO-mappable entry, parallel to [`Self::OBJECTS`]
     /// ([`first_entries`](crate::pdo::layout::first_entries)): what makes finding an entry's
     /// number a binary search.
-    const FIRST_ENTRIES: &'static [usize];
+    const FIRST_ENTRIES: &'static [u16];
 
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
     /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
@@ -159,7 +159,7 @@ impl ObjectDictionary for () {
     const INDICES: &'static [u16] = &[];
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
-    const FIRST_ENTRIES: &'static [usize] = &[];
+    const FIRST_ENTRIES: &'static [u16] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
 }
