@@ -39,6 +39,10 @@ use crate::time::{Duration, Instant};
 const SDO_HEADER: usize = 8;
 /// Bytes of a response up to its data: the CoE header and the SDO header.
 const RESPONSE_HEADER: usize = CoeHeader::SIZE + SDO_HEADER;
+/// The CoE header of an SDO response (service 3, number 0), built at compile time.
+const SDO_RESPONSE: [u8; 2] = CoeHeader::new(Service::SdoResponse).to_bytes();
+/// The CoE header of an SDO request (service 2): what an abort from the server carries.
+const SDO_REQUEST: [u8; 2] = CoeHeader::new(Service::SdoRequest).to_bytes();
 /// Bytes of a segment up to its data: the command.
 const SEGMENT_HEADER: usize = 1;
 /// A segment carries at least 7 data bytes (padding included).
@@ -227,7 +231,7 @@ impl<const N: usize> SdoServer<N> {
                 _ => u32::from_le_bytes(fetch_expedited(cx, object, target)?),
             };
             let command = response::upload_expedited(size, target.complete);
-            *head = header(Service::SdoResponse, command, target, value.to_le_bytes());
+            *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
             return Ok(RESPONSE_HEADER);
         }
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
@@ -235,7 +239,7 @@ impl<const N: usize> SdoServer<N> {
         if sent < size {
             self.begin(cx, Kind::Upload, target, size, sent);
         }
-        *head = header(Service::SdoResponse, command, target, size_bytes);
+        *head = header(SDO_RESPONSE, command, target, size_bytes);
         Ok(RESPONSE_HEADER + sent)
     }
 
@@ -270,7 +274,7 @@ impl<const N: usize> SdoServer<N> {
         self.advance(cx.now, offset + n, last);
         Ok(finish(
             out,
-            Service::SdoResponse,
+            SDO_RESPONSE,
             SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA),
         ))
     }
@@ -377,7 +381,7 @@ impl<const N: usize> SdoServer<N> {
         }
         Ok(finish(
             out,
-            Service::SdoResponse,
+            SDO_RESPONSE,
             SEGMENT_HEADER + MIN_SEGMENT_DATA,
         ))
     }
@@ -824,13 +828,13 @@ fn fetch_expedited<D: ObjectDictionary, H: ObjectHooks<D>>(
 /// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
 fn download_response(out: &mut [u8], target: Target) -> usize {
     let command = response::download(target.complete);
-    respond(out, Service::SdoResponse, command, target, [0; 4])
+    respond(out, SDO_RESPONSE, command, target, [0; 4])
 }
 
-/// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header of `service`, the
-/// command, index, subindex and four data bytes.
-fn header(service: Service, command: u8, target: Target, data: [u8; 4]) -> [u8; RESPONSE_HEADER] {
-    let [c0, c1] = CoeHeader::new(service).to_bytes();
+/// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header `coe`
+/// ([`SDO_RESPONSE`], [`SDO_REQUEST`]), the command, index, subindex and four data bytes.
+fn header(coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> [u8; RESPONSE_HEADER] {
+    let [c0, c1] = coe;
     let [i0, i1] = target.index.to_le_bytes();
     let [d0, d1, d2, d3] = data;
     [c0, c1, command, i0, i1, target.sub, d0, d1, d2, d3]
@@ -844,10 +848,10 @@ fn split_response(out: &mut [u8]) -> Result<(&mut [u8; RESPONSE_HEADER], &mut [u
 
 /// Writes the fixed part of a response into `out` ([`header`]); returns its length, 0 when
 /// `out` is too short.
-fn respond(out: &mut [u8], service: Service, command: u8, target: Target, data: [u8; 4]) -> usize {
+fn respond(out: &mut [u8], coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> usize {
     match out.first_chunk_mut() {
         Some(head) => {
-            *head = header(service, command, target, data);
+            *head = header(coe, command, target, data);
             RESPONSE_HEADER
         }
         None => 0,
@@ -858,14 +862,14 @@ fn respond(out: &mut [u8], service: Service, command: u8, target: Target, data: 
 pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
     let target = Target::new(index, sub, false);
     let code = code.0.to_le_bytes();
-    respond(out, Service::SdoRequest, response::ABORT, target, code)
+    respond(out, SDO_REQUEST, response::ABORT, target, code)
 }
 
-/// Writes the CoE header of `service` in front of a body of `len` bytes; returns the total.
+/// Writes the CoE header `coe` in front of a body of `len` bytes; returns the total.
 #[inline]
-fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
-    if let Some(header) = out.get_mut(..CoeHeader::SIZE) {
-        header.copy_from_slice(&CoeHeader::new(service).to_bytes());
+fn finish(out: &mut [u8], coe: [u8; 2], len: usize) -> usize {
+    if let Some(header) = out.first_chunk_mut() {
+        *header = coe;
     }
     (CoeHeader::SIZE + len).min(out.len())
 }
