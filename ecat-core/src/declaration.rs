@@ -470,6 +470,7 @@ macro_rules! __ecat_object {
                 $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
                 $( (0, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $min, out), )?
                 $( (0, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $max, out), )?
+                $( (0, $crate::dictionary::Limit::Unit, _) => $crate::dictionary::encode_unit($unit, out), )?
                 _ => 0,
             },
         }
@@ -505,6 +506,7 @@ macro_rules! __ecat_object {
                 $( (_, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $default, out), )?
                 $( (_, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $min, out), )?
                 $( (_, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $max, out), )?
+                $( (_, $crate::dictionary::Limit::Unit, _) => $crate::dictionary::encode_unit($unit, out), )?
                 _ => 0,
             },
         }
@@ -588,7 +590,7 @@ macro_rules! __ecat_object {
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
                 let _ = (&which, &out);
                 match sub {
-                    $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?), )+
+                    $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?; $($unit)?), )+
                     _ => 0,
                 }
             },
@@ -740,11 +742,12 @@ macro_rules! __ecat_sync_parameters {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_record_limit {
-    ($dict:ident, $field:ident . $sfield:ident, $which:ident, $out:ident; $($default:expr)?; $($min:expr)?; $($max:expr)?) => {
+    ($dict:ident, $field:ident . $sfield:ident, $which:ident, $out:ident; $($default:expr)?; $($min:expr)?; $($max:expr)?; $($unit:expr)?) => {
         match $which {
             $( $crate::dictionary::Limit::Default => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $default, $out), )?
             $( $crate::dictionary::Limit::Min => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $min, $out), )?
             $( $crate::dictionary::Limit::Max => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $max, $out), )?
+            $( $crate::dictionary::Limit::Unit => $crate::dictionary::encode_unit($unit, $out), )?
             #[allow(unreachable_patterns)]
             _ => 0,
         }
@@ -802,8 +805,10 @@ macro_rules! __ecat_entry {
             data_type: $crate::dictionary::$type_of($get),
             bit_len: $crate::dictionary::$bits_of($get),
             access: $crate::__ecat_access!($($acc)|+),
-            unit: $crate::__ecat_or!(0 $(, $unit)?),
-            limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
+            limits: $crate::dictionary::Limits(
+                $crate::__ecat_limits!($($default)?; $($min)?; $($max)?).0
+                    $(| { let _ = stringify!($unit); $crate::dictionary::Limits::UNIT })?
+            ),
         }
     };
 }

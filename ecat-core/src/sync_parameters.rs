@@ -206,7 +206,6 @@ const fn sync_entry(
         data_type,
         bit_len,
         access,
-        unit: 0,
         limits: Limits(if default { Limits::DEFAULT } else { 0 }),
     }
 }

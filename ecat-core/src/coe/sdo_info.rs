@@ -500,8 +500,15 @@ fn entry_description<D: ObjectDictionary>(
     }
     let mut honoured = 0;
     if let Some(entry) = entry {
-        if requested.has(ValueInfo::UNIT_TYPE) && w.put(&entry.unit.to_le_bytes()) {
-            honoured |= ValueInfo::UNIT_TYPE;
+        if requested.has(ValueInfo::UNIT_TYPE) {
+            // The declared unit (the object's `limit`), 0 for none.
+            let mut unit = [0u8; 2];
+            if entry.limits.has(Limit::Unit) {
+                (object.limit)(sub, Limit::Unit, &mut unit);
+            }
+            if w.put(&unit) {
+                honoured |= ValueInfo::UNIT_TYPE;
+            }
         }
         for (bit, limit) in VALUE_FIELDS {
             if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {

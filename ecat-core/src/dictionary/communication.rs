@@ -88,7 +88,6 @@ const fn constant(sub: u8, name: &'static str, data_type: DataType, bit_len: u16
         data_type,
         bit_len,
         access: Access::RO,
-        unit: 0,
         limits: Limits(Limits::DEFAULT),
     }
 }

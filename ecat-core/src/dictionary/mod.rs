@@ -224,7 +224,8 @@ pub struct Object<D> {
     pub read: fn(&D, u8, usize, &mut [u8]) -> Result<Read, AbortCode>,
     /// Decodes `data` into a subindex, after the range check.
     pub write: fn(&mut D, u8, &[u8]) -> Result<(), AbortCode>,
-    /// Encodes a declared default, minimum or maximum of a subindex; 0 bytes when not declared.
+    /// Encodes a declared default, minimum, maximum or unit of a subindex ([`Limit`]); 0 bytes
+    /// when not declared.
     pub limit: fn(u8, Limit, &mut [u8]) -> usize,
 }
 
@@ -473,6 +474,12 @@ pub fn write_element<T: Value + PartialOrd>(
             None => Err(AbortCode::NO_SUBINDEX),
         },
     }
+}
+
+/// Encodes a declared unit (UNSIGNED16) into `out`: the object's `limit` for [`Limit::Unit`].
+#[doc(hidden)]
+pub fn encode_unit(unit: u16, out: &mut [u8]) -> usize {
+    unit.read_at(0, out)
 }
 
 #[doc(hidden)]

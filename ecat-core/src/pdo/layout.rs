@@ -282,7 +282,10 @@ pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [u16; N]
     let mut n = 0;
     let mut i = 0;
     while i < N && i < objects.len() {
-        assert!(n <= u16::MAX as usize, "at most 65 535 PDO-mappable entries");
+        assert!(
+            n <= u16::MAX as usize,
+            "at most 65 535 PDO-mappable entries"
+        );
         first[i] = n as u16;
         n += mappable_in(&objects[i].info);
         i += 1;

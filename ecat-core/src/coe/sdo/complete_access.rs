@@ -232,7 +232,6 @@ mod tests {
             data_type,
             bit_len,
             access: Access::RW,
-            unit: 0,
             limits: Limits(0),
         }
     }

@@ -379,11 +379,7 @@ impl<const N: usize> SdoServer<N> {
                 *command = response::download_segment(toggle);
             }
         }
-        Ok(finish(
-            out,
-            SDO_RESPONSE,
-            SEGMENT_HEADER + MIN_SEGMENT_DATA,
-        ))
+        Ok(finish(out, SDO_RESPONSE, SEGMENT_HEADER + MIN_SEGMENT_DATA))
     }
 
     /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
