@@ -336,12 +336,13 @@ macro_rules! __ecat_communication {
         [
             $crate::dictionary::Object::<$dict> {
                 info: $crate::dictionary::communication::DEVICE_TYPE,
-                read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
                     $crate::dictionary::communication::read_constant(
-                        const { &$info.device_type.to_le_bytes() },
+                        od,
                         sub,
                         offset,
                         out,
+                        const { &$info.device_type.to_le_bytes() },
                     )
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
@@ -428,8 +429,8 @@ macro_rules! __ecat_text {
                 max_sub: 0,
                 entries: &[$crate::dictionary::communication::text_entry($name, $text)],
             },
-            read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant($text.as_bytes(), sub, offset, out)
+            read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::communication::read_constant(od, sub, offset, out, $text.as_bytes())
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
