@@ -430,7 +430,13 @@ macro_rules! __ecat_text {
                 entries: &[$crate::dictionary::communication::text_entry($name, $text)],
             },
             read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant(od, sub, offset, out, $text.as_bytes())
+                $crate::dictionary::communication::read_constant(
+                    od,
+                    sub,
+                    offset,
+                    out,
+                    $text.as_bytes(),
+                )
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
