@@ -268,6 +268,14 @@ impl ListType {
     /// compile time ([`list_lengths`]).
     fn len<D: ObjectDictionary>(self) -> usize {
         let lengths = const { list_lengths(D::OBJECTS) };
+        if const { D::OBJECTS.is_empty() } {
+            // No table for a device without a dictionary: list type 0's five counts, no object.
+            return if self == Self::Lengths {
+                OBJECT_LISTS.len()
+            } else {
+                0
+            };
+        }
         lengths.get(usize::from(self.code())).copied().unwrap_or(0)
     }
 }
