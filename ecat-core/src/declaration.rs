@@ -334,27 +334,11 @@ macro_rules! __ecat_mandatory {
 macro_rules! __ecat_communication {
     ($dict:ident, $area:ident, $info:path) => {
         [
-            $crate::dictionary::Object::<$dict> {
-                info: $crate::dictionary::communication::DEVICE_TYPE,
-                read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                    $crate::dictionary::communication::read_constant(
-                        od,
-                        sub,
-                        offset,
-                        out,
-                        const { &$info.device_type.to_le_bytes() },
-                    )
-                },
-                write: $crate::dictionary::communication::read_only::<$dict>,
-                limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                    $crate::dictionary::communication::constant_limit(
-                        sub,
-                        which,
-                        out,
-                        const { &$info.device_type.to_le_bytes() },
-                    )
-                },
-            },
+            $crate::__ecat_constant!(
+                $dict,
+                $crate::dictionary::communication::DEVICE_TYPE,
+                const { &$info.device_type.to_le_bytes() }
+            ),
             $crate::__ecat_text!($dict, 0x1008, "Manufacturer device name", $info.name),
             $crate::__ecat_text!(
                 $dict,
@@ -421,26 +405,34 @@ macro_rules! __ecat_communication {
 #[macro_export]
 macro_rules! __ecat_text {
     ($dict:ident, $index:literal, $name:literal, $text:expr) => {
-        $crate::dictionary::Object::<$dict> {
-            info: $crate::dictionary::ObjectInfo {
+        $crate::__ecat_constant!(
+            $dict,
+            $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Var,
                 name: $name,
                 max_sub: 0,
                 entries: &[$crate::dictionary::communication::text_entry($name, $text)],
             },
+            $text.as_bytes()
+        )
+    };
+}
+
+/// A constant VAR of the communication area (0x1000 and the texts): described by `$info`, its
+/// encoded value `$bytes`, read-only, declared as its own default.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_constant {
+    ($dict:ident, $info:expr, $bytes:expr) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $info,
             read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant(
-                    od,
-                    sub,
-                    offset,
-                    out,
-                    $text.as_bytes(),
-                )
+                $crate::dictionary::communication::read_constant(od, sub, offset, out, $bytes)
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                $crate::dictionary::communication::constant_limit(sub, which, out, $text.as_bytes())
+                $crate::dictionary::communication::constant_limit(sub, which, out, $bytes)
             },
         }
     };
