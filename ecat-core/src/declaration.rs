@@ -54,7 +54,10 @@
 /// `pdo` declares a PDO mapping (0x1600..0x17FF, 0x1A00..0x1BFF; field type
 /// [`PdoMapping<N>`](crate::pdo::PdoMapping)) or assignment object (0x1C12, 0x1C13;
 /// [`PdoAssignment<N>`](crate::pdo::PdoAssignment)): SI0 counts the valid entries and follows the
-/// PDO configuration write rules of [`crate::pdo`].
+/// PDO configuration write rules of [`crate::pdo`]. Its `default` is a constant expression
+/// ([`PdoMapping::mapping`](crate::pdo::PdoMapping::mapping),
+/// [`PdoAssignment::assignment`](crate::pdo::PdoAssignment::assignment)): evaluated at compile
+/// time, `Default` copies it rather than building it at run time.
 ///
 /// `diagnosis` declares the diagnosis history at 0x10F3 (field type
 /// [`DiagnosisHistory<N>`](crate::diagnosis::DiagnosisHistory)): the stack logs its own events
@@ -185,7 +188,7 @@ macro_rules! __ecat_dictionary {
                 "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
             );
             &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
-        }, [$area: $crate::dictionary::Communication::new(&$info),] $($items)*);
+        }, [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($items)*);
     };
     ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
@@ -200,8 +203,8 @@ macro_rules! __ecat_dictionary {
             const BASE: [$crate::dictionary::Object<$dict>; APPLICATION.len() + AREA.len()] =
                 $crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
             &$crate::dictionary::communication::merge::<$dict, { BASE.len() + 2 }>(&STORAGE, &BASE)
-        }, [$area: $crate::dictionary::Communication::new(&$info), $stored: $crate::dictionary::parameters::StoredParameters::new(),]
-        stored = $stored; $($items)*);
+        }, [$area: const { $crate::dictionary::Communication::new(&$info) }, $stored: $crate::dictionary::parameters::StoredParameters::new(),]
+        communication = $area; stored = $stored; $($items)*);
     };
     ($mode:ident, $dict:ident { $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [] $($items)*);
@@ -222,7 +225,8 @@ macro_rules! __ecat_objects {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_impl {
-    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*] $(stored = $stored:ident;)?
+    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*] $(communication = $communication:ident;)?
+     $(stored = $stored:ident;)?
      $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
@@ -231,6 +235,12 @@ macro_rules! __ecat_impl {
                 $dict,
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
+            $(
+                fn communication(&mut self) -> Option<&mut $crate::dictionary::Communication> {
+                    Some(&mut self.$communication)
+                }
+            )?
 
             $(
                 fn stored_parameters(&mut self) -> Option<&mut $crate::dictionary::parameters::StoredParameters> {
@@ -246,7 +256,7 @@ macro_rules! __ecat_impl {
                 $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
             ) }>;
 
-            const FIRST_ENTRIES: &'static [usize] = &$crate::pdo::layout::first_entries::<
+            const FIRST_ENTRIES: &'static [u16] = &$crate::pdo::layout::first_entries::<
                 $dict,
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
@@ -324,26 +334,11 @@ macro_rules! __ecat_mandatory {
 macro_rules! __ecat_communication {
     ($dict:ident, $area:ident, $info:path) => {
         [
-            $crate::dictionary::Object::<$dict> {
-                info: $crate::dictionary::communication::DEVICE_TYPE,
-                read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                    $crate::dictionary::communication::read_constant(
-                        const { &$info.device_type.to_le_bytes() },
-                        sub,
-                        offset,
-                        out,
-                    )
-                },
-                write: $crate::dictionary::communication::read_only::<$dict>,
-                limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                    $crate::dictionary::communication::constant_limit(
-                        sub,
-                        which,
-                        out,
-                        const { &$info.device_type.to_le_bytes() },
-                    )
-                },
-            },
+            $crate::__ecat_constant!(
+                $dict,
+                $crate::dictionary::communication::DEVICE_TYPE,
+                const { &$info.device_type.to_le_bytes() }
+            ),
             $crate::__ecat_text!($dict, 0x1008, "Manufacturer device name", $info.name),
             $crate::__ecat_text!(
                 $dict,
@@ -410,20 +405,34 @@ macro_rules! __ecat_communication {
 #[macro_export]
 macro_rules! __ecat_text {
     ($dict:ident, $index:literal, $name:literal, $text:expr) => {
-        $crate::dictionary::Object::<$dict> {
-            info: $crate::dictionary::ObjectInfo {
+        $crate::__ecat_constant!(
+            $dict,
+            $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Var,
                 name: $name,
                 max_sub: 0,
                 entries: &[$crate::dictionary::communication::text_entry($name, $text)],
             },
-            read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant($text.as_bytes(), sub, offset, out)
+            $text.as_bytes()
+        )
+    };
+}
+
+/// A constant VAR of the communication area (0x1000 and the texts): described by `$info`, its
+/// encoded value `$bytes`, read-only, declared as its own default.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_constant {
+    ($dict:ident, $info:expr, $bytes:expr) => {
+        $crate::dictionary::Object::<$dict> {
+            info: $info,
+            read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+                $crate::dictionary::communication::read_constant(od, sub, offset, out, $bytes)
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                $crate::dictionary::communication::constant_limit(sub, which, out, $text.as_bytes())
+                $crate::dictionary::communication::constant_limit(sub, which, out, $bytes)
             },
         }
     };
@@ -460,6 +469,7 @@ macro_rules! __ecat_object {
                 $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
                 $( (0, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $min, out), )?
                 $( (0, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $max, out), )?
+                $( (0, $crate::dictionary::Limit::Unit, _) => $crate::dictionary::encode_unit($unit, out), )?
                 _ => 0,
             },
         }
@@ -495,6 +505,7 @@ macro_rules! __ecat_object {
                 $( (_, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $default, out), )?
                 $( (_, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $min, out), )?
                 $( (_, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $max, out), )?
+                $( (_, $crate::dictionary::Limit::Unit, _) => $crate::dictionary::encode_unit($unit, out), )?
                 _ => 0,
             },
         }
@@ -578,7 +589,7 @@ macro_rules! __ecat_object {
             limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
                 let _ = (&which, &out);
                 match sub {
-                    $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?), )+
+                    $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?; $($unit)?), )+
                     _ => 0,
                 }
             },
@@ -689,7 +700,7 @@ macro_rules! __ecat_default {
         ::core::array::from_fn(|_| $crate::__ecat_or!(::core::default::Default::default() $(, $default)?))
     };
     (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
-        $crate::__ecat_or!(::core::default::Default::default() $(, $default)?)
+        $crate::__ecat_or!(::core::default::Default::default() $(, const { $default })?)
     };
     (diagnosis ( $field:ident )) => {
         $crate::diagnosis::DiagnosisHistory::new()
@@ -730,11 +741,12 @@ macro_rules! __ecat_sync_parameters {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_record_limit {
-    ($dict:ident, $field:ident . $sfield:ident, $which:ident, $out:ident; $($default:expr)?; $($min:expr)?; $($max:expr)?) => {
+    ($dict:ident, $field:ident . $sfield:ident, $which:ident, $out:ident; $($default:expr)?; $($min:expr)?; $($max:expr)?; $($unit:expr)?) => {
         match $which {
             $( $crate::dictionary::Limit::Default => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $default, $out), )?
             $( $crate::dictionary::Limit::Min => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $min, $out), )?
             $( $crate::dictionary::Limit::Max => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $max, $out), )?
+            $( $crate::dictionary::Limit::Unit => $crate::dictionary::encode_unit($unit, $out), )?
             #[allow(unreachable_patterns)]
             _ => 0,
         }
@@ -792,8 +804,10 @@ macro_rules! __ecat_entry {
             data_type: $crate::dictionary::$type_of($get),
             bit_len: $crate::dictionary::$bits_of($get),
             access: $crate::__ecat_access!($($acc)|+),
-            unit: $crate::__ecat_or!(0 $(, $unit)?),
-            limits: $crate::__ecat_limits!($($default)?; $($min)?; $($max)?),
+            limits: $crate::dictionary::Limits(
+                $crate::__ecat_limits!($($default)?; $($min)?; $($max)?).0
+                    $(| { let _ = stringify!($unit); $crate::dictionary::Limits::UNIT })?
+            ),
         }
     };
 }

@@ -173,7 +173,6 @@ const fn entry(
         data_type,
         bit_len: bits,
         access,
-        unit: 0,
         limits: Limits(0),
     }
 }

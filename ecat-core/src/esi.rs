@@ -32,7 +32,7 @@ use crate::coe::sdo::complete_access;
 use crate::device::Identity;
 use crate::diagnosis::MAILBOX_ERROR_TEXT;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Object, ObjectCode, ObjectDictionary, ObjectInfo,
+    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectCode, ObjectDictionary, ObjectInfo,
 };
 use crate::mailbox::MailboxError;
 use crate::pdo::Direction;
@@ -506,7 +506,11 @@ fn sub_item<D, W: Write>(
 }
 
 fn has_values<D>(object: &Object<D>, sub: u8) -> bool {
-    object.info.entry(sub).is_some_and(|e| e.limits.0 != 0)
+    let values = Limits::DEFAULT | Limits::MIN | Limits::MAX;
+    object
+        .info
+        .entry(sub)
+        .is_some_and(|e| e.limits.0 & values != 0)
 }
 
 /// `MinData`, `MaxData`, `DefaultData`: the declared values, little-endian hex.

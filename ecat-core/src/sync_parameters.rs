@@ -22,7 +22,7 @@ use crate::AlStatusCode;
 use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, Value, write_value,
+    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, write_value,
 };
 use crate::register::DcActivation;
 pub use crate::sync_mode::SyncParameters;
@@ -33,57 +33,40 @@ impl SyncParameters {
     /// Copies the encoded value of `sub` from `offset` into `out` (the typed read of the
     /// standard record: one function for 0x1C32 and 0x1C33 of every dictionary).
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        let mut this = *self;
         let (value, size) = match sub {
             0 => (u32::from(Self::MAX_SUB), 1),
+            1 => (u32::from(self.sync_type), 2),
+            2 => (self.cycle_time, 4),
+            3 => (self.shift_time, 4),
+            4 => (u32::from(self.supported), 2),
+            5 => (self.min_cycle_time, 4),
+            6 => (self.calc_copy_time, 4),
+            7 => (self.min_delay_time, 4),
+            8 => (u32::from(self.get_cycle_time), 2),
+            9 => (self.delay_time, 4),
+            0x0A => (self.sync0_cycle_time, 4),
+            0x0B => (u32::from(self.sm_event_missed), 2),
+            0x0C => (u32::from(self.cycle_time_too_small), 2),
+            0x0D => (u32::from(self.shift_time_too_short), 2),
             0x20 => (u32::from(self.sync_error), 1),
-            _ => match this.entry(sub).ok_or(AbortCode::NO_SUBINDEX)? {
-                Entry::U16(value) => (u32::from(*value), 2),
-                Entry::U32(value) => (*value, 4),
-            },
+            _ => return Err(AbortCode::NO_SUBINDEX),
         };
         Ok(crate::dictionary::read_unsigned(value, size, offset, out))
     }
 
-    /// Decodes `data` into `sub`: what an SDO download stores after the access check, and how
-    /// the stack fills the read-only entries (`fill`, [`CycleMonitor`]).
+    /// Decodes `data` into `sub`: what an SDO download stores after the access check. Only
+    /// the entries a MainDevice may write are written here (SI1, SI2, SI8:
+    /// [`PARAMETER_ENTRIES`]); the others are read-only, 0x06010002, and the stack fills them
+    /// in the fields themselves (`fill`, [`CycleMonitor`]).
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         match sub {
-            0 => Err(AbortCode::READ_ONLY),
-            0x20 => write_value(&mut self.sync_error, data, None, None),
-            _ => match self.entry(sub).ok_or(AbortCode::NO_SUBINDEX)? {
-                Entry::U16(slot) => write_value(slot, data, None, None),
-                Entry::U32(slot) => write_value(slot, data, None, None),
-            },
+            1 => write_value(&mut self.sync_type, data, None, None),
+            2 => write_value(&mut self.cycle_time, data, None, None),
+            8 => write_value(&mut self.get_cycle_time, data, None, None),
+            0..=0x0D | 0x20 => Err(AbortCode::READ_ONLY),
+            _ => Err(AbortCode::NO_SUBINDEX),
         }
     }
-
-    /// The UNSIGNED16 or UNSIGNED32 entry `sub` (SI1..SI 0x0D): one read and one write per
-    /// width instead of one per entry.
-    fn entry(&mut self, sub: u8) -> Option<Entry<'_>> {
-        Some(match sub {
-            1 => Entry::U16(&mut self.sync_type),
-            2 => Entry::U32(&mut self.cycle_time),
-            3 => Entry::U32(&mut self.shift_time),
-            4 => Entry::U16(&mut self.supported),
-            5 => Entry::U32(&mut self.min_cycle_time),
-            6 => Entry::U32(&mut self.calc_copy_time),
-            7 => Entry::U32(&mut self.min_delay_time),
-            8 => Entry::U16(&mut self.get_cycle_time),
-            9 => Entry::U32(&mut self.delay_time),
-            0x0A => Entry::U32(&mut self.sync0_cycle_time),
-            0x0B => Entry::U16(&mut self.sm_event_missed),
-            0x0C => Entry::U16(&mut self.cycle_time_too_small),
-            0x0D => Entry::U16(&mut self.shift_time_too_short),
-            _ => return None,
-        })
-    }
-}
-
-/// An entry of the record by its width ([`SyncParameters::entry`]).
-enum Entry<'a> {
-    U16(&'a mut u16),
-    U32(&'a mut u32),
 }
 
 impl SyncParameters {
@@ -115,7 +98,10 @@ pub fn input_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
 
 fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
     match (sub, which) {
-        (1, Limit::Default) => default.read_at(0, out),
+        // The encoding of the record's reads (`read_unsigned`), one copy for both.
+        (1, Limit::Default) => {
+            crate::dictionary::read_unsigned(u32::from(default), 2, 0, out).copied()
+        }
         _ => 0,
     }
 }
@@ -220,7 +206,6 @@ const fn sync_entry(
         data_type,
         bit_len,
         access,
-        unit: 0,
         limits: Limits(if default { Limits::DEFAULT } else { 0 }),
     }
 }
@@ -297,23 +282,6 @@ pub(crate) const OUTPUT_PARAMETERS: u16 = 0x1C32;
 /// The input sync manager parameter object.
 pub(crate) const INPUT_PARAMETERS: u16 = 0x1C33;
 
-/// Both parameter objects, 0x1C32 then 0x1C33, as a range: `fill`'s loop over them needs no
-/// array iterator (whose state the firmware kept beside the loop's own).
-const PARAMETER_OBJECTS: core::ops::Range<u16> = OUTPUT_PARAMETERS..INPUT_PARAMETERS + 1;
-const _: () = assert!(INPUT_PARAMETERS == OUTPUT_PARAMETERS + 1);
-
-/// Parameter object `index` (0x1C32, else 0x1C33) of `D`, if it has it: its place in
-/// `D::OBJECTS` is found at compile time, so the cycle monitor's [`store`] (in the
-/// process-data path) and [`requested`] search nothing. (`fill` loops over both with
-/// [`D::object`](ObjectDictionary::object): with constant places the loop is unrolled, larger.)
-fn parameters<D: ObjectDictionary>(index: u16) -> Option<&'static Object<D>> {
-    let at = match index {
-        OUTPUT_PARAMETERS => const { position(D::OBJECTS, OUTPUT_PARAMETERS) },
-        _ => const { position(D::OBJECTS, INPUT_PARAMETERS) },
-    };
-    D::OBJECTS.get(at?)
-}
-
 /// Where object `index` is in `objects`.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 const fn position<D>(objects: &[Object<D>], index: u16) -> Option<usize> {
@@ -358,6 +326,10 @@ pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
 /// free-run, the SYNC0 cycle in DC mode), the SYNC0 cycle time (SI 0x0A: the ESC's 0x09A0 while
 /// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync mode (SI1,
 /// [`input_sync_type`]) of the `active` sync mode.
+///
+/// The stack writes the fields themselves ([`ObjectDictionary::communication`]): read-only is
+/// the MainDevice's restriction, not the stack's; 0x1C33:01 gets a sync mode the device
+/// supports, a code [`check_input_sync_write`] accepts.
 pub(crate) fn fill<D: ObjectDictionary>(
     od: &mut D,
     device: &DeviceConfig,
@@ -377,32 +349,25 @@ pub(crate) fn fill<D: ObjectDictionary>(
         Some(SyncMode::DcSync0) => dc.sync0_cycle_ns,
         _ => 0,
     };
-    for index in PARAMETER_OBJECTS {
-        let Some(object) = D::object(index) else {
-            continue;
-        };
-        set(od, object, 4, &device.sync_modes.0.to_le_bytes());
-        set(od, object, 5, &min_ns.to_le_bytes());
+    let Some(area) = od.communication() else {
+        return;
+    };
+    for p in [&mut area.outputs, &mut area.inputs] {
+        p.supported = device.sync_modes.0;
+        p.min_cycle_time = min_ns;
         if let Some(ns) = cycle_ns {
-            set(od, object, 2, &ns.to_le_bytes());
+            p.cycle_time = ns;
         }
-        set(od, object, 0x0A, &sync0_ns.to_le_bytes());
-        if let (INPUT_PARAMETERS, Some(output)) = (index, active) {
-            let input = input_sync_type(output, has_outputs);
-            set(od, object, 1, &input.code().to_le_bytes());
-        }
+        p.sync0_cycle_time = sync0_ns;
     }
-}
-
-/// Writes an entry the stack fills, in its encoding, through the object's typed `write` (the
-/// same decoding an SDO download gets; read-only is the MainDevice's restriction, not the
-/// stack's). The entries of [`PARAMETER_ENTRIES`] have the sizes written here.
-fn set<D>(od: &mut D, object: &Object<D>, sub: u8, bytes: &[u8]) {
-    let _ = (object.write)(od, sub, bytes);
+    if let Some(output) = active {
+        area.inputs.sync_type = input_sync_type(output, has_outputs).code();
+    }
 }
 
 /// A count of microseconds in nanoseconds, as the UNSIGNED32 of 0x1C32/0x1C33: saturated (at
 /// 4 294 967 µs and above), in 32-bit arithmetic.
+#[inline(never)]
 fn nanoseconds(micros: u64) -> u32 {
     u32::try_from(micros)
         .ok()
@@ -476,11 +441,11 @@ impl Requested {
 /// 0x0028. `chosen` tells whether the MainDevice wrote it. Without 0x1C32 the device runs
 /// SM-synchronous when it supports it, else free-run.
 pub(crate) fn requested<D: ObjectDictionary>(
-    od: &D,
+    od: &mut D,
     device: &DeviceConfig,
     chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
-    let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) else {
+    let Some(area) = od.communication() else {
         let sm = device.sync_modes.supports(SyncMode::SmSynchronous);
         let mode = if sm {
             SyncMode::SmSynchronous
@@ -492,10 +457,9 @@ pub(crate) fn requested<D: ObjectDictionary>(
             chosen: false,
         });
     };
-    let code = object.read_u16(od, 1).unwrap_or(u16::MAX);
-    let mut default = [0u8; 2];
-    let declared = (object.limit)(1, crate::dictionary::Limit::Default, &mut default) == 2;
-    let default_kept = declared && u16::from_le_bytes(default) == code;
+    let code = area.outputs.sync_type;
+    // 0x1C32:01's declared default ([`output_limit`]).
+    let default_kept = code == OUTPUT_SYNC_DEFAULT;
     match SyncMode::from_code(code) {
         mode if device.sync_modes.supports(mode) => Ok(Requested {
             mode,
@@ -553,13 +517,10 @@ pub struct CycleMonitor {
     last: Option<Instant>,
     missed: u16,
     overruns: u16,
-    /// What was last stored into the dictionary: a cycle that changes nothing stores nothing
-    /// (the monitor runs in the process-data path).
-    stored: Option<Diagnostics>,
 }
 
 /// The diagnostic entries the monitor keeps.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy)]
 struct Diagnostics {
     measured_ns: Option<u32>,
     missed: u16,
@@ -615,10 +576,7 @@ impl CycleMonitor {
             overruns: self.overruns,
             error: missed || overrun || self.supervision.tripped(),
         };
-        if self.stored != Some(now) {
-            self.stored = Some(now);
-            store(od, now);
-        }
+        store(od, now);
         tripped
     }
 
@@ -647,25 +605,22 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
     position(objects, OUTPUT_PARAMETERS).is_some() || position(objects, INPUT_PARAMETERS).is_some()
 }
 
-/// Stores the diagnostics into 0x1C32/0x1C33 (those the dictionary has).
-fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
-    if let Some(object) = parameters::<D>(OUTPUT_PARAMETERS) {
-        store_in(od, object, &d);
-    }
-    if let Some(object) = parameters::<D>(INPUT_PARAMETERS) {
-        store_in(od, object, &d);
-    }
-}
-
-/// [`store`] into one parameter object.
+/// Stores the diagnostics into 0x1C32/0x1C33: a few stores into the fields, every cycle
+/// (cheaper in flash than remembering what was stored to skip them). Out of line: inlined
+/// into the process-data task it is larger.
 #[inline(never)]
-fn store_in<D>(od: &mut D, object: &Object<D>, d: &Diagnostics) {
-    if let Some(ns) = d.measured_ns {
-        set(od, object, 2, &ns.to_le_bytes());
+fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
+    let Some(area) = od.communication() else {
+        return;
+    };
+    for p in [&mut area.outputs, &mut area.inputs] {
+        if let Some(ns) = d.measured_ns {
+            p.cycle_time = ns;
+        }
+        p.sm_event_missed = d.missed;
+        p.cycle_time_too_small = d.overruns;
+        p.sync_error = d.error;
     }
-    set(od, object, 0x0B, &d.missed.to_le_bytes());
-    set(od, object, 0x0C, &d.overruns.to_le_bytes());
-    set(od, object, 0x20, &[u8::from(d.error)]);
 }
 
 #[cfg(test)]

@@ -94,8 +94,16 @@ fn metadata_comes_from_the_field_types() {
     );
     assert_eq!(record.entry(0).unwrap().data_type, DataType::Unsigned8);
 
-    let position = Od::object(0x607A).unwrap().info.entry(0).unwrap();
-    assert_eq!((position.unit, position.access.backup()), (0x0001, true));
+    let object = Od::object(0x607A).unwrap();
+    let position = object.info.entry(0).unwrap();
+    // The declared unit: flagged in the entry, its value from the object's `limit`.
+    let mut unit = [0u8; 2];
+    let unit_len = (object.limit)(0, Limit::Unit, &mut unit);
+    assert!(position.limits.has(Limit::Unit));
+    assert_eq!(
+        (unit_len, unit, position.access.backup()),
+        (2, [0x01, 0x00], true)
+    );
     assert!(Od::object(0x1001).is_none());
 }
 

@@ -244,7 +244,8 @@ impl ListType {
 
     /// Whether `object` is in this list: any of its entries carries the list's access flag.
     /// [`ListType::Lengths`] holds no object.
-    pub fn contains(self, object: &ObjectInfo) -> bool {
+    #[allow(clippy::indexing_slicing)] // bounded by the loop condition
+    pub const fn contains(self, object: &ObjectInfo) -> bool {
         let flag = match self {
             Self::Lengths => return false,
             Self::All => return true,
@@ -253,16 +254,50 @@ impl ListType {
             Self::Backup => Access::BACKUP,
             Self::Settings => Access::SETTINGS,
         };
-        object.entries.iter().any(|e| e.access.0 & flag.0 != 0)
+        let mut i = 0;
+        while i < object.entries.len() {
+            if object.entries[i].access.0 & flag.0 != 0 {
+                return true;
+            }
+            i += 1;
+        }
+        false
     }
 
-    /// How many objects of `D` the list holds (list type 0: its five counts).
+    /// How many objects of `D` the list holds (list type 0: its five counts): counted at
+    /// compile time ([`list_lengths`]).
     fn len<D: ObjectDictionary>(self) -> usize {
-        match self {
-            Self::Lengths => OBJECT_LISTS.len(),
-            list => D::OBJECTS.iter().filter(|o| list.contains(&o.info)).count(),
+        let lengths = const { list_lengths(D::OBJECTS) };
+        if const { D::OBJECTS.is_empty() } {
+            // No table for a device without a dictionary: list type 0's five counts, no object.
+            return if self == Self::Lengths {
+                OBJECT_LISTS.len()
+            } else {
+                0
+            };
         }
+        lengths.get(usize::from(self.code())).copied().unwrap_or(0)
     }
+}
+
+/// The length of each list (by its code) of a dictionary of `objects`: what a Get OD List
+/// response counts, a table in flash rather than a count of the dictionary at run time.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+const fn list_lengths<D>(objects: &[Object<D>]) -> [usize; 6] {
+    let mut lengths = [OBJECT_LISTS.len(), 0, 0, 0, 0, 0];
+    let mut l = 0;
+    while l < OBJECT_LISTS.len() {
+        let list = OBJECT_LISTS[l];
+        let mut i = 0;
+        while i < objects.len() {
+            if list.contains(&objects[i].info) {
+                lengths[list as usize] += 1;
+            }
+            i += 1;
+        }
+        l += 1;
+    }
+    lengths
 }
 
 /// The value-info byte of a Get Entry Description request and response: which optional fields
@@ -473,8 +508,15 @@ fn entry_description<D: ObjectDictionary>(
     }
     let mut honoured = 0;
     if let Some(entry) = entry {
-        if requested.has(ValueInfo::UNIT_TYPE) && w.put(&entry.unit.to_le_bytes()) {
-            honoured |= ValueInfo::UNIT_TYPE;
+        if requested.has(ValueInfo::UNIT_TYPE) {
+            // The declared unit (the object's `limit`), 0 for none.
+            let mut unit = [0u8; 2];
+            if entry.limits.has(Limit::Unit) {
+                (object.limit)(sub, Limit::Unit, &mut unit);
+            }
+            if w.put(&unit) {
+                honoured |= ValueInfo::UNIT_TYPE;
+            }
         }
         for (bit, limit) in VALUE_FIELDS {
             if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {

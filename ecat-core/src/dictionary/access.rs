@@ -88,14 +88,15 @@ impl core::ops::BitOr for Access {
 }
 
 /// The bit of `state` in the read triple (PREOP 0, SAFEOP 1, OP 2), none for INIT and BOOT: a
-/// nibble of one constant indexed by the state's code (1, 2, 3, 4, 8), a shift rather than a
-/// branch or a table.
+/// 3-bit field of one 32-bit constant indexed by the state's code (1, 2, 3, 4, 8: OP's field
+/// ends at bit 26), a shift rather than a branch, a table or a 64-bit shift (a library call on
+/// a 32-bit target).
 const fn state_bits(state: AlState) -> u16 {
-    /// Nibble n: the bits of the state whose code is n.
-    const BITS: u64 = (0b001 << (4 * AlState::PreOp as u32))
-        | (0b010 << (4 * AlState::SafeOp as u32))
-        | (0b100 << (4 * AlState::Op as u32));
-    ((BITS >> (4 * state as u32)) & 0b111) as u16
+    /// Field n: the bits of the state whose code is n.
+    const BITS: u32 = (0b001 << (3 * AlState::PreOp as u32))
+        | (0b010 << (3 * AlState::SafeOp as u32))
+        | (0b100 << (3 * AlState::Op as u32));
+    ((BITS >> (3 * state as u32)) & 0b111) as u16
 }
 
 #[cfg(test)]

@@ -88,7 +88,6 @@ const fn constant(sub: u8, name: &'static str, data_type: DataType, bit_len: u16
         data_type,
         bit_len,
         access: Access::RO,
-        unit: 0,
         limits: Limits(Limits::DEFAULT),
     }
 }
@@ -149,13 +148,16 @@ fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
 }
 
 /// Reads a constant VAR (0x1000, 0x1008, 0x1009, 0x100A): `bytes`, its encoded value, at
-/// subindex 0.
+/// subindex 0. The arguments of [`Object::read`](super::Object::read) in their order (the
+/// dictionary unused), `bytes` last: the code `dictionary!` generates per object adds it
+/// without moving the others.
 #[doc(hidden)]
-pub fn read_constant(
-    bytes: &[u8],
+pub fn read_constant<D>(
+    _: &D,
     sub: u8,
     offset: usize,
     out: &mut [u8],
+    bytes: &[u8],
 ) -> Result<Read, AbortCode> {
     match sub {
         0 => Ok(copy(bytes, offset, out)),

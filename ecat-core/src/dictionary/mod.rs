@@ -115,7 +115,7 @@ pub trait ObjectDictionary: Sized + 'static {
     /// The number of each object's first PDO-mappable entry, parallel to [`Self::OBJECTS`]
     /// ([`first_entries`](crate::pdo::layout::first_entries)): what makes finding an entry's
     /// number a binary search.
-    const FIRST_ENTRIES: &'static [usize];
+    const FIRST_ENTRIES: &'static [u16];
 
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
     /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
@@ -128,6 +128,14 @@ pub trait ObjectDictionary: Sized + 'static {
     /// The diagnosis history (0x10F3) the stack logs its events into, when the dictionary
     /// declares one (`dictionary!`'s `diagnosis` item).
     fn diagnosis(&mut self) -> Option<crate::history::History<'_>> {
+        None
+    }
+
+    /// The communication area's values (0x1018, 0x1C32, 0x1C33): `None` for a dictionary
+    /// without it (the default), the field of `dictionary!`'s `communication` item. The stack
+    /// fills the sync parameters and keeps their diagnostics in the fields themselves
+    /// ([`crate::sync_parameters`]): no lookup, no encoding.
+    fn communication(&mut self) -> Option<&mut Communication> {
         None
     }
 
@@ -151,7 +159,7 @@ impl ObjectDictionary for () {
     const INDICES: &'static [u16] = &[];
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
-    const FIRST_ENTRIES: &'static [usize] = &[];
+    const FIRST_ENTRIES: &'static [u16] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
 }
@@ -216,7 +224,8 @@ pub struct Object<D> {
     pub read: fn(&D, u8, usize, &mut [u8]) -> Result<Read, AbortCode>,
     /// Decodes `data` into a subindex, after the range check.
     pub write: fn(&mut D, u8, &[u8]) -> Result<(), AbortCode>,
-    /// Encodes a declared default, minimum or maximum of a subindex; 0 bytes when not declared.
+    /// Encodes a declared default, minimum, maximum or unit of a subindex ([`Limit`]); 0 bytes
+    /// when not declared.
     pub limit: fn(u8, Limit, &mut [u8]) -> usize,
 }
 
@@ -465,6 +474,12 @@ pub fn write_element<T: Value + PartialOrd>(
             None => Err(AbortCode::NO_SUBINDEX),
         },
     }
+}
+
+/// Encodes a declared unit (UNSIGNED16) into `out`: the object's `limit` for [`Limit::Unit`].
+#[doc(hidden)]
+pub fn encode_unit(unit: u16, out: &mut [u8]) -> usize {
+    unit.read_at(0, out)
 }
 
 #[doc(hidden)]

@@ -29,15 +29,13 @@ pub struct EntryInfo {
     pub bit_len: u16,
     /// Access rights and flags.
     pub access: Access,
-    /// The unit type sent in the SDO Information entry description (UNSIGNED16, ETG.1000.6
-    /// §5.6.3.6 "Get Entry Description"), 0 for none.
-    pub unit: u16,
-    /// Which of default, minimum and maximum the dictionary declares.
+    /// Which of default, minimum, maximum and unit the dictionary declares (their values: the
+    /// object's [`limit`](super::Object::limit)). 16 bytes an entry on a 32-bit target.
     pub limits: Limits,
 }
 
 /// Which value limits an entry declares (the value-info bits 0x10/0x20/0x40 of ETG.1000.6
-/// Table 53 shifted to bits 0..2).
+/// Table 53 shifted to bits 0..2), and whether it declares a unit (bit 3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Limits(pub u8);
 
@@ -48,6 +46,8 @@ impl Limits {
     pub const MIN: u8 = 1 << 1;
     /// A maximum is declared.
     pub const MAX: u8 = 1 << 2;
+    /// A unit is declared.
+    pub const UNIT: u8 = 1 << 3;
 
     /// Whether `limit` is declared.
     pub const fn has(self, limit: Limit) -> bool {
@@ -65,6 +65,9 @@ pub enum Limit {
     Min = Limits::MIN,
     /// The maximum.
     Max = Limits::MAX,
+    /// The unit type sent in the SDO Information entry description (UNSIGNED16, ETG.1000.6
+    /// §5.6.3.6 "Get Entry Description"); an entry without one has unit 0.
+    Unit = Limits::UNIT,
 }
 
 impl EntryInfo {
@@ -76,7 +79,6 @@ impl EntryInfo {
             data_type: DataType::Unsigned8,
             bit_len: 8,
             access: Access::RO,
-            unit: 0,
             limits: Limits(0),
         }
     }

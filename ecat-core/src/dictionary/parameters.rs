@@ -129,7 +129,6 @@ const fn entries(element: &'static str) -> [EntryInfo; 2] {
             data_type: DataType::Unsigned32,
             bit_len: 32,
             access: Access::RW,
-            unit: 0,
             limits: Limits(0),
         },
     ]

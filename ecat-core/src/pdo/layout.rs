@@ -237,7 +237,7 @@ pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
         } else if let Some((_, [number, ..])) = first.split_at_checked(mid)
             && let Some(position) = position_in(info, sub)
         {
-            return Some(*number + position);
+            return Some(*number as usize + position);
         } else {
             return None;
         }
@@ -250,7 +250,7 @@ pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
 fn find<D: ObjectDictionary>(index: u16, sub: u8) -> Option<(&'static EntryInfo, usize)> {
     let i = D::INDICES.binary_search(&index).ok()?;
     let info = &D::OBJECTS.get(i)?.info;
-    let first = *D::FIRST_ENTRIES.get(i)?;
+    let first = usize::from(*D::FIRST_ENTRIES.get(i)?);
     match mappable_position(info, Some(sub)) {
         Ok((position, entry)) => Some((entry, first + position)),
         Err(_) => None,
@@ -273,14 +273,20 @@ pub(crate) fn mappable<D: ObjectDictionary>(
 }
 
 /// The number of each object's first mappable entry (the count of mappable entries before it):
-/// [`ObjectDictionary::FIRST_ENTRIES`], `N` = the number of objects.
+/// [`ObjectDictionary::FIRST_ENTRIES`], `N` = the number of objects. 16 bits each: a layout
+/// keeps a 16-bit offset per mappable entry, and a dictionary with more than 65 535 of them does
+/// not compile.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [usize; N] {
+pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
     let mut first = [0; N];
     let mut n = 0;
     let mut i = 0;
     while i < N && i < objects.len() {
-        first[i] = n;
+        assert!(
+            n <= u16::MAX as usize,
+            "at most 65 535 PDO-mappable entries"
+        );
+        first[i] = n as u16;
         n += mappable_in(&objects[i].info);
         i += 1;
     }

@@ -1,15 +1,18 @@
 //! The first byte of every SDO message: command specifier and flags (ETG.1000.6 Tables 33–40;
 //! CiA 301 §7.2.4.3).
 
+/// Bit 4 of an initiate request (upload or download) and of its response: complete access.
+pub(crate) const COMPLETE: u8 = 0x10;
+
 /// A request from the SDO client (the MainDevice), decoded from its command byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum Request {
-    /// ccs 1: initiate download. `expedited` with `size` given or not; `complete` access.
+    /// ccs 1: initiate download. `expedited` with `size` given or not (complete access: bit
+    /// 4, [`COMPLETE`]).
     Download {
         expedited: bool,
         size_indicated: bool,
         unused: u8,
-        complete: bool,
     },
     /// ccs 0: download segment with toggle `toggle`, `unused` bytes of the 7, `last`.
     DownloadSegment {
@@ -17,8 +20,8 @@ pub(crate) enum Request {
         unused: u8,
         last: bool,
     },
-    /// ccs 2: initiate upload, `complete` access.
-    Upload { complete: bool },
+    /// ccs 2: initiate upload (complete access: bit 4, [`COMPLETE`]).
+    Upload,
     /// ccs 3: upload segment with toggle `toggle`.
     UploadSegment { toggle: bool },
     /// ccs 4: abort transfer.
@@ -36,16 +39,13 @@ impl Request {
                 expedited: b & 0x02 != 0,
                 size_indicated: b & 0x01 != 0,
                 unused: (b >> 2) & 0x03,
-                complete: b & 0x10 != 0,
             },
             0 => Self::DownloadSegment {
                 toggle,
                 unused: (b >> 1) & 0x07,
                 last: b & 0x01 != 0,
             },
-            2 => Self::Upload {
-                complete: b & 0x10 != 0,
-            },
+            2 => Self::Upload,
             3 => Self::UploadSegment { toggle },
             4 => Self::Abort,
             _ => Self::Unknown,
@@ -89,6 +89,6 @@ pub(crate) mod response {
     }
 
     const fn complete_bit(complete: bool) -> u8 {
-        if complete { 0x10 } else { 0 }
+        if complete { super::COMPLETE } else { 0 }
     }
 }

@@ -8,14 +8,35 @@
 //! an object unfit for complete access (0x06010004).
 
 use crate::abort::AbortCode;
-use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo};
+use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo, Read};
 
 /// One entry's place in the complete-access image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Slot {
-    sub: u8,
+pub(super) struct Slot {
+    /// The entry's subindex.
+    pub(super) sub: u8,
     bit_offset: usize,
     bit_len: usize,
+}
+
+impl Slot {
+    /// The entry's value bytes in the image `data`, as a single access carries them: its bits
+    /// from their place, in the low bits of the first bytes; `None` when `data` ends before
+    /// them (or an entry above 64 bits).
+    pub(super) fn value(self, data: &[u8]) -> Option<([u8; 8], usize)> {
+        let end = (self.bit_offset + self.bit_len).div_ceil(8);
+        if self.bit_len > 64 || end > data.len() {
+            return None;
+        }
+        let mut value = [0u8; 8];
+        copy_bits(data, self.bit_offset, &mut value, 0, 0, self.bit_len);
+        let len = if self.sub == 0 {
+            1
+        } else {
+            self.bit_len.div_ceil(8)
+        };
+        Some((value, len))
+    }
 }
 
 /// Checks that `object` may be accessed completely from `sub`.
@@ -76,7 +97,7 @@ impl<'a> Iterator for Declared<'a> {
 }
 
 /// The slots of a complete access from `sub`, in subindex order.
-fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
+pub(super) fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
     Slots {
         entries: declared(object, sub, object.max_sub),
         bit: 0,
@@ -84,7 +105,7 @@ fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
 }
 
 /// [`slots`]: the entries still to place, the image's bits before them.
-struct Slots<'a> {
+pub(super) struct Slots<'a> {
     entries: Declared<'a>,
     bit: usize,
 }
@@ -151,20 +172,15 @@ pub fn upload_last<D>(od: &D, object: &Object<D>) -> Result<u8, AbortCode> {
     Ok(si0[0].min(object.info.max_sub))
 }
 
-/// The size in bytes of a complete-access upload from `sub` ([`upload_last`]).
-pub fn upload_size<D>(od: &D, object: &Object<D>, sub: u8) -> Result<usize, AbortCode> {
-    Ok(size_through(&object.info, sub, upload_last(od, object)?))
-}
-
 /// Copies the bytes of a complete-access upload from `sub` ([`upload_last`]) from `offset` on
-/// into `out`; returns how many.
+/// into `out`: how many, and the image's whole size (as [`Object::read`] of one entry).
 pub fn read<D>(
     od: &D,
     object: &Object<D>,
     sub: u8,
     offset: usize,
     out: &mut [u8],
-) -> Result<usize, AbortCode> {
+) -> Result<Read, AbortCode> {
     let last = upload_last(od, object)?;
     let total = size_through(&object.info, sub, last);
     let len = out.len().min(total.saturating_sub(offset));
@@ -177,7 +193,7 @@ pub fn read<D>(
         (object.read)(od, slot.sub, 0, &mut value)?;
         copy_bits(&value, 0, window, slot.bit_offset, offset, slot.bit_len);
     }
-    Ok(len)
+    Ok(Read::new(len, total))
 }
 
 /// The value bytes of one entry in a complete-access image, as a single access carries them:
@@ -188,19 +204,7 @@ pub fn entry_value(
     sub: u8,
     entry_sub: u8,
 ) -> Option<([u8; 8], usize)> {
-    let slot = slots(object, sub).find(|s| s.sub == entry_sub)?;
-    let end = (slot.bit_offset + slot.bit_len).div_ceil(8);
-    if slot.bit_len > 64 || end > data.len() {
-        return None;
-    }
-    let mut value = [0u8; 8];
-    copy_bits(data, slot.bit_offset, &mut value, 0, 0, slot.bit_len);
-    let len = if entry_sub == 0 {
-        1
-    } else {
-        slot.bit_len.div_ceil(8)
-    };
-    Some((value, len))
+    slots(object, sub).find(|s| s.sub == entry_sub)?.value(data)
 }
 
 /// Copies `len` bits, LSB first, from bit `from` of `src` to bit `to` of a window that starts at
@@ -228,7 +232,6 @@ mod tests {
             data_type,
             bit_len,
             access: Access::RW,
-            unit: 0,
             limits: Limits(0),
         }
     }

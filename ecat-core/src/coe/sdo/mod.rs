@@ -30,7 +30,7 @@ use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
+    Access, DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
 use crate::pdo;
 use crate::time::{Duration, Instant};
@@ -39,6 +39,10 @@ use crate::time::{Duration, Instant};
 const SDO_HEADER: usize = 8;
 /// Bytes of a response up to its data: the CoE header and the SDO header.
 const RESPONSE_HEADER: usize = CoeHeader::SIZE + SDO_HEADER;
+/// The CoE header of an SDO response (service 3, number 0), built at compile time.
+const SDO_RESPONSE: [u8; 2] = CoeHeader::new(Service::SdoResponse).to_bytes();
+/// The CoE header of an SDO request (service 2): what an abort from the server carries.
+const SDO_REQUEST: [u8; 2] = CoeHeader::new(Service::SdoRequest).to_bytes();
 /// Bytes of a segment up to its data: the command.
 const SEGMENT_HEADER: usize = 1;
 /// A segment carries at least 7 data bytes (padding included).
@@ -141,18 +145,16 @@ impl<const N: usize> SdoServer<N> {
             Err(code) => return abort(out, 0, 0, code),
         };
         let (index, sub) = (frame.index(), frame.sub());
+        // An initiate's target: bit 4 of either command asks for complete access.
+        let target = Target::new(index, sub, frame.command() & command::COMPLETE != 0);
         let result = match Request::from_byte(frame.command()) {
-            Request::Upload { complete } => self.upload(cx, Target::new(index, sub, complete), out),
+            Request::Upload => self.upload(cx, target, out),
             Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
             Request::Download {
                 expedited,
                 size_indicated,
                 unused,
-                complete,
-            } => {
-                let target = Target::new(index, sub, complete);
-                self.download(cx, target, &frame, (expedited, size_indicated, unused), out)
-            }
+            } => self.download(cx, target, &frame, (expedited, size_indicated, unused), out),
             Request::DownloadSegment {
                 toggle,
                 unused,
@@ -209,13 +211,13 @@ impl<const N: usize> SdoServer<N> {
         // The value is read once, straight into the answer's data area; its size then says
         // expedited or normal.
         let (head, data) = split_response(out)?;
-        let (size, sent) = if is_domain::<D>(target) || target.complete {
+        let (size, sent) = if is_domain::<D>(target) {
             (
-                value_size(cx, object, target)?,
+                domain_size(cx, target)?,
                 fetch(cx, object, target, 0, data)?,
             )
         } else {
-            let read = (object.read)(cx.od, target.sub, 0, data)?;
+            let read = read(cx.od, object, target, 0, data)?;
             (read.size(), read.copied())
         };
         if (1..=4).contains(&size) && !is_domain::<D>(target) {
@@ -229,7 +231,7 @@ impl<const N: usize> SdoServer<N> {
                 _ => u32::from_le_bytes(fetch_expedited(cx, object, target)?),
             };
             let command = response::upload_expedited(size, target.complete);
-            *head = header(Service::SdoResponse, command, target, value.to_le_bytes());
+            *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
             return Ok(RESPONSE_HEADER);
         }
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
@@ -237,7 +239,7 @@ impl<const N: usize> SdoServer<N> {
         if sent < size {
             self.begin(cx, Kind::Upload, target, size, sent);
         }
-        *head = header(Service::SdoResponse, command, target, size_bytes);
+        *head = header(SDO_RESPONSE, command, target, size_bytes);
         Ok(RESPONSE_HEADER + sent)
     }
 
@@ -272,7 +274,7 @@ impl<const N: usize> SdoServer<N> {
         self.advance(cx.now, offset + n, last);
         Ok(finish(
             out,
-            Service::SdoResponse,
+            SDO_RESPONSE,
             SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA),
         ))
     }
@@ -377,11 +379,7 @@ impl<const N: usize> SdoServer<N> {
                 *command = response::download_segment(toggle);
             }
         }
-        Ok(finish(
-            out,
-            Service::SdoResponse,
-            SEGMENT_HEADER + MIN_SEGMENT_DATA,
-        ))
+        Ok(finish(out, SDO_RESPONSE, SEGMENT_HEADER + MIN_SEGMENT_DATA))
     }
 
     /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
@@ -419,15 +417,14 @@ impl<const N: usize> SdoServer<N> {
     /// A segment moved the transfer to `done` bytes: it ends, or waits for the next segment
     /// with the other toggle.
     fn advance(&mut self, now: Instant, done: usize, last: bool) {
-        self.transfer = match self.transfer {
-            Some(t) if !last => Some(Segmented {
-                done,
-                toggle: !t.toggle,
-                deadline: now.saturating_add(Self::SEGMENT_TIMEOUT),
-                ..t
-            }),
-            _ => None,
-        };
+        match &mut self.transfer {
+            Some(t) if !last => {
+                t.done = done;
+                t.toggle = !t.toggle;
+                t.deadline = now.saturating_add(Self::SEGMENT_TIMEOUT);
+            }
+            transfer => *transfer = None,
+        }
     }
 
     /// The abort for a segment that belongs to no transfer.
@@ -485,7 +482,8 @@ fn resolve<D: ObjectDictionary>(
     Ok((
         object,
         Target {
-            domain: entry.data_type == DataType::Domain,
+            domain: const { crate::dictionary::has_domain(D::OBJECTS) }
+                && entry.data_type == DataType::Domain,
             ..target
         },
     ))
@@ -532,22 +530,18 @@ fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
 fn check_access(entry: &EntryInfo, state: AlState, direction: Direction) -> Result<(), AbortCode> {
-    let (anywhere, here, never) = match direction {
-        Direction::Read => (
-            entry.access.readable(),
-            entry.access.readable_in(state),
-            AbortCode::WRITE_ONLY,
-        ),
-        Direction::Write => (
-            entry.access.writable(),
-            entry.access.writable_in(state),
-            AbortCode::READ_ONLY,
-        ),
+    // The write triple shifted onto the read triple: one test for both directions.
+    let (shift, never) = match direction {
+        Direction::Read => (0, AbortCode::WRITE_ONLY),
+        Direction::Write => (3, AbortCode::READ_ONLY),
     };
-    match (anywhere, here) {
-        (false, _) => Err(never),
-        (true, false) => Err(AbortCode::DEVICE_STATE),
-        (true, true) => Ok(()),
+    let rights = Access((entry.access.0 >> shift) & Access::READ.0);
+    if !rights.readable() {
+        Err(never)
+    } else if !rights.readable_in(state) {
+        Err(AbortCode::DEVICE_STATE)
+    } else {
+        Ok(())
     }
 }
 
@@ -579,20 +573,28 @@ fn check_not_rx_mapped<D: ObjectDictionary>(
     Ok(())
 }
 
-/// The encoded size of the target's value.
-fn value_size<D: ObjectDictionary, H: ObjectHooks<D>>(
+/// The size of the DOMAIN `target`, as the application's hook gives it.
+fn domain_size<D, H: ObjectHooks<D>>(
     cx: &mut Context<'_, D, H>,
-    object: &Object<D>,
     target: Target,
 ) -> Result<usize, AbortCode> {
-    if is_domain::<D>(target) {
-        let size = cx.hooks.domain_size(target.index, target.sub)?;
-        return usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY);
-    }
+    let size = cx.hooks.domain_size(target.index, target.sub)?;
+    usize::try_from(size).map_err(|_| AbortCode::OUT_OF_MEMORY)
+}
+
+/// Reads the target's encoded value from `offset` into `out`: one entry by its object's read,
+/// a complete access by [`complete_access::read`]; the bytes copied and the whole size.
+fn read<D>(
+    od: &D,
+    object: &Object<D>,
+    target: Target,
+    offset: usize,
+    out: &mut [u8],
+) -> Result<crate::dictionary::Read, AbortCode> {
     if target.complete {
-        return complete_access::upload_size(cx.od, object, target.sub);
+        return complete_access::read(od, object, target.sub, offset, out);
     }
-    Ok((object.read)(cx.od, target.sub, 0, &mut [])?.size())
+    (object.read)(od, target.sub, offset, out)
 }
 
 /// Copies the target's bytes from `offset` into `out`.
@@ -607,10 +609,7 @@ fn fetch<D: ObjectDictionary, H: ObjectHooks<D>>(
         let offset = u32::try_from(offset).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
         return cx.hooks.domain_read(target.index, target.sub, offset, out);
     }
-    if target.complete {
-        return complete_access::read(cx.od, object, target.sub, offset, out);
-    }
-    Ok((object.read)(cx.od, target.sub, offset, out)?.copied())
+    Ok(read(cx.od, object, target, offset, out)?.copied())
 }
 
 /// Stores downloaded bytes: into the dictionary through the hooks, or streamed to a DOMAIN.
@@ -677,10 +676,6 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
     from: u8,
     data: &[u8],
 ) -> Result<(), AbortCode> {
-    let value_of = |sub| {
-        complete_access::entry_value(data, &object.info, from, sub)
-            .ok_or(AbortCode::LENGTH_MISMATCH)
-    };
     // Only a PDO configuration object's SI0 is writable; a dictionary without a writable one
     // has no configuration sequence to follow.
     let writable = const { pdo::configurable(D::OBJECTS) }
@@ -688,10 +683,11 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
             .info
             .entry(0)
             .is_some_and(|e| e.access.writable_in(cx.state));
-    let si0 = if from == 0 {
-        Some(value_of(0)?.0[0])
-    } else {
-        None
+    // SI0 travels as one byte and a padding byte.
+    let si0 = match (from, data) {
+        (0, [n, _, ..]) => Some(*n),
+        (0, _) => return Err(AbortCode::LENGTH_MISMATCH),
+        _ => None,
     };
     check_complete_length(&object.info, from, data.len(), si0.filter(|_| writable))?;
     let mut last = object.info.max_sub;
@@ -713,10 +709,13 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         }
         None => {}
     }
-    // A gap of a sparse RECORD has no value in the image.
-    for (sub, _) in complete_access::declared(&object.info, from.max(1), last) {
-        let (value, len) = value_of(sub)?;
-        store_entry(cx, object, sub, value.get(..len).unwrap_or_default())?;
+    // A gap of a sparse RECORD has no value in the image; SI0 is done.
+    for slot in complete_access::slots(&object.info, from).take_while(|s| s.sub <= last) {
+        if slot.sub == 0 {
+            continue;
+        }
+        let (value, len) = slot.value(data).ok_or(AbortCode::LENGTH_MISMATCH)?;
+        store_entry(cx, object, slot.sub, value.get(..len).unwrap_or_default())?;
     }
     match si0 {
         Some(n) if writable => store_entry(cx, object, 0, &[n]),
@@ -825,13 +824,13 @@ fn fetch_expedited<D: ObjectDictionary, H: ObjectHooks<D>>(
 /// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
 fn download_response(out: &mut [u8], target: Target) -> usize {
     let command = response::download(target.complete);
-    respond(out, Service::SdoResponse, command, target, [0; 4])
+    respond(out, SDO_RESPONSE, command, target, [0; 4])
 }
 
-/// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header of `service`, the
-/// command, index, subindex and four data bytes.
-fn header(service: Service, command: u8, target: Target, data: [u8; 4]) -> [u8; RESPONSE_HEADER] {
-    let [c0, c1] = CoeHeader::new(service).to_bytes();
+/// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header `coe`
+/// ([`SDO_RESPONSE`], [`SDO_REQUEST`]), the command, index, subindex and four data bytes.
+fn header(coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> [u8; RESPONSE_HEADER] {
+    let [c0, c1] = coe;
     let [i0, i1] = target.index.to_le_bytes();
     let [d0, d1, d2, d3] = data;
     [c0, c1, command, i0, i1, target.sub, d0, d1, d2, d3]
@@ -845,10 +844,10 @@ fn split_response(out: &mut [u8]) -> Result<(&mut [u8; RESPONSE_HEADER], &mut [u
 
 /// Writes the fixed part of a response into `out` ([`header`]); returns its length, 0 when
 /// `out` is too short.
-fn respond(out: &mut [u8], service: Service, command: u8, target: Target, data: [u8; 4]) -> usize {
+fn respond(out: &mut [u8], coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> usize {
     match out.first_chunk_mut() {
         Some(head) => {
-            *head = header(service, command, target, data);
+            *head = header(coe, command, target, data);
             RESPONSE_HEADER
         }
         None => 0,
@@ -859,14 +858,14 @@ fn respond(out: &mut [u8], service: Service, command: u8, target: Target, data: 
 pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
     let target = Target::new(index, sub, false);
     let code = code.0.to_le_bytes();
-    respond(out, Service::SdoRequest, response::ABORT, target, code)
+    respond(out, SDO_REQUEST, response::ABORT, target, code)
 }
 
-/// Writes the CoE header of `service` in front of a body of `len` bytes; returns the total.
+/// Writes the CoE header `coe` in front of a body of `len` bytes; returns the total.
 #[inline]
-fn finish(out: &mut [u8], service: Service, len: usize) -> usize {
-    if let Some(header) = out.get_mut(..CoeHeader::SIZE) {
-        header.copy_from_slice(&CoeHeader::new(service).to_bytes());
+fn finish(out: &mut [u8], coe: [u8; 2], len: usize) -> usize {
+    if let Some(header) = out.first_chunk_mut() {
+        *header = coe;
     }
     (CoeHeader::SIZE + len).min(out.len())
 }
