@@ -91,12 +91,13 @@ pub(crate) struct Mailbox<const N: usize> {
     /// The detail code of the last error reply to a request not yet taken
     /// ([`Mailbox::take_refused`]); 0: none.
     refused: u16,
+    /// Length of the last message built in `tx` (header included): at most SM1's length, a
+    /// `u16` like it (a `usize` padded the struct by 8 bytes).
+    tx_len: u16,
     /// SM0, its length clamped to `N`.
     receive: Area,
     /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
     send: Area,
-    /// Length of the last message built in `tx` (header included).
-    tx_len: usize,
     /// The earliest timeout of the handlers beside the first after the last service.
     handler_timeout: Option<Instant>,
     rx: [u8; N],
@@ -267,7 +268,7 @@ impl<const N: usize> Mailbox<N> {
     /// and, when it is shorter than SM1, the address of SM1's last byte, whose write hands SM1
     /// to the MainDevice.
     pub(crate) fn message(&self) -> (u16, &[u8], Option<u16>) {
-        let message = self.tx.get(..self.tx_len).unwrap_or_default();
+        let message = self.tx.get(..usize::from(self.tx_len)).unwrap_or_default();
         let last = self
             .send
             .start
@@ -460,7 +461,7 @@ impl<const N: usize> Mailbox<N> {
             dst.copy_from_slice(&header);
         }
         let end = (MailboxHeader::SIZE + len).min(N);
-        self.tx_len = end;
+        self.tx_len = u16::try_from(end).unwrap_or(u16::MAX);
         self.flags |= flag::TX_PENDING;
     }
 }
