@@ -493,8 +493,8 @@ pub const SYNC0_LOSS_CYCLES: u32 = 10;
 fn first_deadline(layout: Setup) -> Option<Instant> {
     let now = Instant::now();
     match layout.clock {
-        Clock::FreeRun(period) => now.checked_add(to_embassy(period)),
-        Clock::Sync0(period) if layout.outputs_active => to_embassy(period)
+        Clock::FreeRun(period) => now.checked_add(to_embassy(period.duration())),
+        Clock::Sync0(period) if layout.outputs_active => to_embassy(period.duration())
             .checked_mul(SYNC0_LOSS_CYCLES)
             .and_then(|lost| now.checked_add(lost)),
         Clock::Sync0(_) | Clock::Event(_) => None,
