@@ -123,16 +123,18 @@ where
     A: Application<D>,
     D: ObjectDictionary,
 {
+    // Made before the future: the future holds the exchange, not also the references and
+    // buffers it is made of (an async block keeps what it captures apart from its locals).
+    let mut exchange = Exchange {
+        esc,
+        app,
+        buffers,
+        images: None,
+        monitor: CycleMonitor::default(),
+        reported: Reported::default(),
+        trigger_sampled: false,
+    };
     async move {
-        let mut exchange = Exchange {
-            esc,
-            app,
-            buffers,
-            images: None,
-            monitor: CycleMonitor::default(),
-            reported: Reported::default(),
-            trigger_sampled: false,
-        };
         let mut current: Option<Setup> = None;
         // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
         // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
