@@ -66,31 +66,22 @@ ecat_stm32::executors!();
 fn main() -> ! {
     let board = Board::init();
     info!("ecat digital I/O starting");
-    let Some(Started {
-        ecat,
-        irq,
-        sync0,
-        leds,
-        #[cfg(feature = "bootloader")]
-        flash,
-        #[cfg(feature = "storage")]
-        storage,
-    }) = start(board)
-    else {
+    let Some(started) = start(board) else {
         run_executors(|_, _| ())
     };
-    let (state_machine_runner, process_data, control) = ecat.split();
+    let (state_machine_runner, process_data, control) = started.ecat.split();
     #[cfg(feature = "storage")]
-    let state_machine_runner = state_machine_runner.with_storage(storage);
+    let state_machine_runner = state_machine_runner.with_storage(started.storage);
     run_executors(|high, low| {
         #[cfg(feature = "bootloader")]
-        low.spawn(unwrap!(ecat_stm32::update::run(flash)));
+        low.spawn(unwrap!(ecat_stm32::update::run(started.flash)));
         #[cfg(not(feature = "no-leds"))]
-        low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
-        #[cfg(feature = "no-leds")]
-        let _ = leds;
-        high.spawn(unwrap!(exchange(process_data, irq)));
-        high.spawn(unwrap!(sync(control, sync0)));
+        low.spawn(unwrap!(ecat_stm32::indicators(
+            control.status(),
+            started.leds
+        )));
+        high.spawn(unwrap!(exchange(process_data, started.irq)));
+        high.spawn(unwrap!(sync(control, started.sync0)));
         low.spawn(unwrap!(state_machine(state_machine_runner)));
     })
 }
@@ -100,6 +91,7 @@ struct Started {
     ecat: &'static mut Ecat,
     irq: Pin,
     sync0: Pin,
+    #[cfg_attr(feature = "no-leds", allow(dead_code))]
     leds: Leds,
     #[cfg(feature = "bootloader")]
     flash: &'static ecat_stm32::flash::SharedFlash,
@@ -129,6 +121,7 @@ fn start(board: Board) -> Option<Started> {
     #[cfg(feature = "bootloader")]
     let io = ecat_stm32::update::Updatable::new(io);
     #[cfg(not(feature = "storage"))]
+    #[allow(clippy::let_unit_value)] // `()` with `no-dictionary`
     let od = Od::default();
     // The stored parameters, loaded before the runners start.
     #[cfg(feature = "storage")]
