@@ -13,14 +13,33 @@ pub enum Clock {
     /// SM3 read by it (`AlEvent::NONE` without process data).
     Event(AlEvent),
     /// Free-run: a local timer with this period.
-    FreeRun(Duration),
+    FreeRun(Period),
     /// DC SYNC0: the SYNC0 signal, with this period.
-    Sync0(Duration),
+    Sync0(Period),
+}
+
+/// The period of a clocked mode, in microseconds, in 32 bits: the cycle times it comes from
+/// (0x1C32:02, SYNC0's cycle time 0x09A0) are 32-bit nanoseconds, at most 4.3 s. A
+/// [`Duration`] (64 bits, 8-aligned) would make [`Setup`], which both runners keep a copy of,
+/// 32 bytes instead of 24.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Period(u32);
+
+impl Period {
+    /// The period `duration`, saturating at `u32::MAX` microseconds (71 minutes).
+    pub fn new(duration: Duration) -> Self {
+        Self(u32::try_from(duration.as_micros()).unwrap_or(u32::MAX))
+    }
+
+    /// The period as a [`Duration`].
+    pub fn duration(self) -> Duration {
+        Duration::from_micros(u64::from(self.0))
+    }
 }
 
 /// The process-data areas as the MainDevice configured SM2 and SM3, valid in SAFEOP and OP.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-// `repr(C)`: the flag and the areas first, the clock (8-aligned) last.
+// `repr(C)`: the flag and the areas first, the clock (4-aligned) last.
 #[repr(C)]
 pub struct Setup {
     /// Whether outputs may be applied (OP). In SAFEOP the outputs are read, to keep the buffer
@@ -47,7 +66,7 @@ impl Setup {
     pub fn period(&self) -> Option<Duration> {
         match self.clock {
             Clock::Event(_) => None,
-            Clock::FreeRun(period) | Clock::Sync0(period) => Some(period),
+            Clock::FreeRun(period) | Clock::Sync0(period) => Some(period.duration()),
         }
     }
 

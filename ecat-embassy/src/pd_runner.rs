@@ -123,20 +123,23 @@ where
     A: Application<D>,
     D: ObjectDictionary,
 {
+    // Made before the future: the future holds the exchange, not also the references and
+    // buffers it is made of (an async block keeps what it captures apart from its locals).
+    let mut exchange = Exchange {
+        esc,
+        app,
+        buffers,
+        images: None,
+        monitor: CycleMonitor::default(),
+        reported: Reported::default(),
+        trigger_sampled: false,
+    };
     async move {
-        let mut exchange = Exchange {
-            esc,
-            app,
-            buffers,
-            images: None,
-            monitor: CycleMonitor::default(),
-            reported: Reported::default(),
-            trigger_sampled: false,
-        };
         let mut current: Option<Setup> = None;
         // Free-run: the next cycle's deadline; each follows the previous by one cycle (no drift).
         // DC SYNC0 in OP: when SYNC0 counts as lost (see `SYNC0_LOSS_CYCLES`).
-        let mut tick: Option<Instant> = None;
+        // `NO_TICK`: none (an `Option<Instant>` is 16 bytes: the instant has no niche).
+        let mut tick = NO_TICK;
         // Every way out of the loop ends here: the state-machine runner stops giving way.
         let error = 'run: loop {
             // What woke the runner and what follows; the view and its copy of the layout end here,
@@ -151,7 +154,7 @@ where
                     if was_active && !layout.is_some_and(|l| l.outputs_active) {
                         exchange.safe_state();
                     }
-                    tick = layout.and_then(first_deadline);
+                    tick = layout.and_then(first_deadline).unwrap_or(NO_TICK);
                     exchange.on_new_layout(layout)
                 } else if sampled || !view.pd_events.is_empty() {
                     Some(exchange.on_trigger(current, true))
@@ -163,7 +166,7 @@ where
                     match select4(
                         OrNever(view.irq_free.then_some(irq_low.as_mut())),
                         esc.pd_changed_since(view.generation),
-                        until(tick),
+                        until((tick != NO_TICK).then_some(tick)),
                         OrNever(sync0_on.then_some(sync0_edge.as_mut())),
                     )
                     .await
@@ -175,7 +178,7 @@ where
                         Either4::Second(()) => None,
                         Either4::Third(()) => exchange.on_tick(current, &mut tick),
                         Either4::Fourth(Ok(())) => {
-                            tick = current.and_then(first_deadline);
+                            tick = current.and_then(first_deadline).unwrap_or(NO_TICK);
                             exchange.on_sync0(current)
                         }
                     }
@@ -321,15 +324,15 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// Free-run: a cycle is due. It reads the outputs (their SM2 event, coming along, tells
     /// whether the MainDevice sent any) and runs; the next one is due one cycle later.
     /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
-    fn on_tick(&mut self, layout: Option<Setup>, tick: &mut Option<Instant>) -> Option<Plan> {
+    fn on_tick(&mut self, layout: Option<Setup>, tick: &mut Instant) -> Option<Plan> {
         let layout = layout?;
         if layout.sync0() {
-            *tick = None;
+            *tick = NO_TICK;
             self.esc.report(Reports::SYNC_LOST);
             return None;
         }
         if let Some(period) = layout.period() {
-            *tick = tick.and_then(|next| next.checked_add(to_embassy(period)));
+            *tick = tick.checked_add(to_embassy(period)).unwrap_or(NO_TICK);
         }
         Some(Self::clocked(layout))
     }
@@ -493,13 +496,17 @@ pub const SYNC0_LOSS_CYCLES: u32 = 10;
 fn first_deadline(layout: Setup) -> Option<Instant> {
     let now = Instant::now();
     match layout.clock {
-        Clock::FreeRun(period) => now.checked_add(to_embassy(period)),
-        Clock::Sync0(period) if layout.outputs_active => to_embassy(period)
+        Clock::FreeRun(period) => now.checked_add(to_embassy(period.duration())),
+        Clock::Sync0(period) if layout.outputs_active => to_embassy(period.duration())
             .checked_mul(SYNC0_LOSS_CYCLES)
             .and_then(|lost| now.checked_add(lost)),
         Clock::Sync0(_) | Clock::Event(_) => None,
     }
 }
+
+/// The process-data loop's tick when none is due: the end of time (a deadline past it would
+/// overflow, and is none as well).
+const NO_TICK: Instant = Instant::MAX;
 
 /// The SYNC0 input of a device without distributed clocks: it never pulses.
 struct NoSync0<E = core::convert::Infallible>(core::marker::PhantomData<E>);

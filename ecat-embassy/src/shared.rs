@@ -29,7 +29,8 @@ pub(crate) enum Runner {
 /// What the runners know about each other, behind a short critical section. Every field is a
 /// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
 /// flag or carries its panic path.
-// `repr(C)`: small fields first (docs/performance.md, "Codegen rules").
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the flags together
+// (apart, each padded a word: 8 bytes more).
 #[repr(C)]
 struct Routing {
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
@@ -40,6 +41,12 @@ struct Routing {
     esm_started: Cell<bool>,
     /// What the process-data runner reported and the state-machine runner has not taken yet.
     reports: Cell<Reports>,
+    /// The process-data runner waits for the PDI: the state-machine runner does not take it
+    /// before the process-data runner had it (see [`SharedEsc::access`]), nor while the
+    /// process-data runner has news it has not looked at (`pd_seen` is not `pd_generation`).
+    pd_waiting: Cell<bool>,
+    /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
+    pd_stopped: Cell<bool>,
     /// State-machine events seen by the process-data runner and not yet taken.
     esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
@@ -53,14 +60,8 @@ struct Routing {
     /// Bumped whenever something changes for the process-data runner: its trigger was seen, the
     /// IRQ line is free again, the layout changed.
     pd_generation: Cell<u32>,
-    /// The process-data runner waits for the PDI: the state-machine runner does not take it
-    /// before the process-data runner had it (see [`SharedEsc::access`]), nor while the
-    /// process-data runner has news it has not looked at (`pd_seen` is not `pd_generation`).
-    pd_waiting: Cell<bool>,
     /// The `pd_generation` the process-data runner looked at last.
     pd_seen: Cell<u32>,
-    /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
-    pd_stopped: Cell<bool>,
     /// The AL status and status code the state-machine runner last published, for the
     /// indicators ([`Indication`]).
     indication: Cell<Indication>,

@@ -73,6 +73,10 @@ mod due {
     pub(super) const TIMEOUT: u8 = 1 << 1;
 }
 
+/// [`Mailbox`]'s handlers' timeout when there is none: the end of time, which a handler's
+/// deadline (saturating) reaches only as "never" too.
+const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
+
 /// The mailbox of a SubDevice whose mailboxes hold at most `N` bytes: what SM0 and SM1 hold,
 /// counters, the repeat handshake and the buffers.
 #[derive(Debug)]
@@ -91,14 +95,16 @@ pub(crate) struct Mailbox<const N: usize> {
     /// The detail code of the last error reply to a request not yet taken
     /// ([`Mailbox::take_refused`]); 0: none.
     refused: u16,
+    /// Length of the last message built in `tx` (header included): at most SM1's length, a
+    /// `u16` like it (a `usize` padded the struct by 8 bytes).
+    tx_len: u16,
     /// SM0, its length clamped to `N`.
     receive: Area,
     /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
     send: Area,
-    /// Length of the last message built in `tx` (header included).
-    tx_len: usize,
-    /// The earliest timeout of the handlers beside the first after the last service.
-    handler_timeout: Option<Instant>,
+    /// The earliest timeout of the handlers beside the first after the last service;
+    /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
+    handler_timeout: Instant,
     rx: [u8; N],
     tx: [u8; N],
 }
@@ -123,7 +129,7 @@ impl<const N: usize> Mailbox<N> {
             rx_counter: 0,
             tx_counter: 0,
             refused: 0,
-            handler_timeout: None,
+            handler_timeout: NO_TIMEOUT,
         }
     }
 
@@ -161,7 +167,8 @@ impl<const N: usize> Mailbox<N> {
             tx: _,
         } = self;
         (*flags, *handler_due, *rx_counter, *tx_counter, *refused) = (0, due::RESET, 0, 0, 0);
-        (*receive, *send, *tx_len, *handler_timeout) = (Area::new(0, 0), Area::new(0, 0), 0, None);
+        (*receive, *send, *tx_len, *handler_timeout) =
+            (Area::new(0, 0), Area::new(0, 0), 0, NO_TIMEOUT);
     }
 
     /// The MainDevice filled SM0 (AL event bit 8).
@@ -267,7 +274,7 @@ impl<const N: usize> Mailbox<N> {
     /// and, when it is shorter than SM1, the address of SM1's last byte, whose write hands SM1
     /// to the MainDevice.
     pub(crate) fn message(&self) -> (u16, &[u8], Option<u16>) {
-        let message = self.tx.get(..self.tx_len).unwrap_or_default();
+        let message = self.tx.get(..usize::from(self.tx_len)).unwrap_or_default();
         let last = self
             .send
             .start
@@ -297,12 +304,13 @@ impl<const N: usize> Mailbox<N> {
     /// When [`Mailbox::handle_timeout`] must be called: a handler's timeout as of the last
     /// service (the first handler's own the caller asks it for).
     pub(crate) fn poll_timeout(&self) -> Option<Instant> {
-        self.handler_timeout
+        (self.handler_timeout != NO_TIMEOUT).then_some(self.handler_timeout)
     }
 
     /// A handler's timeout that passed makes work for the next service, which hands it on.
     pub(crate) fn handle_timeout(&mut self, now: Instant) {
-        if self.handler_timeout.is_some_and(|t| t <= now) {
+        // `NO_TIMEOUT` passes only at the end of time, as a handler's saturated deadline would.
+        if self.handler_timeout <= now {
             self.handler_due |= due::TIMEOUT;
         }
     }
@@ -347,7 +355,7 @@ impl<const N: usize> Mailbox<N> {
         // SM1 may be taken: the service may be for a timeout alone.
         let built = self.flags & flag::SM1_TAKEN == 0
             && self.serve_handlers(&mut (first, &mut *handlers), env);
-        self.handler_timeout = handlers.poll_timeout();
+        self.handler_timeout = handlers.poll_timeout().unwrap_or(NO_TIMEOUT);
         self.flags &= !flag::HANDLER_MESSAGE;
         if handlers.has_message() {
             self.flags |= flag::HANDLER_MESSAGE;
@@ -460,7 +468,7 @@ impl<const N: usize> Mailbox<N> {
             dst.copy_from_slice(&header);
         }
         let end = (MailboxHeader::SIZE + len).min(N);
-        self.tx_len = end;
+        self.tx_len = u16::try_from(end).unwrap_or(u16::MAX);
         self.flags |= flag::TX_PENDING;
     }
 }

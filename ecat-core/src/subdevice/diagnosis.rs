@@ -55,9 +55,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[inline(never)] // rare: off the mailbox service's path
     pub(super) fn log_diagnosis<D: ObjectDictionary>(&mut self, now: Instant, od: &mut D) {
         while let Some(Logged { code, state }) = self.logged.pop() {
-            let (last, at) = self.last_emergency;
+            let (last, at) = (self.last_emergency, self.last_emergency_at);
             if last != code || now >= at.saturating_add(EMERGENCY_PERIOD) {
-                self.last_emergency = (code, now);
+                (self.last_emergency, self.last_emergency_at) = (code, now);
                 self.emergency(Emergency::for_al_status_code(code, state));
             }
             self.diagnose(od, Message::al_status_code(code.0, now));

@@ -283,12 +283,17 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     mailbox: Mailbox<MBX>,
     /// CoE, the protocol every mailbox here speaks, beside the mailbox that frames it.
     coe: CoeServer<MBX>,
+    /// When `last_emergency` raised its emergency. Apart from the code: a pair pads the code to
+    /// the instant's 8 bytes.
+    last_emergency_at: Instant,
     events: Ring<Event, 8>,
     /// The AL status codes set and not yet logged.
     logged: Ring<Logged, LOGGED>,
-    /// The last emergency raised for an AL status code, and when.
-    last_emergency: (AlStatusCode, Instant),
     channels: Channels,
+    /// The last AL status code that raised an emergency (when: `last_emergency_at`). Last, by
+    /// the byte buffer: among the halfwords it would pad the mailbox's start to 8 bytes; read
+    /// only when a code is logged.
+    last_emergency: AlStatusCode,
     buf: [u8; BUF_LEN],
 }
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -318,7 +323,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 code: AlStatusCode::NO_ERROR,
                 state: AlState::Init,
             }),
-            last_emergency: (AlStatusCode::NO_ERROR, Instant::from_micros(0)),
+            last_emergency: AlStatusCode::NO_ERROR,
+            last_emergency_at: Instant::from_micros(0),
             mailbox: Mailbox::new(),
             coe: CoeServer::new(),
             stale: Stale::ALL,

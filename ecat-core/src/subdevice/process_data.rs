@@ -8,7 +8,7 @@ use crate::device::{Area, ProcessDataSizes};
 use crate::dictionary::ObjectDictionary;
 use crate::pdo::Direction;
 use crate::pdo::layout::Layout;
-use crate::process_data::{Clock, Setup};
+use crate::process_data::{Clock, Period, Setup};
 use crate::sync_manager::Channel;
 use crate::sync_mode::SyncMode;
 use crate::sync_parameters;
@@ -26,8 +26,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
             clock: match self.sync_mode() {
-                SyncMode::FreeRun => Clock::FreeRun(self.writes.chosen.free_run_cycle(self.config)),
-                SyncMode::DcSync0 => Clock::Sync0(self.dc.sync0_cycle()),
+                SyncMode::FreeRun => {
+                    Clock::FreeRun(Period::new(self.writes.chosen.free_run_cycle(self.config)))
+                }
+                SyncMode::DcSync0 => Clock::Sync0(Period::new(self.dc.sync0_cycle())),
                 _ => Clock::Event(self.process_data_trigger()),
             },
             outputs_active: self.state == AlState::Op,

@@ -9,21 +9,23 @@
 //! standard one). Feature `storage`: 0x1010/0x1011 keep the input polarity 0x6002 in flash
 //! (`ecat_stm32::parameters`), loaded before the runners start.
 //!
-//! Two executors (priorities: README.md):
+//! The start-up (the ESC brought up, the stored parameters loaded, the resources put in their
+//! static) runs to completion before the executors, then two executors (priorities: README.md):
 //! - an `InterruptExecutor` on UART4's vector at priority 6 runs the process-data runner, which
 //!   owns the PDI IRQ line, and the SYNC0 task: an exchange preempts the mailbox and the state
 //!   machine at once;
-//! - the thread executor runs the start-up and the state-machine/mailbox runner.
+//! - the thread executor runs the state-machine/mailbox runner and the LED task (and the
+//!   update's flash task).
 #![no_std]
 #![no_main]
 #![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
 
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
-use ecat_embassy::{Config, Control, ProcessDataRunner, Resources};
-use ecat_stm32::board::{Board, DigitalIo, Pin};
+use ecat_embassy::{Config, Control, ProcessDataRunner, Resources, StateMachineRunner};
+use ecat_stm32::board::{Board, DigitalIo, Leds, Pin};
 use ecat_stm32::{esc, park};
-use embassy_executor::{SendSpawner, Spawner};
+use embassy_futures::block_on;
 use panic_probe as _;
 use static_cell::StaticCell;
 
@@ -51,6 +53,12 @@ type Od = ecat_dio::IoOd;
 type Od = ();
 
 type Ecat = Resources<esc::Pdi, App, Od, 1, 1>;
+/// The state-machine runner, with the stored parameters (feature `storage`).
+#[cfg(not(feature = "storage"))]
+type Runner = StateMachineRunner<'static, esc::Pdi, App, Od>;
+#[cfg(feature = "storage")]
+type Runner =
+    StateMachineRunner<'static, esc::Pdi, App, Od, 128, Option<ecat_stm32::parameters::Storage>>;
 static ECAT: StaticCell<Ecat> = StaticCell::new();
 ecat_stm32::executors!();
 
@@ -58,15 +66,45 @@ ecat_stm32::executors!();
 fn main() -> ! {
     let board = Board::init();
     info!("ecat digital I/O starting");
-    run_executors(|high, low| low.spawn(unwrap!(state_machine(high, low, board))))
+    let Some(started) = start(board) else {
+        run_executors(|_, _| ())
+    };
+    let (state_machine_runner, process_data, control) = started.ecat.split();
+    #[cfg(feature = "storage")]
+    let state_machine_runner = state_machine_runner.with_storage(started.storage);
+    run_executors(|high, low| {
+        #[cfg(feature = "bootloader")]
+        low.spawn(unwrap!(ecat_stm32::update::run(started.flash)));
+        #[cfg(not(feature = "no-leds"))]
+        low.spawn(unwrap!(ecat_stm32::indicators(
+            control.status(),
+            started.leds
+        )));
+        high.spawn(unwrap!(exchange(process_data, started.irq)));
+        high.spawn(unwrap!(sync(control, started.sync0)));
+        low.spawn(unwrap!(state_machine(state_machine_runner)));
+    })
 }
 
-/// The thread executor's task: brings the ESC up (the LAN9252 needs a reset sequence), starts the
-/// process-data runner and the SYNC0 task in the interrupt executor (`high`) and the LED task
-/// (and the update's flash task) in the thread executor (`low`), then runs the state machine
-/// and the mailbox. One task, so the start-up's state shares the task's storage with the runner.
-#[embassy_executor::task]
-async fn state_machine(high: SendSpawner, low: Spawner, board: Board) -> ! {
+/// What the start-up hands the tasks: the stack's resources and the board's parts they run on.
+struct Started {
+    ecat: &'static mut Ecat,
+    irq: Pin,
+    sync0: Pin,
+    #[cfg_attr(feature = "no-leds", allow(dead_code))]
+    leds: Leds,
+    #[cfg(feature = "bootloader")]
+    flash: &'static ecat_stm32::flash::SharedFlash,
+    #[cfg(feature = "storage")]
+    storage: Option<ecat_stm32::parameters::Storage>,
+}
+
+/// The start-up, to completion before the executors run (`block_on`, on the stack: its state
+/// is gone once it returned, no task keeps it): brings the ESC up (the LAN9252 needs a reset
+/// sequence), loads the stored parameters (feature `storage`) and puts the resources in their
+/// static. `None` (logged) when the ESC does not come up.
+#[inline(never)]
+fn start(board: Board) -> Option<Started> {
     let Board {
         bus,
         irq,
@@ -77,24 +115,20 @@ async fn state_machine(high: SendSpawner, low: Spawner, board: Board) -> ! {
         flash,
         ..
     } = board;
-    let Some(pdi) = esc::start_logged(bus).await else {
-        park().await
-    };
+    let pdi = block_on(esc::start_logged(bus))?;
     #[cfg(any(feature = "bootloader", feature = "storage"))]
     let flash = ecat_stm32::flash::share(flash);
     #[cfg(feature = "bootloader")]
-    let io = {
-        low.spawn(unwrap!(ecat_stm32::update::run(flash)));
-        ecat_stm32::update::Updatable::new(io)
-    };
+    let io = ecat_stm32::update::Updatable::new(io);
     #[cfg(not(feature = "storage"))]
+    #[allow(clippy::let_unit_value)] // `()` with `no-dictionary`
     let od = Od::default();
     // The stored parameters, loaded before the runners start.
     #[cfg(feature = "storage")]
     let (mut storage, mut od) = (ecat_stm32::parameters::storage(flash), Od::default());
     #[cfg(feature = "storage")]
     if let Some(storage) = storage.as_mut() {
-        match storage.load(&mut od).await {
+        match block_on(storage.load(&mut od)) {
             Ok(loaded) => info!(
                 "parameters: {} loaded, {} skipped",
                 loaded.applied, loaded.skipped
@@ -103,16 +137,23 @@ async fn state_machine(high: SendSpawner, low: Spawner, board: Board) -> ! {
         }
     }
     let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, od));
-    let (state_machine, process_data, control) = ecat.split();
-    #[cfg(feature = "storage")]
-    let state_machine = state_machine.with_storage(storage);
-    #[cfg(not(feature = "no-leds"))]
-    low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
-    #[cfg(feature = "no-leds")]
-    let _ = (leds, low);
-    high.spawn(unwrap!(exchange(process_data, irq)));
-    high.spawn(unwrap!(sync(control, sync0)));
-    error!("PDI failed: {}", state_machine.run().await);
+    Some(Started {
+        ecat,
+        irq,
+        sync0,
+        leds,
+        #[cfg(feature = "bootloader")]
+        flash,
+        #[cfg(feature = "storage")]
+        storage,
+    })
+}
+
+/// The state machine and the mailbox, in the thread executor. The task's future is the
+/// runner's with the log around it: the start-up's state is not kept beside it.
+#[embassy_executor::task]
+async fn state_machine(runner: Runner) -> ! {
+    error!("PDI failed: {}", runner.run().await);
     park().await
 }
 

@@ -11,10 +11,10 @@
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_axis::{Axis, AxisOd};
-use ecat_embassy::{Config, ProcessDataRunner, Resources};
+use ecat_embassy::{Config, ProcessDataRunner, Resources, StateMachineRunner};
 use ecat_stm32::board::{Board, Pin};
 use ecat_stm32::{esc, park};
-use embassy_executor::SendSpawner;
+use embassy_futures::block_on;
 use panic_probe as _;
 use static_cell::StaticCell;
 
@@ -28,32 +28,33 @@ ecat_stm32::executors!();
 
 #[cortex_m_rt::entry]
 fn main() -> ! {
-    let board = Board::init();
-    info!("ecat CiA402 axis starting");
-    run_executors(|high, spawner| spawner.spawn(unwrap!(state_machine(high, board))))
-}
-
-/// The thread executor's task: brings the ESC up, starts the process-data runner in the interrupt
-/// executor, then runs the state machine and the mailbox. One task, so the start-up's state
-/// shares the task's storage with the runner. The board's digital I/O stays unused.
-#[embassy_executor::task]
-async fn state_machine(high: SendSpawner, board: Board) -> ! {
     let Board {
         bus,
         irq,
         sync0,
         leds,
         ..
-    } = board;
-    let Some(pdi) = esc::start_logged(bus).await else {
-        park().await
+    } = Board::init();
+    info!("ecat CiA402 axis starting");
+    // The start-up runs to completion before the executors (as in `src/main.rs`): no task keeps
+    // its state.
+    let Some(pdi) = block_on(esc::start_logged(bus)) else {
+        run_executors(|_, _| ())
     };
     let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));
-    let (state_machine, process_data, control) = ecat.split();
-    let low = SendSpawner::for_current_executor().await;
-    low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
-    high.spawn(unwrap!(exchange(process_data, irq, sync0)));
-    error!("PDI failed: {}", state_machine.run().await);
+    let (state_machine_runner, process_data, control) = ecat.split();
+    run_executors(|high, low| {
+        low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
+        high.spawn(unwrap!(exchange(process_data, irq, sync0)));
+        low.spawn(unwrap!(state_machine(state_machine_runner)));
+    })
+}
+
+/// The state machine and the mailbox, in the thread executor. The board's digital I/O stays
+/// unused.
+#[embassy_executor::task]
+async fn state_machine(runner: StateMachineRunner<'static, esc::Pdi, Axis, AxisOd>) -> ! {
+    error!("PDI failed: {}", runner.run().await);
     park().await
 }
 
