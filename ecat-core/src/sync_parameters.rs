@@ -510,13 +510,30 @@ pub(crate) fn check_cycle(
 ///
 /// It also runs the sync error supervision of 0x10F1 ([`crate::sync_error`]) over the cycles
 /// that expect outputs (DC mode in OP): [`CycleMonitor::cycle`] says when it trips.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct CycleMonitor {
     /// The sync error counter of the current OP session.
     supervision: crate::sync_error::SyncSupervision,
-    last: Option<Instant>,
+    /// When the last cycle started, [`NO_CYCLE`] before the first (an `Option<Instant>` is 16
+    /// bytes: the instant has no niche).
+    last: Instant,
     missed: u16,
     overruns: u16,
+}
+
+/// [`CycleMonitor`]'s last cycle before the first: the end of time, later than any cycle's
+/// start, so the time since it does not exist (`checked_sub`).
+const NO_CYCLE: Instant = Instant::from_micros(u64::MAX);
+
+impl Default for CycleMonitor {
+    fn default() -> Self {
+        Self {
+            supervision: crate::sync_error::SyncSupervision::new(),
+            last: NO_CYCLE,
+            missed: 0,
+            overruns: 0,
+        }
+    }
 }
 
 /// The diagnostic entries the monitor keeps.
@@ -557,10 +574,10 @@ impl CycleMonitor {
             return false;
         }
         let tripped = self.supervise(od, &report);
-        let elapsed = self
-            .last
-            .map(|last| report.now.as_micros().saturating_sub(last.as_micros()));
-        self.last = Some(report.now);
+        let last = core::mem::replace(&mut self.last, report.now);
+        // Before the first cycle `NO_CYCLE` is later than any start: no elapsed time (nor for a
+        // clock stepping back, which measured 0 before; the runners' clocks are monotonic).
+        let elapsed = report.now.as_micros().checked_sub(last.as_micros());
         let missed = report.expects_outputs && !report.new_outputs;
         let overrun = match (elapsed, report.nominal) {
             (Some(elapsed), Some(cycle)) => overran(elapsed, cycle.as_micros()),
