@@ -206,7 +206,7 @@ impl<const N: usize> SdoServer<N> {
     ) -> Result<usize, AbortCode> {
         self.transfer = None;
         self.timed_out = false;
-        let (object, target) = resolve(target, cx.state, Direction::Read)?;
+        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
         // The value is read once, straight into the answer's data area; its size then says
         // expedited or normal.
@@ -289,8 +289,7 @@ impl<const N: usize> SdoServer<N> {
     ) -> Result<usize, AbortCode> {
         self.transfer = None;
         self.timed_out = false;
-        let (object, target) = resolve(target, cx.state, Direction::Write)?;
-        check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
+        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
         let data = if expedited {
             let size = if size_indicated {
                 4 - usize::from(unused)
@@ -358,8 +357,7 @@ impl<const N: usize> SdoServer<N> {
         if self.checked_in != cx.state {
             // The rights of the initiate's state do not carry over (a download started in PREOP
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
-            resolve::<D>(target, cx.state, Direction::Write)?;
-            check_not_rx_mapped(&*cx.od, cx.state, object, target)?;
+            resolve(&*cx.od, target, cx.state, Direction::Write)?;
         }
         if is_domain::<D>(target) {
             store(cx, object, target, data, received, last)?;
@@ -461,17 +459,18 @@ enum Direction {
     Write,
 }
 
-/// Finds the object and checks the access: existence, subindex, rights in `state` (a download
-/// then checks that the process data does not own the entries, [`check_not_rx_mapped`]).
+/// Finds the object and checks the access: existence, subindex, rights in `state`, then for a
+/// download that the process data does not own the entries ([`check_not_rx_mapped`]).
 #[inline]
 fn resolve<D: ObjectDictionary>(
+    od: &D,
     target: Target,
     state: AlState,
     direction: Direction,
 ) -> Result<(&'static Object<D>, Target), AbortCode> {
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
     if target.complete {
-        check_complete(object, target, state, direction)?;
+        check_complete(od, object, target, state, direction)?;
         return Ok((object, target));
     }
     let info = &object.info;
@@ -479,6 +478,9 @@ fn resolve<D: ObjectDictionary>(
         .or_else(|| info.entry(target.sub))
         .ok_or_else(|| missing_entry(info, target.sub))?;
     check_access(entry, state, direction)?;
+    if direction == Direction::Write && entry.access.rxpdo() {
+        check_not_rx_mapped(od, state, info.index, target.sub)?;
+    }
     Ok((
         object,
         Target {
@@ -506,26 +508,27 @@ fn missing_entry(object: &ObjectInfo, sub: u8) -> AbortCode {
 }
 
 /// A complete access to `object` from `target.sub`: allowed on the object, every entry
-/// accessible in `state`. Out of line, away from the single entries' way.
+/// accessible in `state` (from the subindex on, SI0 aside: it carries the count), then for a
+/// download none of them owned by the process data. Out of line, away from the single
+/// entries' way.
 #[inline(never)]
-fn check_complete<D>(
+fn check_complete<D: ObjectDictionary>(
+    od: &D,
     object: &Object<D>,
     target: Target,
     state: AlState,
     direction: Direction,
 ) -> Result<(), AbortCode> {
-    complete_access::check(&object.info, target.sub)?;
-    entries_of(object, target).try_for_each(|(_, entry)| check_access(entry, state, direction))
-}
-
-/// The entries `target` reads or writes, with their subindices: a complete access's from its
-/// subindex on (SI0 aside: it carries the count), a single access's one.
-fn entries_of<D>(object: &Object<D>, target: Target) -> impl Iterator<Item = (u8, &EntryInfo)> {
-    let (first, last) = match target.complete {
-        true => (target.sub.max(1), object.info.max_sub),
-        false => (target.sub, target.sub),
-    };
-    complete_access::declared(&object.info, first, last)
+    let info = &object.info;
+    complete_access::check(info, target.sub)?;
+    let entries = || complete_access::declared(info, target.sub.max(1), info.max_sub);
+    entries().try_for_each(|(_, entry)| check_access(entry, state, direction))?;
+    if direction == Direction::Read {
+        return Ok(());
+    }
+    entries()
+        .filter(|(_, entry)| entry.access.rxpdo())
+        .try_for_each(|(sub, _)| check_not_rx_mapped(od, state, info.index, sub))
 }
 
 /// Read or write rights of `entry` in `state` (ETG.1000.6 Table 49).
@@ -545,28 +548,23 @@ fn check_access(entry: &EntryInfo, state: AlState, direction: Direction) -> Resu
     }
 }
 
-/// A download into entries of `target` that the active RxPDO configuration maps (0x1C12, its
-/// mappings) is refused in SAFEOP and OP with 0x06010006 (ETG.1000.6 Table 41; conformance.md
-/// "CoE SDO"): the process data owns them. Checked when a download starts and again before a
-/// segmented one stores its value (the state may have reached SAFEOP meanwhile). The layout is
-/// computed only for a download in SAFEOP or OP with an RxPDO-mappable entry among the
-/// target's; a dictionary without 0x1C12 (a fixed layout the application copies) or with an
-/// unusable mapping refuses nothing.
+/// A download into an RxPDO-mappable entry `index`:`sub` that the active RxPDO
+/// configuration maps (0x1C12, its mappings) is refused in SAFEOP and OP with 0x06010006
+/// (ETG.1000.6 Table 41; conformance.md "CoE SDO"): the process data owns it. Checked by
+/// [`resolve`] when a download starts and again before a segmented one stores its value (the
+/// state may have reached SAFEOP meanwhile), after the entry's rights. The mappings are walked
+/// only in SAFEOP and OP; a dictionary without
+/// 0x1C12 (a fixed layout the application copies) or with an unusable mapping refuses nothing.
 fn check_not_rx_mapped<D: ObjectDictionary>(
     od: &D,
     state: AlState,
-    object: &Object<D>,
-    target: Target,
+    index: u16,
+    sub: u8,
 ) -> Result<(), AbortCode> {
-    if !state.has_process_data() {
-        return Ok(());
-    }
     // SAFEOP and OP run on a valid configuration: a walk of the assigned mappings answers as
     // its layout would, without building one.
-    let index = object.info.index;
-    let mapped = entries_of(object, target)
-        .filter(|(_, e)| e.access.rxpdo())
-        .any(|(sub, _)| pdo::layout::is_mapped(od, pdo::Direction::Rx, index, sub));
+    let mapped =
+        state.has_process_data() && pdo::layout::is_mapped(od, pdo::Direction::Rx, index, sub);
     if mapped {
         return Err(AbortCode::MAPPED_TO_RXPDO);
     }
