@@ -71,14 +71,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         written == AlEvent::sync_manager(0).bits() && self.mailbox.can_receive()
     }
 
-    /// The mailbox part of the plan alone ([`SubDevice::next_op`] when nothing else is stale).
-    pub(super) fn mailbox_access(&mut self) -> Option<RegisterAccess<'_>> {
-        self.stale = Stale::NONE;
-        let op = self.next_mailbox_op()?;
-        self.in_flight = Some(InFlight::Mailbox(op));
-        Some(self.prepare_mailbox(op))
-    }
-
     /// The SM0/SM1 access due, once SM0 and SM1 are active in a mailbox state: the next message
     /// (or the last again), the next request.
     pub(super) fn next_mailbox_op(&self) -> Option<MailboxOp> {

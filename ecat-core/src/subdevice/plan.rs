@@ -90,8 +90,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         match self.in_flight {
             // Settled: the answer costs the driver's loop a test, not a call.
             None if self.stale == Stale::NONE => None,
-            // Only the mailbox's accesses may be due.
-            None if self.stale == Stale::MAILBOX => self.mailbox_access(),
             // The request/answer rhythm's way: the SM0 read or the answer, made due by the
             // event or the service that needed it (`mailbox_due`).
             Some(InFlight::Mailbox(op)) => Some(self.prepare_mailbox(op)),
