@@ -122,14 +122,12 @@ impl<A, D> AppCell<A, D> {
 /// description and the process-data buffers (`OUT`, `IN` bytes; `MBX`: the mailbox buffers of
 /// the state-machine runner, see [`Config`]).
 pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usize = 128> {
-    config: &'static DeviceConfig,
     esc: SharedEsc<P>,
     app: AppCell<A, D>,
     outputs: [u8; OUT],
     inputs: [u8; IN],
-    /// The SubDevice, made by [`Resources::split`] (its constructor is not `const`) and lent to
-    /// the state-machine runner.
-    sub: Option<SubDevice<'static, MBX>>,
+    /// The SubDevice, made with the rest (in INIT) and lent to the state-machine runner.
+    sub: SubDevice<'static, MBX>,
 }
 
 impl<P, A, D, const OUT: usize, const IN: usize, const MBX: usize> Resources<P, A, D, OUT, IN, MBX>
@@ -139,16 +137,19 @@ where
     D: ecat_core::dictionary::ObjectDictionary,
 {
     /// The device `config` on the ESC behind `pdi`, with the application `app` over the
-    /// dictionary `od`. State-machine accesses move in chunks of [`DEFAULT_CHUNK`] bytes
-    /// ([`Resources::with_chunk`]).
-    pub const fn new(config: &'static Config<P, OUT, IN, MBX>, pdi: P, app: A, od: D) -> Self {
+    /// dictionary `od`, and the SubDevice in INIT. State-machine accesses move in chunks of
+    /// [`DEFAULT_CHUNK`] bytes ([`Resources::with_chunk`]).
+    ///
+    /// Built in its static's place: `CELL.init_with(|| Resources::new(…))`, which writes the
+    /// SubDevice straight into the static rather than copying it there (docs/performance.md,
+    /// "Codegen rules"). Not `const`: [`SubDevice::new`] is not.
+    pub fn new(config: &'static Config<P, OUT, IN, MBX>, pdi: P, app: A, od: D) -> Self {
         Self {
-            config: &config.device,
             esc: SharedEsc::with_chunk(pdi, DEFAULT_CHUNK),
             app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
             outputs: [0; OUT],
             inputs: [0; IN],
-            sub: None,
+            sub: SubDevice::new(&config.device),
         }
     }
 
@@ -167,7 +168,8 @@ where
 
     /// The two runners and a control handle: the state-machine runner for the thread executor,
     /// the process-data runner for an `InterruptExecutor` above it, the [`Control`] for any task.
-    /// Each call makes the SubDevice anew (in INIT, as after a reset): split once per start.
+    /// Split once per start: the SubDevice is made by [`Resources::new`], and a second call
+    /// hands out the same one, in the state the first runner left it (not INIT).
     #[allow(clippy::type_complexity)] // the three parts, each named in full
     pub fn split(
         &mut self,
@@ -177,7 +179,6 @@ where
         Control<'_, P, A, D>,
     ) {
         let Self {
-            config,
             esc,
             app,
             outputs,
@@ -185,7 +186,6 @@ where
             sub,
         } = self;
         let (esc, app) = (&*esc, &*app);
-        let sub = sub.insert(SubDevice::new(config));
         (
             StateMachineRunner::new(esc, app, sub),
             ProcessDataRunner::new(esc, app, outputs, inputs),

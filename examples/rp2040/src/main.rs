@@ -75,7 +75,7 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
             park().await
         }
     };
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, IoOd::default()));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, pdi, io, IoOd::default()));
     let (state_machine, process_data, control) = ecat.split();
     SendSpawner::for_current_executor()
         .await

@@ -136,7 +136,7 @@ fn start(board: Board) -> Option<Started> {
             Err(e) => error!("parameters: {}", e),
         }
     }
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, od));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, pdi, io, od));
     Some(Started {
         ecat,
         irq,

@@ -41,7 +41,7 @@ fn main() -> ! {
     let Some(pdi) = block_on(esc::start_logged(bus)) else {
         run_executors(|_, _| ())
     };
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));
     let (state_machine_runner, process_data, control) = ecat.split();
     run_executors(|high, low| {
         low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
