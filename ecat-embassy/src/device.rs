@@ -117,13 +117,19 @@ impl<A, D> AppCell<A, D> {
     }
 }
 
+/// What both runners and every [`Control`] reach: the ESC with its routing and the application
+/// with its dictionary, in one place so that a handle holds one reference for both.
+pub(crate) struct Common<P, A, D> {
+    pub(crate) esc: SharedEsc<P>,
+    pub(crate) app: AppCell<A, D>,
+}
+
 /// Everything the two runners share, in one value for a `StaticCell`: the PDI driver `P` with
 /// the routing of its AL events, the application `A` with its dictionary `D`, the device's
 /// description and the process-data buffers (`OUT`, `IN` bytes; `MBX`: the mailbox buffers of
 /// the state-machine runner, see [`Config`]).
 pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usize = 128> {
-    esc: SharedEsc<P>,
-    app: AppCell<A, D>,
+    common: Common<P, A, D>,
     outputs: [u8; OUT],
     inputs: [u8; IN],
     /// The SubDevice, made with the rest (in INIT) and lent to the state-machine runner.
@@ -145,8 +151,10 @@ where
     /// "Codegen rules"). Not `const`: [`SubDevice::new`] is not.
     pub fn new(config: &'static Config<P, OUT, IN, MBX>, pdi: P, app: A, od: D) -> Self {
         Self {
-            esc: SharedEsc::with_chunk(pdi, DEFAULT_CHUNK),
-            app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
+            common: Common {
+                esc: SharedEsc::with_chunk(pdi, DEFAULT_CHUNK),
+                app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
+            },
             outputs: [0; OUT],
             inputs: [0; IN],
             sub: SubDevice::new(&config.device),
@@ -162,7 +170,7 @@ where
     /// last byte is read and marked full when its last byte is written, so a mailbox message
     /// moved in order, chunk by chunk, is handed over exactly as a whole one.
     pub const fn with_chunk(mut self, chunk: u16) -> Self {
-        self.esc.chunk = chunk;
+        self.common.esc.chunk = chunk;
         self
     }
 
@@ -179,20 +187,16 @@ where
         Control<'_, P, A, D>,
     ) {
         let Self {
-            esc,
-            app,
+            common,
             outputs,
             inputs,
             sub,
         } = self;
-        let (esc, app) = (&*esc, &*app);
+        let common = &*common;
         (
-            StateMachineRunner::new(esc, app, sub),
-            ProcessDataRunner::new(esc, app, outputs, inputs),
-            Control {
-                app,
-                status: Status(esc),
-            },
+            StateMachineRunner::new(common, sub),
+            ProcessDataRunner::new(common, outputs, inputs),
+            Control { common },
         )
     }
 
@@ -209,8 +213,7 @@ where
 /// A handle on the application, `Copy`: any task of either executor locks the application with
 /// its dictionary, raises emergencies, or follows the AL status ([`Control::status`]).
 pub struct Control<'a, P, A, D = ()> {
-    app: &'a AppCell<A, D>,
-    status: Status<'a, P>,
+    common: &'a Common<P, A, D>,
 }
 
 impl<P, A, D> Clone for Control<'_, P, A, D> {
@@ -225,12 +228,12 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
     /// Runs `f` on the application and the dictionary, locked (a critical section: keep it
     /// short, no `.await` inside).
     pub fn lock<R>(self, f: impl FnOnce(&mut A, &mut D) -> R) -> R {
-        self.app.lock(f)
+        self.common.app.lock(f)
     }
 
     /// [`Status::raise_emergency`].
     pub fn raise_emergency(self, emergency: ecat_core::coe::Emergency) {
-        self.status.raise_emergency(emergency);
+        self.status().raise_emergency(emergency);
     }
 
     /// Adds `message` to the dictionary's diagnosis history (0x10F3, `dictionary!`'s
@@ -241,12 +244,13 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
     where
         D: ecat_core::dictionary::ObjectDictionary,
     {
-        let indication = self.status.indication();
+        let indication = self.status().indication();
         let register = match (indication.status(), indication.code()) {
             (Some(status), code) => ecat_core::coe::Emergency::error_register(status, code),
             (None, _) => 0,
         };
         let logged = self
+            .common
             .app
             .lock(|_, od| od.diagnosis()?.log(message, register));
         if let Some(Some(emergency)) = logged {
@@ -257,6 +261,6 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
 
     /// The AL status side alone, whatever the application: for the indicator task.
     pub fn status(self) -> Status<'a, P> {
-        self.status
+        Status(&self.common.esc)
     }
 }

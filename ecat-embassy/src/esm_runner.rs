@@ -12,7 +12,7 @@ use embassy_futures::select::{Either, select};
 use embassy_time::Timer;
 use embedded_hal_async::digital::Wait;
 
-use crate::device::AppCell;
+use crate::device::{AppCell, Common};
 use crate::or_never::OrNever;
 use crate::pd_runner::{Error, ProcessDataRunner};
 use crate::pdi::Data;
@@ -25,8 +25,7 @@ use crate::{Application, Pdi};
 /// [`Resources::split`](crate::Resources::split), for the thread executor; `S`: the stored
 /// parameters' [`Storage`] ([`StateMachineRunner::with_storage`]), none by default.
 pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128, S = ()> {
-    esc: &'a SharedEsc<P>,
-    app: &'a AppCell<A, D>,
+    common: &'a Common<P, A, D>,
     /// In the `Resources`, not in the runner: a SubDevice moved into the runner's future is a
     /// copy of several hundred bytes the firmware pays in code (a `memmove`) and stack.
     sub: &'a mut SubDevice<'static, MBX>,
@@ -39,14 +38,9 @@ where
     A: Application<D>,
     D: ObjectDictionary,
 {
-    pub(crate) fn new(
-        esc: &'a SharedEsc<P>,
-        app: &'a AppCell<A, D>,
-        sub: &'a mut SubDevice<'static, MBX>,
-    ) -> Self {
+    pub(crate) fn new(common: &'a Common<P, A, D>, sub: &'a mut SubDevice<'static, MBX>) -> Self {
         Self {
-            esc,
-            app,
+            common,
             sub,
             storage: (),
         }
@@ -57,10 +51,9 @@ where
         self,
         storage: S,
     ) -> StateMachineRunner<'a, P, A, D, MBX, S> {
-        let Self { esc, app, sub, .. } = self;
+        let Self { common, sub, .. } = self;
         StateMachineRunner {
-            esc,
-            app,
+            common,
             sub,
             storage,
         }
@@ -89,7 +82,7 @@ where
     /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): the process-data runner takes
     /// the PDI at the next chunk boundary.
     pub fn run(self) -> impl Future<Output = P::Error> + 'a {
-        run(self.esc, self.sub, self.app, self.storage)
+        run(self.common, self.sub, self.storage)
     }
 
     /// Runs this runner and `process_data` in one task, for a first device in one executor
@@ -113,9 +106,8 @@ where
 /// news; the steps in between are synchronous.
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, A, D, const MBX: usize, S>(
-    esc: &'a SharedEsc<P>,
+    common: &'a Common<P, A, D>,
     sub: &'a mut SubDevice<'static, MBX>,
-    app: &'a AppCell<A, D>,
     mut storage: S,
 ) -> impl Future<Output = P::Error> + 'a
 where
@@ -125,7 +117,7 @@ where
     S: Storage<D> + 'a,
 {
     async move {
-        take_outside_news(esc, sub, app);
+        take_outside_news(&common.esc, sub, &common.app);
         let mut step = Step::Serve;
         // The application's decision on the transition of `Step::Answer`, asked when the core
         // requested it and dropped when the transition is no longer pending.
@@ -138,7 +130,7 @@ where
                 // The access, then, when the message is shorter than SM1, its last byte, which
                 // hands SM1 to the MainDevice: awaited at one place.
                 let event = loop {
-                    match esc.access(Runner::Esm, address, data, clears).await {
+                    match common.esc.access(Runner::Esm, address, data, clears).await {
                         Ok(event) => match last.take() {
                             Some(byte) => (address, data) = (byte, Data::Write(&[0])),
                             None => break event,
@@ -147,7 +139,7 @@ where
                     }
                 };
                 sub.access_done(now(), event);
-                esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
+                common.esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
             }
             // The transition whose answer the wait is for, `None`: the wait is for news.
             let answering = loop {
@@ -155,10 +147,10 @@ where
                     // Each message served, or request dropped (which re-arms SM0), makes its
                     // accesses due; the serve that finds nothing to do changed nothing.
                     Step::Serve => {
-                        if !serve_mailbox(sub, app) {
+                        if !serve_mailbox(sub, &common.app) {
                             step = Step::Events { any: false };
                         } else if S::STORES
-                            && app.lock(|_, od| storage.take(od))
+                            && common.app.lock(|_, od| storage.take(od))
                             && let Some(emergency) = storage.commit().await
                         {
                             // A store the message asked for, before its answer goes out.
@@ -179,11 +171,11 @@ where
                     Step::Events { any } => match sub.poll_event() {
                         // Asked at once, and waited for without accesses in between.
                         Some(Event::TransitionRequested(t)) => {
-                            decision.set(Some(app.lock(|app, _| app.on_transition(t))));
+                            decision.set(Some(common.app.lock(|app, _| app.on_transition(t))));
                             step = Step::Answer(t);
                         }
                         Some(Event::StateChanged(t)) => {
-                            app.lock(|app, _| app.on_state_change(t));
+                            common.app.lock(|app, _| app.on_state_change(t));
                             step = Step::Events { any: true };
                             continue 'run;
                         }
@@ -194,7 +186,7 @@ where
                         // What events led to (a new state, emergencies taken while answering)
                         // may have given the mailbox work: one more pass before waiting.
                         None if any => {
-                            take_outside_news(esc, sub, app);
+                            take_outside_news(&common.esc, sub, &common.app);
                             step = Step::Serve;
                             continue 'run;
                         }
@@ -207,7 +199,7 @@ where
                 Some(_) if sub.awaits_application() => decision.as_mut().as_pin_mut(),
                 _ => None,
             };
-            let woken = wait(esc, answer, until(sub.poll_timeout()), answering.is_some()).await;
+            let woken = wait(&common.esc, answer, until(sub.poll_timeout()), answering.is_some()).await;
             let event = match woken {
                 Woken::Answer(result) => {
                     if let Some(t) = answering {
@@ -224,13 +216,13 @@ where
             // An answer's wait hands the core what the rest of the firmware told the runner
             // before the AL event; news are followed by a serve of the mailbox.
             if answering.is_some() {
-                take_reports(esc, sub);
+                take_reports(&common.esc, sub);
             }
             if let Some(event) = event {
                 sub.handle_al_event(event);
             }
             if answering.is_none() {
-                take_outside_news(esc, sub, app);
+                take_outside_news(&common.esc, sub, &common.app);
                 step = Step::Serve;
             }
         }

@@ -16,10 +16,10 @@ use embassy_futures::select::{Either4, select4};
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
-use crate::device::AppCell;
+use crate::device::Common;
 use crate::or_never::OrNever;
 use crate::pdi::Data;
-use crate::shared::{Reports, Runner, SharedEsc};
+use crate::shared::{Reports, Runner};
 use crate::time::{now, to_embassy, until_instant as until};
 use crate::{Application, Pdi};
 
@@ -47,8 +47,7 @@ struct Buffers<'b> {
 /// Runs the process-data exchange: made by [`Resources::split`](crate::Resources::split), for an
 /// `InterruptExecutor` above the state-machine runner's executor. It owns the ESC's IRQ line.
 pub struct ProcessDataRunner<'a, P, A, D> {
-    esc: &'a SharedEsc<P>,
-    app: &'a AppCell<A, D>,
+    common: &'a Common<P, A, D>,
     buffers: Buffers<'a>,
 }
 
@@ -59,14 +58,12 @@ where
     D: ObjectDictionary,
 {
     pub(crate) fn new(
-        esc: &'a SharedEsc<P>,
-        app: &'a AppCell<A, D>,
+        common: &'a Common<P, A, D>,
         outputs: &'a mut [u8],
         inputs: &'a mut [u8],
     ) -> Self {
         Self {
-            esc,
-            app,
+            common,
             buffers: Buffers { outputs, inputs },
         }
     }
@@ -103,17 +100,16 @@ where
         I: Wait + 'a,
         S: Wait<Error = I::Error> + 'a,
     {
-        run(self.esc, irq, sync0, self.app, self.buffers)
+        run(self.common, irq, sync0, self.buffers)
     }
 }
 
 /// The loop of [`ProcessDataRunner::run_with_sync0`].
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, I, S, A, D>(
-    esc: &'a SharedEsc<P>,
+    common: &'a Common<P, A, D>,
     mut irq: I,
     mut sync0: S,
-    app: &'a AppCell<A, D>,
     buffers: Buffers<'a>,
 ) -> impl Future<Output = Error<P::Error, I::Error>> + 'a
 where
@@ -126,8 +122,7 @@ where
     // Made before the future: the future holds the exchange, not also the references and
     // buffers it is made of (an async block keeps what it captures apart from its locals).
     let mut exchange = Exchange {
-        esc,
-        app,
+        common,
         buffers,
         images: None,
         monitor: CycleMonitor::default(),
@@ -145,7 +140,7 @@ where
             // What woke the runner and what follows; the view and its copy of the layout end here,
             // so only `current` lives on across the waits and the exchange.
             let plan = {
-                let view = esc.pd_view(current);
+                let view = common.esc.pd_view(current);
                 let sampled = core::mem::take(&mut exchange.trigger_sampled);
                 if view.layout != current {
                     let layout = view.layout;
@@ -165,7 +160,7 @@ where
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
                         OrNever(view.irq_free.then_some(irq_low.as_mut())),
-                        esc.pd_changed_since(view.generation),
+                        common.esc.pd_changed_since(view.generation),
                         until((tick != NO_TICK).then_some(tick)),
                         OrNever(sync0_on.then_some(sync0_edge.as_mut())),
                     )
@@ -196,7 +191,7 @@ where
             loop {
                 let mut event = AlEvent::NONE;
                 if let Some((address, data, clears)) = access {
-                    match esc.access(Runner::ProcessData, address, data, clears).await {
+                    match common.esc.access(Runner::ProcessData, address, data, clears).await {
                         Ok(seen) => event = seen,
                         Err(e) => break 'run Error::Pdi(e),
                     }
@@ -208,7 +203,7 @@ where
                 };
             }
         };
-        esc.pd_stopped();
+        common.esc.pd_stopped();
         if current.is_some_and(|l| l.outputs_active) {
             exchange.safe_state();
         }
@@ -265,8 +260,7 @@ type ExchangeAccess<'b> = Option<(u16, Data<'b>, AlEvent)>;
 
 /// What one exchange needs.
 struct Exchange<'a, P, A, D: ObjectDictionary> {
-    esc: &'a SharedEsc<P>,
-    app: &'a AppCell<A, D>,
+    common: &'a Common<P, A, D>,
     buffers: Buffers<'a>,
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
@@ -289,13 +283,13 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// Tells the state-machine runner that outputs arrived, once per layout.
     fn report_outputs(&mut self) {
         if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.esc.report(Reports::OUTPUTS_RECEIVED);
+            self.common.esc.report(Reports::OUTPUTS_RECEIVED);
         }
     }
 
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
-        self.app.lock(|app, od| app.safe_state(od));
+        self.common.app.lock(|app, od| app.safe_state(od));
     }
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
@@ -309,7 +303,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         if self.images.is_none() {
             self.monitor.reset();
         }
-        self.images = self.app.lock(|_, od| {
+        self.images = self.common.app.lock(|_, od| {
             Some(Images {
                 outputs: RxLayout::outputs(&*od).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
@@ -328,7 +322,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         let layout = layout?;
         if layout.sync0() {
             *tick = NO_TICK;
-            self.esc.report(Reports::SYNC_LOST);
+            self.common.esc.report(Reports::SYNC_LOST);
             return None;
         }
         if let Some(period) = layout.period() {
@@ -340,7 +334,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     fn on_sync0(&mut self, layout: Option<Setup>) -> Option<Plan> {
         let layout = layout.filter(Setup::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
-            self.esc.report(Reports::SYNC_RECEIVED);
+            self.common.esc.report(Reports::SYNC_RECEIVED);
         }
         Some(Self::clocked(layout))
     }
@@ -414,7 +408,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
                 // Taken whatever the read saw: a trigger the other runner saw before it is the
                 // one this read (or the read of the outputs it leads to) consumes, and must not
                 // start a second cycle.
-                let seen = !self.esc.take_pd_events().is_empty();
+                let seen = !self.common.esc.take_pd_events().is_empty();
                 if !(known || seen || event.intersects(layout.trigger())) {
                     return Ok(None);
                 }
@@ -467,7 +461,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
             expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
-        let sync_error = self.app.lock(|app, od| {
+        let sync_error = self.common.app.lock(|app, od| {
             let sync_error = report.is_some_and(|report| monitor.cycle(od, report));
             let pdo = images.as_ref();
             if let (true, Some(rx)) = (apply_outputs, pdo.and_then(|i| i.outputs.as_ref())) {
@@ -480,7 +474,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
             sync_error
         });
         if sync_error {
-            self.esc.report(Reports::SYNC_ERROR);
+            self.common.esc.report(Reports::SYNC_ERROR);
         }
         Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }
