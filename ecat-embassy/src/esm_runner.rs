@@ -82,7 +82,21 @@ where
     /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): the process-data runner takes
     /// the PDI at the next chunk boundary.
     pub fn run(self) -> impl Future<Output = P::Error> + 'a {
-        run(self.common, self.sub, self.storage)
+        run(self.common, self.sub, self.storage, Some)
+    }
+
+    /// [`run`](Self::run), then `stopped` with the error, then nothing more: the future never
+    /// completes. For a task that only runs the runner: the task's future is this one, without
+    /// an `async fn` around it that keeps the runner a second time beside it (and never
+    /// completing, it is never dropped).
+    pub fn run_then(
+        self,
+        stopped: impl FnOnce(P::Error) + 'a,
+    ) -> impl Future<Output = ()> + 'a {
+        run(self.common, self.sub, self.storage, |e| {
+            stopped(e);
+            None
+        })
     }
 
     /// Runs this runner and `process_data` in one task, for a first device in one executor
@@ -105,11 +119,12 @@ where
 /// asks for after each step, and one wait, for the application's answer to a transition or for
 /// news; the steps in between are synchronous.
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-fn run<'a, P, A, D, const MBX: usize, S>(
+fn run<'a, P, A, D, const MBX: usize, S, R>(
     common: &'a Common<P, A, D>,
     sub: &'a mut SubDevice<'static, MBX>,
     mut storage: S,
-) -> impl Future<Output = P::Error> + 'a
+    stopped: impl FnOnce(P::Error) -> Option<R> + 'a,
+) -> impl Future<Output = R> + 'a
 where
     P: Pdi,
     A: Application<D>,
@@ -122,7 +137,7 @@ where
         // The application's decision on the transition of `Step::Answer`, asked when the core
         // requested it and dropped when the transition is no longer pending.
         let mut decision = pin!(None);
-        'run: loop {
+        let error = 'run: loop {
             // Every step is followed by the accesses it asks for: the only place they are made,
             // in this loop rather than in a future of their own (docs/performance.md, "Codegen
             // rules"); then the process-data layout is published.
@@ -135,7 +150,7 @@ where
                             Some(byte) => (address, data) = (byte, Data::Write(&[0])),
                             None => break event,
                         },
-                        Err(e) => return e,
+                        Err(e) => break 'run e,
                     }
                 };
                 sub.access_done(now(), event);
@@ -225,6 +240,10 @@ where
                 take_outside_news(&common.esc, sub, &common.app);
                 step = Step::Serve;
             }
+        };
+        match stopped(error) {
+            Some(result) => result,
+            None => core::future::pending().await,
         }
     }
 }

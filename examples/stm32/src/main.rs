@@ -150,15 +150,17 @@ fn start(board: Board) -> Option<Started> {
 }
 
 /// The state machine and the mailbox, in the thread executor. The task's future is the
-/// runner's with the log around it: the start-up's state is not kept beside it.
+/// runner's own, which logs the error and parks (`run_then`): neither the start-up's state nor a
+/// second copy of the runner is kept beside it.
 #[embassy_executor::task]
-async fn state_machine(runner: Runner) -> ! {
-    error!("PDI failed: {}", runner.run().await);
-    park().await
+fn state_machine(runner: Runner) -> impl Future<Output = ()> {
+    runner.run_then(|e| error!("PDI failed: {}", e))
 }
 
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line. The device runs
 /// SM-synchronous (no DC SYNC0 in `DEVICE`): SYNC0 only latches the inputs, in `sync` below.
+/// An `async fn`, not `run_then`'s future: the interrupt executor's spawner takes `Send` futures
+/// only, and the SPI transfer's is not.
 #[embassy_executor::task]
 async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, App, Od>, irq: Pin) -> ! {
     error!("process data stopped: {}", runner.run(irq).await);

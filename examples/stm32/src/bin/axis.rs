@@ -50,12 +50,13 @@ fn main() -> ! {
     })
 }
 
-/// The state machine and the mailbox, in the thread executor. The board's digital I/O stays
-/// unused.
+/// The state machine and the mailbox, in the thread executor (the runner's own future, as in
+/// `src/main.rs`). The board's digital I/O stays unused.
 #[embassy_executor::task]
-async fn state_machine(runner: StateMachineRunner<'static, esc::Pdi, Axis, AxisOd>) -> ! {
-    error!("PDI failed: {}", runner.run().await);
-    park().await
+fn state_machine(
+    runner: StateMachineRunner<'static, esc::Pdi, Axis, AxisOd>,
+) -> impl Future<Output = ()> {
+    runner.run_then(|e| error!("PDI failed: {}", e))
 }
 
 /// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines.
