@@ -2,6 +2,7 @@
 //! mailbox with CoE and the application's other protocols ([`Application::mailbox`]). Runs in
 //! the low-priority (thread) executor.
 
+use core::cell::Cell;
 use core::future::poll_fn;
 use core::pin::{Pin, pin};
 use core::task::Poll;
@@ -82,7 +83,21 @@ where
     /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): the process-data runner takes
     /// the PDI at the next chunk boundary.
     pub fn run(self) -> impl Future<Output = P::Error> + 'a {
-        run(self.common, self.sub, self.storage, Some)
+        let Self {
+            common,
+            sub,
+            storage,
+        } = self;
+        async move {
+            // The runner's own future never completes: the error it hands over ends this one.
+            let error = Cell::new(None);
+            let mut runner = pin!(run(common, sub, storage, |e| error.set(Some(e))));
+            poll_fn(|cx| {
+                let _ = runner.as_mut().poll(cx);
+                error.take().map_or(Poll::Pending, Poll::Ready)
+            })
+            .await
+        }
     }
 
     /// [`run`](Self::run), then `stopped` with the error, then nothing more: the future never
@@ -93,10 +108,7 @@ where
         self,
         stopped: impl FnOnce(P::Error) + 'a,
     ) -> impl Future<Output = ()> + 'a {
-        run(self.common, self.sub, self.storage, |e| {
-            stopped(e);
-            None
-        })
+        run(self.common, self.sub, self.storage, stopped)
     }
 
     /// Runs this runner and `process_data` in one task, for a first device in one executor
@@ -119,12 +131,12 @@ where
 /// asks for after each step, and one wait, for the application's answer to a transition or for
 /// news; the steps in between are synchronous.
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-fn run<'a, P, A, D, const MBX: usize, S, R>(
+fn run<'a, P, A, D, const MBX: usize, S>(
     common: &'a Common<P, A, D>,
     sub: &'a mut SubDevice<'static, MBX>,
     mut storage: S,
-    stopped: impl FnOnce(P::Error) -> Option<R> + 'a,
-) -> impl Future<Output = R> + 'a
+    stopped: impl FnOnce(P::Error) + 'a,
+) -> impl Future<Output = ()> + 'a
 where
     P: Pdi,
     A: Application<D>,
@@ -241,9 +253,10 @@ where
                 step = Step::Serve;
             }
         };
-        match stopped(error) {
-            Some(result) => result,
-            None => core::future::pending().await,
+        stopped(error);
+        // Never completing, the future has no "resumed after completion" panic path.
+        loop {
+            core::future::pending::<()>().await;
         }
     }
 }

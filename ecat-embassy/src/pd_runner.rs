@@ -1,7 +1,10 @@
 //! The process-data runner: owns the IRQ line, exchanges the process image. Runs in an
 //! `InterruptExecutor` at a priority above the thread executor.
 
+use core::cell::Cell;
+use core::future::poll_fn;
 use core::pin::pin;
+use core::task::Poll;
 
 use ecat_core::AlEvent;
 use ecat_core::device::Area;
@@ -100,7 +103,43 @@ where
         I: Wait + 'a,
         S: Wait<Error = I::Error> + 'a,
     {
-        run(self.common, irq, sync0, self.buffers)
+        let Self { common, buffers } = self;
+        async move {
+            // The runner's own future never completes: the error it hands over ends this one.
+            let error = Cell::new(None);
+            let mut runner = pin!(run(common, irq, sync0, buffers, |e| error.set(Some(e))));
+            poll_fn(|cx| {
+                let _ = runner.as_mut().poll(cx);
+                error.take().map_or(Poll::Pending, Poll::Ready)
+            })
+            .await
+        }
+    }
+
+    /// [`run`](Self::run), then `stopped` with why it stopped, then nothing more: the future
+    /// never completes. For a task around the runner: a future that never completes has no
+    /// "resumed after completion" panic path (docs/performance.md, "Codegen rules").
+    pub fn run_then<I: Wait + 'a>(
+        self,
+        irq: I,
+        stopped: impl FnOnce(Error<P::Error, I::Error>) + 'a,
+    ) -> impl Future<Output = ()> + 'a {
+        run(self.common, irq, NoSync0::new(), self.buffers, stopped)
+    }
+
+    /// [`run_with_sync0`](Self::run_with_sync0), then `stopped` with why it stopped, then
+    /// nothing more, as [`run_then`](Self::run_then).
+    pub fn run_with_sync0_then<I, S>(
+        self,
+        irq: I,
+        sync0: S,
+        stopped: impl FnOnce(Error<P::Error, I::Error>) + 'a,
+    ) -> impl Future<Output = ()> + 'a
+    where
+        I: Wait + 'a,
+        S: Wait<Error = I::Error> + 'a,
+    {
+        run(self.common, irq, sync0, self.buffers, stopped)
     }
 }
 
@@ -111,7 +150,8 @@ fn run<'a, P, I, S, A, D>(
     mut irq: I,
     mut sync0: S,
     buffers: Buffers<'a>,
-) -> impl Future<Output = Error<P::Error, I::Error>> + 'a
+    stopped: impl FnOnce(Error<P::Error, I::Error>) + 'a,
+) -> impl Future<Output = ()> + 'a
 where
     P: Pdi,
     I: Wait + 'a,
@@ -207,7 +247,11 @@ where
         if current.is_some_and(|l| l.outputs_active) {
             exchange.safe_state();
         }
-        error
+        stopped(error);
+        // Never completing, the future has no "resumed after completion" panic path.
+        loop {
+            core::future::pending::<()>().await;
+        }
     }
 }
 

@@ -21,13 +21,15 @@ pub async fn state_machine(high: SendSpawner) {
         Ok(token) => high.spawn(token),
         Err(_) => crate::fail("cannot spawn the process-data runner"),
     }
-    let _error = state_machine.run().await;
-    crate::fail("the state-machine runner stopped");
+    state_machine
+        .run_then(|_| crate::fail("the state-machine runner stopped"))
+        .await;
 }
 
 /// The process-data exchange, in the interrupt executor; owns the ESC's IRQ line.
 #[embassy_executor::task]
 async fn exchange(runner: ProcessDataRunner<'static, ModelPdi, App, Od>) {
-    let _error = runner.run(IrqPin).await;
-    crate::fail("the process-data runner stopped");
+    runner
+        .run_then(IrqPin, |_| crate::fail("the process-data runner stopped"))
+        .await;
 }

@@ -159,11 +159,14 @@ fn state_machine(runner: Runner) -> impl Future<Output = ()> {
 
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line. The device runs
 /// SM-synchronous (no DC SYNC0 in `DEVICE`): SYNC0 only latches the inputs, in `sync` below.
-/// An `async fn`, not `run_then`'s future: the interrupt executor's spawner takes `Send` futures
-/// only, and the SPI transfer's is not.
+/// An `async fn` around `run_then`'s future, not that future itself: the interrupt executor's
+/// spawner takes a `Send` future (or an `async fn`'s `Send` arguments), and the SPI transfer's
+/// future is not `Send`.
 #[embassy_executor::task]
 async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, App, Od>, irq: Pin) -> ! {
-    error!("process data stopped: {}", runner.run(irq).await);
+    runner
+        .run_then(irq, |e| error!("process data stopped: {}", e))
+        .await;
     park().await
 }
 

@@ -66,9 +66,8 @@ async fn exchange(
     irq: Pin,
     sync0: Pin,
 ) -> ! {
-    error!(
-        "process data stopped: {}",
-        runner.run_with_sync0(irq, sync0).await
-    );
+    runner
+        .run_with_sync0_then(irq, sync0, |e| error!("process data stopped: {}", e))
+        .await;
     park().await
 }
