@@ -102,8 +102,9 @@ where
 
     /// [`run`](Self::run), then `stopped` with the error, then nothing more: the future never
     /// completes. For a task that only runs the runner: the task's future is this one, without
-    /// an `async fn` around it that keeps the runner a second time beside it (and never
-    /// completing, it is never dropped).
+    /// an `async fn` around it that keeps the runner a second time beside it, and, never
+    /// completing, without a "resumed after completion" panic path (docs/performance.md,
+    /// "Codegen rules").
     pub fn run_then(
         self,
         stopped: impl FnOnce(P::Error) + 'a,
