@@ -105,10 +105,7 @@ where
     /// an `async fn` around it that keeps the runner a second time beside it, and, never
     /// completing, without a "resumed after completion" panic path (docs/performance.md,
     /// "Codegen rules").
-    pub fn run_then(
-        self,
-        stopped: impl FnOnce(P::Error) + 'a,
-    ) -> impl Future<Output = ()> + 'a {
+    pub fn run_then(self, stopped: impl FnOnce(P::Error) + 'a) -> impl Future<Output = ()> + 'a {
         run(self.common, self.sub, self.storage, stopped)
     }
 
@@ -167,7 +164,9 @@ where
                     }
                 };
                 sub.access_done(now(), event);
-                common.esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
+                common
+                    .esc
+                    .publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
             }
             // The transition whose answer the wait is for, `None`: the wait is for news.
             let answering = loop {
@@ -227,7 +226,13 @@ where
                 Some(_) if sub.awaits_application() => decision.as_mut().as_pin_mut(),
                 _ => None,
             };
-            let woken = wait(&common.esc, answer, until(sub.poll_timeout()), answering.is_some()).await;
+            let woken = wait(
+                &common.esc,
+                answer,
+                until(sub.poll_timeout()),
+                answering.is_some(),
+            )
+            .await;
             let event = match woken {
                 Woken::Answer(result) => {
                     if let Some(t) = answering {

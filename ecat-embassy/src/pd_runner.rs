@@ -231,7 +231,11 @@ where
             loop {
                 let mut event = AlEvent::NONE;
                 if let Some((address, data, clears)) = access {
-                    match common.esc.access(Runner::ProcessData, address, data, clears).await {
+                    match common
+                        .esc
+                        .access(Runner::ProcessData, address, data, clears)
+                        .await
+                    {
                         Ok(seen) => event = seen,
                         Err(e) => break 'run Error::Pdi(e),
                     }
