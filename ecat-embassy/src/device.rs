@@ -117,19 +117,23 @@ impl<A, D> AppCell<A, D> {
     }
 }
 
+/// What both runners and every [`Control`] reach: the ESC with its routing and the application
+/// with its dictionary, in one place so that a handle holds one reference for both.
+pub(crate) struct Common<P, A, D> {
+    pub(crate) esc: SharedEsc<P>,
+    pub(crate) app: AppCell<A, D>,
+}
+
 /// Everything the two runners share, in one value for a `StaticCell`: the PDI driver `P` with
 /// the routing of its AL events, the application `A` with its dictionary `D`, the device's
 /// description and the process-data buffers (`OUT`, `IN` bytes; `MBX`: the mailbox buffers of
 /// the state-machine runner, see [`Config`]).
 pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usize = 128> {
-    config: &'static DeviceConfig,
-    esc: SharedEsc<P>,
-    app: AppCell<A, D>,
+    common: Common<P, A, D>,
     outputs: [u8; OUT],
     inputs: [u8; IN],
-    /// The SubDevice, made by [`Resources::split`] (its constructor is not `const`) and lent to
-    /// the state-machine runner.
-    sub: Option<SubDevice<'static, MBX>>,
+    /// The SubDevice, made with the rest (in INIT) and lent to the state-machine runner.
+    sub: SubDevice<'static, MBX>,
 }
 
 impl<P, A, D, const OUT: usize, const IN: usize, const MBX: usize> Resources<P, A, D, OUT, IN, MBX>
@@ -139,16 +143,21 @@ where
     D: ecat_core::dictionary::ObjectDictionary,
 {
     /// The device `config` on the ESC behind `pdi`, with the application `app` over the
-    /// dictionary `od`. State-machine accesses move in chunks of [`DEFAULT_CHUNK`] bytes
-    /// ([`Resources::with_chunk`]).
-    pub const fn new(config: &'static Config<P, OUT, IN, MBX>, pdi: P, app: A, od: D) -> Self {
+    /// dictionary `od`, and the SubDevice in INIT. State-machine accesses move in chunks of
+    /// [`DEFAULT_CHUNK`] bytes ([`Resources::with_chunk`]).
+    ///
+    /// Built in its static's place: `CELL.init_with(|| Resources::new(…))`, which writes the
+    /// SubDevice straight into the static rather than copying it there (docs/performance.md,
+    /// "Codegen rules"). Not `const`: [`SubDevice::new`] is not.
+    pub fn new(config: &'static Config<P, OUT, IN, MBX>, pdi: P, app: A, od: D) -> Self {
         Self {
-            config: &config.device,
-            esc: SharedEsc::with_chunk(pdi, DEFAULT_CHUNK),
-            app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
+            common: Common {
+                esc: SharedEsc::with_chunk(pdi, DEFAULT_CHUNK),
+                app: AppCell(BlockingMutex::new(RefCell::new(Parts { od, app }))),
+            },
             outputs: [0; OUT],
             inputs: [0; IN],
-            sub: None,
+            sub: SubDevice::new(&config.device),
         }
     }
 
@@ -161,13 +170,14 @@ where
     /// last byte is read and marked full when its last byte is written, so a mailbox message
     /// moved in order, chunk by chunk, is handed over exactly as a whole one.
     pub const fn with_chunk(mut self, chunk: u16) -> Self {
-        self.esc.chunk = chunk;
+        self.common.esc.chunk = chunk;
         self
     }
 
     /// The two runners and a control handle: the state-machine runner for the thread executor,
     /// the process-data runner for an `InterruptExecutor` above it, the [`Control`] for any task.
-    /// Each call makes the SubDevice anew (in INIT, as after a reset): split once per start.
+    /// Split once per start: the SubDevice is made by [`Resources::new`], and a second call
+    /// hands out the same one, in the state the first runner left it (not INIT).
     #[allow(clippy::type_complexity)] // the three parts, each named in full
     pub fn split(
         &mut self,
@@ -177,22 +187,16 @@ where
         Control<'_, P, A, D>,
     ) {
         let Self {
-            config,
-            esc,
-            app,
+            common,
             outputs,
             inputs,
             sub,
         } = self;
-        let (esc, app) = (&*esc, &*app);
-        let sub = sub.insert(SubDevice::new(config));
+        let common = &*common;
         (
-            StateMachineRunner::new(esc, app, sub),
-            ProcessDataRunner::new(esc, app, outputs, inputs),
-            Control {
-                app,
-                status: Status(esc),
-            },
+            StateMachineRunner::new(common, sub),
+            ProcessDataRunner::new(common, outputs, inputs),
+            Control { common },
         )
     }
 
@@ -209,8 +213,7 @@ where
 /// A handle on the application, `Copy`: any task of either executor locks the application with
 /// its dictionary, raises emergencies, or follows the AL status ([`Control::status`]).
 pub struct Control<'a, P, A, D = ()> {
-    app: &'a AppCell<A, D>,
-    status: Status<'a, P>,
+    common: &'a Common<P, A, D>,
 }
 
 impl<P, A, D> Clone for Control<'_, P, A, D> {
@@ -225,12 +228,12 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
     /// Runs `f` on the application and the dictionary, locked (a critical section: keep it
     /// short, no `.await` inside).
     pub fn lock<R>(self, f: impl FnOnce(&mut A, &mut D) -> R) -> R {
-        self.app.lock(f)
+        self.common.app.lock(f)
     }
 
     /// [`Status::raise_emergency`].
     pub fn raise_emergency(self, emergency: ecat_core::coe::Emergency) {
-        self.status.raise_emergency(emergency);
+        self.status().raise_emergency(emergency);
     }
 
     /// Adds `message` to the dictionary's diagnosis history (0x10F3, `dictionary!`'s
@@ -241,12 +244,13 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
     where
         D: ecat_core::dictionary::ObjectDictionary,
     {
-        let indication = self.status.indication();
+        let indication = self.status().indication();
         let register = match (indication.status(), indication.code()) {
             (Some(status), code) => ecat_core::coe::Emergency::error_register(status, code),
             (None, _) => 0,
         };
         let logged = self
+            .common
             .app
             .lock(|_, od| od.diagnosis()?.log(message, register));
         if let Some(Some(emergency)) = logged {
@@ -257,6 +261,6 @@ impl<'a, P: Pdi, A, D> Control<'a, P, A, D> {
 
     /// The AL status side alone, whatever the application: for the indicator task.
     pub fn status(self) -> Status<'a, P> {
-        self.status
+        Status(&self.common.esc)
     }
 }

@@ -2,6 +2,7 @@
 //! mailbox with CoE and the application's other protocols ([`Application::mailbox`]). Runs in
 //! the low-priority (thread) executor.
 
+use core::cell::Cell;
 use core::future::poll_fn;
 use core::pin::{Pin, pin};
 use core::task::Poll;
@@ -12,7 +13,7 @@ use embassy_futures::select::{Either, select};
 use embassy_time::Timer;
 use embedded_hal_async::digital::Wait;
 
-use crate::device::AppCell;
+use crate::device::{AppCell, Common};
 use crate::or_never::OrNever;
 use crate::pd_runner::{Error, ProcessDataRunner};
 use crate::pdi::Data;
@@ -25,8 +26,7 @@ use crate::{Application, Pdi};
 /// [`Resources::split`](crate::Resources::split), for the thread executor; `S`: the stored
 /// parameters' [`Storage`] ([`StateMachineRunner::with_storage`]), none by default.
 pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128, S = ()> {
-    esc: &'a SharedEsc<P>,
-    app: &'a AppCell<A, D>,
+    common: &'a Common<P, A, D>,
     /// In the `Resources`, not in the runner: a SubDevice moved into the runner's future is a
     /// copy of several hundred bytes the firmware pays in code (a `memmove`) and stack.
     sub: &'a mut SubDevice<'static, MBX>,
@@ -39,14 +39,9 @@ where
     A: Application<D>,
     D: ObjectDictionary,
 {
-    pub(crate) fn new(
-        esc: &'a SharedEsc<P>,
-        app: &'a AppCell<A, D>,
-        sub: &'a mut SubDevice<'static, MBX>,
-    ) -> Self {
+    pub(crate) fn new(common: &'a Common<P, A, D>, sub: &'a mut SubDevice<'static, MBX>) -> Self {
         Self {
-            esc,
-            app,
+            common,
             sub,
             storage: (),
         }
@@ -57,10 +52,9 @@ where
         self,
         storage: S,
     ) -> StateMachineRunner<'a, P, A, D, MBX, S> {
-        let Self { esc, app, sub, .. } = self;
+        let Self { common, sub, .. } = self;
         StateMachineRunner {
-            esc,
-            app,
+            common,
             sub,
             storage,
         }
@@ -89,7 +83,30 @@ where
     /// ([`Resources::with_chunk`](crate::Resources::with_chunk)): the process-data runner takes
     /// the PDI at the next chunk boundary.
     pub fn run(self) -> impl Future<Output = P::Error> + 'a {
-        run(self.esc, self.sub, self.app, self.storage)
+        let Self {
+            common,
+            sub,
+            storage,
+        } = self;
+        async move {
+            // The runner's own future never completes: the error it hands over ends this one.
+            let error = Cell::new(None);
+            let mut runner = pin!(run(common, sub, storage, |e| error.set(Some(e))));
+            poll_fn(|cx| {
+                let _ = runner.as_mut().poll(cx);
+                error.take().map_or(Poll::Pending, Poll::Ready)
+            })
+            .await
+        }
+    }
+
+    /// [`run`](Self::run), then `stopped` with the error, then nothing more: the future never
+    /// completes. For a task that only runs the runner: the task's future is this one, without
+    /// an `async fn` around it that keeps the runner a second time beside it, and, never
+    /// completing, without a "resumed after completion" panic path (docs/performance.md,
+    /// "Codegen rules").
+    pub fn run_then(self, stopped: impl FnOnce(P::Error) + 'a) -> impl Future<Output = ()> + 'a {
+        run(self.common, self.sub, self.storage, stopped)
     }
 
     /// Runs this runner and `process_data` in one task, for a first device in one executor
@@ -113,11 +130,11 @@ where
 /// news; the steps in between are synchronous.
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, A, D, const MBX: usize, S>(
-    esc: &'a SharedEsc<P>,
+    common: &'a Common<P, A, D>,
     sub: &'a mut SubDevice<'static, MBX>,
-    app: &'a AppCell<A, D>,
     mut storage: S,
-) -> impl Future<Output = P::Error> + 'a
+    stopped: impl FnOnce(P::Error) + 'a,
+) -> impl Future<Output = ()> + 'a
 where
     P: Pdi,
     A: Application<D>,
@@ -125,12 +142,12 @@ where
     S: Storage<D> + 'a,
 {
     async move {
-        take_outside_news(esc, sub, app);
+        take_outside_news(&common.esc, sub, &common.app);
         let mut step = Step::Serve;
         // The application's decision on the transition of `Step::Answer`, asked when the core
         // requested it and dropped when the transition is no longer pending.
         let mut decision = pin!(None);
-        'run: loop {
+        let error = 'run: loop {
             // Every step is followed by the accesses it asks for: the only place they are made,
             // in this loop rather than in a future of their own (docs/performance.md, "Codegen
             // rules"); then the process-data layout is published.
@@ -138,16 +155,18 @@ where
                 // The access, then, when the message is shorter than SM1, its last byte, which
                 // hands SM1 to the MainDevice: awaited at one place.
                 let event = loop {
-                    match esc.access(Runner::Esm, address, data, clears).await {
+                    match common.esc.access(Runner::Esm, address, data, clears).await {
                         Ok(event) => match last.take() {
                             Some(byte) => (address, data) = (byte, Data::Write(&[0])),
                             None => break event,
                         },
-                        Err(e) => return e,
+                        Err(e) => break 'run e,
                     }
                 };
                 sub.access_done(now(), event);
-                esc.publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
+                common
+                    .esc
+                    .publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
             }
             // The transition whose answer the wait is for, `None`: the wait is for news.
             let answering = loop {
@@ -155,10 +174,10 @@ where
                     // Each message served, or request dropped (which re-arms SM0), makes its
                     // accesses due; the serve that finds nothing to do changed nothing.
                     Step::Serve => {
-                        if !serve_mailbox(sub, app) {
+                        if !serve_mailbox(sub, &common.app) {
                             step = Step::Events { any: false };
                         } else if S::STORES
-                            && app.lock(|_, od| storage.take(od))
+                            && common.app.lock(|_, od| storage.take(od))
                             && let Some(emergency) = storage.commit().await
                         {
                             // A store the message asked for, before its answer goes out.
@@ -179,11 +198,11 @@ where
                     Step::Events { any } => match sub.poll_event() {
                         // Asked at once, and waited for without accesses in between.
                         Some(Event::TransitionRequested(t)) => {
-                            decision.set(Some(app.lock(|app, _| app.on_transition(t))));
+                            decision.set(Some(common.app.lock(|app, _| app.on_transition(t))));
                             step = Step::Answer(t);
                         }
                         Some(Event::StateChanged(t)) => {
-                            app.lock(|app, _| app.on_state_change(t));
+                            common.app.lock(|app, _| app.on_state_change(t));
                             step = Step::Events { any: true };
                             continue 'run;
                         }
@@ -194,7 +213,7 @@ where
                         // What events led to (a new state, emergencies taken while answering)
                         // may have given the mailbox work: one more pass before waiting.
                         None if any => {
-                            take_outside_news(esc, sub, app);
+                            take_outside_news(&common.esc, sub, &common.app);
                             step = Step::Serve;
                             continue 'run;
                         }
@@ -207,7 +226,13 @@ where
                 Some(_) if sub.awaits_application() => decision.as_mut().as_pin_mut(),
                 _ => None,
             };
-            let woken = wait(esc, answer, until(sub.poll_timeout()), answering.is_some()).await;
+            let woken = wait(
+                &common.esc,
+                answer,
+                until(sub.poll_timeout()),
+                answering.is_some(),
+            )
+            .await;
             let event = match woken {
                 Woken::Answer(result) => {
                     if let Some(t) = answering {
@@ -224,15 +249,20 @@ where
             // An answer's wait hands the core what the rest of the firmware told the runner
             // before the AL event; news are followed by a serve of the mailbox.
             if answering.is_some() {
-                take_reports(esc, sub);
+                take_reports(&common.esc, sub);
             }
             if let Some(event) = event {
                 sub.handle_al_event(event);
             }
             if answering.is_none() {
-                take_outside_news(esc, sub, app);
+                take_outside_news(&common.esc, sub, &common.app);
                 step = Step::Serve;
             }
+        };
+        stopped(error);
+        // Never completing, the future has no "resumed after completion" panic path.
+        loop {
+            core::future::pending::<()>().await;
         }
     }
 }

@@ -58,7 +58,7 @@
 //! async fn main(spawner: Spawner) {
 //!     // In firmware: an `InterruptExecutor`'s spawner, above the thread executor.
 //!     let high: SendSpawner = spawner.make_send();
-//!     let ecat = ECAT.init(Ecat::new(&DEVICE, Pdi, Loopback::default(), ()));
+//!     let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, Pdi, Loopback::default(), ()));
 //!     let (state_machine, process_data, control) = ecat.split();
 //!     high.spawn(exchange(process_data, Pin).unwrap());
 //!     high.spawn(sync0(control, Pin).unwrap());

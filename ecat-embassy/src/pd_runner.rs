@@ -1,7 +1,10 @@
 //! The process-data runner: owns the IRQ line, exchanges the process image. Runs in an
 //! `InterruptExecutor` at a priority above the thread executor.
 
+use core::cell::Cell;
+use core::future::poll_fn;
 use core::pin::pin;
+use core::task::Poll;
 
 use ecat_core::AlEvent;
 use ecat_core::device::Area;
@@ -16,10 +19,10 @@ use embassy_futures::select::{Either4, select4};
 use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
-use crate::device::AppCell;
+use crate::device::Common;
 use crate::or_never::OrNever;
 use crate::pdi::Data;
-use crate::shared::{Reports, Runner, SharedEsc};
+use crate::shared::{Reports, Runner};
 use crate::time::{now, to_embassy, until_instant as until};
 use crate::{Application, Pdi};
 
@@ -47,8 +50,7 @@ struct Buffers<'b> {
 /// Runs the process-data exchange: made by [`Resources::split`](crate::Resources::split), for an
 /// `InterruptExecutor` above the state-machine runner's executor. It owns the ESC's IRQ line.
 pub struct ProcessDataRunner<'a, P, A, D> {
-    esc: &'a SharedEsc<P>,
-    app: &'a AppCell<A, D>,
+    common: &'a Common<P, A, D>,
     buffers: Buffers<'a>,
 }
 
@@ -59,14 +61,12 @@ where
     D: ObjectDictionary,
 {
     pub(crate) fn new(
-        esc: &'a SharedEsc<P>,
-        app: &'a AppCell<A, D>,
+        common: &'a Common<P, A, D>,
         outputs: &'a mut [u8],
         inputs: &'a mut [u8],
     ) -> Self {
         Self {
-            esc,
-            app,
+            common,
             buffers: Buffers { outputs, inputs },
         }
     }
@@ -103,19 +103,55 @@ where
         I: Wait + 'a,
         S: Wait<Error = I::Error> + 'a,
     {
-        run(self.esc, irq, sync0, self.app, self.buffers)
+        let Self { common, buffers } = self;
+        async move {
+            // The runner's own future never completes: the error it hands over ends this one.
+            let error = Cell::new(None);
+            let mut runner = pin!(run(common, irq, sync0, buffers, |e| error.set(Some(e))));
+            poll_fn(|cx| {
+                let _ = runner.as_mut().poll(cx);
+                error.take().map_or(Poll::Pending, Poll::Ready)
+            })
+            .await
+        }
+    }
+
+    /// [`run`](Self::run), then `stopped` with why it stopped, then nothing more: the future
+    /// never completes. For a task around the runner: a future that never completes has no
+    /// "resumed after completion" panic path (docs/performance.md, "Codegen rules").
+    pub fn run_then<I: Wait + 'a>(
+        self,
+        irq: I,
+        stopped: impl FnOnce(Error<P::Error, I::Error>) + 'a,
+    ) -> impl Future<Output = ()> + 'a {
+        run(self.common, irq, NoSync0::new(), self.buffers, stopped)
+    }
+
+    /// [`run_with_sync0`](Self::run_with_sync0), then `stopped` with why it stopped, then
+    /// nothing more, as [`run_then`](Self::run_then).
+    pub fn run_with_sync0_then<I, S>(
+        self,
+        irq: I,
+        sync0: S,
+        stopped: impl FnOnce(Error<P::Error, I::Error>) + 'a,
+    ) -> impl Future<Output = ()> + 'a
+    where
+        I: Wait + 'a,
+        S: Wait<Error = I::Error> + 'a,
+    {
+        run(self.common, irq, sync0, self.buffers, stopped)
     }
 }
 
 /// The loop of [`ProcessDataRunner::run_with_sync0`].
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, I, S, A, D>(
-    esc: &'a SharedEsc<P>,
+    common: &'a Common<P, A, D>,
     mut irq: I,
     mut sync0: S,
-    app: &'a AppCell<A, D>,
     buffers: Buffers<'a>,
-) -> impl Future<Output = Error<P::Error, I::Error>> + 'a
+    stopped: impl FnOnce(Error<P::Error, I::Error>) + 'a,
+) -> impl Future<Output = ()> + 'a
 where
     P: Pdi,
     I: Wait + 'a,
@@ -126,8 +162,7 @@ where
     // Made before the future: the future holds the exchange, not also the references and
     // buffers it is made of (an async block keeps what it captures apart from its locals).
     let mut exchange = Exchange {
-        esc,
-        app,
+        common,
         buffers,
         images: None,
         monitor: CycleMonitor::default(),
@@ -145,7 +180,7 @@ where
             // What woke the runner and what follows; the view and its copy of the layout end here,
             // so only `current` lives on across the waits and the exchange.
             let plan = {
-                let view = esc.pd_view(current);
+                let view = common.esc.pd_view(current);
                 let sampled = core::mem::take(&mut exchange.trigger_sampled);
                 if view.layout != current {
                     let layout = view.layout;
@@ -165,7 +200,7 @@ where
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
                         OrNever(view.irq_free.then_some(irq_low.as_mut())),
-                        esc.pd_changed_since(view.generation),
+                        common.esc.pd_changed_since(view.generation),
                         until((tick != NO_TICK).then_some(tick)),
                         OrNever(sync0_on.then_some(sync0_edge.as_mut())),
                     )
@@ -196,7 +231,11 @@ where
             loop {
                 let mut event = AlEvent::NONE;
                 if let Some((address, data, clears)) = access {
-                    match esc.access(Runner::ProcessData, address, data, clears).await {
+                    match common
+                        .esc
+                        .access(Runner::ProcessData, address, data, clears)
+                        .await
+                    {
                         Ok(seen) => event = seen,
                         Err(e) => break 'run Error::Pdi(e),
                     }
@@ -208,11 +247,15 @@ where
                 };
             }
         };
-        esc.pd_stopped();
+        common.esc.pd_stopped();
         if current.is_some_and(|l| l.outputs_active) {
             exchange.safe_state();
         }
-        error
+        stopped(error);
+        // Never completing, the future has no "resumed after completion" panic path.
+        loop {
+            core::future::pending::<()>().await;
+        }
     }
 }
 
@@ -265,8 +308,7 @@ type ExchangeAccess<'b> = Option<(u16, Data<'b>, AlEvent)>;
 
 /// What one exchange needs.
 struct Exchange<'a, P, A, D: ObjectDictionary> {
-    esc: &'a SharedEsc<P>,
-    app: &'a AppCell<A, D>,
+    common: &'a Common<P, A, D>,
     buffers: Buffers<'a>,
     images: Option<Images<D>>,
     /// The diagnostics of 0x1C32/0x1C33.
@@ -289,13 +331,13 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// Tells the state-machine runner that outputs arrived, once per layout.
     fn report_outputs(&mut self) {
         if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.esc.report(Reports::OUTPUTS_RECEIVED);
+            self.common.esc.report(Reports::OUTPUTS_RECEIVED);
         }
     }
 
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
-        self.app.lock(|app, od| app.safe_state(od));
+        self.common.app.lock(|app, od| app.safe_state(od));
     }
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
@@ -309,7 +351,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         if self.images.is_none() {
             self.monitor.reset();
         }
-        self.images = self.app.lock(|_, od| {
+        self.images = self.common.app.lock(|_, od| {
             Some(Images {
                 outputs: RxLayout::outputs(&*od).ok().flatten(),
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
@@ -328,7 +370,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         let layout = layout?;
         if layout.sync0() {
             *tick = NO_TICK;
-            self.esc.report(Reports::SYNC_LOST);
+            self.common.esc.report(Reports::SYNC_LOST);
             return None;
         }
         if let Some(period) = layout.period() {
@@ -340,7 +382,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     fn on_sync0(&mut self, layout: Option<Setup>) -> Option<Plan> {
         let layout = layout.filter(Setup::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
-            self.esc.report(Reports::SYNC_RECEIVED);
+            self.common.esc.report(Reports::SYNC_RECEIVED);
         }
         Some(Self::clocked(layout))
     }
@@ -414,7 +456,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
                 // Taken whatever the read saw: a trigger the other runner saw before it is the
                 // one this read (or the read of the outputs it leads to) consumes, and must not
                 // start a second cycle.
-                let seen = !self.esc.take_pd_events().is_empty();
+                let seen = !self.common.esc.take_pd_events().is_empty();
                 if !(known || seen || event.intersects(layout.trigger())) {
                     return Ok(None);
                 }
@@ -467,7 +509,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
             expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
             new_outputs,
         });
-        let sync_error = self.app.lock(|app, od| {
+        let sync_error = self.common.app.lock(|app, od| {
             let sync_error = report.is_some_and(|report| monitor.cycle(od, report));
             let pdo = images.as_ref();
             if let (true, Some(rx)) = (apply_outputs, pdo.and_then(|i| i.outputs.as_ref())) {
@@ -480,7 +522,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
             sync_error
         });
         if sync_error {
-            self.esc.report(Reports::SYNC_ERROR);
+            self.common.esc.report(Reports::SYNC_ERROR);
         }
         Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }

@@ -529,13 +529,17 @@ where
                 // so here whatever order the scheduler polls its tasks in (the cooperative one:
                 // wake order).
                 embassy_futures::yield_now().await;
-                let error = state_machine.run().await;
-                panic!("state-machine runner stopped: {error:?}");
+                state_machine
+                    .run_then(|error| panic!("state-machine runner stopped: {error:?}"))
+                    .await;
             })),
-            Task::interrupt(stoppable(stop, async move {
-                let error = process_data.run_with_sync0(irq, sync0).await;
-                panic!("process-data runner stopped: {error:?}");
-            })),
+            // The runners' own futures, as the firmwares run them (`run_then`).
+            Task::interrupt(stoppable(
+                stop,
+                process_data.run_with_sync0_then(irq, sync0, |error| {
+                    panic!("process-data runner stopped: {error:?}")
+                }),
+            )),
         ];
         (futures, control.status())
     }

@@ -1,11 +1,14 @@
 //! The entry point of `ecat-embassy`: what `Config` checks and takes from the PDI driver, both
-//! runners in one task (`StateMachineRunner::run_with`, what `Resources::run` does), and the safe
-//! state when the process-data runner stops.
+//! runners in one task (`StateMachineRunner::run_with`, what `Resources::run` does), the safe
+//! state when the process-data runner stops, and a runner's future as a task's own
+//! (`StateMachineRunner::run_then`).
 
 mod common;
 
 use std::cell::Cell;
+use std::pin::pin;
 use std::rc::Rc;
+use std::task::{Context, Waker};
 
 use common::walk_to;
 use ecat_core::device::Area;
@@ -13,7 +16,7 @@ use ecat_core::{AlEvent, AlState, DeviceConfig};
 use ecat_embassy::pdi::Data;
 use ecat_embassy::spi::beckhoff::BeckhoffSpi;
 use ecat_embassy::spi::lan9252::Lan9252;
-use ecat_embassy::{Application, Config, Pdi};
+use ecat_embassy::{Application, Config, Pdi, Resources};
 use ecat_emu::emulator::EmulatedPdi;
 use ecat_emu::harness::{self, AcceptAll, Device, Loopback};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL};
@@ -155,4 +158,38 @@ fn the_process_data_runner_puts_the_outputs_in_their_safe_state_when_it_stops_in
         assert!(master.write(0x1100, &[1; 12]));
         master.settle().await;
     });
+}
+
+/// A PDI whose every access fails with the same error.
+struct Broken;
+
+impl Pdi for Broken {
+    type Error = u8;
+
+    async fn access(&mut self, _: u16, _: Data<'_>) -> Result<AlEvent, u8> {
+        Err(7)
+    }
+}
+
+/// An application with every default.
+struct Idle;
+
+impl Application for Idle {}
+
+#[test]
+fn run_then_hands_over_the_error_and_never_completes() {
+    let config = Box::leak(Box::new(Config::<Broken, 12, 11>::new(common::drive())));
+    let resources = Box::leak(Box::new(Resources::new(config, Broken, Idle, ())));
+    let (state_machine, _, _) = resources.split();
+    let stopped = Rc::new(Cell::new(None));
+    let mut future = pin!(state_machine.run_then({
+        let stopped = stopped.clone();
+        move |error| stopped.set(Some(error))
+    }));
+    let mut cx = Context::from_waker(Waker::noop());
+    assert!(future.as_mut().poll(&mut cx).is_pending());
+    assert_eq!(stopped.get(), Some(7), "the first access failed");
+    stopped.set(None);
+    assert!(future.as_mut().poll(&mut cx).is_pending());
+    assert_eq!(stopped.get(), None, "handed over once");
 }

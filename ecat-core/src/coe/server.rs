@@ -33,7 +33,7 @@ impl<const N: usize> CoeServer<N> {
         Self {
             sdo: SdoServer::new(),
             sdo_info: SdoInfo::new(),
-            emergencies: Ring::new(Emergency::NONE),
+            emergencies: const { Ring::new(Emergency::NONE) },
         }
     }
 

@@ -314,15 +314,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             written: Written::new(),
             in_flight: None,
             pending: None,
-            events: Ring::new(Event::StateChanged(Transition {
-                from: AlState::Init,
-                to: AlState::Init,
-            })),
+            events: const {
+                Ring::new(Event::StateChanged(Transition {
+                    from: AlState::Init,
+                    to: AlState::Init,
+                }))
+            },
             buf: [0; BUF_LEN],
-            logged: Ring::new(Logged {
-                code: AlStatusCode::NO_ERROR,
-                state: AlState::Init,
-            }),
+            logged: const {
+                Ring::new(Logged {
+                    code: AlStatusCode::NO_ERROR,
+                    state: AlState::Init,
+                })
+            },
             last_emergency: AlStatusCode::NO_ERROR,
             last_emergency_at: Instant::from_micros(0),
             mailbox: Mailbox::new(),

@@ -15,19 +15,21 @@ static ECAT: StaticCell<Ecat> = StaticCell::new();
 /// runs the state machine and the mailbox.
 #[embassy_executor::task]
 pub async fn state_machine(high: SendSpawner) {
-    let ecat = ECAT.init(Ecat::new(&DEVICE, ModelPdi, App, Od::default()));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, ModelPdi, App, Od::default()));
     let (state_machine, process_data, _control) = ecat.split();
     match exchange(process_data) {
         Ok(token) => high.spawn(token),
         Err(_) => crate::fail("cannot spawn the process-data runner"),
     }
-    let _error = state_machine.run().await;
-    crate::fail("the state-machine runner stopped");
+    state_machine
+        .run_then(|_| crate::fail("the state-machine runner stopped"))
+        .await;
 }
 
 /// The process-data exchange, in the interrupt executor; owns the ESC's IRQ line.
 #[embassy_executor::task]
 async fn exchange(runner: ProcessDataRunner<'static, ModelPdi, App, Od>) {
-    let _error = runner.run(IrqPin).await;
-    crate::fail("the process-data runner stopped");
+    runner
+        .run_then(IrqPin, |_| crate::fail("the process-data runner stopped"))
+        .await;
 }

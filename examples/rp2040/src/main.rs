@@ -75,14 +75,16 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
             park().await
         }
     };
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, IoOd::default()));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, pdi, io, IoOd::default()));
     let (state_machine, process_data, control) = ecat.split();
     SendSpawner::for_current_executor()
         .await
         .spawn(unwrap!(indicators(control.status(), leds)));
     high.spawn(unwrap!(exchange(process_data, irq)));
     high.spawn(unwrap!(sync(control, sync0)));
-    error!("PDI failed: {}", state_machine.run().await);
+    state_machine
+        .run_then(|e| error!("PDI failed: {}", e))
+        .await;
     park().await
 }
 
@@ -90,7 +92,9 @@ async fn state_machine(high: SendSpawner, board: Board) -> ! {
 /// SM-synchronous (no DC SYNC0 in `DEVICE`): SYNC0 only latches the inputs, in `sync` below.
 #[embassy_executor::task]
 async fn exchange(runner: ProcessDataRunner<'static, Pdi, DigitalIo, IoOd>, irq: Pin) -> ! {
-    error!("process data stopped: {}", runner.run(irq).await);
+    runner
+        .run_then(irq, |e| error!("process data stopped: {}", e))
+        .await;
     park().await
 }
 

@@ -136,7 +136,7 @@ fn start(board: Board) -> Option<Started> {
             Err(e) => error!("parameters: {}", e),
         }
     }
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, io, od));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, pdi, io, od));
     Some(Started {
         ecat,
         irq,
@@ -150,18 +150,23 @@ fn start(board: Board) -> Option<Started> {
 }
 
 /// The state machine and the mailbox, in the thread executor. The task's future is the
-/// runner's with the log around it: the start-up's state is not kept beside it.
+/// runner's own, which logs the error and parks (`run_then`): neither the start-up's state nor a
+/// second copy of the runner is kept beside it.
 #[embassy_executor::task]
-async fn state_machine(runner: Runner) -> ! {
-    error!("PDI failed: {}", runner.run().await);
-    park().await
+fn state_machine(runner: Runner) -> impl Future<Output = ()> {
+    runner.run_then(|e| error!("PDI failed: {}", e))
 }
 
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line. The device runs
 /// SM-synchronous (no DC SYNC0 in `DEVICE`): SYNC0 only latches the inputs, in `sync` below.
+/// An `async fn` around `run_then`'s future, not that future itself: the interrupt executor's
+/// spawner takes a `Send` future (or an `async fn`'s `Send` arguments), and the SPI transfer's
+/// future is not `Send`.
 #[embassy_executor::task]
 async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, App, Od>, irq: Pin) -> ! {
-    error!("process data stopped: {}", runner.run(irq).await);
+    runner
+        .run_then(irq, |e| error!("process data stopped: {}", e))
+        .await;
     park().await
 }
 

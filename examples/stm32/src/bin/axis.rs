@@ -41,7 +41,7 @@ fn main() -> ! {
     let Some(pdi) = block_on(esc::start_logged(bus)) else {
         run_executors(|_, _| ())
     };
-    let ecat = ECAT.init(Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, pdi, Axis::new(), AxisOd::default()));
     let (state_machine_runner, process_data, control) = ecat.split();
     run_executors(|high, low| {
         low.spawn(unwrap!(ecat_stm32::indicators(control.status(), leds)));
@@ -50,12 +50,13 @@ fn main() -> ! {
     })
 }
 
-/// The state machine and the mailbox, in the thread executor. The board's digital I/O stays
-/// unused.
+/// The state machine and the mailbox, in the thread executor (the runner's own future, as in
+/// `src/main.rs`). The board's digital I/O stays unused.
 #[embassy_executor::task]
-async fn state_machine(runner: StateMachineRunner<'static, esc::Pdi, Axis, AxisOd>) -> ! {
-    error!("PDI failed: {}", runner.run().await);
-    park().await
+fn state_machine(
+    runner: StateMachineRunner<'static, esc::Pdi, Axis, AxisOd>,
+) -> impl Future<Output = ()> {
+    runner.run_then(|e| error!("PDI failed: {}", e))
 }
 
 /// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines.
@@ -65,9 +66,8 @@ async fn exchange(
     irq: Pin,
     sync0: Pin,
 ) -> ! {
-    error!(
-        "process data stopped: {}",
-        runner.run_with_sync0(irq, sync0).await
-    );
+    runner
+        .run_with_sync0_then(irq, sync0, |e| error!("process data stopped: {}", e))
+        .await;
     park().await
 }
