@@ -321,8 +321,9 @@ impl ValueInfo {
     }
 }
 
-/// The value fields of an entry description, in wire order.
-const VALUE_FIELDS: [(u8, Limit); 3] = [
+/// The optional fields of an entry description, in wire order: the unit, then the value fields.
+const VALUE_FIELDS: [(u8, Limit); 4] = [
+    (ValueInfo::UNIT_TYPE, Limit::Unit),
     (ValueInfo::DEFAULT_VALUE, Limit::Default),
     (ValueInfo::MINIMUM_VALUE, Limit::Min),
     (ValueInfo::MAXIMUM_VALUE, Limit::Max),
@@ -508,16 +509,6 @@ fn entry_description<D: ObjectDictionary>(
     }
     let mut honoured = 0;
     if let Some(entry) = entry {
-        if requested.has(ValueInfo::UNIT_TYPE) {
-            // The declared unit (the object's `limit`), 0 for none.
-            let mut unit = [0u8; 2];
-            if entry.limits.has(Limit::Unit) {
-                (object.limit)(sub, Limit::Unit, &mut unit);
-            }
-            if w.put(&unit) {
-                honoured |= ValueInfo::UNIT_TYPE;
-            }
-        }
         for (bit, limit) in VALUE_FIELDS {
             if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {
                 honoured |= bit;
@@ -564,8 +555,9 @@ fn entry_fixed_part(index: u16, sub: u8, entry: &EntryInfo) -> [u8; 10] {
     [i0, i1, sub, 0, t0, t1, b0, b1, a0, a1]
 }
 
-/// Appends the declared `limit` of `index:sub` as a field of `ceil(bit length / 8)` bytes;
-/// `false` (nothing appended) when it is not declared or does not fit.
+/// Appends the declared `limit` of `index:sub`: the unit as a u16, 0 for none (always
+/// appended when it fits); a value as a field of `ceil(bit length / 8)` bytes, `false`
+/// (nothing appended) when it is not declared or does not fit.
 fn put_value<D>(
     w: &mut Writer<'_>,
     object: &Object<D>,
@@ -573,8 +565,14 @@ fn put_value<D>(
     entry: &EntryInfo,
     limit: Limit,
 ) -> bool {
-    let size = usize::from(entry.bit_len).div_ceil(8);
-    w.put_field(size, |field| (object.limit)(sub, limit, field))
+    let unit = limit == Limit::Unit;
+    let size = if unit {
+        2
+    } else {
+        usize::from(entry.bit_len).div_ceil(8)
+    };
+    // An object's `limit` encodes only what the entry declares (0 bytes otherwise).
+    w.put_field(size, |field| usize::from(unit) | (object.limit)(sub, limit, field))
 }
 
 /// Get OD List (ETG.1000.6 §5.6.3): a response in progress. Request: u16 list type.
