@@ -209,31 +209,32 @@ impl<const N: usize> SdoServer<N> {
         let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
         // The value is read once, straight into the answer's data area; its size then says
-        // expedited or normal.
+        // expedited or normal. A send mailbox without room for four bytes behind the header
+        // (the 16 bytes of the smallest) reads into `small`: an expedited value fits it, a
+        // longer one sends nothing with the initiate.
         let (head, data) = split_response(out)?;
+        let mut small = [0u8; 4];
+        let short = data.len() < small.len();
         let (size, sent) = if is_domain::<D>(target) {
             (
                 domain_size(cx, target)?,
                 fetch(cx, object, target, 0, data)?,
             )
         } else {
-            let read = read(cx.od, object, target, 0, data)?;
-            (read.size(), read.copied())
+            let into: &mut [u8] = if short { &mut small } else { data };
+            let read = read(cx.od, object, target, 0, into)?;
+            if (1..=4).contains(&read.size()) {
+                // Expedited: the data moves into the header (ETG.1000.6 Table 37): the four
+                // bytes read, of which the value's size count.
+                let size = read.size();
+                let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
+                let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
+                let command = response::upload_expedited(size, target.complete);
+                *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
+                return Ok(RESPONSE_HEADER);
+            }
+            (read.size(), if short { 0 } else { read.copied() })
         };
-        if (1..=4).contains(&size) && !is_domain::<D>(target) {
-            // Expedited: the data moves into the header (ETG.1000.6 Table 37).
-            let value = match data.first_chunk::<4>() {
-                // The four bytes after the header, of which the value's `size` count.
-                Some(&bytes) if sent == size => {
-                    u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))
-                }
-                // A mailbox too small for four bytes behind the header.
-                _ => u32::from_le_bytes(fetch_expedited(cx, object, target)?),
-            };
-            let command = response::upload_expedited(size, target.complete);
-            *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
-            return Ok(RESPONSE_HEADER);
-        }
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
         let command = response::upload_normal(target.complete);
         if sent < size {
@@ -804,19 +805,6 @@ fn segment_data<'a>(frame: &'a Frame<&[u8]>, unused: u8) -> &'a [u8] {
     } else {
         data
     }
-}
-
-/// The value of an expedited upload read on its own: for a send mailbox without room for four
-/// bytes behind the header (the 16 bytes of the smallest). Out of line: the rare way.
-#[inline(never)]
-fn fetch_expedited<D: ObjectDictionary, H: ObjectHooks<D>>(
-    cx: &mut Context<'_, D, H>,
-    object: &Object<D>,
-    target: Target,
-) -> Result<[u8; 4], AbortCode> {
-    let mut value = [0u8; 4];
-    fetch(cx, object, target, 0, &mut value)?;
-    Ok(value)
 }
 
 /// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
