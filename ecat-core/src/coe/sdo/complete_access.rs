@@ -182,17 +182,19 @@ pub fn read<D>(
     out: &mut [u8],
 ) -> Result<Read, AbortCode> {
     let last = upload_last(od, object)?;
-    let total = size_through(&object.info, sub, last);
-    let len = out.len().min(total.saturating_sub(offset));
-    let window = out.get_mut(..len).unwrap_or_default();
-    window.fill(0);
+    // One walk: every byte of `out` zeroed first (what the entries leave is padding), the
+    // image's size from the last slot.
+    out.fill(0);
+    let mut total = 0;
     for slot in slots(&object.info, sub).take_while(|s| s.sub <= last) {
         // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
         // padding, zero.
         let mut value = [0u8; 8];
         (object.read)(od, slot.sub, 0, &mut value)?;
-        copy_bits(&value, 0, window, slot.bit_offset, offset, slot.bit_len);
+        copy_bits(&value, 0, out, slot.bit_offset, offset, slot.bit_len);
+        total = (slot.bit_offset + slot.bit_len).div_ceil(8);
     }
+    let len = out.len().min(total.saturating_sub(offset));
     Ok(Read::new(len, total))
 }
 
