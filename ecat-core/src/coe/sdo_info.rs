@@ -446,16 +446,19 @@ impl Response {
 /// Writes the CoE header and the SDO Information header in front of the service data already in
 /// `out[HEADERS..]`; returns the message length. The one writer of both headers.
 fn finish(out: &mut [u8], response: Response) -> usize {
-    let coe = CoeHeader::new(Service::SdoInformation).to_bytes();
-    let info = InfoHeader::bytes(
+    const COE: [u8; 2] = CoeHeader::new(Service::SdoInformation).to_bytes();
+    let [c0, c1] = COE;
+    let [i0, i1, i2, i3] = InfoHeader::bytes(
         response.code,
         response.fragments_left > 0,
         response.fragments_left,
     );
-    let mut w = Writer::new(out);
-    match w.put(&coe) && w.put(&info) {
-        true => HEADERS + response.len,
-        false => 0,
+    match out.first_chunk_mut() {
+        Some(head) => {
+            *head = [c0, c1, i0, i1, i2, i3];
+            HEADERS + response.len
+        }
+        None => 0,
     }
 }
 
