@@ -464,9 +464,8 @@ fn finish(out: &mut [u8], response: Response) -> usize {
 
 /// SDO Info Error (ETG.1000.6 §5.6.3.8): service data = the u32 abort code.
 fn info_error(code: AbortCode, data: &mut [u8]) -> Response {
-    let mut w = Writer::new(data);
-    w.put(&code.0.to_le_bytes());
-    Response::whole(Opcode::InfoError, w.len)
+    let w = Writer::starting(data, code.0.to_le_bytes());
+    Response::whole(Opcode::InfoError, w.map_or(0, |w| w.len))
 }
 
 /// Get Object Description (ETG.1000.6 §5.6.3.5). Request: u16 index. Response: u16 index, u16
@@ -478,10 +477,8 @@ fn object_description<D: ObjectDictionary>(
     let info = &D::object(index).ok_or(AbortCode::NO_OBJECT)?.info;
     let [i0, i1] = index.to_le_bytes();
     let [t0, t1] = info.data_type().to_le_bytes();
-    let mut w = Writer::new(data);
-    if !w.put(&[i0, i1, t0, t1, info.max_sub, info.code as u8]) {
-        return Err(AbortCode::EXCEEDS_MAILBOX);
-    }
+    let fixed = [i0, i1, t0, t1, info.max_sub, info.code as u8];
+    let mut w = Writer::starting(data, fixed).ok_or(AbortCode::EXCEEDS_MAILBOX)?;
     w.put_name(info.name.as_bytes());
     Ok(Response::whole(Opcode::GetObjectDescriptionResponse, w.len))
 }
@@ -506,10 +503,7 @@ fn entry_description<D: ObjectDictionary>(
             &gap_name[..],
         ),
     };
-    let mut w = Writer::new(data);
-    if !w.put(&fixed) {
-        return Err(AbortCode::EXCEEDS_MAILBOX);
-    }
+    let mut w = Writer::starting(data, fixed).ok_or(AbortCode::EXCEEDS_MAILBOX)?;
     let mut honoured = 0;
     if let Some(entry) = entry {
         for (bit, limit) in VALUE_FIELDS {
@@ -654,6 +648,13 @@ struct Writer<'a> {
 impl<'a> Writer<'a> {
     fn new(buf: &'a mut [u8]) -> Self {
         Self { buf, len: 0 }
+    }
+
+    /// A writer that has written `fixed` first (one store of the whole array); `None` when
+    /// `buf` is shorter.
+    fn starting<const N: usize>(buf: &'a mut [u8], fixed: [u8; N]) -> Option<Self> {
+        *buf.first_chunk_mut()? = fixed;
+        Some(Self { buf, len: N })
     }
 
     /// Bytes still free.
