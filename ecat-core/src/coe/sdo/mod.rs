@@ -257,6 +257,12 @@ impl<const N: usize> SdoServer<N> {
             ..
         } = self.next_segment(Kind::Upload, toggle)?;
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
+        // The CoE header, the command (set below) and the 7 bytes a segment carries at least,
+        // zero where the value does not fill them: one store.
+        let [c0, c1] = SDO_RESPONSE;
+        if let Some(head) = out.first_chunk_mut() {
+            *head = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
+        }
         let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
         let room = body.len().saturating_sub(SEGMENT_HEADER);
         let want = room.min(size.saturating_sub(offset));
@@ -266,18 +272,12 @@ impl<const N: usize> SdoServer<N> {
         let n = fetch(cx, object, target, offset, data)?;
         let last = offset + n >= size;
         let unused = MIN_SEGMENT_DATA.saturating_sub(n);
-        if let Some(padding) = body.get_mut(SEGMENT_HEADER + n..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
-            padding.fill(0);
-        }
         if let Some(command) = body.first_mut() {
             *command = response::upload_segment(toggle, unused as u8, last);
         }
         self.advance(cx.now, offset + n, last);
-        Ok(finish(
-            out,
-            SDO_RESPONSE,
-            SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA),
-        ))
+        let len = CoeHeader::SIZE + SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA);
+        Ok(len.min(out.len()))
     }
 
     fn download<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -371,14 +371,16 @@ impl<const N: usize> SdoServer<N> {
             }
         }
         self.advance(cx.now, total, last);
-        let body = body_of(out);
-        if let Some(segment) = body.get_mut(..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
-            segment.fill(0);
-            if let Some(command) = segment.first_mut() {
-                *command = response::download_segment(toggle);
+        // The CoE header, the command and 7 bytes of padding, in one store.
+        let [c0, c1] = SDO_RESPONSE;
+        let command = response::download_segment(toggle);
+        Ok(match out.first_chunk_mut() {
+            Some(answer) => {
+                *answer = [c0, c1, command, 0, 0, 0, 0, 0, 0, 0];
+                CoeHeader::SIZE + SEGMENT_HEADER + MIN_SEGMENT_DATA
             }
-        }
-        Ok(finish(out, SDO_RESPONSE, SEGMENT_HEADER + MIN_SEGMENT_DATA))
+            None => 0,
+        })
     }
 
     /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
@@ -845,19 +847,6 @@ pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
     let target = Target::new(index, sub, false);
     let code = code.0.to_le_bytes();
     respond(out, SDO_REQUEST, response::ABORT, target, code)
-}
-
-/// Writes the CoE header `coe` in front of a body of `len` bytes; returns the total.
-#[inline]
-fn finish(out: &mut [u8], coe: [u8; 2], len: usize) -> usize {
-    if let Some(header) = out.first_chunk_mut() {
-        *header = coe;
-    }
-    (CoeHeader::SIZE + len).min(out.len())
-}
-
-fn body_of(out: &mut [u8]) -> &mut [u8] {
-    out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
 }
 
 #[cfg(test)]
