@@ -601,23 +601,30 @@ impl ListTransfer {
     /// The one writer of OD-list fragments, first and following.
     fn fragment<D: ObjectDictionary>(&mut self, data: &mut [u8]) -> Response {
         let words_per_fragment = (data.len() / 2).max(1);
-        let mut w = Writer::new(data);
-        if self.opening && w.put(&self.list.code().to_le_bytes()) {
-            self.opening = false;
-        }
-        while self.left > 0 && w.room() >= 2 {
-            let Some(value) = self.next_value::<D>() else {
+        let mut len = 0;
+        for word in data.chunks_exact_mut(2) {
+            let value = if self.opening {
+                self.opening = false;
+                self.list.code()
+            } else if self.left == 0 {
+                break;
+            } else if let Some(value) = self.next_value::<D>() {
+                self.left -= 1;
+                value
+            } else {
                 self.left = 0; // the dictionary ran out early (another `D`?): end here
                 break;
             };
-            w.put(&value.to_le_bytes());
-            self.left -= 1;
+            if let Ok(word) = <&mut [u8; 2]>::try_from(word) {
+                *word = value.to_le_bytes();
+            }
+            len += 2;
         }
         let fragments_left = self.left.div_ceil(words_per_fragment);
         Response {
             code: Opcode::GetOdListResponse.code(),
             fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),
-            len: w.len,
+            len,
         }
     }
 
@@ -646,10 +653,6 @@ struct Writer<'a> {
 }
 
 impl<'a> Writer<'a> {
-    fn new(buf: &'a mut [u8]) -> Self {
-        Self { buf, len: 0 }
-    }
-
     /// A writer that has written `fixed` first (one store of the whole array); `None` when
     /// `buf` is shorter.
     fn starting<const N: usize>(buf: &'a mut [u8], fixed: [u8; N]) -> Option<Self> {
