@@ -78,6 +78,16 @@ struct Segmented {
     deadline: Instant,
 }
 
+impl Segmented {
+    /// A segment moved the transfer to `done` bytes; it waits for the next segment with the
+    /// other toggle (the last one ends it: the server drops the transfer).
+    fn advance(&mut self, now: Instant, done: usize) {
+        self.done = done;
+        self.toggle = !self.toggle;
+        self.deadline = now.saturating_add(SdoServer::<0>::SEGMENT_TIMEOUT);
+    }
+}
+
 /// What a request is served with: the dictionary, the hooks, the state and the time.
 pub struct Context<'a, D, H> {
     /// The dictionary.
@@ -250,12 +260,8 @@ impl<const N: usize> SdoServer<N> {
         toggle: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Segmented {
-            target,
-            size,
-            done: offset,
-            ..
-        } = self.next_segment(Kind::Upload, toggle)?;
+        let t = next_segment(&mut self.transfer, &mut self.timed_out, Kind::Upload, toggle)?;
+        let (target, size, offset) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         // The CoE header, the command (set below) and the 7 bytes a segment carries at least,
         // zero where the value does not fill them: one store.
@@ -275,7 +281,10 @@ impl<const N: usize> SdoServer<N> {
         if let Some(command) = body.first_mut() {
             *command = response::upload_segment(toggle, unused as u8, last);
         }
-        self.advance(cx.now, offset + n, last);
+        match last {
+            true => self.transfer = None,
+            false => t.advance(cx.now, offset + n),
+        }
         let len = CoeHeader::SIZE + SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA);
         Ok(len.min(out.len()))
     }
@@ -341,12 +350,8 @@ impl<const N: usize> SdoServer<N> {
         last: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Segmented {
-            target,
-            size,
-            done: received,
-            ..
-        } = self.next_segment(Kind::Download, toggle)?;
+        let t = next_segment(&mut self.transfer, &mut self.timed_out, Kind::Download, toggle)?;
+        let (target, size, received) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
         if total > size {
@@ -370,7 +375,10 @@ impl<const N: usize> SdoServer<N> {
                 store(cx, object, target, value, 0, true)?;
             }
         }
-        self.advance(cx.now, total, last);
+        match last {
+            true => self.transfer = None,
+            false => t.advance(cx.now, total),
+        }
         // The CoE header, the command and 7 bytes of padding, in one store.
         let [c0, c1] = SDO_RESPONSE;
         let command = response::download_segment(toggle);
@@ -404,37 +412,24 @@ impl<const N: usize> SdoServer<N> {
         });
         self.checked_in = cx.state;
     }
+}
 
-    /// The transfer a segment of `kind` with `toggle` continues: none is 0x05040001 (or
-    /// 0x05040000 after a timeout), a toggle that did not alternate 0x05030000.
-    fn next_segment(&mut self, kind: Kind, toggle: bool) -> Result<Segmented, AbortCode> {
-        match self.transfer {
-            Some(t) if t.kind == kind && t.toggle == toggle => Ok(t),
-            Some(t) if t.kind == kind => Err(AbortCode::TOGGLE_BIT),
-            _ => Err(self.no_transfer()),
-        }
-    }
-
-    /// A segment moved the transfer to `done` bytes: it ends, or waits for the next segment
-    /// with the other toggle.
-    fn advance(&mut self, now: Instant, done: usize, last: bool) {
-        match &mut self.transfer {
-            Some(t) if !last => {
-                t.done = done;
-                t.toggle = !t.toggle;
-                t.deadline = now.saturating_add(Self::SEGMENT_TIMEOUT);
-            }
-            transfer => *transfer = None,
-        }
-    }
-
-    /// The abort for a segment that belongs to no transfer.
-    fn no_transfer(&mut self) -> AbortCode {
-        if core::mem::take(&mut self.timed_out) {
-            AbortCode::TIMEOUT
-        } else {
-            AbortCode::COMMAND_SPECIFIER
-        }
+/// The transfer a segment of `kind` with `toggle` continues (the server's `transfer`, in
+/// place): none is 0x05040001 (or 0x05040000 after a timeout, `timed_out`), a toggle that did
+/// not alternate 0x05030000.
+fn next_segment<'t>(
+    transfer: &'t mut Option<Segmented>,
+    timed_out: &mut bool,
+    kind: Kind,
+    toggle: bool,
+) -> Result<&'t mut Segmented, AbortCode> {
+    match transfer {
+        Some(t) if t.kind == kind => match t.toggle == toggle {
+            true => Ok(t),
+            false => Err(AbortCode::TOGGLE_BIT),
+        },
+        _ if core::mem::take(timed_out) => Err(AbortCode::TIMEOUT),
+        _ => Err(AbortCode::COMMAND_SPECIFIER),
     }
 }
 
