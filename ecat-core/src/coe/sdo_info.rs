@@ -665,24 +665,6 @@ impl<'a> Writer<'a> {
         self.buf.len().saturating_sub(self.len)
     }
 
-    /// Appends `bytes` whole; `false` (nothing written) when they do not fit.
-    fn put(&mut self, bytes: &[u8]) -> bool {
-        // `..bytes.len()` of the rest: the lengths match; `bytes::copy` has no length-mismatch
-        // panic path the compiler would otherwise keep.
-        let dst = self
-            .buf
-            .get_mut(self.len..)
-            .and_then(|rest| rest.get_mut(..bytes.len()));
-        match dst {
-            Some(dst) => {
-                crate::bytes::copy(dst, bytes);
-                self.len += bytes.len();
-                true
-            }
-            None => false,
-        }
-    }
-
     /// Appends a field of `size` zeroed bytes that `fill` encodes into (returning the bytes it
     /// wrote); `false` (nothing appended) when the field is empty, does not fit or `fill` wrote
     /// nothing.
@@ -707,7 +689,9 @@ impl<'a> Writer<'a> {
         while cut > 0 && name.get(cut).is_some_and(|&b| b & 0xC0 == 0x80) {
             cut -= 1;
         }
-        self.put(name.get(..cut).unwrap_or_default());
+        // `cut` is within the room: the copy takes all of it.
+        let rest = self.buf.get_mut(self.len..).unwrap_or_default();
+        self.len += crate::bytes::copy(rest, name.get(..cut).unwrap_or_default());
     }
 
     /// Overwrites the byte at `at` of what was written.
