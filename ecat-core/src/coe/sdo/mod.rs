@@ -696,14 +696,9 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
             store_entry(cx, object, 0, &[0])?;
             last = n;
         }
-        Some(n) => {
-            let mut current = [0u8; 1];
-            (object.read)(cx.od, 0, 0, &mut current)?;
-            if n != current[0] {
-                return Err(AbortCode::READ_ONLY);
-            }
-        }
-        None => {}
+        // A read-only SI0 must carry its current value.
+        Some(n) if n != object.count(cx.od) => return Err(AbortCode::READ_ONLY),
+        _ => {}
     }
     // A gap of a sparse RECORD has no value in the image; SI0 is done.
     for slot in complete_access::slots(&object.info, from).take_while(|s| s.sub <= last) {
