@@ -131,9 +131,8 @@ impl ObjectInfo {
         if sub > self.max_sub {
             return None;
         }
-        if sub > 0 && self.is_uniform() {
-            return self.entries.get(1);
-        }
+        // A uniform object's second description is its last, SI1: from SI1 on it is the
+        // entry, as the last declared entry of a RECORD is for the subindices beyond it.
         let last = self.entries.last()?;
         if sub >= last.sub {
             return Some(last);
