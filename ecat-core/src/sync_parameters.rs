@@ -62,7 +62,12 @@ impl SyncParameters {
             return Err(AbortCode::NO_SUBINDEX);
         };
         let size = entry.bit_len.div_ceil(8);
-        Ok(crate::dictionary::read_unsigned(value, usize::from(size), offset, out))
+        Ok(crate::dictionary::read_unsigned(
+            value,
+            usize::from(size),
+            offset,
+            out,
+        ))
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check. Only

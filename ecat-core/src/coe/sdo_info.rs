@@ -569,7 +569,9 @@ fn put_value<D>(
         usize::from(entry.bit_len).div_ceil(8)
     };
     // An object's `limit` encodes only what the entry declares (0 bytes otherwise).
-    w.put_field(size, |field| usize::from(unit) | (object.limit)(sub, limit, field))
+    w.put_field(size, |field| {
+        usize::from(unit) | (object.limit)(sub, limit, field)
+    })
 }
 
 /// Get OD List (ETG.1000.6 §5.6.3): a response in progress. Request: u16 list type.

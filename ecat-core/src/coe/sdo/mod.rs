@@ -260,7 +260,12 @@ impl<const N: usize> SdoServer<N> {
         toggle: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let t = next_segment(&mut self.transfer, &mut self.timed_out, Kind::Upload, toggle)?;
+        let t = next_segment(
+            &mut self.transfer,
+            &mut self.timed_out,
+            Kind::Upload,
+            toggle,
+        )?;
         let (target, size, offset) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         // The CoE header, the command (set below) and the 7 bytes a segment carries at least,
@@ -350,7 +355,12 @@ impl<const N: usize> SdoServer<N> {
         last: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let t = next_segment(&mut self.transfer, &mut self.timed_out, Kind::Download, toggle)?;
+        let t = next_segment(
+            &mut self.transfer,
+            &mut self.timed_out,
+            Kind::Download,
+            toggle,
+        )?;
         let (target, size, received) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
