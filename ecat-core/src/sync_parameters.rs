@@ -33,25 +33,41 @@ impl SyncParameters {
     /// Copies the encoded value of `sub` from `offset` into `out` (the typed read of the
     /// standard record: one function for 0x1C32 and 0x1C33 of every dictionary).
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        let (value, size) = match sub {
-            0 => (u32::from(Self::MAX_SUB), 1),
-            1 => (u32::from(self.sync_type), 2),
-            2 => (self.cycle_time, 4),
-            3 => (self.shift_time, 4),
-            4 => (u32::from(self.supported), 2),
-            5 => (self.min_cycle_time, 4),
-            6 => (self.calc_copy_time, 4),
-            7 => (self.min_delay_time, 4),
-            8 => (u32::from(self.get_cycle_time), 2),
-            9 => (self.delay_time, 4),
-            0x0A => (self.sync0_cycle_time, 4),
-            0x0B => (u32::from(self.sm_event_missed), 2),
-            0x0C => (u32::from(self.cycle_time_too_small), 2),
-            0x0D => (u32::from(self.shift_time_too_short), 2),
-            0x20 => (u32::from(self.sync_error), 1),
+        // The entries in subindex order, SI 0x20 after SI 0x0D: a load per field and one
+        // lookup, not a branch per subindex.
+        let at = match sub {
+            0..=0x0D => usize::from(sub),
+            0x20 => 0x0E,
             _ => return Err(AbortCode::NO_SUBINDEX),
         };
-        Ok(crate::dictionary::read_unsigned(value, size, offset, out))
+        let values = [
+            u32::from(Self::MAX_SUB),
+            u32::from(self.sync_type),
+            self.cycle_time,
+            self.shift_time,
+            u32::from(self.supported),
+            self.min_cycle_time,
+            self.calc_copy_time,
+            self.min_delay_time,
+            u32::from(self.get_cycle_time),
+            self.delay_time,
+            self.sync0_cycle_time,
+            u32::from(self.sm_event_missed),
+            u32::from(self.cycle_time_too_small),
+            u32::from(self.shift_time_too_short),
+            u32::from(self.sync_error),
+        ];
+        // Each entry's size from its description ([`PARAMETER_ENTRIES`], in the same order).
+        let (Some(&value), Some(entry)) = (values.get(at), PARAMETER_ENTRIES.get(at)) else {
+            return Err(AbortCode::NO_SUBINDEX);
+        };
+        let size = entry.bit_len.div_ceil(8);
+        Ok(crate::dictionary::read_unsigned(
+            value,
+            usize::from(size),
+            offset,
+            out,
+        ))
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check. Only

@@ -321,8 +321,9 @@ impl ValueInfo {
     }
 }
 
-/// The value fields of an entry description, in wire order.
-const VALUE_FIELDS: [(u8, Limit); 3] = [
+/// The optional fields of an entry description, in wire order: the unit, then the value fields.
+const VALUE_FIELDS: [(u8, Limit); 4] = [
+    (ValueInfo::UNIT_TYPE, Limit::Unit),
     (ValueInfo::DEFAULT_VALUE, Limit::Default),
     (ValueInfo::MINIMUM_VALUE, Limit::Min),
     (ValueInfo::MAXIMUM_VALUE, Limit::Max),
@@ -445,24 +446,26 @@ impl Response {
 /// Writes the CoE header and the SDO Information header in front of the service data already in
 /// `out[HEADERS..]`; returns the message length. The one writer of both headers.
 fn finish(out: &mut [u8], response: Response) -> usize {
-    let coe = CoeHeader::new(Service::SdoInformation).to_bytes();
-    let info = InfoHeader::bytes(
+    const COE: [u8; 2] = CoeHeader::new(Service::SdoInformation).to_bytes();
+    let [c0, c1] = COE;
+    let [i0, i1, i2, i3] = InfoHeader::bytes(
         response.code,
         response.fragments_left > 0,
         response.fragments_left,
     );
-    let mut w = Writer::new(out);
-    match w.put(&coe) && w.put(&info) {
-        true => HEADERS + response.len,
-        false => 0,
+    match out.first_chunk_mut() {
+        Some(head) => {
+            *head = [c0, c1, i0, i1, i2, i3];
+            HEADERS + response.len
+        }
+        None => 0,
     }
 }
 
 /// SDO Info Error (ETG.1000.6 §5.6.3.8): service data = the u32 abort code.
 fn info_error(code: AbortCode, data: &mut [u8]) -> Response {
-    let mut w = Writer::new(data);
-    w.put(&code.0.to_le_bytes());
-    Response::whole(Opcode::InfoError, w.len)
+    let w = Writer::starting(data, code.0.to_le_bytes());
+    Response::whole(Opcode::InfoError, w.map_or(0, |w| w.len))
 }
 
 /// Get Object Description (ETG.1000.6 §5.6.3.5). Request: u16 index. Response: u16 index, u16
@@ -474,10 +477,8 @@ fn object_description<D: ObjectDictionary>(
     let info = &D::object(index).ok_or(AbortCode::NO_OBJECT)?.info;
     let [i0, i1] = index.to_le_bytes();
     let [t0, t1] = info.data_type().to_le_bytes();
-    let mut w = Writer::new(data);
-    if !w.put(&[i0, i1, t0, t1, info.max_sub, info.code as u8]) {
-        return Err(AbortCode::EXCEEDS_MAILBOX);
-    }
+    let fixed = [i0, i1, t0, t1, info.max_sub, info.code as u8];
+    let mut w = Writer::starting(data, fixed).ok_or(AbortCode::EXCEEDS_MAILBOX)?;
     w.put_name(info.name.as_bytes());
     Ok(Response::whole(Opcode::GetObjectDescriptionResponse, w.len))
 }
@@ -502,22 +503,9 @@ fn entry_description<D: ObjectDictionary>(
             &gap_name[..],
         ),
     };
-    let mut w = Writer::new(data);
-    if !w.put(&fixed) {
-        return Err(AbortCode::EXCEEDS_MAILBOX);
-    }
+    let mut w = Writer::starting(data, fixed).ok_or(AbortCode::EXCEEDS_MAILBOX)?;
     let mut honoured = 0;
     if let Some(entry) = entry {
-        if requested.has(ValueInfo::UNIT_TYPE) {
-            // The declared unit (the object's `limit`), 0 for none.
-            let mut unit = [0u8; 2];
-            if entry.limits.has(Limit::Unit) {
-                (object.limit)(sub, Limit::Unit, &mut unit);
-            }
-            if w.put(&unit) {
-                honoured |= ValueInfo::UNIT_TYPE;
-            }
-        }
         for (bit, limit) in VALUE_FIELDS {
             if requested.has(bit) && put_value(&mut w, object, sub, entry, limit) {
                 honoured |= bit;
@@ -564,8 +552,9 @@ fn entry_fixed_part(index: u16, sub: u8, entry: &EntryInfo) -> [u8; 10] {
     [i0, i1, sub, 0, t0, t1, b0, b1, a0, a1]
 }
 
-/// Appends the declared `limit` of `index:sub` as a field of `ceil(bit length / 8)` bytes;
-/// `false` (nothing appended) when it is not declared or does not fit.
+/// Appends the declared `limit` of `index:sub`: the unit as a u16, 0 for none (always
+/// appended when it fits); a value as a field of `ceil(bit length / 8)` bytes, `false`
+/// (nothing appended) when it is not declared or does not fit.
 fn put_value<D>(
     w: &mut Writer<'_>,
     object: &Object<D>,
@@ -573,8 +562,16 @@ fn put_value<D>(
     entry: &EntryInfo,
     limit: Limit,
 ) -> bool {
-    let size = usize::from(entry.bit_len).div_ceil(8);
-    w.put_field(size, |field| (object.limit)(sub, limit, field))
+    let unit = limit == Limit::Unit;
+    let size = if unit {
+        2
+    } else {
+        usize::from(entry.bit_len).div_ceil(8)
+    };
+    // An object's `limit` encodes only what the entry declares (0 bytes otherwise).
+    w.put_field(size, |field| {
+        usize::from(unit) | (object.limit)(sub, limit, field)
+    })
 }
 
 /// Get OD List (ETG.1000.6 §5.6.3): a response in progress. Request: u16 list type.
@@ -606,23 +603,30 @@ impl ListTransfer {
     /// The one writer of OD-list fragments, first and following.
     fn fragment<D: ObjectDictionary>(&mut self, data: &mut [u8]) -> Response {
         let words_per_fragment = (data.len() / 2).max(1);
-        let mut w = Writer::new(data);
-        if self.opening && w.put(&self.list.code().to_le_bytes()) {
-            self.opening = false;
-        }
-        while self.left > 0 && w.room() >= 2 {
-            let Some(value) = self.next_value::<D>() else {
+        let mut len = 0;
+        for word in data.chunks_exact_mut(2) {
+            let value = if self.opening {
+                self.opening = false;
+                self.list.code()
+            } else if self.left == 0 {
+                break;
+            } else if let Some(value) = self.next_value::<D>() {
+                self.left -= 1;
+                value
+            } else {
                 self.left = 0; // the dictionary ran out early (another `D`?): end here
                 break;
             };
-            w.put(&value.to_le_bytes());
-            self.left -= 1;
+            if let Ok(word) = <&mut [u8; 2]>::try_from(word) {
+                *word = value.to_le_bytes();
+            }
+            len += 2;
         }
         let fragments_left = self.left.div_ceil(words_per_fragment);
         Response {
             code: Opcode::GetOdListResponse.code(),
             fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),
-            len: w.len,
+            len,
         }
     }
 
@@ -651,31 +655,16 @@ struct Writer<'a> {
 }
 
 impl<'a> Writer<'a> {
-    fn new(buf: &'a mut [u8]) -> Self {
-        Self { buf, len: 0 }
+    /// A writer that has written `fixed` first (one store of the whole array); `None` when
+    /// `buf` is shorter.
+    fn starting<const N: usize>(buf: &'a mut [u8], fixed: [u8; N]) -> Option<Self> {
+        *buf.first_chunk_mut()? = fixed;
+        Some(Self { buf, len: N })
     }
 
     /// Bytes still free.
     fn room(&self) -> usize {
         self.buf.len().saturating_sub(self.len)
-    }
-
-    /// Appends `bytes` whole; `false` (nothing written) when they do not fit.
-    fn put(&mut self, bytes: &[u8]) -> bool {
-        // `..bytes.len()` of the rest: the lengths match; `bytes::copy` has no length-mismatch
-        // panic path the compiler would otherwise keep.
-        let dst = self
-            .buf
-            .get_mut(self.len..)
-            .and_then(|rest| rest.get_mut(..bytes.len()));
-        match dst {
-            Some(dst) => {
-                crate::bytes::copy(dst, bytes);
-                self.len += bytes.len();
-                true
-            }
-            None => false,
-        }
     }
 
     /// Appends a field of `size` zeroed bytes that `fill` encodes into (returning the bytes it
@@ -702,7 +691,9 @@ impl<'a> Writer<'a> {
         while cut > 0 && name.get(cut).is_some_and(|&b| b & 0xC0 == 0x80) {
             cut -= 1;
         }
-        self.put(name.get(..cut).unwrap_or_default());
+        // `cut` is within the room: the copy takes all of it.
+        let rest = self.buf.get_mut(self.len..).unwrap_or_default();
+        self.len += crate::bytes::copy(rest, name.get(..cut).unwrap_or_default());
     }
 
     /// Overwrites the byte at `at` of what was written.

@@ -131,9 +131,8 @@ impl ObjectInfo {
         if sub > self.max_sub {
             return None;
         }
-        if sub > 0 && self.is_uniform() {
-            return self.entries.get(1);
-        }
+        // A uniform object's second description is its last, SI1: from SI1 on it is the
+        // entry, as the last declared entry of a RECORD is for the subindices beyond it.
         let last = self.entries.last()?;
         if sub >= last.sub {
             return Some(last);
@@ -158,8 +157,10 @@ impl ObjectInfo {
     /// and 0x0000 for an application's record (no type of its own).
     pub fn data_type(&self) -> u16 {
         match self.code {
-            ObjectCode::Var => self.entries.first().map_or(0, |e| e.data_type.code()),
-            ObjectCode::Array => self.entries.get(1).map_or(0, |e| e.data_type.code()),
+            // A VAR's one entry, an ARRAY's element after SI0: the last.
+            ObjectCode::Var | ObjectCode::Array => {
+                self.entries.last().map_or(0, |e| e.data_type.code())
+            }
             ObjectCode::Record => record_type(self.index),
         }
     }

@@ -155,21 +155,20 @@ pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
         .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
 }
 
-/// The highest subindex a complete-access upload carries. Of an ARRAY, the value of SI0: the
-/// object's current size, SI0 and the entries it counts, as SSC 5.12 sizes and reads an ARRAY
+/// The highest subindex a complete-access upload carries. Of an ARRAY, the value of SI0 (0 when
+/// it does not read as one byte): the object's current size, SI0 and the entries it counts, as
+/// SSC 5.12 sizes and reads an ARRAY
 /// (`objdef.c` `OBJ_GetObjectLength`: SI0's value times the element, `OBJ_Read`: entries up to
 /// SI0's value). So 0x1C12/0x1C13 (ARRAYs) and the PDO mappings (RECORDs of like entries,
 /// [`ObjectInfo::is_uniform`], whose SI0 SSC also reads as the count) show their configured
 /// entries, not every slot of their capacity. Of another RECORD, every declared entry; an
 /// undeclared one (a gap of a sparse record) has no bits, as SSC's gap descriptions have bit
 /// length 0.
-pub fn upload_last<D>(od: &D, object: &Object<D>) -> Result<u8, AbortCode> {
+pub fn upload_last<D>(od: &D, object: &Object<D>) -> u8 {
     if !object.info.is_uniform() {
-        return Ok(object.info.max_sub);
+        return object.info.max_sub;
     }
-    let mut si0 = [0u8; 1];
-    (object.read)(od, 0, 0, &mut si0)?;
-    Ok(si0[0].min(object.info.max_sub))
+    object.count(od).min(object.info.max_sub)
 }
 
 /// Copies the bytes of a complete-access upload from `sub` ([`upload_last`]) from `offset` on
@@ -181,18 +180,20 @@ pub fn read<D>(
     offset: usize,
     out: &mut [u8],
 ) -> Result<Read, AbortCode> {
-    let last = upload_last(od, object)?;
-    let total = size_through(&object.info, sub, last);
-    let len = out.len().min(total.saturating_sub(offset));
-    let window = out.get_mut(..len).unwrap_or_default();
-    window.fill(0);
+    let last = upload_last(od, object);
+    // One walk: every byte of `out` zeroed first (what the entries leave is padding), the
+    // image's size from the last slot.
+    out.fill(0);
+    let mut total = 0;
     for slot in slots(&object.info, sub).take_while(|s| s.sub <= last) {
         // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
         // padding, zero.
         let mut value = [0u8; 8];
         (object.read)(od, slot.sub, 0, &mut value)?;
-        copy_bits(&value, 0, window, slot.bit_offset, offset, slot.bit_len);
+        copy_bits(&value, 0, out, slot.bit_offset, offset, slot.bit_len);
+        total = (slot.bit_offset + slot.bit_len).div_ceil(8);
     }
+    let len = out.len().min(total.saturating_sub(offset));
     Ok(Read::new(len, total))
 }
 

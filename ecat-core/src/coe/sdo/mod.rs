@@ -78,6 +78,16 @@ struct Segmented {
     deadline: Instant,
 }
 
+impl Segmented {
+    /// A segment moved the transfer to `done` bytes; it waits for the next segment with the
+    /// other toggle (the last one ends it: the server drops the transfer).
+    fn advance(&mut self, now: Instant, done: usize) {
+        self.done = done;
+        self.toggle = !self.toggle;
+        self.deadline = now.saturating_add(SdoServer::<0>::SEGMENT_TIMEOUT);
+    }
+}
+
 /// What a request is served with: the dictionary, the hooks, the state and the time.
 pub struct Context<'a, D, H> {
     /// The dictionary.
@@ -209,31 +219,32 @@ impl<const N: usize> SdoServer<N> {
         let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
         cx.hooks.before_read(cx.od, target.index, target.sub)?;
         // The value is read once, straight into the answer's data area; its size then says
-        // expedited or normal.
+        // expedited or normal. A send mailbox without room for four bytes behind the header
+        // (the 16 bytes of the smallest) reads into `small`: an expedited value fits it, a
+        // longer one sends nothing with the initiate.
         let (head, data) = split_response(out)?;
+        let mut small = [0u8; 4];
+        let short = data.len() < small.len();
         let (size, sent) = if is_domain::<D>(target) {
             (
                 domain_size(cx, target)?,
                 fetch(cx, object, target, 0, data)?,
             )
         } else {
-            let read = read(cx.od, object, target, 0, data)?;
-            (read.size(), read.copied())
+            let into: &mut [u8] = if short { &mut small } else { data };
+            let read = read(cx.od, object, target, 0, into)?;
+            if (1..=4).contains(&read.size()) {
+                // Expedited: the data moves into the header (ETG.1000.6 Table 37): the four
+                // bytes read, of which the value's size count.
+                let size = read.size();
+                let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
+                let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
+                let command = response::upload_expedited(size, target.complete);
+                *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
+                return Ok(RESPONSE_HEADER);
+            }
+            (read.size(), if short { 0 } else { read.copied() })
         };
-        if (1..=4).contains(&size) && !is_domain::<D>(target) {
-            // Expedited: the data moves into the header (ETG.1000.6 Table 37).
-            let value = match data.first_chunk::<4>() {
-                // The four bytes after the header, of which the value's `size` count.
-                Some(&bytes) if sent == size => {
-                    u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size))
-                }
-                // A mailbox too small for four bytes behind the header.
-                _ => u32::from_le_bytes(fetch_expedited(cx, object, target)?),
-            };
-            let command = response::upload_expedited(size, target.complete);
-            *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
-            return Ok(RESPONSE_HEADER);
-        }
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
         let command = response::upload_normal(target.complete);
         if sent < size {
@@ -249,13 +260,20 @@ impl<const N: usize> SdoServer<N> {
         toggle: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Segmented {
-            target,
-            size,
-            done: offset,
-            ..
-        } = self.next_segment(Kind::Upload, toggle)?;
+        let t = next_segment(
+            &mut self.transfer,
+            &mut self.timed_out,
+            Kind::Upload,
+            toggle,
+        )?;
+        let (target, size, offset) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
+        // The CoE header, the command (set below) and the 7 bytes a segment carries at least,
+        // zero where the value does not fill them: one store.
+        let [c0, c1] = SDO_RESPONSE;
+        if let Some(head) = out.first_chunk_mut() {
+            *head = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
+        }
         let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
         let room = body.len().saturating_sub(SEGMENT_HEADER);
         let want = room.min(size.saturating_sub(offset));
@@ -265,18 +283,15 @@ impl<const N: usize> SdoServer<N> {
         let n = fetch(cx, object, target, offset, data)?;
         let last = offset + n >= size;
         let unused = MIN_SEGMENT_DATA.saturating_sub(n);
-        if let Some(padding) = body.get_mut(SEGMENT_HEADER + n..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
-            padding.fill(0);
-        }
         if let Some(command) = body.first_mut() {
             *command = response::upload_segment(toggle, unused as u8, last);
         }
-        self.advance(cx.now, offset + n, last);
-        Ok(finish(
-            out,
-            SDO_RESPONSE,
-            SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA),
-        ))
+        match last {
+            true => self.transfer = None,
+            false => t.advance(cx.now, offset + n),
+        }
+        let len = CoeHeader::SIZE + SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA);
+        Ok(len.min(out.len()))
     }
 
     fn download<D: ObjectDictionary, H: ObjectHooks<D>>(
@@ -340,12 +355,13 @@ impl<const N: usize> SdoServer<N> {
         last: bool,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let Segmented {
-            target,
-            size,
-            done: received,
-            ..
-        } = self.next_segment(Kind::Download, toggle)?;
+        let t = next_segment(
+            &mut self.transfer,
+            &mut self.timed_out,
+            Kind::Download,
+            toggle,
+        )?;
+        let (target, size, received) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
         if total > size {
@@ -369,15 +385,20 @@ impl<const N: usize> SdoServer<N> {
                 store(cx, object, target, value, 0, true)?;
             }
         }
-        self.advance(cx.now, total, last);
-        let body = body_of(out);
-        if let Some(segment) = body.get_mut(..SEGMENT_HEADER + MIN_SEGMENT_DATA) {
-            segment.fill(0);
-            if let Some(command) = segment.first_mut() {
-                *command = response::download_segment(toggle);
-            }
+        match last {
+            true => self.transfer = None,
+            false => t.advance(cx.now, total),
         }
-        Ok(finish(out, SDO_RESPONSE, SEGMENT_HEADER + MIN_SEGMENT_DATA))
+        // The CoE header, the command and 7 bytes of padding, in one store.
+        let [c0, c1] = SDO_RESPONSE;
+        let command = response::download_segment(toggle);
+        Ok(match out.first_chunk_mut() {
+            Some(answer) => {
+                *answer = [c0, c1, command, 0, 0, 0, 0, 0, 0, 0];
+                CoeHeader::SIZE + SEGMENT_HEADER + MIN_SEGMENT_DATA
+            }
+            None => 0,
+        })
     }
 
     /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
@@ -401,37 +422,24 @@ impl<const N: usize> SdoServer<N> {
         });
         self.checked_in = cx.state;
     }
+}
 
-    /// The transfer a segment of `kind` with `toggle` continues: none is 0x05040001 (or
-    /// 0x05040000 after a timeout), a toggle that did not alternate 0x05030000.
-    fn next_segment(&mut self, kind: Kind, toggle: bool) -> Result<Segmented, AbortCode> {
-        match self.transfer {
-            Some(t) if t.kind == kind && t.toggle == toggle => Ok(t),
-            Some(t) if t.kind == kind => Err(AbortCode::TOGGLE_BIT),
-            _ => Err(self.no_transfer()),
-        }
-    }
-
-    /// A segment moved the transfer to `done` bytes: it ends, or waits for the next segment
-    /// with the other toggle.
-    fn advance(&mut self, now: Instant, done: usize, last: bool) {
-        match &mut self.transfer {
-            Some(t) if !last => {
-                t.done = done;
-                t.toggle = !t.toggle;
-                t.deadline = now.saturating_add(Self::SEGMENT_TIMEOUT);
-            }
-            transfer => *transfer = None,
-        }
-    }
-
-    /// The abort for a segment that belongs to no transfer.
-    fn no_transfer(&mut self) -> AbortCode {
-        if core::mem::take(&mut self.timed_out) {
-            AbortCode::TIMEOUT
-        } else {
-            AbortCode::COMMAND_SPECIFIER
-        }
+/// The transfer a segment of `kind` with `toggle` continues (the server's `transfer`, in
+/// place): none is 0x05040001 (or 0x05040000 after a timeout, `timed_out`), a toggle that did
+/// not alternate 0x05030000.
+fn next_segment<'t>(
+    transfer: &'t mut Option<Segmented>,
+    timed_out: &mut bool,
+    kind: Kind,
+    toggle: bool,
+) -> Result<&'t mut Segmented, AbortCode> {
+    match transfer {
+        Some(t) if t.kind == kind => match t.toggle == toggle {
+            true => Ok(t),
+            false => Err(AbortCode::TOGGLE_BIT),
+        },
+        _ if core::mem::take(timed_out) => Err(AbortCode::TIMEOUT),
+        _ => Err(AbortCode::COMMAND_SPECIFIER),
     }
 }
 
@@ -698,14 +706,9 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
             store_entry(cx, object, 0, &[0])?;
             last = n;
         }
-        Some(n) => {
-            let mut current = [0u8; 1];
-            (object.read)(cx.od, 0, 0, &mut current)?;
-            if n != current[0] {
-                return Err(AbortCode::READ_ONLY);
-            }
-        }
-        None => {}
+        // A read-only SI0 must carry its current value.
+        Some(n) if n != object.count(cx.od) => return Err(AbortCode::READ_ONLY),
+        _ => {}
     }
     // A gap of a sparse RECORD has no value in the image; SI0 is done.
     for slot in complete_access::slots(&object.info, from).take_while(|s| s.sub <= last) {
@@ -806,19 +809,6 @@ fn segment_data<'a>(frame: &'a Frame<&[u8]>, unused: u8) -> &'a [u8] {
     }
 }
 
-/// The value of an expedited upload read on its own: for a send mailbox without room for four
-/// bytes behind the header (the 16 bytes of the smallest). Out of line: the rare way.
-#[inline(never)]
-fn fetch_expedited<D: ObjectDictionary, H: ObjectHooks<D>>(
-    cx: &mut Context<'_, D, H>,
-    object: &Object<D>,
-    target: Target,
-) -> Result<[u8; 4], AbortCode> {
-    let mut value = [0u8; 4];
-    fetch(cx, object, target, 0, &mut value)?;
-    Ok(value)
-}
-
 /// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
 fn download_response(out: &mut [u8], target: Target) -> usize {
     let command = response::download(target.complete);
@@ -857,19 +847,6 @@ pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
     let target = Target::new(index, sub, false);
     let code = code.0.to_le_bytes();
     respond(out, SDO_REQUEST, response::ABORT, target, code)
-}
-
-/// Writes the CoE header `coe` in front of a body of `len` bytes; returns the total.
-#[inline]
-fn finish(out: &mut [u8], coe: [u8; 2], len: usize) -> usize {
-    if let Some(header) = out.first_chunk_mut() {
-        *header = coe;
-    }
-    (CoeHeader::SIZE + len).min(out.len())
-}
-
-fn body_of(out: &mut [u8]) -> &mut [u8] {
-    out.get_mut(CoeHeader::SIZE..).unwrap_or_default()
 }
 
 #[cfg(test)]
