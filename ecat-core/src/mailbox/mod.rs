@@ -75,7 +75,7 @@ mod due {
 
 /// [`Mailbox`]'s handlers' timeout when there is none: the end of time, which a handler's
 /// deadline (saturating) reaches only as "never" too.
-const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
+pub(crate) const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
 
 /// The mailbox of a SubDevice whose mailboxes hold at most `N` bytes: what SM0 and SM1 hold,
 /// counters, the repeat handshake and the buffers.
@@ -302,9 +302,9 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// When [`Mailbox::handle_timeout`] must be called: a handler's timeout as of the last
-    /// service (the first handler's own the caller asks it for).
-    pub(crate) fn poll_timeout(&self) -> Option<Instant> {
-        (self.handler_timeout != NO_TIMEOUT).then_some(self.handler_timeout)
+    /// service (the first handler's own the caller asks it for); [`NO_TIMEOUT`] when none.
+    pub(crate) fn deadline(&self) -> Instant {
+        self.handler_timeout
     }
 
     /// A handler's timeout that passed makes work for the next service, which hands it on.

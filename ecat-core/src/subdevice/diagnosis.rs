@@ -18,8 +18,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// and 0x10F3:05 bit 0 is set, raises its emergency ([`Message::emergency`]). Returns
     /// whether it was stored.
     pub fn diagnose<D: ObjectDictionary>(&mut self, od: &mut D, message: Message) -> bool {
+        self.diagnose_with(od, || message)
+    }
+
+    /// [`SubDevice::diagnose`] with the message made only when the dictionary has a history:
+    /// without one, the stack's own messages cost no code.
+    fn diagnose_with<D: ObjectDictionary>(
+        &mut self,
+        od: &mut D,
+        message: impl FnOnce() -> Message,
+    ) -> bool {
         let register = self.error_register();
-        let Some(logged) = od.diagnosis().and_then(|mut h| h.log(message, register)) else {
+        let Some(logged) = od.diagnosis().and_then(|mut h| h.log(message(), register)) else {
             return false;
         };
         if let Some(emergency) = logged {
@@ -44,7 +54,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         error: MailboxError,
     ) {
-        self.diagnose(od, Message::mailbox_error(error.0, now));
+        self.diagnose_with(od, || Message::mailbox_error(error.0, now));
     }
 
     /// Logs the AL status codes set since the last call, stamped `now` (the stack sets them
@@ -60,7 +70,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 (self.last_emergency, self.last_emergency_at) = (code, now);
                 self.emergency(Emergency::for_al_status_code(code, state));
             }
-            self.diagnose(od, Message::al_status_code(code.0, now));
+            self.diagnose_with(od, || Message::al_status_code(code.0, now));
         }
     }
 }
