@@ -18,24 +18,25 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// and 0x10F3:05 bit 0 is set, raises its emergency ([`Message::emergency`]). Returns
     /// whether it was stored.
     pub fn diagnose<D: ObjectDictionary>(&mut self, od: &mut D, message: Message) -> bool {
-        self.diagnose_with(od, || message)
-    }
-
-    /// [`SubDevice::diagnose`] with the message made only when the dictionary has a history:
-    /// without one, the stack's own messages cost no code.
-    fn diagnose_with<D: ObjectDictionary>(
-        &mut self,
-        od: &mut D,
-        message: impl FnOnce() -> Message,
-    ) -> bool {
         let register = self.error_register();
-        let Some(logged) = od.diagnosis().and_then(|mut h| h.log(message(), register)) else {
+        let Some(logged) = od.diagnosis().and_then(|mut h| h.log(message, register)) else {
             return false;
         };
         if let Some(emergency) = logged {
             self.emergency(emergency);
         }
         true
+    }
+
+    /// [`SubDevice::diagnose`] with the message made only when the dictionary has a history:
+    /// without one (`ObjectDictionary::diagnosis` is `None` at compile time) the stack's own
+    /// messages cost no code.
+    fn diagnose_with<D: ObjectDictionary>(
+        &mut self,
+        od: &mut D,
+        message: impl FnOnce() -> Message,
+    ) -> bool {
+        od.diagnosis().is_some() && self.diagnose(od, message())
     }
 
     /// The error register (0x1001) as the emergencies carry it
