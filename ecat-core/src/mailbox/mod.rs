@@ -412,7 +412,7 @@ impl<const N: usize> Mailbox<N> {
         }
         self.rx_counter = header.counter;
         if header.channel != 0 {
-            return Some(self.refuse_channel());
+            return Some(self.error_reply(MailboxError::INVALID_CHANNEL));
         }
         let start = MailboxHeader::SIZE;
         let payload = self.rx.get(start..start + length).unwrap_or_default();
@@ -427,14 +427,6 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// The reply to a message on a channel other than 0: out of line, away from the requests'
-    /// way.
-    #[cold]
-    #[inline(never)]
-    fn refuse_channel(&mut self) -> (u8, usize) {
-        self.error_reply(MailboxError::INVALID_CHANNEL)
-    }
-
     /// The error reply to the last request, once: what the SubDevice logs in the diagnosis
     /// history (ETG.1020 §13: the stack's own events).
     pub(crate) fn take_refused(&mut self) -> Option<MailboxError> {
@@ -447,6 +439,7 @@ impl<const N: usize> Mailbox<N> {
 
     /// Writes the error reply `error` behind the header and notes it ([`Mailbox::take_refused`]):
     /// its type and length.
+    #[inline(never)] // four callers, none on the answers' way
     fn error_reply(&mut self, error: MailboxError) -> (u8, usize) {
         self.refused = error.0;
         let payload = error.payload();
