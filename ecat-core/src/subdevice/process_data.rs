@@ -15,6 +15,7 @@ use crate::sync_parameters;
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Where the process data lives, in SAFEOP and OP.
+    #[inline(never)] // one caller, the driver's loop: out of its state machine
     pub fn process_data(&self) -> Option<Setup> {
         if !self.state.has_process_data() {
             return None;
