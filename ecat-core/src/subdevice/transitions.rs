@@ -217,12 +217,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             if let Some(InFlight::Mailbox(_)) = self.in_flight {
                 self.in_flight = None;
             }
-        }
-        if !t.from.has_mailbox() && t.to.has_mailbox() {
-            self.due.refresh = true;
-            self.writes = Writes::default();
-            let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
-            self.mailbox.start(self.active_mailbox(), repeat);
+            if t.to.has_mailbox() {
+                self.due.refresh = true;
+                self.writes = Writes::default();
+                let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+                self.mailbox.start(self.active_mailbox(), repeat);
+            }
         }
         self.events.push(Event::StateChanged(t));
     }
