@@ -1,7 +1,6 @@
 //! The process-data side: where the image lives, its sizes from the PDO configuration, and
 //! the outputs that let SAFEOP→OP complete.
 
-use super::targets::Stale;
 use super::{CycleSigns, SubDevice};
 use crate::al::{AlEvent, AlState, AlStatusCode};
 use crate::device::{Area, ProcessDataSizes};
@@ -73,7 +72,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub(super) fn complete_when_fed(&mut self) {
         let Some(p) = self.pending else { return };
         if p.accepted && p.awaits == CycleSigns::default() {
-            self.stale = Stale::ALL;
+            // The transition's end marks the plan stale (`change_state` or `fail`).
             self.finish_transition(p.transition, Ok(()));
         }
     }
