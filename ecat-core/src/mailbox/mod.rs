@@ -75,7 +75,7 @@ mod due {
 
 /// [`Mailbox`]'s handlers' timeout when there is none: the end of time, which a handler's
 /// deadline (saturating) reaches only as "never" too.
-const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
+pub(crate) const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
 
 /// The mailbox of a SubDevice whose mailboxes hold at most `N` bytes: what SM0 and SM1 hold,
 /// counters, the repeat handshake and the buffers.
@@ -302,9 +302,9 @@ impl<const N: usize> Mailbox<N> {
     }
 
     /// When [`Mailbox::handle_timeout`] must be called: a handler's timeout as of the last
-    /// service (the first handler's own the caller asks it for).
-    pub(crate) fn poll_timeout(&self) -> Option<Instant> {
-        (self.handler_timeout != NO_TIMEOUT).then_some(self.handler_timeout)
+    /// service (the first handler's own the caller asks it for); [`NO_TIMEOUT`] when none.
+    pub(crate) fn deadline(&self) -> Instant {
+        self.handler_timeout
     }
 
     /// A handler's timeout that passed makes work for the next service, which hands it on.
@@ -412,7 +412,7 @@ impl<const N: usize> Mailbox<N> {
         }
         self.rx_counter = header.counter;
         if header.channel != 0 {
-            return Some(self.refuse_channel());
+            return Some(self.error_reply(MailboxError::INVALID_CHANNEL));
         }
         let start = MailboxHeader::SIZE;
         let payload = self.rx.get(start..start + length).unwrap_or_default();
@@ -427,14 +427,6 @@ impl<const N: usize> Mailbox<N> {
         }
     }
 
-    /// The reply to a message on a channel other than 0: out of line, away from the requests'
-    /// way.
-    #[cold]
-    #[inline(never)]
-    fn refuse_channel(&mut self) -> (u8, usize) {
-        self.error_reply(MailboxError::INVALID_CHANNEL)
-    }
-
     /// The error reply to the last request, once: what the SubDevice logs in the diagnosis
     /// history (ETG.1020 §13: the stack's own events).
     pub(crate) fn take_refused(&mut self) -> Option<MailboxError> {
@@ -447,6 +439,7 @@ impl<const N: usize> Mailbox<N> {
 
     /// Writes the error reply `error` behind the header and notes it ([`Mailbox::take_refused`]):
     /// its type and length.
+    #[inline(never)] // four callers, none on the answers' way
     fn error_reply(&mut self, error: MailboxError) -> (u8, usize) {
         self.refused = error.0;
         let payload = error.payload();

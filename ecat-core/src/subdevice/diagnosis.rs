@@ -28,6 +28,17 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         true
     }
 
+    /// [`SubDevice::diagnose`] with the message made only when the dictionary has a history:
+    /// without one (`ObjectDictionary::diagnosis` is `None` at compile time) the stack's own
+    /// messages cost no code.
+    fn diagnose_with<D: ObjectDictionary>(
+        &mut self,
+        od: &mut D,
+        message: impl FnOnce() -> Message,
+    ) -> bool {
+        od.diagnosis().is_some() && self.diagnose(od, message())
+    }
+
     /// The error register (0x1001) as the emergencies carry it
     /// ([`Emergency::error_register`]).
     pub fn error_register(&self) -> u8 {
@@ -44,7 +55,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         od: &mut D,
         error: MailboxError,
     ) {
-        self.diagnose(od, Message::mailbox_error(error.0, now));
+        self.diagnose_with(od, || Message::mailbox_error(error.0, now));
     }
 
     /// Logs the AL status codes set since the last call, stamped `now` (the stack sets them
@@ -60,7 +71,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 (self.last_emergency, self.last_emergency_at) = (code, now);
                 self.emergency(Emergency::for_al_status_code(code, state));
             }
-            self.diagnose(od, Message::al_status_code(code.0, now));
+            self.diagnose_with(od, || Message::al_status_code(code.0, now));
         }
     }
 }

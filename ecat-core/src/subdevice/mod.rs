@@ -40,12 +40,12 @@ use crate::coe::sdo::Writes;
 use crate::coe::server::CoeServer;
 use crate::device::{DeviceConfig, ProcessDataSizes};
 use crate::esm::Transition;
-use crate::mailbox::Mailbox;
+use crate::mailbox::{Mailbox, NO_TIMEOUT};
 use crate::ring::Ring;
 use crate::sync_manager::check::Channels;
 use crate::sync_mode::SyncMode;
 use crate::sync_parameters::{self, DcSettings};
-use crate::time::{Instant, earliest};
+use crate::time::Instant;
 
 mod diagnosis;
 pub use diagnosis::EMERGENCY_PERIOD;
@@ -403,9 +403,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// every call may move it.
     #[must_use]
     pub fn poll_timeout(&self) -> Option<Instant> {
-        let transition = self.pending.map(|p| p.deadline);
-        let mailbox = earliest(self.mailbox.poll_timeout(), self.coe.poll_timeout());
-        earliest(transition, mailbox)
+        // The earliest as instants, the end of time standing for none (a deadline saturated
+        // there is never reached either): one compare each, not an `Option` each.
+        let transition = self.pending.map_or(NO_TIMEOUT, |p| p.deadline);
+        let sdo = self.coe.poll_timeout().unwrap_or(NO_TIMEOUT);
+        let first = transition.min(self.mailbox.deadline()).min(sdo);
+        (first != NO_TIMEOUT).then_some(first)
     }
 
     /// The transition waiting for the application, if any.

@@ -29,14 +29,8 @@ pub(super) enum InFlight {
         /// does not count the chunk as read.
         overtaken: bool,
     },
-    /// Read the process-data watchdog time (0x0420).
-    ReadWatchdog,
-    /// Read the process-data watchdog status (0x0440).
-    ReadWatchdogStatus,
-    /// Read the DC activation and SYNC0 cycle (0x0981..).
-    ReadDc,
-    /// Read AL control (0x0120).
-    ReadAlControl,
+    /// One of the other register reads: its bit in [`read`] (exactly one set).
+    Read(u8),
     /// Write PDI control of a SyncManager (0x0807 + 8·n).
     WritePdiControl {
         /// The SyncManager, 0..=3.
@@ -58,17 +52,17 @@ impl InFlight {
     /// The AL event bits the access clears in the ESC.
     pub(super) const fn clears(self) -> AlEvent {
         match self {
-            InFlight::ReadAlControl => AlEvent::AL_CONTROL,
+            InFlight::Read(read::AL_CONTROL) => AlEvent::AL_CONTROL,
             InFlight::ReadSyncManagers { .. } => AlEvent::SM_CHANGE,
             InFlight::Mailbox(op) => op.clears(),
-            InFlight::ReadWatchdogStatus => AlEvent::WATCHDOG_PROCESS_DATA,
+            InFlight::Read(read::WATCHDOG_STATUS) => AlEvent::WATCHDOG_PROCESS_DATA,
             _ => AlEvent::NONE,
         }
     }
 }
 
 /// The register reads an AL event asks for besides the SyncManagers' (`SubDevice::reads`), in the
-/// order they are made.
+/// order they are made: the lowest bit due first.
 pub(super) mod read {
     /// The process-data watchdog time (0x0420), with every AL control event: for the watchdog
     /// consistency check at PREOP→SAFEOP.
@@ -227,14 +221,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 end: self.sm_unread,
                 overtaken: false,
             })
-        } else if self.read_due(read::WATCHDOG) {
-            Some(InFlight::ReadWatchdog)
-        } else if self.read_due(read::WATCHDOG_STATUS) {
-            Some(InFlight::ReadWatchdogStatus)
-        } else if self.read_due(read::DC) {
-            Some(InFlight::ReadDc)
-        } else if self.read_due(read::AL_CONTROL) {
-            Some(InFlight::ReadAlControl)
+        } else if self.reads != 0 {
+            // The lowest bit due: the reads' order is their bits'.
+            Some(InFlight::Read(self.reads & self.reads.wrapping_neg()))
         } else {
             None
         }
@@ -300,10 +289,20 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 usize::from(end.saturating_sub(start)),
                 None,
             ),
-            InFlight::ReadWatchdog => (register::WATCHDOG_TIME_PROCESS_DATA, 2, None),
-            InFlight::ReadWatchdogStatus => (register::WATCHDOG_STATUS_PROCESS_DATA, 2, None),
-            InFlight::ReadDc => (register::DC_ACTIVATION, self.dc_read_len(), None),
-            InFlight::ReadAlControl => (register::AL_CONTROL, 2, None),
+            InFlight::Read(read) => {
+                let address = match read {
+                    read::WATCHDOG => register::WATCHDOG_TIME_PROCESS_DATA,
+                    read::WATCHDOG_STATUS => register::WATCHDOG_STATUS_PROCESS_DATA,
+                    read::DC => register::DC_ACTIVATION,
+                    _ => register::AL_CONTROL,
+                };
+                let len = if read == read::DC {
+                    self.dc_read_len()
+                } else {
+                    2
+                };
+                (address, len, None)
+            }
             InFlight::WritePdiControl { sm, value } => (
                 register::sync_manager(sm) + Channel::PDI_CONTROL_OFFSET,
                 1,
@@ -352,27 +351,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.written.err_led = Written::UNKNOWN;
             }
             InFlight::WriteErrLed(led) => self.written.err_led = led,
-            InFlight::ReadWatchdog => {
-                self.reads &= !read::WATCHDOG;
-                self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
-            }
-            InFlight::ReadDc => {
-                self.reads &= !read::DC;
-                let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
-                let dc = DcSettings::from_bytes(bytes);
-                if dc != self.dc {
-                    self.due.refresh = true;
-                    self.targets_changed();
-                    self.dc = dc;
-                }
-            }
-            InFlight::ReadWatchdogStatus => {
-                self.reads &= !read::WATCHDOG_STATUS;
-                let running = self.buf[0] & 1 != 0;
-                if !running && self.state == AlState::Op {
-                    // ETG.1000.6: SM watchdog in OP → SAFEOP with error 0x001B.
-                    self.fail(AlStatusCode::SM_WATCHDOG, AlState::SafeOp);
-                }
+            InFlight::Read(read) => {
+                self.reads &= !read;
+                self.complete_read(now, read);
             }
             InFlight::ReadSyncManagers {
                 start, overtaken, ..
@@ -397,8 +378,33 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     self.check_sm_change();
                 }
             }
-            InFlight::ReadAlControl => {
-                self.reads &= !read::AL_CONTROL;
+        }
+    }
+
+    /// Completes the register read `read` ([`read`]), no longer due.
+    #[inline(always)]
+    fn complete_read(&mut self, now: Instant, read: u8) {
+        match read {
+            read::WATCHDOG => {
+                self.watchdog_time = u16::from_le_bytes([self.buf[0], self.buf[1]]);
+            }
+            read::DC => {
+                let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
+                let dc = DcSettings::from_bytes(bytes);
+                if dc != self.dc {
+                    self.due.refresh = true;
+                    self.targets_changed();
+                    self.dc = dc;
+                }
+            }
+            read::WATCHDOG_STATUS => {
+                let running = self.buf[0] & 1 != 0;
+                if !running && self.state == AlState::Op {
+                    // ETG.1000.6: SM watchdog in OP → SAFEOP with error 0x001B.
+                    self.fail(AlStatusCode::SM_WATCHDOG, AlState::SafeOp);
+                }
+            }
+            _ => {
                 let control = AlControl::from_le_bytes([self.buf[0], self.buf[1]]);
                 self.on_control(now, control);
                 self.check_sm_change();

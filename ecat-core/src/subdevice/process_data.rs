@@ -1,7 +1,6 @@
 //! The process-data side: where the image lives, its sizes from the PDO configuration, and
 //! the outputs that let SAFEOP→OP complete.
 
-use super::targets::Stale;
 use super::{CycleSigns, SubDevice};
 use crate::al::{AlEvent, AlState, AlStatusCode};
 use crate::device::{Area, ProcessDataSizes};
@@ -15,22 +14,23 @@ use crate::sync_parameters;
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// Where the process data lives, in SAFEOP and OP.
+    #[inline(never)] // one caller, the driver's loop: out of its state machine
     pub fn process_data(&self) -> Option<Setup> {
         if !self.state.has_process_data() {
             return None;
         }
-        let sizes = self.pd_sizes;
+        let (sizes, sync) = (self.pd_sizes, self.sync_mode());
         let area =
             |channel: &Channel, size: u16| (size > 0).then_some(Area::new(channel.start, size));
         Some(Setup {
             outputs: area(self.channels.outputs(), sizes.outputs),
             inputs: area(self.channels.inputs(), sizes.inputs),
-            clock: match self.sync_mode() {
+            clock: match sync {
                 SyncMode::FreeRun => {
                     Clock::FreeRun(Period::new(self.writes.chosen.free_run_cycle(self.config)))
                 }
                 SyncMode::DcSync0 => Clock::Sync0(Period::new(self.dc.sync0_cycle())),
-                _ => Clock::Event(self.process_data_trigger()),
+                _ => Clock::Event(self.sm_trigger()),
             },
             outputs_active: self.state == AlState::Op,
         })
@@ -38,10 +38,18 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
     pub(super) fn process_data_trigger(&self) -> AlEvent {
-        let sizes = self.pd_sizes;
         if matches!(self.sync_mode(), SyncMode::FreeRun | SyncMode::DcSync0) {
             AlEvent::NONE
-        } else if sizes.outputs > 0 {
+        } else {
+            self.sm_trigger()
+        }
+    }
+
+    /// The AL event that triggers a cycle in SyncManager-synchronous mode: SM2's with outputs,
+    /// else SM3's with inputs.
+    fn sm_trigger(&self) -> AlEvent {
+        let sizes = self.pd_sizes;
+        if sizes.outputs > 0 {
             AlEvent::sync_manager(2)
         } else if sizes.inputs > 0 {
             AlEvent::sync_manager(3)
@@ -64,7 +72,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     pub(super) fn complete_when_fed(&mut self) {
         let Some(p) = self.pending else { return };
         if p.accepted && p.awaits == CycleSigns::default() {
-            self.stale = Stale::ALL;
+            // The transition's end marks the plan stale (`change_state` or `fail`).
             self.finish_transition(p.transition, Ok(()));
         }
     }

@@ -2,7 +2,6 @@
 //! PREOP→SAFEOP, and what the process-data side reports about SYNC0 and sync errors.
 
 use super::SubDevice;
-use super::targets::Stale;
 use crate::al::{AlState, AlStatusCode};
 use crate::device::ProcessDataSizes;
 use crate::sync_mode::SyncMode;
@@ -38,7 +37,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync0_lost(&mut self) {
         if self.state == AlState::Op && self.sync_mode() == SyncMode::DcSync0 {
-            self.stale = Stale::ALL;
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
     }
@@ -48,7 +46,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`AlStatusCode::SYNC_ERROR`] (ETG.1020 §6.3).
     pub fn sync_error(&mut self) {
         if self.state == AlState::Op {
-            self.stale = Stale::ALL;
             self.fail(AlStatusCode::SYNC_ERROR, AlState::SafeOp);
         }
     }

@@ -66,15 +66,16 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         result: Result<(), AlStatusCode>,
     ) {
         self.pending = None;
-        let verified = result
-            .map_err(|code| match code {
-                AlStatusCode::NO_ERROR => (AlStatusCode::UNSPECIFIED_ERROR, transition.from),
-                code => (code, transition.from),
-            })
-            .and_then(|()| self.verify(transition.to));
-        match verified {
-            Ok(()) => self.change_state(transition),
-            Err((code, fallback)) => self.fail(code, fallback),
+        match result {
+            Ok(()) => {
+                if self.checked(transition.to) {
+                    self.change_state(transition);
+                }
+            }
+            Err(AlStatusCode::NO_ERROR) => {
+                self.fail(AlStatusCode::UNSPECIFIED_ERROR, transition.from);
+            }
+            Err(code) => self.fail(code, transition.from),
         }
     }
 
@@ -108,8 +109,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     fn begin_upward(&mut self, now: Instant, t: Transition) {
-        if let Err((code, fallback)) = self.verify(t.to) {
-            self.fail(code, fallback);
+        if !self.checked(t.to) {
             return;
         }
         let deadline = now.saturating_add(self.config.transition_timeout);
@@ -164,8 +164,19 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !core::mem::take(&mut self.due.sm_check) {
             return;
         }
-        if let Err((code, fallback)) = self.verify(self.state) {
-            self.fail(code, fallback);
+        self.checked(self.state);
+    }
+
+    /// [`SubDevice::verify`] for `state`, failing on its code: whether the configuration is
+    /// valid. One place for the three callers' failing.
+    #[inline(never)]
+    fn checked(&mut self, state: AlState) -> bool {
+        match self.verify(state) {
+            Ok(()) => true,
+            Err((code, fallback)) => {
+                self.fail(code, fallback);
+                false
+            }
         }
     }
 
@@ -206,12 +217,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             if let Some(InFlight::Mailbox(_)) = self.in_flight {
                 self.in_flight = None;
             }
-        }
-        if !t.from.has_mailbox() && t.to.has_mailbox() {
-            self.due.refresh = true;
-            self.writes = Writes::default();
-            let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
-            self.mailbox.start(self.active_mailbox(), repeat);
+            if t.to.has_mailbox() {
+                self.due.refresh = true;
+                self.writes = Writes::default();
+                let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
+                self.mailbox.start(self.active_mailbox(), repeat);
+            }
         }
         self.events.push(Event::StateChanged(t));
     }

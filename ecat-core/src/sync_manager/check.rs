@@ -108,14 +108,11 @@ pub fn process_data(
     sizes: ProcessDataSizes,
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
-    let (outputs, inputs) = (channels.outputs(), channels.inputs());
-    let (out_span, in_span) = (span(outputs), span(inputs));
-    if !is_process_data(outputs, out_span, sizes.outputs, OUTPUTS_CONTROL, device) {
-        return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
-    }
-    if !is_process_data(inputs, in_span, sizes.inputs, INPUTS_CONTROL, device) {
-        return Err(AlStatusCode::INVALID_INPUT_CONFIG);
-    }
+    let ram_end = device.process_ram_end;
+    let out_span = process_data_span(channels.outputs(), sizes.outputs, OUTPUTS_CONTROL, ram_end)
+        .ok_or(AlStatusCode::INVALID_OUTPUT_CONFIG)?;
+    let in_span = process_data_span(channels.inputs(), sizes.inputs, INPUTS_CONTROL, ram_end)
+        .ok_or(AlStatusCode::INVALID_INPUT_CONFIG)?;
     let (receive, send) = (device.mailbox.receive.span(), device.mailbox.send.span());
     if spans_overlap(out_span, receive) || spans_overlap(out_span, send) {
         return Err(AlStatusCode::INVALID_OUTPUT_CONFIG);
@@ -168,31 +165,25 @@ const _: () = {
     assert!(0b10 & PROCESS_DATA_CONTROL_BITS == 0 && 0b01 & PROCESS_DATA_CONTROL_BITS != 0);
 };
 
-/// A process-data channel as the image of `size` bytes needs it: disabled without data, else
-/// enabled with exactly that length, `control` in [`PROCESS_DATA_CONTROL_BITS`] (the direction,
-/// a buffer mode) and its `span` inside process RAM.
-fn is_process_data(
+/// The bytes a process-data channel occupies (all three buffers in 3-buffer mode), from its
+/// first to one past its last, when it is as the image of `size` bytes needs it: disabled
+/// without data (an empty span, which overlaps nothing), else enabled with exactly that length,
+/// `control` in [`PROCESS_DATA_CONTROL_BITS`] (the direction, a buffer mode) and inside process
+/// RAM (up to `ram_end`). `None` otherwise.
+fn process_data_span(
     channel: &Channel,
-    (start, end): (u32, u32),
     size: u16,
     control: u8,
-    device: &DeviceConfig,
-) -> bool {
+    ram_end: u32,
+) -> Option<(u32, u32)> {
     if size == 0 {
-        return !channel.enabled();
+        return (!channel.enabled()).then_some((0, 0));
     }
-    let fits = start >= u32::from(crate::register::PROCESS_RAM) && end <= device.process_ram_end;
-    channel.enabled()
+    let (start, end) = channel.occupied()?;
+    let valid = channel.enabled()
         && channel.length == size
         && channel.control.0 & PROCESS_DATA_CONTROL_BITS == control
-        && fits
-}
-
-/// The bytes an enabled process-data channel occupies (all three buffers in 3-buffer mode), from
-/// its first to one past its last; none (an empty span) for a disabled channel.
-fn span(channel: &Channel) -> (u32, u32) {
-    match channel.occupied() {
-        Some(span) if channel.enabled() => span,
-        _ => (0, 0),
-    }
+        && start >= u32::from(crate::register::PROCESS_RAM)
+        && end <= ram_end;
+    valid.then_some((start, end))
 }
