@@ -38,7 +38,10 @@ pub(crate) const BYTE_ALIGNED: u16 = 1 << 13;
 pub const MAX_REPEATS: usize = 8;
 
 /// A TxPDO entry mapped again: after packing, `len` bits are copied from `from` to `to`.
+/// Packed, 5 bytes rather than 6: a layout keeps [`MAX_REPEATS`] of them, in the process-data
+/// runner's RAM (the fields are read by value, never borrowed).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[repr(C, packed)]
 pub struct Repeat {
     /// The bit offset of the entry's first place.
     pub from: u16,
