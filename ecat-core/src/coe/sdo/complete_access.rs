@@ -9,6 +9,7 @@
 
 use crate::abort::AbortCode;
 use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo, Read};
+use crate::pdo::image::copy_bits;
 
 /// One entry's place in the complete-access image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -206,19 +207,6 @@ pub fn entry_value(
     entry_sub: u8,
 ) -> Option<([u8; 8], usize)> {
     slots(object, sub).find(|s| s.sub == entry_sub)?.value(data)
-}
-
-/// Copies `len` bits, LSB first, from bit `from` of `src` to bit `to` of a window that starts at
-/// byte `skip` of the image: bits outside the window are left out, bits beyond `src` are 0.
-/// The one copy of complete access, both ways, for byte-aligned entries and bit entries alike.
-fn copy_bits(src: &[u8], from: usize, window: &mut [u8], to: usize, skip: usize, len: usize) {
-    for i in 0..len {
-        let (s, d) = (from + i, to + i);
-        let bit = src.get(s / 8).map_or(0, |b| (b >> (s % 8)) & 1);
-        if let Some(byte) = (d / 8).checked_sub(skip).and_then(|b| window.get_mut(b)) {
-            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
-        }
-    }
 }
 
 #[cfg(test)]
