@@ -402,8 +402,10 @@ pub(crate) fn is_mapped<D: ObjectDictionary>(
     sub: u8,
 ) -> bool {
     let mut mapped = false;
+    // The entry's index and subindex in one compare: the bit length aside.
+    let wanted = MappingEntry::new(index, sub, 0).0 >> 8;
     walk(od, direction, None, &mut |entry| {
-        mapped |= entry.is_some_and(|e| e.index() == index && e.sub() == sub);
+        mapped |= entry.is_some_and(|e| e.0 >> 8 == wanted);
     });
     mapped
 }

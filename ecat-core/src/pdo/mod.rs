@@ -126,7 +126,9 @@ impl<T: Copy + Default, const N: usize> Default for Counted<T, N> {
 /// manager parameter object (0x1C32/0x1C33). A write to one makes the SubDevice recompute its
 /// process-data layout and sync type.
 pub const fn configures_process_data(index: u16) -> bool {
-    Direction::of_configuration(index).is_some() || matches!(index, 0x1C32 | 0x1C33)
+    // 0x1600..=0x17FF and 0x1A00..=0x1BFF: 0x400 apart, 0x200 long; 0x1C12, 0x1C13, 0x1C32 and
+    // 0x1C33: 0x1C12 with bits 0 and 5 free.
+    index.wrapping_sub(0x1600) & !0x0400 < 0x0200 || index & !0x0021 == 0x1C12
 }
 
 /// Which way a PDO goes.
@@ -462,7 +464,9 @@ pub(crate) fn check_length<D: ObjectDictionary>(
 
 #[cfg(test)]
 mod tests {
-    use super::{MappingEntry, PdoAssignment, PdoMapping, configurable};
+    use super::{
+        Direction, MappingEntry, PdoAssignment, PdoMapping, configurable, configures_process_data,
+    };
     use crate::abort::AbortCode;
     use crate::dictionary::ObjectDictionary;
 
@@ -513,5 +517,16 @@ mod tests {
             Some(Err(AbortCode::VALUE_TOO_HIGH))
         );
         assert_eq!((fixed.rx.count, fixed.out, mapped.out), (1, 0, 0));
+    }
+
+    /// The PDO mapping and assignment objects and 0x1C32/0x1C33 configure the process data,
+    /// no other index does (every index against the ranges as written out).
+    #[test]
+    fn configuring_indices_are_the_pdo_configuration_and_sync_parameters() {
+        for index in 0..=u16::MAX {
+            let expected = Direction::of_configuration(index).is_some()
+                || matches!(index, 0x1C32 | 0x1C33);
+            assert_eq!(configures_process_data(index), expected, "{index:#06x}");
+        }
     }
 }
