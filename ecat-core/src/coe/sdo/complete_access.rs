@@ -97,10 +97,10 @@ impl<'a> Iterator for Declared<'a> {
     }
 }
 
-/// The slots of a complete access from `sub`, in subindex order.
-pub(super) fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
+/// The slots of a complete access from `sub` through subindex `last`, in subindex order.
+pub(super) fn slots(object: &ObjectInfo, sub: u8, last: u8) -> Slots<'_> {
     Slots {
-        entries: declared(object, sub, object.max_sub),
+        entries: declared(object, sub, last),
         bit: 0,
     }
 }
@@ -138,7 +138,7 @@ impl Iterator for Slots<'_> {
 /// offset)`. The ESI `DataType` of the object gives its `SubItem`s the same `BitOffs`
 /// (ETG.2000 `DataType/SubItem/BitOffs`), so the file and the transfer agree.
 pub fn bit_offsets(object: &ObjectInfo) -> impl Iterator<Item = (u8, usize)> + '_ {
-    slots(object, 0).map(|s| (s.sub, s.bit_offset))
+    slots(object, 0, object.max_sub).map(|s| (s.sub, s.bit_offset))
 }
 
 /// The size in bytes of the complete-access image from `sub`.
@@ -150,8 +150,7 @@ pub fn size(object: &ObjectInfo, sub: u8) -> usize {
 /// what a MainDevice sends for a configuration object whose SI0 it sets to `last` (SI0 and
 /// the entries it counts, TwinCAT's and SOEM's `0x1C12` downloads).
 pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
-    slots(object, sub)
-        .take_while(|s| s.sub <= last)
+    slots(object, sub, last)
         .last()
         .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
 }
@@ -186,7 +185,7 @@ pub fn read<D>(
     // image's size from the last slot.
     out.fill(0);
     let mut total = 0;
-    for slot in slots(&object.info, sub).take_while(|s| s.sub <= last) {
+    for slot in slots(&object.info, sub, last) {
         // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
         // padding, zero.
         let mut value = [0u8; 8];
@@ -206,7 +205,11 @@ pub fn entry_value(
     sub: u8,
     entry_sub: u8,
 ) -> Option<([u8; 8], usize)> {
-    slots(object, sub).find(|s| s.sub == entry_sub)?.value(data)
+    // The last slot through `entry_sub` is its own, if the object declares it.
+    slots(object, sub, entry_sub)
+        .last()
+        .filter(|s| s.sub == entry_sub)?
+        .value(data)
 }
 
 #[cfg(test)]

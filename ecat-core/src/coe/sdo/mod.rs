@@ -711,7 +711,7 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         _ => {}
     }
     // A gap of a sparse RECORD has no value in the image; SI0 is done.
-    for slot in complete_access::slots(&object.info, from).take_while(|s| s.sub <= last) {
+    for slot in complete_access::slots(&object.info, from, last) {
         if slot.sub == 0 {
             continue;
         }
