@@ -186,7 +186,14 @@ fn put_bits(image: &mut [u8], offset: u16, len: u8, bits: u64) {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return;
     }
-    copy_bits(&bits.to_le_bytes(), 0, image, offset, 0, usize::from(len).min(64));
+    copy_bits(
+        &bits.to_le_bytes(),
+        0,
+        image,
+        offset,
+        0,
+        usize::from(len).min(64),
+    );
 }
 
 /// Copies `len` bits, LSB first, from bit `from` of `src` to bit `to` of a window that starts

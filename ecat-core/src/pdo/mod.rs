@@ -323,7 +323,15 @@ impl<T: Width, const N: usize> Counted<T, N> {
     #[doc(hidden)]
     #[inline]
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        read_counted(self.count, T::items(&self.items), sub, offset, out)
+        // SI0 one byte, an entry its width: each object's read picks its entry and leaves the
+        // copy to the one unsigned reader.
+        let (value, size) = match sub.checked_sub(1) {
+            None => (u32::from(self.count), 1),
+            Some(n) => T::items(&self.items)
+                .get(usize::from(n))
+                .ok_or(AbortCode::NO_SUBINDEX)?,
+        };
+        Ok(crate::dictionary::read_unsigned(value, size, offset, out))
     }
 
     /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
@@ -339,22 +347,6 @@ impl<T: Width, const N: usize> Counted<T, N> {
     ) -> Result<(), AbortCode> {
         write_counted::<D>(index, &mut self.count, T::slots(&mut self.items), sub, data)
     }
-}
-
-/// Reads SI `sub` of a PDO mapping or assignment object (`count` = SI0, `items` = SI1..): one
-/// function for both widths and every dictionary.
-fn read_counted(
-    count: u8,
-    items: Items<'_>,
-    sub: u8,
-    offset: usize,
-    out: &mut [u8],
-) -> Result<Read, AbortCode> {
-    let (value, size) = match sub.checked_sub(1) {
-        None => (u32::from(count), 1),
-        Some(n) => items.get(usize::from(n)).ok_or(AbortCode::NO_SUBINDEX)?,
-    };
-    Ok(crate::dictionary::read_unsigned(value, size, offset, out))
 }
 
 /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
@@ -524,8 +516,8 @@ mod tests {
     #[test]
     fn configuring_indices_are_the_pdo_configuration_and_sync_parameters() {
         for index in 0..=u16::MAX {
-            let expected = Direction::of_configuration(index).is_some()
-                || matches!(index, 0x1C32 | 0x1C33);
+            let expected =
+                Direction::of_configuration(index).is_some() || matches!(index, 0x1C32 | 0x1C33);
             assert_eq!(configures_process_data(index), expected, "{index:#06x}");
         }
     }
