@@ -109,9 +109,6 @@ impl<D: ObjectDictionary> Layout<D> {
             Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
             Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
         };
-        if D::object(direction.assignment()).is_none() {
-            return Ok(None);
-        }
         let mut layout = Self {
             offsets: <D::Mappable as Length>::array(UNMAPPED),
             bits: 0,
@@ -120,9 +117,12 @@ impl<D: ObjectDictionary> Layout<D> {
             repeat_count: 0,
         };
         let mut valid = true;
-        walk(od, direction, None, &mut |entry| {
+        let assigned = walk(od, direction, None, &mut |entry| {
             valid &= entry.and_then(|e| layout.push(e, direction)).is_some();
         });
+        if !assigned {
+            return Ok(None);
+        }
         if !valid {
             return Err(invalid);
         }
@@ -351,7 +351,8 @@ pub(crate) struct Pending<'a> {
 /// the entries each maps, in order, with `pending` in place of the dictionary's value of its
 /// object. `visit` sees each mapping entry; `None` where the configuration is broken: an
 /// assignment entry that cannot be read, a PDO that does not exist or is of the other
-/// direction, a mapping entry that cannot be read. The one walk behind [`Layout::of`],
+/// direction, a mapping entry that cannot be read. `false` when the dictionary has no
+/// assignment object for `direction` (nothing to walk). The one walk behind [`Layout::of`],
 /// [`is_mapped`] and the length check of a PDO configuration write: out of line, one copy per
 /// dictionary.
 #[inline(never)]
@@ -360,9 +361,9 @@ pub(crate) fn walk<D: ObjectDictionary>(
     direction: Direction,
     pending: Option<&Pending<'_>>,
     visit: &mut dyn FnMut(Option<MappingEntry>),
-) {
+) -> bool {
     let Some(assignment) = D::object(direction.assignment()) else {
-        return;
+        return false;
     };
     let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
     let assigned = pending_of(assignment);
@@ -390,6 +391,7 @@ pub(crate) fn walk<D: ObjectDictionary>(
             visit(value.map(MappingEntry));
         }
     }
+    true
 }
 
 /// Whether `index:sub` is mapped in a PDO assigned for `direction`: a walk of the assignment
