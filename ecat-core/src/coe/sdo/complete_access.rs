@@ -23,7 +23,8 @@ pub(super) struct Slot {
 impl Slot {
     /// The entry's value bytes in the image `data`, as a single access carries them: its bits
     /// from their place, in the low bits of the first bytes; `None` when `data` ends before
-    /// them (or an entry above 64 bits).
+    /// them (or an entry above 64 bits). For an entry SI1..: SI0's slot gives its two bytes,
+    /// the count and the padding (the download stores SI0 apart).
     pub(super) fn value(self, data: &[u8]) -> Option<([u8; 8], usize)> {
         let end = (self.bit_offset + self.bit_len).div_ceil(8);
         if self.bit_len > 64 || end > data.len() {
@@ -31,12 +32,7 @@ impl Slot {
         }
         let mut value = [0u8; 8];
         copy_bits(data, self.bit_offset, &mut value, 0, 0, self.bit_len);
-        let len = if self.sub == 0 {
-            1
-        } else {
-            self.bit_len.div_ceil(8)
-        };
-        Some((value, len))
+        Some((value, self.bit_len.div_ceil(8)))
     }
 }
 
@@ -184,21 +180,22 @@ pub fn read<D>(
     // One walk: every byte of `out` zeroed first (what the entries leave is padding), the
     // image's size from the last slot.
     out.fill(0);
-    let mut total = 0;
+    let mut end = 0;
     for slot in slots(&object.info, sub, last) {
         // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
         // padding, zero.
         let mut value = [0u8; 8];
         (object.read)(od, slot.sub, 0, &mut value)?;
         copy_bits(&value, 0, out, slot.bit_offset, offset, slot.bit_len);
-        total = (slot.bit_offset + slot.bit_len).div_ceil(8);
+        end = slot.bit_offset + slot.bit_len;
     }
+    let total = end.div_ceil(8);
     let len = out.len().min(total.saturating_sub(offset));
     Ok(Read::new(len, total))
 }
 
-/// The value bytes of one entry in a complete-access image, as a single access carries them:
-/// its bits from their place, in the low bits of the first bytes.
+/// The value bytes of entry `entry_sub` (SI1..) in a complete-access image, as a single access
+/// carries them: its bits from their place, in the low bits of the first bytes.
 pub fn entry_value(
     data: &[u8],
     object: &ObjectInfo,
