@@ -116,14 +116,16 @@ impl<D: ObjectDictionary> Layout<D> {
             repeats: <D::Repeatable as Length>::array(Repeat::EMPTY),
             repeat_count: 0,
         };
-        let mut valid = true;
+        // A broken entry marks the layout by a repeat count no layout reaches.
         let assigned = walk(od, direction, None, &mut |entry| {
-            valid &= entry.and_then(|e| layout.push(e, direction)).is_some();
+            if entry.and_then(|e| layout.push(e, direction)).is_none() {
+                layout.repeat_count = u8::MAX;
+            }
         });
         if !assigned {
             return Ok(None);
         }
-        if !valid {
+        if usize::from(layout.repeat_count) > MAX_REPEATS {
             return Err(invalid);
         }
         layout.gaps |= !layout.bits.is_multiple_of(8);
