@@ -105,10 +105,6 @@ impl<D: ObjectDictionary> Layout<D> {
     /// the wrong bit length, an image over 65 535 bits, more than [`MAX_REPEATS`] entries of a
     /// TxPDO mapped again. An RxPDO entry mapped twice takes its value from its last place.
     pub fn of(od: &D, direction: Direction) -> Result<Option<Self>, AlStatusCode> {
-        let invalid = match direction {
-            Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
-            Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
-        };
         let mut layout = Self {
             offsets: <D::Mappable as Length>::array(UNMAPPED),
             bits: 0,
@@ -117,16 +113,20 @@ impl<D: ObjectDictionary> Layout<D> {
             repeat_count: 0,
         };
         // A broken entry marks the layout by a repeat count no layout reaches.
-        let assigned = walk(od, direction, None, &mut |entry| {
-            if entry.and_then(|e| layout.push(e, direction)).is_none() {
-                layout.repeat_count = u8::MAX;
+        let building = &mut layout;
+        let assigned = walk(od, direction, None, &mut move |entry| {
+            if entry.and_then(|e| building.push(e, direction)).is_none() {
+                building.repeat_count = u8::MAX;
             }
         });
         if !assigned {
             return Ok(None);
         }
         if usize::from(layout.repeat_count) > MAX_REPEATS {
-            return Err(invalid);
+            return Err(match direction {
+                Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
+                Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
+            });
         }
         layout.gaps |= !layout.bits.is_multiple_of(8);
         Ok(Some(layout))
