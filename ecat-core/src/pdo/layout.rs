@@ -141,12 +141,12 @@ impl<D: ObjectDictionary> Layout<D> {
         }
         let number = mappable::<D>(entry, direction)?;
         let offset = self.offsets.as_mut().get_mut(number)?;
-        let first = core::mem::replace(offset, stored(at));
+        let first = *offset;
         if direction == Direction::Tx && first != UNMAPPED {
             // The entry keeps its first place; the image repeats it here.
-            *offset = first;
             return self.repeat(bit_offset(first), at, entry.bit_len());
         }
+        *offset = stored(at);
         Some(())
     }
 

@@ -139,16 +139,21 @@ pub fn bit_offsets(object: &ObjectInfo) -> impl Iterator<Item = (u8, usize)> + '
 
 /// The size in bytes of the complete-access image from `sub`.
 pub fn size(object: &ObjectInfo, sub: u8) -> usize {
-    size_through(object, sub, u8::MAX)
+    sizes(object, sub, u8::MAX).0
 }
 
-/// The size in bytes of the complete-access image from `sub` that ends with subindex `last`:
-/// what a MainDevice sends for a configuration object whose SI0 it sets to `last` (SI0 and
-/// the entries it counts, TwinCAT's and SOEM's `0x1C12` downloads).
-pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
-    slots(object, sub, last)
-        .last()
-        .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
+/// The sizes in bytes of the complete-access image from `sub`, whole and ending with subindex
+/// `last`: what a MainDevice sends for a configuration object whose SI0 it sets to `last` (SI0
+/// and the entries it counts, TwinCAT's and SOEM's `0x1C12` downloads). One walk for both.
+pub fn sizes(object: &ObjectInfo, sub: u8, last: u8) -> (usize, usize) {
+    let (mut whole, mut through) = (0, 0);
+    for slot in slots(object, sub, object.max_sub) {
+        whole = slot.bit_offset + slot.bit_len;
+        if slot.sub <= last {
+            through = whole;
+        }
+    }
+    (whole.div_ceil(8), through.div_ceil(8))
 }
 
 /// The highest subindex a complete-access upload carries. Of an ARRAY, the value of SI0 (0 when

@@ -761,8 +761,7 @@ fn check_complete_length(
     len: usize,
     counted: Option<u8>,
 ) -> Result<(), AbortCode> {
-    let whole = complete_access::size(object, from);
-    let least = counted.map_or(whole, |n| complete_access::size_through(object, from, n));
+    let (whole, least) = complete_access::sizes(object, from, counted.unwrap_or(u8::MAX));
     if len == whole || len == least {
         Ok(())
     } else if len > whole {
