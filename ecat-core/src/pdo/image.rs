@@ -26,13 +26,13 @@ pub fn pack<D: ObjectDictionary>(layout: &Layout<D>, od: &D, image: &mut [u8]) {
     }
     od.pack_mapped(layout.offsets(), image);
     for repeat in layout.repeats() {
-        copy_bits(image, repeat);
+        repeat_bits(image, repeat);
     }
 }
 
 /// Copies a repeated entry's bits, LSB first, from its first place to the repeat's (places of
 /// one image never overlap), unless either place is not wholly inside `image`.
-fn copy_bits(image: &mut [u8], repeat: &Repeat) {
+fn repeat_bits(image: &mut [u8], repeat: &Repeat) {
     let (from, to, len) = (
         usize::from(repeat.from),
         usize::from(repeat.to),
@@ -174,12 +174,9 @@ fn get_bits(image: &[u8], offset: u16, len: u8) -> Option<u64> {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return None;
     }
-    // From the last bit down, each shifted in at the bottom: no shift by a variable amount.
-    Some((0..usize::from(len).min(64)).rev().fold(0, |bits, i| {
-        let bit = offset + i;
-        let set = image.get(bit / 8).is_some_and(|b| b >> (bit % 8) & 1 != 0);
-        bits << 1 | u64::from(set)
-    }))
+    let mut value = [0u8; 8];
+    copy_bits(image, offset, &mut value, 0, 0, usize::from(len));
+    Some(u64::from_le_bytes(value))
 }
 
 /// Writes the low `len` bits of `bits` into `image` from bit `offset`, LSB first, unless some
@@ -189,13 +186,35 @@ fn put_bits(image: &mut [u8], offset: u16, len: u8, bits: u64) {
     if offset + usize::from(len) > image.len().saturating_mul(8) {
         return;
     }
-    let mut rest = bits;
-    for bit in offset..offset + usize::from(len).min(64) {
-        // The lowest bit left goes next: no shift by a variable amount.
-        let set = u8::from(rest & 1 != 0);
-        rest >>= 1;
-        if let Some(byte) = image.get_mut(bit / 8) {
-            *byte = (*byte & !(1 << (bit % 8))) | (set << (bit % 8));
+    copy_bits(
+        &bits.to_le_bytes(),
+        0,
+        image,
+        offset,
+        0,
+        usize::from(len).min(64),
+    );
+}
+
+/// Copies `len` bits, LSB first, from bit `from` of `src` to bit `to` of a window that starts
+/// at byte `skip` of the destination: bits outside the window are left out, bits beyond `src`
+/// are 0. The one bit copier of entries: a field that is no whole bytes at a byte boundary
+/// ([`Mapped`]) and a complete-access image both ways
+/// ([`complete_access`](crate::coe::sdo::complete_access)).
+#[inline(never)]
+pub(crate) fn copy_bits(
+    src: &[u8],
+    from: usize,
+    window: &mut [u8],
+    to: usize,
+    skip: usize,
+    len: usize,
+) {
+    for i in 0..len {
+        let (s, d) = (from + i, to + i);
+        let bit = src.get(s / 8).map_or(0, |b| (b >> (s % 8)) & 1);
+        if let Some(byte) = (d / 8).checked_sub(skip).and_then(|b| window.get_mut(b)) {
+            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
         }
     }
 }

@@ -108,13 +108,6 @@ impl<D: ObjectDictionary> Layout<D> {
     /// the wrong bit length, an image over 65 535 bits, more than [`MAX_REPEATS`] entries of a
     /// TxPDO mapped again. An RxPDO entry mapped twice takes its value from its last place.
     pub fn of(od: &D, direction: Direction) -> Result<Option<Self>, AlStatusCode> {
-        let invalid = match direction {
-            Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
-            Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
-        };
-        if D::object(direction.assignment()).is_none() {
-            return Ok(None);
-        }
         let mut layout = Self {
             offsets: <D::Mappable as Length>::array(UNMAPPED),
             bits: 0,
@@ -122,12 +115,21 @@ impl<D: ObjectDictionary> Layout<D> {
             repeats: <D::Repeatable as Length>::array(Repeat::EMPTY),
             repeat_count: 0,
         };
-        let mut valid = true;
-        walk(od, direction, None, &mut |entry| {
-            valid &= entry.and_then(|e| layout.push(e, direction)).is_some();
+        // A broken entry marks the layout by a repeat count no layout reaches.
+        let building = &mut layout;
+        let assigned = walk(od, direction, None, &mut move |entry| {
+            if entry.and_then(|e| building.push(e, direction)).is_none() {
+                building.repeat_count = u8::MAX;
+            }
         });
-        if !valid {
-            return Err(invalid);
+        if !assigned {
+            return Ok(None);
+        }
+        if usize::from(layout.repeat_count) > MAX_REPEATS {
+            return Err(match direction {
+                Direction::Rx => AlStatusCode::INVALID_OUTPUT_MAPPING,
+                Direction::Tx => AlStatusCode::INVALID_INPUT_MAPPING,
+            });
         }
         layout.gaps |= !layout.bits.is_multiple_of(8);
         Ok(Some(layout))
@@ -142,12 +144,12 @@ impl<D: ObjectDictionary> Layout<D> {
         }
         let number = mappable::<D>(entry, direction)?;
         let offset = self.offsets.as_mut().get_mut(number)?;
-        let first = core::mem::replace(offset, stored(at));
+        let first = *offset;
         if direction == Direction::Tx && first != UNMAPPED {
             // The entry keeps its first place; the image repeats it here.
-            *offset = first;
             return self.repeat(bit_offset(first), at, entry.bit_len());
         }
+        *offset = stored(at);
         Some(())
     }
 
@@ -354,7 +356,8 @@ pub(crate) struct Pending<'a> {
 /// the entries each maps, in order, with `pending` in place of the dictionary's value of its
 /// object. `visit` sees each mapping entry; `None` where the configuration is broken: an
 /// assignment entry that cannot be read, a PDO that does not exist or is of the other
-/// direction, a mapping entry that cannot be read. The one walk behind [`Layout::of`],
+/// direction, a mapping entry that cannot be read. `false` when the dictionary has no
+/// assignment object for `direction` (nothing to walk). The one walk behind [`Layout::of`],
 /// [`is_mapped`] and the length check of a PDO configuration write: out of line, one copy per
 /// dictionary.
 #[inline(never)]
@@ -363,9 +366,9 @@ pub(crate) fn walk<D: ObjectDictionary>(
     direction: Direction,
     pending: Option<&Pending<'_>>,
     visit: &mut dyn FnMut(Option<MappingEntry>),
-) {
+) -> bool {
     let Some(assignment) = D::object(direction.assignment()) else {
-        return;
+        return false;
     };
     let pending_of = |object: &Object<D>| pending.filter(|p| p.index == object.info.index);
     let assigned = pending_of(assignment);
@@ -393,6 +396,7 @@ pub(crate) fn walk<D: ObjectDictionary>(
             visit(value.map(MappingEntry));
         }
     }
+    true
 }
 
 /// Whether `index:sub` is mapped in a PDO assigned for `direction`: a walk of the assignment
@@ -405,8 +409,10 @@ pub(crate) fn is_mapped<D: ObjectDictionary>(
     sub: u8,
 ) -> bool {
     let mut mapped = false;
+    // The entry's index and subindex in one compare: the bit length aside.
+    let wanted = MappingEntry::new(index, sub, 0).0 >> 8;
     walk(od, direction, None, &mut |entry| {
-        mapped |= entry.is_some_and(|e| e.index() == index && e.sub() == sub);
+        mapped |= entry.is_some_and(|e| e.0 >> 8 == wanted);
     });
     mapped
 }

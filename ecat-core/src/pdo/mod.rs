@@ -126,7 +126,9 @@ impl<T: Copy + Default, const N: usize> Default for Counted<T, N> {
 /// manager parameter object (0x1C32/0x1C33). A write to one makes the SubDevice recompute its
 /// process-data layout and sync type.
 pub const fn configures_process_data(index: u16) -> bool {
-    Direction::of_configuration(index).is_some() || matches!(index, 0x1C32 | 0x1C33)
+    // 0x1600..=0x17FF and 0x1A00..=0x1BFF: 0x400 apart, 0x200 long; 0x1C12, 0x1C13, 0x1C32 and
+    // 0x1C33: 0x1C12 with bits 0 and 5 free.
+    index.wrapping_sub(0x1600) & !0x0400 < 0x0200 || index & !0x0021 == 0x1C12
 }
 
 /// Which way a PDO goes.
@@ -321,7 +323,15 @@ impl<T: Width, const N: usize> Counted<T, N> {
     #[doc(hidden)]
     #[inline]
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        read_counted(self.count, T::items(&self.items), sub, offset, out)
+        // SI0 one byte, an entry its width: each object's read picks its entry and leaves the
+        // copy to the one unsigned reader.
+        let (value, size) = match sub.checked_sub(1) {
+            None => (u32::from(self.count), 1),
+            Some(n) => T::items(&self.items)
+                .get(usize::from(n))
+                .ok_or(AbortCode::NO_SUBINDEX)?,
+        };
+        Ok(crate::dictionary::read_unsigned(value, size, offset, out))
     }
 
     /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
@@ -337,22 +347,6 @@ impl<T: Width, const N: usize> Counted<T, N> {
     ) -> Result<(), AbortCode> {
         write_counted::<D>(index, &mut self.count, T::slots(&mut self.items), sub, data)
     }
-}
-
-/// Reads SI `sub` of a PDO mapping or assignment object (`count` = SI0, `items` = SI1..): one
-/// function for both widths and every dictionary.
-fn read_counted(
-    count: u8,
-    items: Items<'_>,
-    sub: u8,
-    offset: usize,
-    out: &mut [u8],
-) -> Result<Read, AbortCode> {
-    let (value, size) = match sub.checked_sub(1) {
-        None => (u32::from(count), 1),
-        Some(n) => items.get(usize::from(n)).ok_or(AbortCode::NO_SUBINDEX)?,
-    };
-    Ok(crate::dictionary::read_unsigned(value, size, offset, out))
 }
 
 /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO
@@ -462,7 +456,9 @@ pub(crate) fn check_length<D: ObjectDictionary>(
 
 #[cfg(test)]
 mod tests {
-    use super::{MappingEntry, PdoAssignment, PdoMapping, configurable};
+    use super::{
+        Direction, MappingEntry, PdoAssignment, PdoMapping, configurable, configures_process_data,
+    };
     use crate::abort::AbortCode;
     use crate::dictionary::ObjectDictionary;
 
@@ -513,5 +509,16 @@ mod tests {
             Some(Err(AbortCode::VALUE_TOO_HIGH))
         );
         assert_eq!((fixed.rx.count, fixed.out, mapped.out), (1, 0, 0));
+    }
+
+    /// The PDO mapping and assignment objects and 0x1C32/0x1C33 configure the process data,
+    /// no other index does (every index against the ranges as written out).
+    #[test]
+    fn configuring_indices_are_the_pdo_configuration_and_sync_parameters() {
+        for index in 0..=u16::MAX {
+            let expected =
+                Direction::of_configuration(index).is_some() || matches!(index, 0x1C32 | 0x1C33);
+            assert_eq!(configures_process_data(index), expected, "{index:#06x}");
+        }
     }
 }

@@ -1,6 +1,7 @@
-//! The entry types a [`Counted`](super::Counted) object reads and writes through the one shared
-//! reader and writer: UNSIGNED32 mapping entries, UNSIGNED16 assigned PDOs (a private module:
-//! the trait is sealed, its types are nobody else's).
+//! The entry types a [`Counted`](super::Counted) object reads (each object picks its entry, the
+//! one unsigned reader copies it) and writes through the one shared writer: UNSIGNED32 mapping
+//! entries, UNSIGNED16 assigned PDOs (a private module: the trait is sealed, its types are
+//! nobody else's).
 
 use crate::abort::AbortCode;
 use crate::dictionary::write_value;
@@ -32,7 +33,7 @@ impl Width for u16 {
 }
 
 /// The entries SI1.. of a [`Counted`](super::Counted) value by their width: UNSIGNED32 mapping
-/// entries or UNSIGNED16 assigned PDOs. One read and one write serve both.
+/// entries or UNSIGNED16 assigned PDOs. One write serves both.
 #[derive(Clone, Copy)]
 pub enum Items<'a> {
     /// Assigned PDOs.

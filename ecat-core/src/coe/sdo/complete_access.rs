@@ -9,6 +9,7 @@
 
 use crate::abort::AbortCode;
 use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo, Read};
+use crate::pdo::image::copy_bits;
 
 /// One entry's place in the complete-access image.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -22,7 +23,8 @@ pub(super) struct Slot {
 impl Slot {
     /// The entry's value bytes in the image `data`, as a single access carries them: its bits
     /// from their place, in the low bits of the first bytes; `None` when `data` ends before
-    /// them (or an entry above 64 bits).
+    /// them (or an entry above 64 bits). For an entry SI1..: SI0's slot gives its two bytes,
+    /// the count and the padding (the download stores SI0 apart).
     pub(super) fn value(self, data: &[u8]) -> Option<([u8; 8], usize)> {
         let end = (self.bit_offset + self.bit_len).div_ceil(8);
         if self.bit_len > 64 || end > data.len() {
@@ -30,12 +32,7 @@ impl Slot {
         }
         let mut value = [0u8; 8];
         copy_bits(data, self.bit_offset, &mut value, 0, 0, self.bit_len);
-        let len = if self.sub == 0 {
-            1
-        } else {
-            self.bit_len.div_ceil(8)
-        };
-        Some((value, len))
+        Some((value, self.bit_len.div_ceil(8)))
     }
 }
 
@@ -96,10 +93,10 @@ impl<'a> Iterator for Declared<'a> {
     }
 }
 
-/// The slots of a complete access from `sub`, in subindex order.
-pub(super) fn slots(object: &ObjectInfo, sub: u8) -> Slots<'_> {
+/// The slots of a complete access from `sub` through subindex `last`, in subindex order.
+pub(super) fn slots(object: &ObjectInfo, sub: u8, last: u8) -> Slots<'_> {
     Slots {
-        entries: declared(object, sub, object.max_sub),
+        entries: declared(object, sub, last),
         bit: 0,
     }
 }
@@ -137,22 +134,26 @@ impl Iterator for Slots<'_> {
 /// offset)`. The ESI `DataType` of the object gives its `SubItem`s the same `BitOffs`
 /// (ETG.2000 `DataType/SubItem/BitOffs`), so the file and the transfer agree.
 pub fn bit_offsets(object: &ObjectInfo) -> impl Iterator<Item = (u8, usize)> + '_ {
-    slots(object, 0).map(|s| (s.sub, s.bit_offset))
+    slots(object, 0, object.max_sub).map(|s| (s.sub, s.bit_offset))
 }
 
 /// The size in bytes of the complete-access image from `sub`.
 pub fn size(object: &ObjectInfo, sub: u8) -> usize {
-    size_through(object, sub, u8::MAX)
+    sizes(object, sub, u8::MAX).0
 }
 
-/// The size in bytes of the complete-access image from `sub` that ends with subindex `last`:
-/// what a MainDevice sends for a configuration object whose SI0 it sets to `last` (SI0 and
-/// the entries it counts, TwinCAT's and SOEM's `0x1C12` downloads).
-pub fn size_through(object: &ObjectInfo, sub: u8, last: u8) -> usize {
-    slots(object, sub)
-        .take_while(|s| s.sub <= last)
-        .last()
-        .map_or(0, |s| (s.bit_offset + s.bit_len).div_ceil(8))
+/// The sizes in bytes of the complete-access image from `sub`, whole and ending with subindex
+/// `last`: what a MainDevice sends for a configuration object whose SI0 it sets to `last` (SI0
+/// and the entries it counts, TwinCAT's and SOEM's `0x1C12` downloads). One walk for both.
+pub fn sizes(object: &ObjectInfo, sub: u8, last: u8) -> (usize, usize) {
+    let (mut whole, mut through) = (0, 0);
+    for slot in slots(object, sub, object.max_sub) {
+        whole = slot.bit_offset + slot.bit_len;
+        if slot.sub <= last {
+            through = whole;
+        }
+    }
+    (whole.div_ceil(8), through.div_ceil(8))
 }
 
 /// The highest subindex a complete-access upload carries. Of an ARRAY, the value of SI0 (0 when
@@ -184,41 +185,33 @@ pub fn read<D>(
     // One walk: every byte of `out` zeroed first (what the entries leave is padding), the
     // image's size from the last slot.
     out.fill(0);
-    let mut total = 0;
-    for slot in slots(&object.info, sub).take_while(|s| s.sub <= last) {
+    let mut end = 0;
+    for slot in slots(&object.info, sub, last) {
         // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
         // padding, zero.
         let mut value = [0u8; 8];
         (object.read)(od, slot.sub, 0, &mut value)?;
         copy_bits(&value, 0, out, slot.bit_offset, offset, slot.bit_len);
-        total = (slot.bit_offset + slot.bit_len).div_ceil(8);
+        end = slot.bit_offset + slot.bit_len;
     }
+    let total = end.div_ceil(8);
     let len = out.len().min(total.saturating_sub(offset));
     Ok(Read::new(len, total))
 }
 
-/// The value bytes of one entry in a complete-access image, as a single access carries them:
-/// its bits from their place, in the low bits of the first bytes.
+/// The value bytes of entry `entry_sub` (SI1..) in a complete-access image, as a single access
+/// carries them: its bits from their place, in the low bits of the first bytes.
 pub fn entry_value(
     data: &[u8],
     object: &ObjectInfo,
     sub: u8,
     entry_sub: u8,
 ) -> Option<([u8; 8], usize)> {
-    slots(object, sub).find(|s| s.sub == entry_sub)?.value(data)
-}
-
-/// Copies `len` bits, LSB first, from bit `from` of `src` to bit `to` of a window that starts at
-/// byte `skip` of the image: bits outside the window are left out, bits beyond `src` are 0.
-/// The one copy of complete access, both ways, for byte-aligned entries and bit entries alike.
-fn copy_bits(src: &[u8], from: usize, window: &mut [u8], to: usize, skip: usize, len: usize) {
-    for i in 0..len {
-        let (s, d) = (from + i, to + i);
-        let bit = src.get(s / 8).map_or(0, |b| (b >> (s % 8)) & 1);
-        if let Some(byte) = (d / 8).checked_sub(skip).and_then(|b| window.get_mut(b)) {
-            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
-        }
-    }
+    // The last slot through `entry_sub` is its own, if the object declares it.
+    slots(object, sub, entry_sub)
+        .last()
+        .filter(|s| s.sub == entry_sub)?
+        .value(data)
 }
 
 #[cfg(test)]

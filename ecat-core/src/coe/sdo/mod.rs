@@ -711,7 +711,7 @@ fn store_complete<D: ObjectDictionary, H: ObjectHooks<D>>(
         _ => {}
     }
     // A gap of a sparse RECORD has no value in the image; SI0 is done.
-    for slot in complete_access::slots(&object.info, from).take_while(|s| s.sub <= last) {
+    for slot in complete_access::slots(&object.info, from, last) {
         if slot.sub == 0 {
             continue;
         }
@@ -761,8 +761,7 @@ fn check_complete_length(
     len: usize,
     counted: Option<u8>,
 ) -> Result<(), AbortCode> {
-    let whole = complete_access::size(object, from);
-    let least = counted.map_or(whole, |n| complete_access::size_through(object, from, n));
+    let (whole, least) = complete_access::sizes(object, from, counted.unwrap_or(u8::MAX));
     if len == whole || len == least {
         Ok(())
     } else if len > whole {
