@@ -112,6 +112,9 @@ pub fn input_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
     sync_type_default(INPUT_SYNC_DEFAULT, sub, which, out)
 }
 
+/// Inlined into both limits: a shared copy costs its callers more in moving arguments than the
+/// two bytes' copy it shares.
+#[inline(always)]
 fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
     match (sub, which) {
         // The encoding of the record's reads (`read_unsigned`), one copy for both.
