@@ -649,14 +649,19 @@ fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
     let Some(area) = od.communication() else {
         return;
     };
-    for p in [&mut area.outputs, &mut area.inputs] {
-        if let Some(ns) = d.measured_ns {
-            p.cycle_time = ns;
-        }
-        p.sm_event_missed = d.missed;
-        p.cycle_time_too_small = d.overruns;
-        p.sync_error = d.error;
+    store_into(&mut area.outputs, d);
+    store_into(&mut area.inputs, d);
+}
+
+/// [`store`] into one record: inlined twice, no loop over the two.
+#[inline(always)]
+fn store_into(p: &mut SyncParameters, d: Diagnostics) {
+    if let Some(ns) = d.measured_ns {
+        p.cycle_time = ns;
     }
+    p.sm_event_missed = d.missed;
+    p.cycle_time_too_small = d.overruns;
+    p.sync_error = d.error;
 }
 
 #[cfg(test)]
