@@ -538,15 +538,6 @@ impl Default for CycleMonitor {
     }
 }
 
-/// The diagnostic entries the monitor keeps.
-#[derive(Debug, Clone, Copy)]
-struct Diagnostics {
-    measured_ns: Option<u32>,
-    missed: u16,
-    overruns: u16,
-    error: bool,
-}
-
 /// What one process-data cycle saw.
 #[derive(Debug, Clone, Copy)]
 pub struct CycleReport {
@@ -587,15 +578,12 @@ impl CycleMonitor {
         };
         self.missed = self.missed.saturating_add(u16::from(missed));
         self.overruns = self.overruns.saturating_add(u16::from(overrun));
-        let now = Diagnostics {
-            measured_ns: elapsed
-                .filter(|_| report.nominal.is_none())
-                .map(nanoseconds),
-            missed: self.missed,
-            overruns: self.overruns,
-            error: missed || overrun || self.supervision.tripped(),
-        };
-        store(od, now);
+        let measured_ns = elapsed
+            .filter(|_| report.nominal.is_none())
+            .map(nanoseconds);
+        let counters = [self.missed, self.overruns];
+        let error = missed || overrun || self.supervision.tripped();
+        store(od, measured_ns, counters, error);
         tripped
     }
 
@@ -628,23 +616,31 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
 /// (cheaper in flash than remembering what was stored to skip them). Out of line: inlined
 /// into the process-data task it is larger.
 #[inline(never)]
-fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
+///
+/// The arguments are separate (no struct of the four): they come in registers.
+fn store<D: ObjectDictionary>(
+    od: &mut D,
+    measured_ns: Option<u32>,
+    counters: [u16; 2],
+    error: bool,
+) {
     let Some(area) = od.communication() else {
         return;
     };
-    store_into(&mut area.outputs, d);
-    store_into(&mut area.inputs, d);
+    store_into(&mut area.outputs, measured_ns, counters, error);
+    store_into(&mut area.inputs, measured_ns, counters, error);
 }
 
 /// [`store`] into one record: inlined twice, no loop over the two.
 #[inline(always)]
-fn store_into(p: &mut SyncParameters, d: Diagnostics) {
-    if let Some(ns) = d.measured_ns {
+fn store_into(p: &mut SyncParameters, measured_ns: Option<u32>, counters: [u16; 2], error: bool) {
+    if let Some(ns) = measured_ns {
         p.put::<{ SyncParameters::CYCLE_TIME }, 4>(ns.to_le_bytes());
     }
-    p.put::<{ SyncParameters::SM_EVENT_MISSED }, 2>(d.missed.to_le_bytes());
-    p.put::<{ SyncParameters::CYCLE_TIME_TOO_SMALL }, 2>(d.overruns.to_le_bytes());
-    p.put::<{ SyncParameters::SYNC_ERROR }, 1>([u8::from(d.error)]);
+    let [missed, overruns] = counters;
+    p.put::<{ SyncParameters::SM_EVENT_MISSED }, 2>(missed.to_le_bytes());
+    p.put::<{ SyncParameters::CYCLE_TIME_TOO_SMALL }, 2>(overruns.to_le_bytes());
+    p.put::<{ SyncParameters::SYNC_ERROR }, 1>([u8::from(error)]);
 }
 
 #[cfg(test)]
