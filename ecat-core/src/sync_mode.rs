@@ -223,6 +223,7 @@ impl SyncParameters {
 
     /// The value of entry `sub` (a BOOLEAN is 0 or 1; SI0 and a subindex the object lacks
     /// read 0).
+    #[inline]
     pub fn get(&self, sub: u8) -> u32 {
         let mut bytes = [0; 4];
         for (b, e) in bytes.iter_mut().zip(self.entry(sub).unwrap_or_default()) {
