@@ -90,8 +90,8 @@ const INPUT_SYNC_DEFAULT: u16 = 0x22;
 /// The value of a sync manager parameter object (0x1C32/0x1C33, ETG.1000.6 Table 74, ETG.1020
 /// §6.3) with every subindex SSC carries: SI0 = 0x20; SI 0x0E..0x1F do not exist.
 ///
-/// Kept as the object's encoded value after SI0: each entry little-endian, in subindex order
-/// (SI1 first, SI 0x20 last), so that a read copies its entry's bytes and a write patches them
+/// Kept as the object's encoded value: each entry little-endian, in subindex order (SI0 the
+/// first byte, always 0x20; SI 0x20 the last), so that a read copies its entry's bytes and a write patches them
 /// in place. [`SyncParameters::get`] and [`SyncParameters::set`] reach an entry by its
 /// subindex (the constants below name them):
 ///
@@ -116,15 +116,13 @@ const INPUT_SYNC_DEFAULT: u16 = 0x22;
 pub struct SyncParameters([u8; RECORD_LEN]);
 
 /// Where each entry of [`SyncParameters`] starts, by subindex (SI 0x20's at 0x0E), and the
-/// record's end last: entry `sub` is `ENTRY_STARTS[sub]..ENTRY_STARTS[sub + 1]`; SI0's span is
-/// empty (its value is the constant [`SyncParameters::MAX_SUB`]).
-const ENTRY_STARTS: [u8; 16] = [0, 0, 2, 6, 10, 12, 16, 20, 24, 26, 30, 34, 36, 38, 40, 41];
+/// record's end last: entry `sub` is `ENTRY_STARTS[sub]..ENTRY_STARTS[sub + 1]`.
+const ENTRY_STARTS: [u8; 16] = [0, 1, 3, 7, 11, 13, 17, 21, 25, 27, 31, 35, 37, 39, 41, 42];
 
 /// The record's bytes.
 const RECORD_LEN: usize = ENTRY_STARTS[15] as usize;
 
-/// Where entry `sub` lies in the record's bytes, `None` for a subindex the object lacks (an
-/// empty span for SI0).
+/// Where entry `sub` lies in the record's bytes, `None` for a subindex the object lacks.
 #[inline(always)]
 const fn span(sub: u8) -> Option<(usize, usize)> {
     let at = match sub {
@@ -177,8 +175,12 @@ impl SyncParameters {
     #[doc(hidden)]
     pub const MAX_SUB: u8 = 0x20;
 
-    /// Everything 0, for `const` initialisers.
-    pub const DEFAULT: Self = Self([0; RECORD_LEN]);
+    /// Everything 0 but SI0 (0x20), for `const` initialisers.
+    pub const DEFAULT: Self = {
+        let mut bytes = [0; RECORD_LEN];
+        bytes[0] = Self::MAX_SUB;
+        Self(bytes)
+    };
 
     /// 0x1C32 at power-on: SM-synchronous (SI1 = 1).
     pub const OUTPUTS: Self = Self::DEFAULT.with(Self::SYNC_TYPE, OUTPUT_SYNC_DEFAULT as u32);
@@ -190,9 +192,9 @@ impl SyncParameters {
     pub const INPUTS: Self = Self::DEFAULT.with(Self::SYNC_TYPE, INPUT_SYNC_DEFAULT as u32);
 
     /// The record with entry `sub` set to the low bytes of `value` ([`SyncParameters::set`] for
-    /// `const` initialisers).
+    /// `const` initialisers; SI0 stays 0x20).
     pub const fn with(mut self, sub: u8, value: u32) -> Self {
-        if let Some((start, end)) = span(sub) {
+        if let (1.., Some((start, end))) = (sub, span(sub)) {
             let bytes = value.to_le_bytes();
             let mut i = start;
             while i < end {
@@ -207,8 +209,7 @@ impl SyncParameters {
         self
     }
 
-    /// The encoded value of entry `sub` (empty for SI0), `None` for a subindex the object
-    /// lacks.
+    /// The encoded value of entry `sub`, `None` for a subindex the object lacks.
     #[inline(always)]
     pub(crate) fn entry(&self, sub: u8) -> Option<&[u8]> {
         let (start, end) = span(sub)?;
@@ -221,8 +222,7 @@ impl SyncParameters {
         &mut self.0
     }
 
-    /// The value of entry `sub` (a BOOLEAN is 0 or 1; SI0 and a subindex the object lacks
-    /// read 0).
+    /// The value of entry `sub` (a BOOLEAN is 0 or 1; a subindex the object lacks reads 0).
     #[inline]
     pub fn get(&self, sub: u8) -> u32 {
         let mut bytes = [0; 4];

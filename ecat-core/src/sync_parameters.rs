@@ -31,14 +31,9 @@ use crate::time::{Duration, Instant};
 
 impl SyncParameters {
     /// Copies the encoded value of `sub` from `offset` into `out` (the read of the standard
-    /// record: one function for 0x1C32 and 0x1C33 of every dictionary): the entry's bytes, SI0
-    /// the constant 0x20.
+    /// record: one function for 0x1C32 and 0x1C33 of every dictionary): the entry's bytes.
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        let entry = match self.entry(sub) {
-            None => return Err(AbortCode::NO_SUBINDEX),
-            Some([]) => &[Self::MAX_SUB][..],
-            Some(entry) => entry,
-        };
+        let entry = self.entry(sub).ok_or(AbortCode::NO_SUBINDEX)?;
         Ok(crate::dictionary::communication::copy(entry, offset, out))
     }
 
@@ -793,6 +788,31 @@ mod tests {
             1_000_000,
             "not the written cycle"
         );
+    }
+
+    /// Each entry reads as its little-endian bytes, SI0 as 0x20 whatever is set; a write
+    /// patches only its entry.
+    #[test]
+    fn the_record_holds_each_entry_as_its_bytes() {
+        let mut p = SyncParameters::OUTPUTS;
+        p.set(0, 7);
+        p.set(SyncParameters::SHIFT_TIME, 0x0403_0201);
+        p.set(SyncParameters::SYNC_ERROR, 1);
+        let mut out = [0xFF; 4];
+        let read = p.read(0, 0, &mut out).map(|r| (r.copied(), r.size()));
+        assert_eq!((read, out[0]), (Ok((1, 1)), 0x20));
+        let read = p.read(3, 0, &mut out).map(|r| (r.copied(), r.size()));
+        assert_eq!((read, out), (Ok((4, 4)), [1, 2, 3, 4]));
+        let read = p.read(3, 2, &mut out).map(|r| r.copied());
+        assert_eq!((read, &out[..2]), (Ok(2), &[3, 4][..]));
+        assert_eq!(p.write(2, &[5, 6, 7, 8]), Ok(()));
+        assert_eq!(p.write(2, &[5, 6, 7]), Err(AbortCode::LENGTH_TOO_LOW));
+        assert_eq!(p.write(8, &[5, 6, 7]), Err(AbortCode::LENGTH_TOO_HIGH));
+        assert_eq!(p.write(3, &[0; 4]), Err(AbortCode::READ_ONLY));
+        assert_eq!(p.write(0x0E, &[0; 4]), Err(AbortCode::NO_SUBINDEX));
+        let values = [0, 1, 2, 3, 0x0B, 0x20].map(|sub| p.get(sub));
+        assert_eq!(values, [0x20, 1, 0x0807_0605, 0x0403_0201, 0, 1]);
+        assert_eq!(p.read(0x21, 0, &mut out), Err(AbortCode::NO_SUBINDEX));
     }
 
     #[test]
