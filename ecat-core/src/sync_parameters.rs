@@ -22,65 +22,41 @@ use crate::AlStatusCode;
 use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read, write_value,
+    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read,
 };
 use crate::register::DcActivation;
 pub use crate::sync_mode::SyncParameters;
-use crate::sync_mode::{SupportedSyncModes, SyncMode};
+use crate::sync_mode::{SupportedSyncModes, SyncMode, entry_span};
 use crate::time::{Duration, Instant};
 
 impl SyncParameters {
-    /// Copies the encoded value of `sub` from `offset` into `out` (the typed read of the
-    /// standard record: one function for 0x1C32 and 0x1C33 of every dictionary).
+    /// Copies the encoded value of `sub` from `offset` into `out` (the read of the standard
+    /// record: one function for 0x1C32 and 0x1C33 of every dictionary): the entry's bytes.
     pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        // The entries in subindex order, SI 0x20 after SI 0x0D: a load per field and one
-        // lookup, not a branch per subindex.
-        let at = match sub {
-            0..=0x0D => usize::from(sub),
-            0x20 => 0x0E,
-            _ => return Err(AbortCode::NO_SUBINDEX),
-        };
-        let values = [
-            u32::from(Self::MAX_SUB),
-            u32::from(self.sync_type),
-            self.cycle_time,
-            self.shift_time,
-            u32::from(self.supported),
-            self.min_cycle_time,
-            self.calc_copy_time,
-            self.min_delay_time,
-            u32::from(self.get_cycle_time),
-            self.delay_time,
-            self.sync0_cycle_time,
-            u32::from(self.sm_event_missed),
-            u32::from(self.cycle_time_too_small),
-            u32::from(self.shift_time_too_short),
-            u32::from(self.sync_error),
-        ];
-        // Each entry's size from its description ([`PARAMETER_ENTRIES`], in the same order).
-        let (Some(&value), Some(entry)) = (values.get(at), PARAMETER_ENTRIES.get(at)) else {
-            return Err(AbortCode::NO_SUBINDEX);
-        };
-        let size = entry.bit_len.div_ceil(8);
-        Ok(crate::dictionary::read_unsigned(
-            value,
-            usize::from(size),
-            offset,
-            out,
-        ))
+        let entry = self.entry(sub).ok_or(AbortCode::NO_SUBINDEX)?;
+        Ok(crate::dictionary::communication::copy(entry, offset, out))
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check. Only
     /// the entries a MainDevice may write are written here (SI1, SI2, SI8:
     /// [`PARAMETER_ENTRIES`]); the others are read-only, 0x06010002, and the stack fills them
-    /// in the fields themselves (`fill`, [`CycleMonitor`]).
+    /// in itself (`fill`, [`CycleMonitor`]). The value must have the entry's size (0x06070012
+    /// longer, 0x06070013 shorter); its bytes are the entry's.
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
-        match sub {
-            1 => write_value(&mut self.sync_type, data, None, None),
-            2 => write_value(&mut self.cycle_time, data, None, None),
-            8 => write_value(&mut self.get_cycle_time, data, None, None),
-            0..=0x0D | 0x20 => Err(AbortCode::READ_ONLY),
-            _ => Err(AbortCode::NO_SUBINDEX),
+        let (start, size) = match sub {
+            Self::SYNC_TYPE => const { entry_span(Self::SYNC_TYPE) },
+            Self::CYCLE_TIME => const { entry_span(Self::CYCLE_TIME) },
+            Self::GET_CYCLE_TIME => const { entry_span(Self::GET_CYCLE_TIME) },
+            0..=0x0D | 0x20 => return Err(AbortCode::READ_ONLY),
+            _ => return Err(AbortCode::NO_SUBINDEX),
+        };
+        match data.len().cmp(&size) {
+            core::cmp::Ordering::Greater => Err(AbortCode::LENGTH_TOO_HIGH),
+            core::cmp::Ordering::Less => Err(AbortCode::LENGTH_TOO_LOW),
+            core::cmp::Ordering::Equal => {
+                crate::bytes::copy(self.bytes_mut().get_mut(start..).unwrap_or_default(), data);
+                Ok(())
+            }
         }
     }
 }
@@ -96,9 +72,9 @@ impl SyncParameters {
 }
 
 /// The declared default of 0x1C32:01, SM-synchronous.
-const OUTPUT_SYNC_DEFAULT: u16 = SyncParameters::OUTPUTS.sync_type;
+const OUTPUT_SYNC_DEFAULT: u16 = SyncMode::SmSynchronous.code();
 /// The declared default of 0x1C33:01, SM2-synchronous.
-const INPUT_SYNC_DEFAULT: u16 = SyncParameters::INPUTS.sync_type;
+const INPUT_SYNC_DEFAULT: u16 = SyncMode::Sm2Synchronous.code();
 
 /// The declared values of 0x1C32 (the `limit` of its object): SI1's default, SM-synchronous.
 #[doc(hidden)]
@@ -112,6 +88,9 @@ pub fn input_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
     sync_type_default(INPUT_SYNC_DEFAULT, sub, which, out)
 }
 
+/// Inlined into both limits: a shared copy costs its callers more in moving arguments than the
+/// two bytes' copy it shares.
+#[inline(always)]
 fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
     match (sub, which) {
         // The encoding of the record's reads (`read_unsigned`), one copy for both.
@@ -369,15 +348,17 @@ pub(crate) fn fill<D: ObjectDictionary>(
         return;
     };
     for p in [&mut area.outputs, &mut area.inputs] {
-        p.supported = device.sync_modes.0;
-        p.min_cycle_time = min_ns;
+        p.put::<{ SyncParameters::SYNC_TYPES_SUPPORTED }, 2>(device.sync_modes.0.to_le_bytes());
+        p.put::<{ SyncParameters::MIN_CYCLE_TIME }, 4>(min_ns.to_le_bytes());
         if let Some(ns) = cycle_ns {
-            p.cycle_time = ns;
+            p.put::<{ SyncParameters::CYCLE_TIME }, 4>(ns.to_le_bytes());
         }
-        p.sync0_cycle_time = sync0_ns;
+        p.put::<{ SyncParameters::SYNC0_CYCLE_TIME }, 4>(sync0_ns.to_le_bytes());
     }
     if let Some(output) = active {
-        area.inputs.sync_type = input_sync_type(output, has_outputs).code();
+        let code = input_sync_type(output, has_outputs).code();
+        area.inputs
+            .put::<{ SyncParameters::SYNC_TYPE }, 2>(code.to_le_bytes());
     }
 }
 
@@ -473,7 +454,7 @@ pub(crate) fn requested<D: ObjectDictionary>(
             chosen: false,
         });
     };
-    let code = area.outputs.sync_type;
+    let code = u16::from_le_bytes(area.outputs.take::<{ SyncParameters::SYNC_TYPE }, 2>());
     // 0x1C32:01's declared default ([`output_limit`]).
     let default_kept = code == OUTPUT_SYNC_DEFAULT;
     match SyncMode::from_code(code) {
@@ -552,15 +533,6 @@ impl Default for CycleMonitor {
     }
 }
 
-/// The diagnostic entries the monitor keeps.
-#[derive(Debug, Clone, Copy)]
-struct Diagnostics {
-    measured_ns: Option<u32>,
-    missed: u16,
-    overruns: u16,
-    error: bool,
-}
-
 /// What one process-data cycle saw.
 #[derive(Debug, Clone, Copy)]
 pub struct CycleReport {
@@ -601,15 +573,12 @@ impl CycleMonitor {
         };
         self.missed = self.missed.saturating_add(u16::from(missed));
         self.overruns = self.overruns.saturating_add(u16::from(overrun));
-        let now = Diagnostics {
-            measured_ns: elapsed
-                .filter(|_| report.nominal.is_none())
-                .map(nanoseconds),
-            missed: self.missed,
-            overruns: self.overruns,
-            error: missed || overrun || self.supervision.tripped(),
-        };
-        store(od, now);
+        let measured_ns = elapsed
+            .filter(|_| report.nominal.is_none())
+            .map(nanoseconds);
+        let counters = [self.missed, self.overruns];
+        let error = missed || overrun || self.supervision.tripped();
+        store(od, measured_ns, counters, error);
         tripped
     }
 
@@ -642,18 +611,31 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
 /// (cheaper in flash than remembering what was stored to skip them). Out of line: inlined
 /// into the process-data task it is larger.
 #[inline(never)]
-fn store<D: ObjectDictionary>(od: &mut D, d: Diagnostics) {
+///
+/// The arguments are separate (no struct of the four): they come in registers.
+fn store<D: ObjectDictionary>(
+    od: &mut D,
+    measured_ns: Option<u32>,
+    counters: [u16; 2],
+    error: bool,
+) {
     let Some(area) = od.communication() else {
         return;
     };
-    for p in [&mut area.outputs, &mut area.inputs] {
-        if let Some(ns) = d.measured_ns {
-            p.cycle_time = ns;
-        }
-        p.sm_event_missed = d.missed;
-        p.cycle_time_too_small = d.overruns;
-        p.sync_error = d.error;
+    store_into(&mut area.outputs, measured_ns, counters, error);
+    store_into(&mut area.inputs, measured_ns, counters, error);
+}
+
+/// [`store`] into one record: inlined twice, no loop over the two.
+#[inline(always)]
+fn store_into(p: &mut SyncParameters, measured_ns: Option<u32>, counters: [u16; 2], error: bool) {
+    if let Some(ns) = measured_ns {
+        p.put::<{ SyncParameters::CYCLE_TIME }, 4>(ns.to_le_bytes());
     }
+    let [missed, overruns] = counters;
+    p.put::<{ SyncParameters::SM_EVENT_MISSED }, 2>(missed.to_le_bytes());
+    p.put::<{ SyncParameters::CYCLE_TIME_TOO_SMALL }, 2>(overruns.to_le_bytes());
+    p.put::<{ SyncParameters::SYNC_ERROR }, 1>([u8::from(error)]);
 }
 
 #[cfg(test)]
@@ -770,9 +752,17 @@ mod tests {
         let mut od = Od::default();
         fill(&mut od, &device, Some(SyncMode::DcSync0), None, dc, true);
         for p in [od.area.outputs, od.area.inputs] {
-            assert_eq!((p.sync0_cycle_time, p.cycle_time), (1_000_000, 1_000_000));
+            let cycles = (
+                p.get(SyncParameters::SYNC0_CYCLE_TIME),
+                p.get(SyncParameters::CYCLE_TIME),
+            );
+            assert_eq!(cycles, (1_000_000, 1_000_000));
         }
-        assert_eq!(od.area.inputs.sync_type, 2, "the inputs follow the outputs");
+        assert_eq!(
+            od.area.inputs.get(SyncParameters::SYNC_TYPE),
+            2,
+            "the inputs follow the outputs"
+        );
         fill(
             &mut od,
             &device,
@@ -782,9 +772,9 @@ mod tests {
             true,
         );
         for p in [od.area.outputs, od.area.inputs] {
-            assert_eq!(p.sync0_cycle_time, 0);
+            assert_eq!(p.get(SyncParameters::SYNC0_CYCLE_TIME), 0);
         }
-        assert_eq!(od.area.inputs.sync_type, 0x22);
+        assert_eq!(od.area.inputs.get(SyncParameters::SYNC_TYPE), 0x22);
         fill(
             &mut od,
             &device,
@@ -794,9 +784,35 @@ mod tests {
             true,
         );
         assert_eq!(
-            od.area.outputs.sync0_cycle_time, 1_000_000,
+            od.area.outputs.get(SyncParameters::SYNC0_CYCLE_TIME),
+            1_000_000,
             "not the written cycle"
         );
+    }
+
+    /// Each entry reads as its little-endian bytes, SI0 as 0x20 whatever is set; a write
+    /// patches only its entry.
+    #[test]
+    fn the_record_holds_each_entry_as_its_bytes() {
+        let mut p = SyncParameters::OUTPUTS;
+        p.set(0, 7);
+        p.set(SyncParameters::SHIFT_TIME, 0x0403_0201);
+        p.set(SyncParameters::SYNC_ERROR, 1);
+        let mut out = [0xFF; 4];
+        let read = p.read(0, 0, &mut out).map(|r| (r.copied(), r.size()));
+        assert_eq!((read, out[0]), (Ok((1, 1)), 0x20));
+        let read = p.read(3, 0, &mut out).map(|r| (r.copied(), r.size()));
+        assert_eq!((read, out), (Ok((4, 4)), [1, 2, 3, 4]));
+        let read = p.read(3, 2, &mut out).map(|r| r.copied());
+        assert_eq!((read, &out[..2]), (Ok(2), &[3, 4][..]));
+        assert_eq!(p.write(2, &[5, 6, 7, 8]), Ok(()));
+        assert_eq!(p.write(2, &[5, 6, 7]), Err(AbortCode::LENGTH_TOO_LOW));
+        assert_eq!(p.write(8, &[5, 6, 7]), Err(AbortCode::LENGTH_TOO_HIGH));
+        assert_eq!(p.write(3, &[0; 4]), Err(AbortCode::READ_ONLY));
+        assert_eq!(p.write(0x0E, &[0; 4]), Err(AbortCode::NO_SUBINDEX));
+        let values = [0, 1, 2, 3, 0x0B, 0x20].map(|sub| p.get(sub));
+        assert_eq!(values, [0x20, 1, 0x0807_0605, 0x0403_0201, 0, 1]);
+        assert_eq!(p.read(0x21, 0, &mut out), Err(AbortCode::NO_SUBINDEX));
     }
 
     #[test]

@@ -361,7 +361,14 @@ mod communication_item {
     fn sync_parameters_are_ssc_records_with_the_defaults_of_each_direction() {
         let od = Od::default();
         assert_eq!(
-            (od.area.outputs.sync_type, od.area.inputs.sync_type),
+            (
+                od.area
+                    .outputs
+                    .get(ecat_core::sync_parameters::SyncParameters::SYNC_TYPE),
+                od.area
+                    .inputs
+                    .get(ecat_core::sync_parameters::SyncParameters::SYNC_TYPE)
+            ),
             (1, 0x22)
         );
         for (index, name, si1) in [

@@ -143,7 +143,7 @@ pub const SM_TYPES: ObjectInfo = ObjectInfo {
 // --- the shared code ---------------------------------------------------------------------------
 
 /// Copies `bytes` from `offset` into `out`: the copy every value's read makes.
-fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
+pub(crate) fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
     Read::new(super::value::copy_from(bytes, offset, out), bytes.len())
 }
 

@@ -86,7 +86,7 @@ pub const TX_PROFILE_MAPPING: [MappingEntry; 10] = [
 /// The object dictionary of the axis; `AxisOd::default()` is the dictionary at power on.
 #[derive(Debug)]
 pub struct AxisOd {
-    /// The communication area ([`INFO`]); 0x1C32:02 (`area.outputs.cycle_time`) is the cycle
+    /// The communication area ([`INFO`]); 0x1C32:02 (`SyncParameters::CYCLE_TIME` of `area.outputs`) is the cycle
     /// time the motor integrates over.
     pub area: Communication,
     /// 0x1001 error register: bit 0 (generic error) while 0x603F is not 0.

@@ -9,6 +9,7 @@ use ecat_core::cia402::objects;
 use ecat_core::cia402::{SoftwarePositionLimit, State};
 use ecat_core::coe::AbortCode;
 use ecat_core::dictionary::ObjectHooks;
+use ecat_core::sync_parameters::SyncParameters;
 use ecat_embassy::Application;
 
 const CSP: i8 = 8;
@@ -108,7 +109,7 @@ fn csp_reaches_the_target_in_distance_over_max_velocity_cycles() {
 fn the_cycle_time_comes_from_0x1c32_02() {
     // 2 ms cycles: 2 000 counts per cycle, 5 cycles.
     let (mut axis, mut od) = enabled(CSP);
-    od.area.outputs.cycle_time = 2_000_000;
+    od.area.outputs.set(SyncParameters::CYCLE_TIME, 2_000_000);
     od.target_position = 10_000;
     let n = cycles_until(&mut axis, &mut od, 0x0F, 100, |od| {
         od.statusword & REACHED != 0
@@ -116,7 +117,7 @@ fn the_cycle_time_comes_from_0x1c32_02() {
     assert_eq!((n, od.position), (5, 10_000));
     // CSV over 250 µs cycles: 4 000 counts/s is exactly one count per cycle.
     let (mut axis, mut od) = enabled(CSV);
-    od.area.outputs.cycle_time = 250_000;
+    od.area.outputs.set(SyncParameters::CYCLE_TIME, 250_000);
     od.target_velocity = 4_000;
     for n in 1..=8 {
         cycle(&mut axis, &mut od, 0x0F);
