@@ -479,7 +479,9 @@ impl Axis {
 
 /// 0x1C32:02, the cycle time.
 fn cycle_time(od: &AxisOd) -> u32 {
-    od.area.outputs.get(ecat_core::sync_parameters::SyncParameters::CYCLE_TIME)
+    od.area
+        .outputs
+        .get(ecat_core::sync_parameters::SyncParameters::CYCLE_TIME)
 }
 
 /// `position` clamped into the software position limits (active when min < max), and whether
