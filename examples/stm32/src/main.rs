@@ -20,13 +20,13 @@
 #![no_main]
 #![deny(unsafe_op_in_unsafe_fn, clippy::undocumented_unsafe_blocks)]
 
+use core::mem::MaybeUninit;
 use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_embassy::{Config, Control, ProcessDataRunner, Resources, StateMachineRunner};
 use ecat_stm32::board::{Board, DigitalIo, Leds, Pin};
 use ecat_stm32::{esc, park};
 use embassy_futures::block_on;
-use core::mem::MaybeUninit;
 use panic_probe as _;
 use static_cell::StaticCell;
 
