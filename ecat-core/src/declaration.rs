@@ -697,7 +697,7 @@ macro_rules! __ecat_default {
     };
     (array ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal
         $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? )) => {
-        ::core::array::from_fn(|_| $crate::__ecat_or!(::core::default::Default::default() $(, $default)?))
+        $crate::dictionary::filled($crate::__ecat_or!(::core::default::Default::default() $(, $default)?))
     };
     (pdo ( $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)? )) => {
         $crate::__ecat_or!(::core::default::Default::default() $(, const { $default })?)

@@ -364,6 +364,13 @@ pub const fn array_len_of<S, T, const N: usize>(_: fn(&S) -> &[T; N]) -> u8 {
     N as u8
 }
 
+/// An ARRAY's default: every element `value`, stored as one constant where `value` is one
+/// (`core::array::from_fn` left a run-time loop per array in the firmware's start-up).
+#[doc(hidden)]
+pub const fn filled<T: Copy, const N: usize>(value: T) -> [T; N] {
+    [value; N]
+}
+
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // compile time only, on a non-empty literal list
 pub const fn last_sub(subs: &[u8]) -> u8 {
