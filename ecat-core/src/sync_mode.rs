@@ -192,9 +192,13 @@ impl SyncParameters {
     pub const INPUTS: Self = Self::DEFAULT.with(Self::SYNC_TYPE, INPUT_SYNC_DEFAULT as u32);
 
     /// The record with entry `sub` set to the low bytes of `value` ([`SyncParameters::set`] for
-    /// `const` initialisers; SI0 stays 0x20).
+    /// `const` initialisers; SI0 stays 0x20; SI 0x20, a BOOLEAN, is 1 for any `value` but 0).
     pub const fn with(mut self, sub: u8, value: u32) -> Self {
         if let (1.., Some((start, end))) = (sub, span(sub)) {
+            let value = match sub {
+                Self::SYNC_ERROR if value != 0 => 1,
+                _ => value,
+            };
             let bytes = value.to_le_bytes();
             let mut i = start;
             while i < end {

@@ -322,7 +322,7 @@ pub fn check_input_sync_write(sub: u8, data: &[u8]) -> Result<(), AbortCode> {
 /// the device runs DC SYNC0, else 0, as SSC); in 0x1C33 also the inputs' sync mode (SI1,
 /// [`input_sync_type`]) of the `active` sync mode.
 ///
-/// The stack writes the fields themselves ([`ObjectDictionary::communication`]): read-only is
+/// The stack writes the records themselves ([`ObjectDictionary::communication`]): read-only is
 /// the MainDevice's restriction, not the stack's; 0x1C33:01 gets a sync mode the device
 /// supports, a code [`check_input_sync_write`] accepts.
 pub(crate) fn fill<D: ObjectDictionary>(
@@ -607,12 +607,12 @@ const fn has_sync_parameters<D>(objects: &[Object<D>]) -> bool {
     position(objects, OUTPUT_PARAMETERS).is_some() || position(objects, INPUT_PARAMETERS).is_some()
 }
 
-/// Stores the diagnostics into 0x1C32/0x1C33: a few stores into the fields, every cycle
+/// Stores the diagnostics into 0x1C32/0x1C33: a few stores into the records' bytes, every cycle
 /// (cheaper in flash than remembering what was stored to skip them). Out of line: inlined
 /// into the process-data task it is larger.
-#[inline(never)]
 ///
 /// The arguments are separate (no struct of the four): they come in registers.
+#[inline(never)]
 fn store<D: ObjectDictionary>(
     od: &mut D,
     measured_ns: Option<u32>,
@@ -813,6 +813,11 @@ mod tests {
         let values = [0, 1, 2, 3, 0x0B, 0x20].map(|sub| p.get(sub));
         assert_eq!(values, [0x20, 1, 0x0807_0605, 0x0403_0201, 0, 1]);
         assert_eq!(p.read(0x21, 0, &mut out), Err(AbortCode::NO_SUBINDEX));
+        // SI 0x20 is a BOOLEAN: any value but 0 is stored as 1.
+        p.set(SyncParameters::SYNC_ERROR, 2);
+        assert_eq!(p.get(SyncParameters::SYNC_ERROR), 1);
+        p.set(SyncParameters::SYNC_ERROR, 0);
+        assert_eq!(p.get(SyncParameters::SYNC_ERROR), 0);
     }
 
     #[test]

@@ -204,6 +204,9 @@ where
     /// then waits for the state machine's work in progress, at most one chunk of mailbox traffic
     /// ([`Resources::with_chunk`]). `irq` is the ESC's IRQ pin; no SYNC0. Returns when a runner
     /// stopped, with its error. With a [`Control`] beside: [`StateMachineRunner::run_with`].
+    /// Called again after an error, it goes on with the SubDevice as the runners left it (the
+    /// one [`Resources::split`] hands out), not from INIT: a restarted PDI meets the AL state,
+    /// mailbox and requests in flight of before.
     pub async fn run<I: Wait>(&mut self, irq: I) -> Error<P::Error, I::Error> {
         let (state_machine, process_data, _) = self.split();
         state_machine.run_with(process_data, irq).await

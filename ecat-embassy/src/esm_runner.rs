@@ -14,6 +14,7 @@ use embassy_time::Timer;
 use embedded_hal_async::digital::Wait;
 
 use crate::device::{AppCell, Common};
+use crate::handed_over::handed_over;
 use crate::or_never::OrNever;
 use crate::pd_runner::{Error, ProcessDataRunner};
 use crate::pdi::Data;
@@ -91,12 +92,7 @@ where
         async move {
             // The runner's own future never completes: the error it hands over ends this one.
             let error = Cell::new(None);
-            let mut runner = pin!(run(common, sub, storage, |e| error.set(Some(e))));
-            poll_fn(|cx| {
-                let _ = runner.as_mut().poll(cx);
-                error.take().map_or(Poll::Pending, Poll::Ready)
-            })
-            .await
+            handed_over(&error, run(common, sub, storage, |e| error.set(Some(e)))).await
         }
     }
 

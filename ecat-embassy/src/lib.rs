@@ -124,6 +124,7 @@
 pub mod app;
 pub mod device;
 pub mod esm_runner;
+mod handed_over;
 pub mod indicator;
 pub mod mcu;
 mod or_never;

@@ -2,9 +2,7 @@
 //! `InterruptExecutor` at a priority above the thread executor.
 
 use core::cell::Cell;
-use core::future::poll_fn;
 use core::pin::pin;
-use core::task::Poll;
 
 use ecat_core::AlEvent;
 use ecat_core::device::Area;
@@ -20,6 +18,7 @@ use embassy_time::Instant;
 use embedded_hal_async::digital::Wait;
 
 use crate::device::Common;
+use crate::handed_over::handed_over;
 use crate::or_never::OrNever;
 use crate::pdi::Data;
 use crate::shared::{Reports, Runner};
@@ -107,11 +106,10 @@ where
         async move {
             // The runner's own future never completes: the error it hands over ends this one.
             let error = Cell::new(None);
-            let mut runner = pin!(run(common, irq, sync0, buffers, |e| error.set(Some(e))));
-            poll_fn(|cx| {
-                let _ = runner.as_mut().poll(cx);
-                error.take().map_or(Poll::Pending, Poll::Ready)
-            })
+            handed_over(
+                &error,
+                run(common, irq, sync0, buffers, |e| error.set(Some(e))),
+            )
             .await
         }
     }

@@ -133,8 +133,8 @@ pub trait ObjectDictionary: Sized + 'static {
 
     /// The communication area's values (0x1018, 0x1C32, 0x1C33): `None` for a dictionary
     /// without it (the default), the field of `dictionary!`'s `communication` item. The stack
-    /// fills the sync parameters and keeps their diagnostics in the fields themselves
-    /// ([`crate::sync_parameters`]): no lookup, no encoding.
+    /// fills the sync parameters and keeps their diagnostics in their records, the objects'
+    /// bytes ([`crate::sync_parameters`]): no lookup, no encoding.
     fn communication(&mut self) -> Option<&mut Communication> {
         None
     }
