@@ -230,9 +230,7 @@ impl SyncParameters {
     #[inline]
     pub fn get(&self, sub: u8) -> u32 {
         let mut bytes = [0; 4];
-        for (b, e) in bytes.iter_mut().zip(self.entry(sub).unwrap_or_default()) {
-            *b = *e;
-        }
+        crate::bytes::copy(&mut bytes, self.entry(sub).unwrap_or_default());
         u32::from_le_bytes(bytes)
     }
 
@@ -247,7 +245,7 @@ impl SyncParameters {
     /// compile time (the stack's own fills).
     #[inline(always)]
     pub(crate) fn put<const SUB: u8, const N: usize>(&mut self, bytes: [u8; N]) {
-        let start = const { entry_start(SUB, N) };
+        let start = Entry::<SUB, N>::START;
         if let Some(dst) = self.0.get_mut(start..).and_then(|s| s.first_chunk_mut()) {
             *dst = bytes;
         }
@@ -256,7 +254,7 @@ impl SyncParameters {
     /// The `N` bytes of entry `SUB` (the stack's own reads, as [`SyncParameters::put`]).
     #[inline(always)]
     pub(crate) fn take<const SUB: u8, const N: usize>(&self) -> [u8; N] {
-        let start = const { entry_start(SUB, N) };
+        let start = Entry::<SUB, N>::START;
         self.0
             .get(start..)
             .and_then(|s| s.first_chunk())
@@ -265,22 +263,25 @@ impl SyncParameters {
     }
 }
 
-/// Where entry `sub` starts in the record and its size, for `const` blocks: a subindex the
-/// object lacks is a build error.
-#[allow(clippy::panic)] // evaluated at compile time only (`const` blocks): a build error
-pub(crate) const fn entry_span(sub: u8) -> (usize, usize) {
-    match span(sub) {
+/// Entry `SUB` of the record as compile-time constants: [`Entry::SPAN`] (its start and size)
+/// and, for an entry of `N` bytes, [`Entry::START`]. A subindex the object lacks, or `N` not
+/// the entry's size, fails the build. The checks live in associated constants, which are only
+/// ever evaluated by the compiler: no code path at run time can reach them.
+pub(crate) struct Entry<const SUB: u8, const N: usize = 0>;
+
+impl<const SUB: u8, const N: usize> Entry<SUB, N> {
+    /// Where the entry starts in the record, and its size in bytes.
+    #[allow(clippy::panic)] // a constant: a build error, never a run-time panic
+    pub(crate) const SPAN: (usize, usize) = match span(SUB) {
         Some((start, end)) => (start, end - start),
         None => panic!("no such entry"),
-    }
-}
+    };
 
-/// Where entry `sub` of `size` bytes starts: a compile-time check of [`SyncParameters::put`]'s
-/// and [`SyncParameters::take`]'s arguments.
-#[allow(clippy::panic)] // evaluated at compile time only (`const` blocks): a build error
-const fn entry_start(sub: u8, size: usize) -> usize {
-    match entry_span(sub) {
-        (start, n) if n == size => start,
+    /// Where the entry starts, checked to be `N` bytes long ([`SyncParameters::put`],
+    /// [`SyncParameters::take`]).
+    #[allow(clippy::panic)] // a constant: a build error, never a run-time panic
+    pub(crate) const START: usize = match Self::SPAN {
+        (start, n) if n == N => start,
         _ => panic!("not the entry's size"),
-    }
+    };
 }

@@ -26,7 +26,7 @@ use crate::dictionary::{
 };
 use crate::register::DcActivation;
 pub use crate::sync_mode::SyncParameters;
-use crate::sync_mode::{SupportedSyncModes, SyncMode, entry_span};
+use crate::sync_mode::{Entry, SupportedSyncModes, SyncMode};
 use crate::time::{Duration, Instant};
 
 impl SyncParameters {
@@ -44,9 +44,9 @@ impl SyncParameters {
     /// longer, 0x06070013 shorter); its bytes are the entry's.
     pub fn write(&mut self, sub: u8, data: &[u8]) -> Result<(), AbortCode> {
         let (start, size) = match sub {
-            Self::SYNC_TYPE => const { entry_span(Self::SYNC_TYPE) },
-            Self::CYCLE_TIME => const { entry_span(Self::CYCLE_TIME) },
-            Self::GET_CYCLE_TIME => const { entry_span(Self::GET_CYCLE_TIME) },
+            Self::SYNC_TYPE => Entry::<{ Self::SYNC_TYPE }>::SPAN,
+            Self::CYCLE_TIME => Entry::<{ Self::CYCLE_TIME }>::SPAN,
+            Self::GET_CYCLE_TIME => Entry::<{ Self::GET_CYCLE_TIME }>::SPAN,
             0..=0x0D | 0x20 => return Err(AbortCode::READ_ONLY),
             _ => return Err(AbortCode::NO_SUBINDEX),
         };
