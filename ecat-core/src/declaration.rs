@@ -261,6 +261,11 @@ macro_rules! __ecat_impl {
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
 
+            const MAPPABLE: &'static [u32] = &$crate::pdo::layout::mappable_keys::<
+                $dict,
+                { $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },
+            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
             #[allow(unused_variables)] // a dictionary without RxPDO-mappable entries
             fn unpack_mapped(&mut self, offsets: &$crate::dictionary::PerMappable<Self, u16>, image: &[u8]) {
                 let od = self;

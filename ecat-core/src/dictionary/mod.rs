@@ -117,6 +117,13 @@ pub trait ObjectDictionary: Sized + 'static {
     /// number a binary search.
     const FIRST_ENTRIES: &'static [u16];
 
+    /// Every PDO-mappable entry's key, by [number](crate::pdo::layout::number)
+    /// ([`mappable_keys`](crate::pdo::layout::mappable_keys)): its index and subindex, the
+    /// directions it may be mapped in and its bit length, one word each, ascending. What a
+    /// mapping entry is checked against and a layout made from at run time: one binary search,
+    /// no walk of the descriptions.
+    const MAPPABLE: &'static [u32];
+
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
     /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
     fn unpack_mapped(&mut self, offsets: &PerMappable<Self, u16>, image: &[u8]);
@@ -160,6 +167,7 @@ impl ObjectDictionary for () {
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
     const FIRST_ENTRIES: &'static [u16] = &[];
+    const MAPPABLE: &'static [u32] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
 }

@@ -182,7 +182,7 @@ impl<D: ObjectDictionary, R: Length> Layout<D, R> {
     /// The bit offset of `index:sub` in the image, `None` if the layout does not map it (for a
     /// TxPDO entry mapped more than once: its first place).
     pub fn offset(&self, index: u16, sub: u8) -> Option<u16> {
-        let (_, number) = find::<D>(index, sub)?;
+        let number = search::<D>(MappingEntry::new(index, sub, 0))?;
         self.offsets
             .as_ref()
             .get(number)
@@ -250,31 +250,90 @@ pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
     None
 }
 
-/// The description of the PDO-mappable entry `index:sub` and its [number](number): one
-/// search at run time, where [`number`] serves the `const` code of `dictionary!`.
-fn find<D: ObjectDictionary>(index: u16, sub: u8) -> Option<(&'static EntryInfo, usize)> {
-    let i = D::INDICES.binary_search(&index).ok()?;
-    let info = &D::OBJECTS.get(i)?.info;
-    let first = usize::from(*D::FIRST_ENTRIES.get(i)?);
-    match mappable_position(info, Some(sub)) {
-        Ok((position, entry)) => Some((entry, first + position)),
-        Err(_) => None,
-    }
+/// The [number](number) of the PDO-mappable entry `entry` names (its index and subindex; the
+/// bit length aside): a binary search of [`ObjectDictionary::MAPPABLE`], where the entries
+/// stand in number order.
+fn search<D: ObjectDictionary>(entry: MappingEntry) -> Option<usize> {
+    let wanted = entry.0 >> 8;
+    D::MAPPABLE
+        .binary_search_by(|key| (key >> 8).cmp(&wanted))
+        .ok()
 }
 
 /// The [number](number) of the entry `entry` maps, when it names a PDO-mappable entry of `D`
 /// that `direction` may map, with the entry's bit length: what a mapping entry must be, when it
 /// is written (0x06040041, [`check_mapping_entry`](super::check_mapping_entry)) and when the
 /// layout is made (0x0024/0x0025). `dictionary!` asserts that every PDO-mappable entry has a
-/// mappable type. Out of line: one copy for both.
+/// mappable type. One search of the [keys](mappable_key) the dictionary's table gives at
+/// compile time, no walk of its descriptions. Out of line: one copy for both.
 #[inline(never)]
 pub(crate) fn mappable<D: ObjectDictionary>(
     entry: MappingEntry,
     direction: Direction,
 ) -> Option<usize> {
-    let (info, number) = find::<D>(entry.index(), entry.sub())?;
-    let fits = info.bit_len == u16::from(entry.bit_len());
-    (fits && direction.allows(info.access)).then_some(number)
+    let number = search::<D>(entry)?;
+    let key = *D::MAPPABLE.get(number)?;
+    let fits = key & BIT_LEN == u32::from(entry.bit_len()).wrapping_sub(1);
+    let flag = match direction {
+        Direction::Rx => RX_KEY,
+        Direction::Tx => TX_KEY,
+    };
+    (fits && key & flag != 0).then_some(number)
+}
+
+/// A [key](mappable_key)'s bit length less one (mappable entries are 1..=64 bits).
+const BIT_LEN: u32 = 0x3F;
+/// A [key](mappable_key)'s flag: RxPDO-mappable.
+const RX_KEY: u32 = 0x40;
+/// A [key](mappable_key)'s flag: TxPDO-mappable.
+const TX_KEY: u32 = 0x80;
+
+/// The key of a PDO-mappable entry in [`ObjectDictionary::MAPPABLE`]: `index << 16 | sub << 8`,
+/// then bit 7 TxPDO-mappable, bit 6 RxPDO-mappable, bits 0..6 the bit length less one.
+const fn mappable_key(index: u16, sub: u8, entry: &EntryInfo) -> u32 {
+    assert!(
+        entry.bit_len >= 1 && entry.bit_len <= 64,
+        "a PDO-mappable entry has 1..=64 bits"
+    );
+    let mut key = (index as u32) << 16 | (sub as u32) << 8 | (entry.bit_len as u32 - 1);
+    if entry.access.rxpdo() {
+        key |= RX_KEY;
+    }
+    if entry.access.txpdo() {
+        key |= TX_KEY;
+    }
+    key
+}
+
+/// The [key](mappable_key) of every PDO-mappable entry of `objects`, by [number](number):
+/// [`ObjectDictionary::MAPPABLE`], `N` = [`mappable_entries`]. Ascending, as the objects and
+/// their entries are.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn mappable_keys<D, const N: usize>(objects: &[Object<D>]) -> [u32; N] {
+    let mut keys = [0; N];
+    let mut n = 0;
+    let mut i = 0;
+    while i < objects.len() {
+        let info = &objects[i].info;
+        // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
+        let count = if info.is_uniform() { info.max_sub } else { 1 };
+        let mut j = 0;
+        while j < info.entries.len() {
+            let entry = &info.entries[j];
+            if entry.access.rxpdo() || entry.access.txpdo() {
+                let mut k = 0;
+                while k < count {
+                    keys[n] = mappable_key(info.index, entry.sub + k, entry);
+                    n += 1;
+                    k += 1;
+                }
+            }
+            j += 1;
+        }
+        i += 1;
+    }
+    assert!(n == N);
+    keys
 }
 
 /// The number of each object's first mappable entry (the count of mappable entries before it):
