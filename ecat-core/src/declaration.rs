@@ -256,11 +256,6 @@ macro_rules! __ecat_impl {
                 $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
             ) }>;
 
-            const FIRST_ENTRIES: &'static [u16] = &$crate::pdo::layout::first_entries::<
-                $dict,
-                { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
-            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
-
             const MAPPABLE: &'static [u32] = &$crate::pdo::layout::mappable_keys::<
                 $dict,
                 { $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },

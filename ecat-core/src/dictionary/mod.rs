@@ -112,11 +112,6 @@ pub trait ObjectDictionary: Sized + 'static {
     /// dictionary without PDO-mappable entries, whose layouts then take no space for them.
     type Repeatable: Length;
 
-    /// The number of each object's first PDO-mappable entry, parallel to [`Self::OBJECTS`]
-    /// ([`first_entries`](crate::pdo::layout::first_entries)): what makes finding an entry's
-    /// number a binary search.
-    const FIRST_ENTRIES: &'static [u16];
-
     /// Every PDO-mappable entry's key, by [number](crate::pdo::layout::number)
     /// ([`mappable_keys`](crate::pdo::layout::mappable_keys)): its index and subindex, the
     /// directions it may be mapped in and its bit length, one word each, ascending. What a
@@ -166,7 +161,6 @@ impl ObjectDictionary for () {
     const INDICES: &'static [u16] = &[];
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
-    const FIRST_ENTRIES: &'static [u16] = &[];
     const MAPPABLE: &'static [u32] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}

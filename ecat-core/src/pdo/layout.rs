@@ -182,7 +182,7 @@ impl<D: ObjectDictionary, R: Length> Layout<D, R> {
     /// The bit offset of `index:sub` in the image, `None` if the layout does not map it (for a
     /// TxPDO entry mapped more than once: its first place).
     pub fn offset(&self, index: u16, sub: u8) -> Option<u16> {
-        let number = search::<D>(MappingEntry::new(index, sub, 0))?;
+        let number = number::<D>(index, sub)?;
         self.offsets
             .as_ref()
             .get(number)
@@ -207,57 +207,63 @@ impl<D: ObjectDictionary, R: Length> Layout<D, R> {
 }
 
 /// The number of PDO-mappable entries in `objects` (the length of
-/// [`ObjectDictionary::Mappable`]).
-#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
+/// [`ObjectDictionary::Mappable`]): an ARRAY's (a uniform RECORD's) element entry counts once
+/// per element. At most 65 535: a layout keeps a 16-bit offset per mappable entry, and a
+/// dictionary with more does not compile.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
 pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
     let mut n = 0;
     let mut i = 0;
     while i < objects.len() {
-        n += mappable_in(&objects[i].info);
+        let info = &objects[i].info;
+        let mut j = 0;
+        while j < info.entries.len() {
+            if is_mappable(&info.entries[j]) {
+                n += elements(info) as usize;
+            }
+            j += 1;
+        }
         i += 1;
     }
+    assert!(n <= u16::MAX as usize, "at most 65 535 PDO-mappable entries");
     n
+}
+
+/// Whether `entry` may be mapped in a PDO, in either direction.
+const fn is_mappable(entry: &EntryInfo) -> bool {
+    entry.access.rxpdo() || entry.access.txpdo()
+}
+
+/// How many subindices each entry of `info` stands for: an ARRAY's (a uniform RECORD's)
+/// element entry all of 1..=max_sub, any other one its own.
+const fn elements(info: &ObjectInfo) -> u8 {
+    if info.is_uniform() { info.max_sub } else { 1 }
 }
 
 /// The number of the PDO-mappable entry `index:sub` of `D`: the mappable entries (RxPDO or
 /// TxPDO) counted in index order, subindex order within a RECORD, element by element within an
-/// ARRAY. `None` when `index:sub` is not mappable or does not exist. A binary search for the
-/// object, then its first number ([`ObjectDictionary::FIRST_ENTRIES`]) and the entry's place in
-/// it; `const`, so the code `dictionary!` generates gets every field's number as a constant.
-/// No indexing (no panic path at run time: `mid` < `len` of both tables, `FIRST_ENTRIES` is
-/// parallel, but the compiler does not see it).
+/// ARRAY — their place in [`ObjectDictionary::MAPPABLE`]. `None` when `index:sub` is not
+/// mappable or does not exist. A binary search of that table, by index and subindex; `const`,
+/// so the code `dictionary!` generates gets every field's number as a constant, and the one
+/// search at run time (a mapping entry's check, a layout). No indexing (no panic path).
 pub const fn number<D: ObjectDictionary>(index: u16, sub: u8) -> Option<usize> {
-    let (objects, first) = (D::OBJECTS, D::FIRST_ENTRIES);
-    let (mut low, mut high) = (0, objects.len());
-    while low < high {
-        let mid = low + (high - low) / 2;
-        let Some((_, [object, ..])) = objects.split_at_checked(mid) else {
-            return None;
-        };
-        let info = &object.info;
-        if info.index < index {
-            low = mid + 1;
-        } else if info.index > index {
-            high = mid;
-        } else if let Some((_, [number, ..])) = first.split_at_checked(mid)
-            && let Some(position) = position_in(info, sub)
+    let wanted = MappingEntry::new(index, sub, 0).0 >> 8;
+    let keys = D::MAPPABLE;
+    // The last key at or below `wanted`, by halving (as `slice::binary_search`).
+    let (mut base, mut size) = (0, keys.len());
+    while size > 1 {
+        let half = size / 2;
+        if let Some((_, [key, ..])) = keys.split_at_checked(base + half)
+            && *key >> 8 <= wanted
         {
-            return Some(*number as usize + position);
-        } else {
-            return None;
+            base += half;
         }
+        size -= half;
     }
-    None
-}
-
-/// The [number](number) of the PDO-mappable entry `entry` names (its index and subindex; the
-/// bit length aside): a binary search of [`ObjectDictionary::MAPPABLE`], where the entries
-/// stand in number order.
-fn search<D: ObjectDictionary>(entry: MappingEntry) -> Option<usize> {
-    let wanted = entry.0 >> 8;
-    D::MAPPABLE
-        .binary_search_by(|key| (key >> 8).cmp(&wanted))
-        .ok()
+    match keys.split_at_checked(base) {
+        Some((_, [key, ..])) if *key >> 8 == wanted => Some(base),
+        _ => None,
+    }
 }
 
 /// The [number](number) of the entry `entry` maps, when it names a PDO-mappable entry of `D`
@@ -271,7 +277,7 @@ pub(crate) fn mappable<D: ObjectDictionary>(
     entry: MappingEntry,
     direction: Direction,
 ) -> Option<usize> {
-    let number = search::<D>(entry)?;
+    let number = number::<D>(entry.index(), entry.sub())?;
     let key = *D::MAPPABLE.get(number)?;
     let fits = key & BIT_LEN == u32::from(entry.bit_len()).wrapping_sub(1);
     let flag = match direction {
@@ -315,14 +321,12 @@ pub const fn mappable_keys<D, const N: usize>(objects: &[Object<D>]) -> [u32; N]
     let mut i = 0;
     while i < objects.len() {
         let info = &objects[i].info;
-        // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
-        let count = if info.is_uniform() { info.max_sub } else { 1 };
         let mut j = 0;
         while j < info.entries.len() {
             let entry = &info.entries[j];
-            if entry.access.rxpdo() || entry.access.txpdo() {
+            if is_mappable(entry) {
                 let mut k = 0;
-                while k < count {
+                while k < elements(info) {
                     keys[n] = mappable_key(info.index, entry.sub + k, entry);
                     n += 1;
                     k += 1;
@@ -334,69 +338,6 @@ pub const fn mappable_keys<D, const N: usize>(objects: &[Object<D>]) -> [u32; N]
     }
     assert!(n == N);
     keys
-}
-
-/// The number of each object's first mappable entry (the count of mappable entries before it):
-/// [`ObjectDictionary::FIRST_ENTRIES`], `N` = the number of objects. 16 bits each: a layout
-/// keeps a 16-bit offset per mappable entry, and a dictionary with more than 65 535 of them does
-/// not compile.
-#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-pub const fn first_entries<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
-    let mut first = [0; N];
-    let mut n = 0;
-    let mut i = 0;
-    while i < N && i < objects.len() {
-        assert!(
-            n <= u16::MAX as usize,
-            "at most 65 535 PDO-mappable entries"
-        );
-        first[i] = n as u16;
-        n += mappable_in(&objects[i].info);
-        i += 1;
-    }
-    first
-}
-
-/// How many mappable entries `info` has.
-const fn mappable_in(info: &ObjectInfo) -> usize {
-    match mappable_position(info, None) {
-        Ok((n, _)) | Err(n) => n,
-    }
-}
-
-/// The position of `sub` among the mappable entries of `info`, `None` if it is not one.
-const fn position_in(info: &ObjectInfo, sub: u8) -> Option<usize> {
-    match mappable_position(info, Some(sub)) {
-        Ok((position, _)) => Some(position),
-        Err(_) => None,
-    }
-}
-
-/// `Ok((position, its description))` of `wanted` among the mappable entries of `info`, or
-/// `Err(count of them)`.
-#[allow(clippy::indexing_slicing)] // bounded by the loop condition
-const fn mappable_position(
-    info: &ObjectInfo,
-    wanted: Option<u8>,
-) -> Result<(usize, &EntryInfo), usize> {
-    // An ARRAY's (a uniform RECORD's) element entry stands for subindices 1..=max_sub.
-    let count = if info.is_uniform() { info.max_sub } else { 1 };
-    let mut n = 0;
-    let mut j = 0;
-    while j < info.entries.len() {
-        let entry = &info.entries[j];
-        if entry.access.rxpdo() || entry.access.txpdo() {
-            if let Some(sub) = wanted
-                && sub >= entry.sub
-                && sub - entry.sub < count
-            {
-                return Ok((n + (sub - entry.sub) as usize, entry));
-            }
-            n += count as usize;
-        }
-        j += 1;
-    }
-    Err(n)
 }
 
 /// A PDO configuration object's value that a walk ([`walk`]) takes instead of the
