@@ -253,7 +253,7 @@ macro_rules! __ecat_impl {
             ) }>;
 
             type Repeatable = $crate::dictionary::Len<{ $crate::pdo::layout::repeat_room(
-                $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS),
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
             ) }>;
 
             const MAPPABLE: &'static [u32] = &$crate::pdo::layout::mappable_keys::<

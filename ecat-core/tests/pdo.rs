@@ -372,6 +372,36 @@ fn too_many_repeated_tx_entries_are_0x0024() {
     ));
 }
 
+/// A layout's room for repeats is what the TxPDO configuration can hold: one PDO (0x1C13 of
+/// capacity 1) of three entries holds two, all of which a layout keeps.
+#[test]
+fn repeat_room_is_what_the_tx_configuration_holds() {
+    struct Small {
+        value: u16,
+        tx: PdoMapping<3>,
+        tx_assign: PdoAssignment<1>,
+    }
+    const ONE: [MappingEntry; 1] = [MappingEntry::new(0x6000, 0, 16)];
+    ecat_core::dictionary! {
+        minimal Small {
+            0x1A00 => pdo(tx, RO, "TxPDO", "Mapped object", default = PdoMapping::mapping(&ONE));
+            0x1C13 => pdo(tx_assign, RO, "SM3 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[0x1A00]));
+            0x6000 => var(value, RO | TXPDO, "Value");
+        }
+    }
+    let room = <<Small as ObjectDictionary>::Repeatable as Length>::array(0u8);
+    assert_eq!(room.as_ref().len(), 2);
+    assert_eq!(<<Od as ObjectDictionary>::Repeatable as Length>::array(0u8).as_ref().len(), 8);
+    let entry = MappingEntry::new(0x6000, 0, 16);
+    let od = Small {
+        tx: PdoMapping::mapping(&[entry; 3]),
+        ..Small::default()
+    };
+    let tx = Layout::of(&od, Direction::Tx).unwrap().unwrap();
+    assert_eq!(tx.bytes(), 6);
+    assert_eq!(tx.repeats().len(), 2);
+}
+
 #[test]
 fn an_unusable_mapping_is_0x0025_or_0x0024() {
     let mut od = Od {

@@ -108,8 +108,9 @@ pub trait ObjectDictionary: Sized + 'static {
     type Mappable: Length;
 
     /// How many TxPDO entries a configuration may map a second time, as a [`Length`]:
-    /// [`repeat_room`](crate::pdo::layout::repeat_room) of the mappable entries — none for a
-    /// dictionary without PDO-mappable entries, whose layouts then take no space for them.
+    /// [`repeat_room`](crate::pdo::layout::repeat_room) of the objects — as many as its TxPDO
+    /// configurations can hold, none for a dictionary without TxPDO-mappable entries, whose
+    /// layouts then take no space for them.
     type Repeatable: Length;
 
     /// Every PDO-mappable entry's key, by [number](crate::pdo::layout::number)

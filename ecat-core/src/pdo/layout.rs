@@ -60,11 +60,40 @@ impl Repeat {
     };
 }
 
-/// [`ObjectDictionary::Repeatable`] for a dictionary with `mappable` PDO-mappable
-/// entries: [`MAX_REPEATS`], or none when there is no entry to map twice (a layout of such a
-/// dictionary then carries no room for repeats).
-pub const fn repeat_room(mappable: usize) -> usize {
-    if mappable == 0 { 0 } else { MAX_REPEATS }
+/// [`ObjectDictionary::Repeatable`] for a dictionary of `objects`: room for as many repeats
+/// as a TxPDO configuration of its objects can hold, at most [`MAX_REPEATS`]. A walk sees at
+/// most the TxPDO assignment's capacity (0x1C13's highest subindex) times the largest TxPDO
+/// mapping's entries, the first of which is no repeat; none without a TxPDO-mappable entry (a
+/// layout of such a dictionary then carries no room for repeats). More than the room can never
+/// be mapped, so the room changes no answer: it only keeps the process-data runner's layout
+/// no larger than the dictionary's configurations need (the digital I/O's: 4 repeats, 20 bytes
+/// less).
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn repeat_room<D>(objects: &[Object<D>]) -> usize {
+    let (mut assigned, mut largest, mut mappable) = (0, 0, false);
+    let mut i = 0;
+    while i < objects.len() {
+        let info = &objects[i].info;
+        if info.index == Direction::Tx.assignment() {
+            assigned = info.max_sub as usize;
+        } else if Direction::Tx.is_mapping(info.index) && info.max_sub as usize > largest {
+            largest = info.max_sub as usize;
+        }
+        let mut j = 0;
+        while j < info.entries.len() {
+            mappable |= info.entries[j].access.txpdo();
+            j += 1;
+        }
+        i += 1;
+    }
+    let room = (assigned * largest).saturating_sub(1);
+    if !mappable {
+        0
+    } else if room < MAX_REPEATS {
+        room
+    } else {
+        MAX_REPEATS
+    }
 }
 
 /// One direction's image: the offset of every mappable entry and the image size, with room `R`
