@@ -340,9 +340,10 @@ const fn mappable_key(index: u16, sub: u8, entry: &EntryInfo) -> u32 {
     key
 }
 
-/// The [key](mappable_key) of every PDO-mappable entry of `objects`, by [number](number):
-/// [`ObjectDictionary::MAPPABLE`], `N` = [`mappable_entries`]. Ascending, as the objects and
-/// their entries are.
+/// The key of every PDO-mappable entry of `objects`, by [`number`]:
+/// [`ObjectDictionary::MAPPABLE`], `N` = [`mappable_entries`]. A key is `index << 16 | sub << 8`,
+/// then bit 7 TxPDO-mappable, bit 6 RxPDO-mappable, bits 0..6 the bit length less one;
+/// ascending, as the objects and their entries are.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
 pub const fn mappable_keys<D, const N: usize>(objects: &[Object<D>]) -> [u32; N] {
     let mut keys = [0; N];
