@@ -305,12 +305,16 @@ type InputWrite<'b> = Option<(u16, &'b [u8])>;
 type ExchangeAccess<'b> = Option<(u16, Data<'b>, AlEvent)>;
 
 /// What one exchange needs.
+// `repr(C)`, the PDO images first: the future is built at spawn with the images `None`, and
+// the buffers beside its other parts rather than behind 80 bytes the builder copies undefined
+// (docs/performance.md, "Codegen rules").
+#[repr(C)]
 struct Exchange<'a, P, A, D: ObjectDictionary> {
-    common: &'a Common<P, A, D>,
-    buffers: Buffers<'a>,
     images: Option<Images<D>>,
+    buffers: Buffers<'a>,
     /// The diagnostics of 0x1C32/0x1C33.
     monitor: CycleMonitor,
+    common: &'a Common<P, A, D>,
     /// What the state-machine runner was told since the layout changed: it needs the first
     /// outputs and the first SYNC0 cycle after entering SAFEOP (for SAFEOP→OP), not every one.
     reported: Reported,

@@ -34,12 +34,42 @@ pub fn indicators(
     ecat_embassy::run_indicators(status, leds)
 }
 
-/// Parks the calling task for good: what a firmware task does once its runner stopped (after
-/// logging why). A task that never completes is never dropped, so the executor carries no drop
-/// code for its future: the runners' nested futures, the SPI transfers, the board's pins.
-pub async fn park() -> ! {
-    loop {
-        core::future::pending::<()>().await;
+/// A task's future that is `Send` until its first poll: it is made from parts that are `Send`
+/// and only hold them until then. The process-data task's future is the runner's own
+/// (`ProcessDataRunner::run_then`), without an `async fn` around it that keeps the runner and
+/// the IRQ pin a second time (24 bytes of RAM); the interrupt executor's `SendSpawner` takes
+/// only `Send` futures, and embassy-stm32's SPI transfer future holds raw pointers across its
+/// await (docs/performance.md, "Codegen rules").
+pub struct SentBeforePoll<F>(F);
+
+impl<F: core::future::Future> SentBeforePoll<F> {
+    /// The future `make(parts)`, whose parts are `Send`.
+    ///
+    /// # Safety
+    /// `make` only moves the parts into the future, which does its work from its first poll on
+    /// (the runners' `run_then` do); the value is sent to another context (an executor of
+    /// another priority) only before that poll: a task spawner does exactly that.
+    /// embassy-executor reasons the same way for an `async fn` task whose arguments are `Send`
+    /// (`TaskPool::_spawn_async_fn`).
+    pub unsafe fn new<T: Send>(parts: T, make: impl FnOnce(T) -> F) -> Self {
+        Self(make(parts))
+    }
+}
+
+// SAFETY: until its first poll the future holds only the `Send` parts it was made of; `new`'s
+// contract keeps it from being sent after.
+unsafe impl<F> Send for SentBeforePoll<F> {}
+
+impl<F: core::future::Future> core::future::Future for SentBeforePoll<F> {
+    type Output = F::Output;
+
+    fn poll(
+        self: core::pin::Pin<&mut Self>,
+        cx: &mut core::task::Context<'_>,
+    ) -> core::task::Poll<F::Output> {
+        // SAFETY: structural pinning: the future is never moved out of the wrapper, which has no
+        // `Drop` of its own.
+        unsafe { self.map_unchecked_mut(|sent| &mut sent.0) }.poll(cx)
     }
 }
 

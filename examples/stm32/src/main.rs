@@ -25,7 +25,7 @@ use defmt::{error, info, unwrap};
 use defmt_rtt as _;
 use ecat_embassy::{Config, Control, ProcessDataRunner, Resources, StateMachineRunner};
 use ecat_stm32::board::{Board, DigitalIo, Leds, Pin};
-use ecat_stm32::{esc, park};
+use ecat_stm32::{SentBeforePoll, esc};
 use embassy_futures::block_on;
 use panic_probe as _;
 use static_cell::StaticCell;
@@ -165,23 +165,35 @@ fn state_machine(runner: Runner) -> impl Future<Output = ()> {
 
 /// The process-data exchange, in the interrupt executor; owns the PDI IRQ line. The device runs
 /// SM-synchronous (no DC SYNC0 in `DEVICE`): SYNC0 only latches the inputs, in `sync` below.
-/// An `async fn` around `run_then`'s future, not that future itself: the interrupt executor's
-/// spawner takes a `Send` future (or an `async fn`'s `Send` arguments), and the SPI transfer's
-/// future is not `Send`.
+/// The task's future is the runner's own, which logs the error and parks (`run_then`), sent to
+/// the interrupt executor before its first poll (`SentBeforePoll`: the SPI transfer's future is
+/// not `Send`).
 #[embassy_executor::task]
-async fn exchange(runner: ProcessDataRunner<'static, esc::Pdi, App, Od>, irq: Pin) -> ! {
-    runner
-        .run_then(irq, |e| error!("process data stopped: {}", e))
-        .await;
-    park().await
+fn exchange(
+    runner: ProcessDataRunner<'static, esc::Pdi, App, Od>,
+    irq: Pin,
+) -> impl Future<Output = ()> + Send {
+    // SAFETY: the interrupt executor's spawner sends it before its first poll.
+    unsafe {
+        SentBeforePoll::new((runner, irq), |(runner, irq)| {
+            runner.run_then(irq, |e| error!("process data stopped: {}", e))
+        })
+    }
 }
 
 /// SYNC0 from the ESC's distributed clock: latches the inputs (in the interrupt executor, so the
-/// instant does not depend on the mailbox's work).
+/// instant does not depend on the mailbox's work). A `fn` returning its loop: an `async fn`
+/// task keeps its arguments beside the ones its body works on.
+#[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 #[embassy_executor::task]
-async fn sync(control: Control<'static, esc::Pdi, App, Od>, mut sync0: Pin) {
-    loop {
-        sync0.wait_for_falling_edge().await;
-        control.lock(|io, _| io.on_sync0());
+fn sync(
+    control: Control<'static, esc::Pdi, App, Od>,
+    mut sync0: Pin,
+) -> impl Future<Output = ()> + Send {
+    async move {
+        loop {
+            sync0.wait_for_falling_edge().await;
+            control.lock(|io, _| io.on_sync0());
+        }
     }
 }

@@ -13,7 +13,7 @@ use defmt_rtt as _;
 use ecat_axis::{Axis, AxisOd};
 use ecat_embassy::{Config, ProcessDataRunner, Resources, StateMachineRunner};
 use ecat_stm32::board::{Board, Pin};
-use ecat_stm32::{esc, park};
+use ecat_stm32::{SentBeforePoll, esc};
 use embassy_futures::block_on;
 use panic_probe as _;
 use static_cell::StaticCell;
@@ -59,15 +59,18 @@ fn state_machine(
     runner.run_then(|e| error!("PDI failed: {}", e))
 }
 
-/// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines.
+/// The axis's cycle, in the interrupt executor; owns the PDI IRQ and SYNC0 lines. The task's
+/// future is the runner's own, sent before its first poll (as in `src/main.rs`).
 #[embassy_executor::task]
-async fn exchange(
+fn exchange(
     runner: ProcessDataRunner<'static, esc::Pdi, Axis, AxisOd>,
     irq: Pin,
     sync0: Pin,
-) -> ! {
-    runner
-        .run_with_sync0_then(irq, sync0, |e| error!("process data stopped: {}", e))
-        .await;
-    park().await
+) -> impl Future<Output = ()> + Send {
+    // SAFETY: the interrupt executor's spawner sends it before its first poll.
+    unsafe {
+        SentBeforePoll::new((runner, irq, sync0), |(runner, irq, sync0)| {
+            runner.run_with_sync0_then(irq, sync0, |e| error!("process data stopped: {}", e))
+        })
+    }
 }
