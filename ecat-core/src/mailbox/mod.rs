@@ -83,6 +83,10 @@ pub(crate) const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
 // `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
 #[repr(C)]
 pub(crate) struct Mailbox<const N: usize> {
+    /// The earliest timeout of the handlers beside the first after the last service;
+    /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
+    /// First: the fields behind it are zero in a new mailbox, one `memclr` with the buffers.
+    handler_timeout: Instant,
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
@@ -102,9 +106,6 @@ pub(crate) struct Mailbox<const N: usize> {
     receive: Area,
     /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
     send: Area,
-    /// The earliest timeout of the handlers beside the first after the last service;
-    /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
-    handler_timeout: Instant,
     rx: [u8; N],
     tx: [u8; N],
 }
