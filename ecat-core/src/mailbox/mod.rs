@@ -85,7 +85,9 @@ pub(crate) const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
 pub(crate) struct Mailbox<const N: usize> {
     /// The earliest timeout of the handlers beside the first after the last service;
     /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
-    /// First: the fields behind it are zero in a new mailbox, one `memclr` with the buffers.
+    /// First (the one 8-byte field): the small fields behind it, zero in a new mailbox but
+    /// `handler_due`, run into the buffers; the state-machine task's mailbox service is 72
+    /// bytes smaller this way (docs/performance.md, session 12).
     handler_timeout: Instant,
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
