@@ -1,7 +1,7 @@
 //! A fixed-capacity FIFO that never allocates and never panics: when full, a push drops the oldest
 //! element and counts it.
 
-/// A FIFO of at most `N` elements.
+/// A FIFO of at most `N` elements, `N` a power of two below 128.
 #[derive(Debug, Clone, Copy)]
 // `repr(C)`: the cursor first, within reach of 16-bit byte loads whatever the slots' size.
 #[repr(C)]
@@ -26,29 +26,26 @@ struct Cursor {
 }
 
 impl Cursor {
-    /// The slot a new element goes to in a ring of `capacity` slots; when the ring is full the
-    /// oldest element is dropped and counted. `None` (counted as dropped) without slots.
+    /// The slot a new element goes to in a ring of `capacity` slots (a power of two); when the
+    /// ring is full the oldest element is dropped and counted.
     #[inline(never)]
-    fn push(&mut self, capacity: u8) -> Option<usize> {
+    fn push(&mut self, capacity: u8) -> usize {
         if self.len == capacity {
             self.dropped = self.dropped.saturating_add(1);
-            if capacity == 0 {
-                return None;
-            }
             self.pop(capacity);
         }
-        self.len += 1;
-        Some(usize::from((self.head + self.len - 1) % capacity))
+        self.len = self.len.wrapping_add(1);
+        usize::from(self.head.wrapping_add(self.len.wrapping_sub(1)) & capacity.wrapping_sub(1))
     }
 
-    /// The oldest element's slot, which it leaves.
+    /// The oldest element's slot, which it leaves (`capacity` a power of two).
     #[inline(never)]
     fn pop(&mut self, capacity: u8) -> Option<usize> {
         if self.len == 0 {
             return None;
         }
         let head = self.head;
-        self.head = (head + 1) % capacity;
+        self.head = head.wrapping_add(1) & capacity.wrapping_sub(1);
         self.len -= 1;
         Some(usize::from(head))
     }
@@ -57,7 +54,12 @@ impl Cursor {
 impl<T: Copy, const N: usize> Ring<T, N> {
     /// An empty queue whose slots hold `fill` until used (never returned).
     pub const fn new(fill: T) -> Self {
-        const { assert!(N < 128, "a Ring holds fewer than 128 elements") };
+        const {
+            assert!(
+                N < 128 && N.is_power_of_two(),
+                "a Ring holds a power of two below 128 elements (a slot is an index masked)"
+            )
+        };
         Self {
             slots: [fill; N],
             cursor: Cursor {
@@ -80,11 +82,8 @@ impl<T: Copy, const N: usize> Ring<T, N> {
 
     /// Appends `value`; when the queue is full the oldest element is dropped and counted.
     pub fn push(&mut self, value: T) {
-        let slot = self
-            .cursor
-            .push(N as u8)
-            .and_then(|i| self.slots.get_mut(i));
-        if let Some(slot) = slot {
+        let i = self.cursor.push(N as u8);
+        if let Some(slot) = self.slots.get_mut(i) {
             *slot = value;
         }
     }
@@ -123,14 +122,14 @@ mod tests {
 
     #[test]
     fn fifo_order_and_oldest_dropped_when_full() {
-        let mut r: Ring<u8, 3> = Ring::new(0);
-        for v in 1..=5 {
+        let mut r: Ring<u8, 4> = Ring::new(0);
+        for v in 1..=6 {
             r.push(v);
         }
         assert_eq!(r.dropped(), 2);
         assert_eq!(
-            (r.pop(), r.pop(), r.pop(), r.pop()),
-            (Some(3), Some(4), Some(5), None)
+            (r.pop(), r.pop(), r.pop(), r.pop(), r.pop()),
+            (Some(3), Some(4), Some(5), Some(6), None)
         );
     }
 

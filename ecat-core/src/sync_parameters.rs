@@ -253,7 +253,7 @@ pub(crate) fn check_dc(
     let cyclic = bits & DcActivation::CYCLIC_OPERATION != 0;
     let sync0 = bits & DcActivation::SYNC0 != 0;
     let sync1 = bits & DcActivation::SYNC1 != 0;
-    let wanted = sync == SyncMode::DcSync0;
+    let wanted = matches!(sync, SyncMode::DcSync0);
     let without_sync0 = (cyclic || sync1) && !sync0;
     let unsupported_sync1 = sync1 && device.sync_modes.0 & SupportedSyncModes::SYNC1 == 0;
     if without_sync0 || unsupported_sync1 || wanted != dc.activation.sync0() {
@@ -366,10 +366,18 @@ pub(crate) fn fill<D: ObjectDictionary>(
 /// 4 294 967 µs and above), in 32-bit arithmetic.
 #[inline(never)]
 fn nanoseconds(micros: u64) -> u32 {
-    u32::try_from(micros)
-        .ok()
-        .and_then(|us| us.checked_mul(1_000))
-        .unwrap_or(u32::MAX)
+    nanoseconds_of(saturated(micros))
+}
+
+/// [`nanoseconds`] of a count already in 32 bits (saturated: 4 294 967 µs and above).
+fn nanoseconds_of(micros: u32) -> u32 {
+    micros.saturating_mul(1_000)
+}
+
+/// A count of microseconds in 32 bits, saturated at `u32::MAX` (71 minutes): the spans the
+/// cycle monitor compares, so that its arithmetic is 32-bit.
+fn saturated(micros: u64) -> u32 {
+    u32::try_from(micros).unwrap_or(u32::MAX)
 }
 
 /// What the MainDevice wrote into 0x1C32 over SDO since the SubDevice entered PREOP from INIT:
@@ -565,17 +573,22 @@ impl CycleMonitor {
         let last = core::mem::replace(&mut self.last, report.now);
         // Before the first cycle `NO_CYCLE` is later than any start: no elapsed time (nor for a
         // clock stepping back, which measured 0 before; the runners' clocks are monotonic).
-        let elapsed = report.now.as_micros().checked_sub(last.as_micros());
+        // Spans in 32 bits (saturated at 71 minutes): one 64-bit subtraction per cycle.
+        let elapsed = report
+            .now
+            .as_micros()
+            .checked_sub(last.as_micros())
+            .map(saturated);
         let missed = report.expects_outputs && !report.new_outputs;
         let overrun = match (elapsed, report.nominal) {
-            (Some(elapsed), Some(cycle)) => overran(elapsed, cycle.as_micros()),
+            (Some(elapsed), Some(cycle)) => overran(elapsed, saturated(cycle.as_micros())),
             _ => false,
         };
         self.missed = self.missed.saturating_add(u16::from(missed));
         self.overruns = self.overruns.saturating_add(u16::from(overrun));
         let measured_ns = elapsed
             .filter(|_| report.nominal.is_none())
-            .map(nanoseconds);
+            .map(nanoseconds_of);
         let counters = [self.missed, self.overruns];
         let error = missed || overrun || self.supervision.tripped();
         store(od, measured_ns, counters, error);
@@ -597,8 +610,8 @@ impl CycleMonitor {
 
 /// Whether a clocked cycle started `elapsed` µs after the previous one is late by more than half
 /// its nominal `cycle` (µs): `2 · elapsed > 3 · cycle`, as `elapsed > ⌊1.5 · cycle⌋` (no 64-bit
-/// products).
-fn overran(elapsed: u64, cycle: u64) -> bool {
+/// products), in 32 bits: both spans saturated at 71 minutes.
+fn overran(elapsed: u32, cycle: u32) -> bool {
     elapsed > cycle.saturating_add(cycle / 2)
 }
 
@@ -668,8 +681,8 @@ mod tests {
     /// one (`2 · elapsed > 3 · cycle`), odd cycles included.
     #[test]
     fn a_cycle_overruns_past_one_and_a_half_cycles() {
-        for cycle in 0..300u64 {
-            for elapsed in 0..600u64 {
+        for cycle in 0..300u32 {
+            for elapsed in 0..600u32 {
                 assert_eq!(
                     overran(elapsed, cycle),
                     2 * elapsed > 3 * cycle,
@@ -677,8 +690,8 @@ mod tests {
                 );
             }
         }
-        assert!(!overran(u64::MAX, u64::MAX));
-        assert!(overran(u64::MAX, u64::MAX / 2));
+        assert!(!overran(u32::MAX, u32::MAX));
+        assert!(overran(u32::MAX, u32::MAX / 2));
     }
 
     /// Microseconds become the UNSIGNED32 nanoseconds of 0x1C32/0x1C33, saturated.

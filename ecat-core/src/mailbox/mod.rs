@@ -80,9 +80,20 @@ pub(crate) const NO_TIMEOUT: Instant = Instant::from_micros(u64::MAX);
 /// The mailbox of a SubDevice whose mailboxes hold at most `N` bytes: what SM0 and SM1 hold,
 /// counters, the repeat handshake and the buffers.
 #[derive(Debug)]
-// `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`).
+// `repr(C)`: the flags, counters and areas first, the buffers last (see `SubDevice`); the
+// timeout and the message's length before the flags, an order measured (docs/performance.md,
+// session 12).
 #[repr(C)]
 pub(crate) struct Mailbox<const N: usize> {
+    /// The earliest timeout of the handlers beside the first after the last service;
+    /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
+    /// First (the one 8-byte field): the small fields behind it, zero in a new mailbox but
+    /// `handler_due`, run into the buffers; the state-machine task's mailbox service is 72
+    /// bytes smaller this way (docs/performance.md, session 12).
+    handler_timeout: Instant,
+    /// Length of the last message built in `tx` (header included): at most SM1's length, a
+    /// `u16` like it (a `usize` padded the struct by 8 bytes).
+    tx_len: u16,
     /// What SM0 and SM1 hold, what is on its way between them, SM1's repeat handshake
     /// ([`flag`]).
     flags: u8,
@@ -95,16 +106,10 @@ pub(crate) struct Mailbox<const N: usize> {
     /// The detail code of the last error reply to a request not yet taken
     /// ([`Mailbox::take_refused`]); 0: none.
     refused: u16,
-    /// Length of the last message built in `tx` (header included): at most SM1's length, a
-    /// `u16` like it (a `usize` padded the struct by 8 bytes).
-    tx_len: u16,
     /// SM0, its length clamped to `N`.
     receive: Area,
     /// SM1, its length clamped to `N` (the error-reply length check and the message capacity).
     send: Area,
-    /// The earliest timeout of the handlers beside the first after the last service;
-    /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
-    handler_timeout: Instant,
     rx: [u8; N],
     tx: [u8; N],
 }

@@ -313,12 +313,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             InFlight::WriteErrLed(led) => (register::ERR_LED_OVERRIDE, 1, Some(u32::from(led))),
             InFlight::Mailbox(_) => (0, 0, None),
         };
+        if let (Some(value), Some(head)) = (write, self.buf.first_chunk_mut()) {
+            // All four bytes in one store; the write takes the first `len` (at most 4).
+            *head = value.to_le_bytes();
+        }
         let buf = self.buf.get_mut(..len).unwrap_or_default();
-        if let Some(value) = write {
-            let bytes = value.to_le_bytes();
-            for (dst, src) in buf.iter_mut().zip(bytes) {
-                *dst = src;
-            }
+        if write.is_some() {
             RegisterAccess::Write {
                 address,
                 data: buf,

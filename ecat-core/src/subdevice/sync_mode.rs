@@ -36,7 +36,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// The process-data side saw SYNC0 stop (DC mode): in OP the SubDevice falls back to SAFEOP
     /// with [`AlStatusCode::FATAL_SYNC_ERROR`] (conformance.md "Distributed clocks").
     pub fn sync0_lost(&mut self) {
-        if self.state == AlState::Op && self.sync_mode() == SyncMode::DcSync0 {
+        if self.state == AlState::Op && matches!(self.sync_mode(), SyncMode::DcSync0) {
             self.fail(AlStatusCode::FATAL_SYNC_ERROR, AlState::SafeOp);
         }
     }
@@ -75,7 +75,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         sync_parameters::check_cycle(sync, self.writes.chosen.cycle_ns(), self.dc, self.config)?;
         let one_buffer =
             self.channels.outputs().control.mode() == crate::sync_manager::Mode::Mailbox;
-        if sync == SyncMode::FreeRun && sizes.outputs > 0 && one_buffer {
+        if matches!(sync, SyncMode::FreeRun) && sizes.outputs > 0 && one_buffer {
             return Err(AlStatusCode::FREE_RUN_NEEDS_3_BUFFER);
         }
         Ok(())

@@ -121,7 +121,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             awaits: CycleSigns {
                 outputs: t.to == AlState::Op && outputs && !self.received.outputs,
                 sync0: t.to == AlState::Op
-                    && self.sync_mode() == SyncMode::DcSync0
+                    && matches!(self.sync_mode(), SyncMode::DcSync0)
                     && !self.received.sync0,
             },
         });
