@@ -4,22 +4,30 @@
 /// Bit 4 of an initiate request (upload or download) and of its response: complete access.
 pub(crate) const COMPLETE: u8 = 0x10;
 
-/// A request from the SDO client (the MainDevice), decoded from its command byte.
+/// A download request: both kinds store bytes at the transfer's offset (one path in the
+/// server).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Request {
+pub(crate) enum Download {
     /// ccs 1: initiate download. `expedited` with `size` given or not (complete access: bit
     /// 4, [`COMPLETE`]).
-    Download {
+    Initiate {
         expedited: bool,
         size_indicated: bool,
         unused: u8,
     },
     /// ccs 0: download segment with toggle `toggle`, `unused` bytes of the 7, `last`.
-    DownloadSegment {
+    Segment {
         toggle: bool,
         unused: u8,
         last: bool,
     },
+}
+
+/// A request from the SDO client (the MainDevice), decoded from its command byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Request {
+    /// ccs 1 or 0: a download's initiate or segment.
+    Download(Download),
     /// ccs 2: initiate upload (complete access: bit 4, [`COMPLETE`]).
     Upload,
     /// ccs 3: upload segment with toggle `toggle`.
@@ -35,16 +43,16 @@ impl Request {
     pub(crate) const fn from_byte(b: u8) -> Self {
         let toggle = b & 0x10 != 0;
         match b >> 5 {
-            1 => Self::Download {
+            1 => Self::Download(Download::Initiate {
                 expedited: b & 0x02 != 0,
                 size_indicated: b & 0x01 != 0,
                 unused: (b >> 2) & 0x03,
-            },
-            0 => Self::DownloadSegment {
+            }),
+            0 => Self::Download(Download::Segment {
                 toggle,
                 unused: (b >> 1) & 0x07,
                 last: b & 0x01 != 0,
-            },
+            }),
             2 => Self::Upload,
             3 => Self::UploadSegment { toggle },
             4 => Self::Abort,

@@ -23,7 +23,7 @@ mod writes;
 
 pub use writes::Writes;
 
-use command::{Request, response};
+use command::{Download, Request, response};
 use frame::Frame;
 
 use super::{AbortCode, CoeHeader, Service};
@@ -75,16 +75,17 @@ struct Segmented {
     done: usize,
     /// The toggle bit the next segment must carry.
     toggle: bool,
+    /// When the next segment is due: set by [`SdoServer::request`] after every request that
+    /// leaves the transfer under way (one sum for the initiate and each segment).
     deadline: Instant,
 }
 
 impl Segmented {
     /// A segment moved the transfer to `done` bytes; it waits for the next segment with the
     /// other toggle (the last one ends it: the server drops the transfer).
-    fn advance(&mut self, now: Instant, done: usize) {
+    fn advance(&mut self, done: usize) {
         self.done = done;
         self.toggle = !self.toggle;
-        self.deadline = now.saturating_add(SdoServer::<0>::SEGMENT_TIMEOUT);
     }
 }
 
@@ -160,16 +161,7 @@ impl<const N: usize> SdoServer<N> {
         let result = match Request::from_byte(frame.command()) {
             Request::Upload => self.upload(cx, target, out),
             Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
-            Request::Download {
-                expedited,
-                size_indicated,
-                unused,
-            } => self.download(cx, target, &frame, (expedited, size_indicated, unused), out),
-            Request::DownloadSegment {
-                toggle,
-                unused,
-                last,
-            } => self.download_segment(cx, toggle, segment_data(&frame, unused), last, out),
+            Request::Download(request) => self.download(cx, target, &frame, request, out),
             Request::Abort => {
                 self.transfer = None;
                 return 0;
@@ -177,7 +169,14 @@ impl<const N: usize> SdoServer<N> {
             Request::Unknown => Err(AbortCode::COMMAND_SPECIFIER),
         };
         match result {
-            Ok(len) => len,
+            Ok(len) => {
+                // Whatever the request, a transfer still under way waits for its next segment
+                // from now on.
+                if let Some(t) = &mut self.transfer {
+                    t.deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
+                }
+                len
+            }
             Err(code) => {
                 // The abort names the transfer's entry, if one was under way: it ends here.
                 let (index, sub) = self
@@ -248,7 +247,7 @@ impl<const N: usize> SdoServer<N> {
         let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
         let command = response::upload_normal(target.complete);
         if sent < size {
-            self.begin(cx, Kind::Upload, target, size, sent);
+            self.begin(cx, Kind::Upload, target, size, sent, false);
         }
         *head = header(SDO_RESPONSE, command, target, size_bytes);
         Ok(RESPONSE_HEADER + sent)
@@ -288,79 +287,88 @@ impl<const N: usize> SdoServer<N> {
         }
         match last {
             true => self.transfer = None,
-            false => t.advance(cx.now, offset + n),
+            false => t.advance(offset + n),
         }
         let len = CoeHeader::SIZE + SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA);
         Ok(len.min(out.len()))
     }
 
+    /// A download's initiate or segment: both store their bytes at the transfer's offset (an
+    /// initiate starts a transfer at 0; one that carries the whole value ends it at once).
     fn download<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
         target: Target,
         frame: &Frame<&[u8]>,
-        (expedited, size_indicated, unused): (bool, bool, u8),
+        request: Download,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.transfer = None;
-        self.timed_out = false;
-        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
-        let data = if expedited {
-            let size = if size_indicated {
-                4 - usize::from(unused)
-            } else {
-                expedited_size(object, target)
-            };
-            frame.expedited(size).ok_or(AbortCode::LENGTH_MISMATCH)?
-        } else {
-            let size = usize::try_from(frame.size()).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
-            let here = frame.payload();
-            let here = here.get(..size).unwrap_or(here);
-            if here.len() < size {
-                return self.begin_segmented_download(cx, object, target, size, here, out);
+        let (data, last, command, answered) = match request {
+            Download::Initiate {
+                expedited,
+                size_indicated,
+                unused,
+            } => {
+                self.transfer = None;
+                self.timed_out = false;
+                let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
+                let (size, data) = if expedited {
+                    let size = if size_indicated {
+                        4 - usize::from(unused)
+                    } else {
+                        expedited_size(object, target)
+                    };
+                    let data = frame.expedited(size).ok_or(AbortCode::LENGTH_MISMATCH)?;
+                    (data.len(), data)
+                } else {
+                    let size =
+                        usize::try_from(frame.size()).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+                    let here = frame.payload();
+                    (size, here.get(..size).unwrap_or(here))
+                };
+                // Toggle 1: `take` moves the transfer on as after a segment, to toggle 0 for the
+                // first one.
+                self.begin(cx, Kind::Download, target, size, 0, true);
+                let command = response::download(target.complete);
+                (data, data.len() == size, command, target)
             }
-            here
+            Download::Segment {
+                toggle,
+                unused,
+                last,
+            } => {
+                next_segment(
+                    &mut self.transfer,
+                    &mut self.timed_out,
+                    Kind::Download,
+                    toggle,
+                )?;
+                let command = response::download_segment(toggle);
+                // The answer is the command and 7 bytes of padding.
+                (
+                    segment_data(frame, unused),
+                    last,
+                    command,
+                    Target::new(0, 0, false),
+                )
+            }
         };
-        store(cx, object, target, data, 0, true)?;
-        Ok(download_response(out, target))
+        self.take(cx, data, last)?;
+        Ok(respond(out, SDO_RESPONSE, command, answered, [0; 4]))
     }
 
-    fn begin_segmented_download<D: ObjectDictionary, H: ObjectHooks<D>>(
+    /// Stores a download's `data` at the transfer's offset: a DOMAIN streams it to the
+    /// application, a value that came whole in one message is stored from it, any other is
+    /// gathered in the buffer and stored on the `last` segment.
+    fn take<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
-        object: &Object<D>,
-        target: Target,
-        size: usize,
-        first: &[u8],
-        out: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        if is_domain::<D>(target) {
-            store(cx, object, target, first, 0, false)?;
-        } else {
-            if size > N {
-                return Err(AbortCode::OUT_OF_MEMORY);
-            }
-            let buf = self.buf.get_mut(..first.len());
-            crate::bytes::copy(buf.ok_or(AbortCode::OUT_OF_MEMORY)?, first);
-        }
-        self.begin(cx, Kind::Download, target, size, first.len());
-        Ok(download_response(out, target))
-    }
-
-    fn download_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-        toggle: bool,
         data: &[u8],
         last: bool,
-        out: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        let t = next_segment(
-            &mut self.transfer,
-            &mut self.timed_out,
-            Kind::Download,
-            toggle,
-        )?;
+    ) -> Result<(), AbortCode> {
+        let Some(t) = self.transfer else {
+            return Err(AbortCode::COMMAND_SPECIFIER);
+        };
         let (target, size, received) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
@@ -375,34 +383,26 @@ impl<const N: usize> SdoServer<N> {
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
             resolve(&*cx.od, target, cx.state, Direction::Write)?;
         }
-        if is_domain::<D>(target) {
+        if is_domain::<D>(target) || (last && received == 0) {
             store(cx, object, target, data, received, last)?;
         } else {
-            let buf = self.buf.get_mut(received..total);
-            crate::bytes::copy(buf.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
+            // A value larger than the buffer is refused when its transfer starts.
+            let buf = self.buf.get_mut(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
+            let here = buf.get_mut(received..total);
+            crate::bytes::copy(here.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
             if last {
-                let value = self.buf.get(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
-                store(cx, object, target, value, 0, true)?;
+                store(cx, object, target, buf, 0, true)?;
             }
         }
-        match last {
-            true => self.transfer = None,
-            false => t.advance(cx.now, total),
+        match (last, &mut self.transfer) {
+            (false, Some(t)) => t.advance(total),
+            _ => self.transfer = None,
         }
-        // The CoE header, the command and 7 bytes of padding, in one store.
-        let [c0, c1] = SDO_RESPONSE;
-        let command = response::download_segment(toggle);
-        Ok(match out.first_chunk_mut() {
-            Some(answer) => {
-                *answer = [c0, c1, command, 0, 0, 0, 0, 0, 0, 0];
-                CoeHeader::SIZE + SEGMENT_HEADER + MIN_SEGMENT_DATA
-            }
-            None => 0,
-        })
+        Ok(())
     }
 
-    /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
-    /// toggle 0.
+    /// Starts a segmented transfer with `done` bytes already moved, waiting for a segment with
+    /// `toggle` (the first segment carries 0).
     fn begin<D, H>(
         &mut self,
         cx: &Context<'_, D, H>,
@@ -410,15 +410,15 @@ impl<const N: usize> SdoServer<N> {
         target: Target,
         size: usize,
         done: usize,
+        toggle: bool,
     ) {
-        let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
         self.transfer = Some(Segmented {
             kind,
             target,
             size,
             done,
-            toggle: false,
-            deadline,
+            toggle,
+            deadline: cx.now,
         });
         self.checked_in = cx.state;
     }
@@ -806,12 +806,6 @@ fn segment_data<'a>(frame: &'a Frame<&[u8]>, unused: u8) -> &'a [u8] {
     } else {
         data
     }
-}
-
-/// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
-fn download_response(out: &mut [u8], target: Target) -> usize {
-    let command = response::download(target.complete);
-    respond(out, SDO_RESPONSE, command, target, [0; 4])
 }
 
 /// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header `coe`
