@@ -4,6 +4,16 @@
 /// Bit 4 of an initiate request (upload or download) and of its response: complete access.
 pub(crate) const COMPLETE: u8 = 0x10;
 
+/// An upload request: both kinds copy the value's bytes from the transfer's offset into the
+/// answer (one path in the server).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Upload {
+    /// ccs 2: initiate upload (complete access: bit 4, [`COMPLETE`]).
+    Initiate,
+    /// ccs 3: upload segment with toggle `toggle`.
+    Segment { toggle: bool },
+}
+
 /// A download request: both kinds store bytes at the transfer's offset (one path in the
 /// server).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,10 +38,8 @@ pub(crate) enum Download {
 pub(crate) enum Request {
     /// ccs 1 or 0: a download's initiate or segment.
     Download(Download),
-    /// ccs 2: initiate upload (complete access: bit 4, [`COMPLETE`]).
-    Upload,
-    /// ccs 3: upload segment with toggle `toggle`.
-    UploadSegment { toggle: bool },
+    /// ccs 2 or 3: an upload's initiate or segment.
+    Upload(Upload),
     /// ccs 4: abort transfer.
     Abort,
     /// Any other specifier.
@@ -53,8 +61,8 @@ impl Request {
                 unused: (b >> 1) & 0x07,
                 last: b & 0x01 != 0,
             }),
-            2 => Self::Upload,
-            3 => Self::UploadSegment { toggle },
+            2 => Self::Upload(Upload::Initiate),
+            3 => Self::Upload(Upload::Segment { toggle }),
             4 => Self::Abort,
             _ => Self::Unknown,
         }

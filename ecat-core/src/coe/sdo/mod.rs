@@ -23,7 +23,7 @@ mod writes;
 
 pub use writes::Writes;
 
-use command::{Download, Request, response};
+use command::{Download, Request, Upload, response};
 use frame::Frame;
 
 use super::{AbortCode, CoeHeader, Service};
@@ -159,8 +159,7 @@ impl<const N: usize> SdoServer<N> {
         // An initiate's target: bit 4 of either command asks for complete access.
         let target = Target::new(index, sub, frame.command() & command::COMPLETE != 0);
         let result = match Request::from_byte(frame.command()) {
-            Request::Upload => self.upload(cx, target, out),
-            Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
+            Request::Upload(request) => self.upload(cx, target, request, out),
             Request::Download(request) => self.download(cx, target, &frame, request, out),
             Request::Abort => {
                 self.transfer = None;
@@ -207,89 +206,113 @@ impl<const N: usize> SdoServer<N> {
         self.timed_out = false;
     }
 
+    /// An upload's initiate or segment: both copy the value's bytes from the transfer's offset
+    /// into the answer (an initiate starts a transfer at 0 and says the size, or carries a
+    /// value of 1 to 4 bytes in its header; a transfer ends with the segment that sends its
+    /// last byte).
     fn upload<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
         target: Target,
+        request: Upload,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.transfer = None;
-        self.timed_out = false;
-        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
-        cx.hooks.before_read(cx.od, target.index, target.sub)?;
-        // The value is read once, straight into the answer's data area; its size then says
-        // expedited or normal. A send mailbox without room for four bytes behind the header
+        let (object, target, at, size, offset) = match request {
+            Upload::Initiate => {
+                self.transfer = None;
+                self.timed_out = false;
+                let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
+                cx.hooks.before_read(cx.od, target.index, target.sub)?;
+                let size = match is_domain::<D>(target) {
+                    true => domain_size(cx, target)?,
+                    false => 0, // the read says
+                };
+                // Toggle 1: the initiate moves the transfer on as a segment does, to toggle 0.
+                self.begin(cx, Kind::Upload, target, size, 0, true);
+                (object, target, RESPONSE_HEADER, size, 0)
+            }
+            Upload::Segment { toggle } => {
+                let t = next_segment(
+                    &mut self.transfer,
+                    &mut self.timed_out,
+                    Kind::Upload,
+                    toggle,
+                )?;
+                let object = D::object(t.target.index).ok_or(AbortCode::NO_OBJECT)?;
+                (
+                    object,
+                    t.target,
+                    CoeHeader::SIZE + SEGMENT_HEADER,
+                    t.size,
+                    t.done,
+                )
+            }
+        };
+        // The CoE header, then zeros: a segment's command is set below and the 7 bytes it
+        // carries at least are zero where the value does not fill them; an initiate's header
+        // is written whole below.
+        let [c0, c1] = SDO_RESPONSE;
+        *out.first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)? = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
+        // The value is read straight into the answer's data area (a DOMAIN's no further than
+        // its size). A send mailbox without room for four bytes behind an initiate's header
         // (the 16 bytes of the smallest) reads into `small`: an expedited value fits it, a
         // longer one sends nothing with the initiate.
-        let (head, data) = split_response(out)?;
+        let data = out.get_mut(at..).unwrap_or_default();
         let mut small = [0u8; 4];
         let short = data.len() < small.len();
-        let (size, sent) = if is_domain::<D>(target) {
-            (
-                domain_size(cx, target)?,
-                fetch(cx, object, target, 0, data)?,
-            )
+        let (sent, size) = if is_domain::<D>(target) {
+            let rest = size.saturating_sub(offset);
+            let data = match data.get_mut(..rest) {
+                Some(data) => data,
+                None => data,
+            };
+            (fetch(cx, object, target, offset, data)?, size)
         } else {
             let into: &mut [u8] = if short { &mut small } else { data };
-            let read = read(cx.od, object, target, 0, into)?;
-            if (1..=4).contains(&read.size()) {
-                // Expedited: the data moves into the header (ETG.1000.6 Table 37): the four
-                // bytes read, of which the value's size count.
-                let size = read.size();
-                let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
+            let read = read(cx.od, object, target, offset, into)?;
+            (if short { 0 } else { read.copied() }, read.size())
+        };
+        // An initiate of 1 to 4 bytes is expedited: the data moves into the header
+        // (ETG.1000.6 Table 37).
+        let expedited =
+            request == Upload::Initiate && !is_domain::<D>(target) && (1..=4).contains(&size);
+        let done = offset + sent;
+        let last = expedited || done >= size;
+        match (last, &mut self.transfer) {
+            (false, Some(t)) => {
+                t.size = size;
+                t.advance(done);
+            }
+            _ => self.transfer = None,
+        }
+        let Upload::Segment { toggle } = request else {
+            if expedited {
+                // The four bytes read, of which the value's size count.
+                let from: &[u8] = if short {
+                    &small
+                } else {
+                    out.get(at..).unwrap_or_default()
+                };
+                let bytes = from.first_chunk::<4>().copied().unwrap_or_default();
                 let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
                 let command = response::upload_expedited(size, target.complete);
-                *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
-                return Ok(RESPONSE_HEADER);
+                return Ok(respond(
+                    out,
+                    SDO_RESPONSE,
+                    command,
+                    target,
+                    value.to_le_bytes(),
+                ));
             }
-            (read.size(), if short { 0 } else { read.copied() })
+            let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
+            let command = response::upload_normal(target.complete);
+            return Ok(respond(out, SDO_RESPONSE, command, target, size_bytes) + sent);
         };
-        let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-        let command = response::upload_normal(target.complete);
-        if sent < size {
-            self.begin(cx, Kind::Upload, target, size, sent, false);
-        }
-        *head = header(SDO_RESPONSE, command, target, size_bytes);
-        Ok(RESPONSE_HEADER + sent)
-    }
-
-    fn upload_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-        toggle: bool,
-        out: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        let t = next_segment(
-            &mut self.transfer,
-            &mut self.timed_out,
-            Kind::Upload,
-            toggle,
-        )?;
-        let (target, size, offset) = (t.target, t.size, t.done);
-        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
-        // The CoE header, the command (set below) and the 7 bytes a segment carries at least,
-        // zero where the value does not fill them: one store.
-        let [c0, c1] = SDO_RESPONSE;
-        if let Some(head) = out.first_chunk_mut() {
-            *head = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
-        }
-        let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
-        let room = body.len().saturating_sub(SEGMENT_HEADER);
-        let want = room.min(size.saturating_sub(offset));
-        let data = body
-            .get_mut(SEGMENT_HEADER..SEGMENT_HEADER + want)
-            .unwrap_or_default();
-        let n = fetch(cx, object, target, offset, data)?;
-        let last = offset + n >= size;
-        let unused = MIN_SEGMENT_DATA.saturating_sub(n);
-        if let Some(command) = body.first_mut() {
+        let unused = MIN_SEGMENT_DATA.saturating_sub(sent);
+        if let Some(command) = out.get_mut(CoeHeader::SIZE) {
             *command = response::upload_segment(toggle, unused as u8, last);
         }
-        match last {
-            true => self.transfer = None,
-            false => t.advance(offset + n),
-        }
-        let len = CoeHeader::SIZE + SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA);
+        let len = CoeHeader::SIZE + SEGMENT_HEADER + sent.max(MIN_SEGMENT_DATA);
         Ok(len.min(out.len()))
     }
 
@@ -815,12 +838,6 @@ fn header(coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> [u8; RESP
     let [i0, i1] = target.index.to_le_bytes();
     let [d0, d1, d2, d3] = data;
     [c0, c1, command, i0, i1, target.sub, d0, d1, d2, d3]
-}
-
-/// `out` as the fixed part of a response and the data area behind it; too short (a send
-/// mailbox below the 16 bytes a device configuration needs) to answer at all: 0x05040005.
-fn split_response(out: &mut [u8]) -> Result<(&mut [u8; RESPONSE_HEADER], &mut [u8]), AbortCode> {
-    out.split_first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)
 }
 
 /// Writes the fixed part of a response into `out` ([`header`]); returns its length, 0 when
