@@ -223,12 +223,7 @@ impl<const N: usize> SdoServer<N> {
                 self.timed_out = false;
                 let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
                 cx.hooks.before_read(cx.od, target.index, target.sub)?;
-                let size = match is_domain::<D>(target) {
-                    true => domain_size(cx, target)?,
-                    false => 0, // the read says
-                };
-                // Toggle 1: the initiate moves the transfer on as a segment does, to toggle 0.
-                self.begin(cx, Kind::Upload, target, size, 0, true);
+                let size = 0; // the read says, or for a DOMAIN the hook (below)
                 (object, target, RESPONSE_HEADER, size, 0)
             }
             Upload::Segment { toggle } => {
@@ -261,6 +256,10 @@ impl<const N: usize> SdoServer<N> {
         let mut small = [0u8; 4];
         let short = data.len() < small.len();
         let (sent, size) = if is_domain::<D>(target) {
+            let size = match request {
+                Upload::Initiate => domain_size(cx, target)?,
+                Upload::Segment { .. } => size,
+            };
             let rest = size.saturating_sub(offset);
             let data = match data.get_mut(..rest) {
                 Some(data) => data,
@@ -270,40 +269,27 @@ impl<const N: usize> SdoServer<N> {
         } else {
             let into: &mut [u8] = if short { &mut small } else { data };
             let read = read(cx.od, object, target, offset, into)?;
-            (if short { 0 } else { read.copied() }, read.size())
-        };
-        // An initiate of 1 to 4 bytes is expedited: the data moves into the header
-        // (ETG.1000.6 Table 37).
-        let expedited =
-            request == Upload::Initiate && !is_domain::<D>(target) && (1..=4).contains(&size);
-        let done = offset + sent;
-        let last = expedited || done >= size;
-        match (last, &mut self.transfer) {
-            (false, Some(t)) => {
-                t.size = size;
-                t.advance(done);
-            }
-            _ => self.transfer = None,
-        }
-        let Upload::Segment { toggle } = request else {
-            if expedited {
-                // The four bytes read, of which the value's size count.
-                let from: &[u8] = if short {
-                    &small
-                } else {
-                    out.get(at..).unwrap_or_default()
-                };
-                let bytes = from.first_chunk::<4>().copied().unwrap_or_default();
+            let size = read.size();
+            if request == Upload::Initiate && (1..=4).contains(&size) {
+                // Expedited (no transfer): the data moves into the header (ETG.1000.6 Table
+                // 37): the four bytes read, of which the value's size count.
+                let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
                 let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
                 let command = response::upload_expedited(size, target.complete);
-                return Ok(respond(
-                    out,
-                    SDO_RESPONSE,
-                    command,
-                    target,
-                    value.to_le_bytes(),
-                ));
+                let value = value.to_le_bytes();
+                return Ok(respond(out, SDO_RESPONSE, command, target, value));
             }
+            (if short { 0 } else { read.copied() }, size)
+        };
+        let done = offset + sent;
+        let last = done >= size;
+        match (last, request, &mut self.transfer) {
+            (true, ..) => self.transfer = None,
+            (false, Upload::Initiate, _) => self.begin(cx, Kind::Upload, target, size, done, false),
+            (false, _, Some(t)) => t.advance(done),
+            (false, _, None) => {}
+        }
+        let Upload::Segment { toggle } = request else {
             let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
             let command = response::upload_normal(target.complete);
             return Ok(respond(out, SDO_RESPONSE, command, target, size_bytes) + sent);
