@@ -392,16 +392,20 @@ impl<const N: usize> SdoServer<N> {
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
             resolve(&*cx.od, target, cx.state, Direction::Write)?;
         }
-        if is_domain::<D>(target) || (last && received == 0) {
-            store(cx, object, target, data, received, last)?;
+        let streamed = is_domain::<D>(target);
+        let value: &[u8] = if streamed || (last && received == 0) {
+            data
         } else {
             // A value larger than the buffer is refused when its transfer starts.
             let buf = self.buf.get_mut(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
             let here = buf.get_mut(received..total);
             crate::bytes::copy(here.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
-            if last {
-                store(cx, object, target, buf, 0, true)?;
-            }
+            buf
+        };
+        // One store: a DOMAIN's every piece at its offset, any other value once, whole (the
+        // offset and the flag count for a DOMAIN only).
+        if streamed || last {
+            store(cx, object, target, value, received, last)?;
         }
         match (last, &mut self.transfer) {
             (false, Some(t)) => t.advance(total),
