@@ -916,6 +916,114 @@ mod tests {
         (out, n)
     }
 
+    /// A server with a `N`-byte buffer that keeps its transfer between requests, each served
+    /// in PREOP into an answer of `room` bytes.
+    struct Session<const N: usize> {
+        od: Od,
+        server: SdoServer<N>,
+    }
+
+    impl<const N: usize> Session<N> {
+        fn new() -> Self {
+            Self {
+                od: Od::default(),
+                server: SdoServer::new(),
+            }
+        }
+
+        fn serve(&mut self, room: usize, request: &[u8]) -> Answer {
+            let mut cx = Context {
+                od: &mut self.od,
+                hooks: &mut (),
+                state: AlState::PreOp,
+                now: Instant::from_micros(0),
+                writes: &mut Writes::default(),
+                device: None,
+            };
+            let mut out = [0xAA; 40];
+            let len = self.server.request(&mut cx, request, &mut out[..room]);
+            Answer { out, len }
+        }
+    }
+
+    /// The bytes of an answer.
+    #[derive(Debug)]
+    struct Answer {
+        out: [u8; 40],
+        len: usize,
+    }
+
+    impl<const K: usize> PartialEq<[u8; K]> for Answer {
+        fn eq(&self, other: &[u8; K]) -> bool {
+            self.out[..self.len] == other[..]
+        }
+    }
+
+    /// 0x05040001 with no transfer under way: the abort names 0000:00.
+    const NO_TRANSFER: [u8; 10] = [0x00, 0x20, 0x80, 0, 0, 0, 0x01, 0x00, 0x04, 0x05];
+    /// An upload segment request with toggle 0.
+    const UPLOAD_SEGMENT: [u8; 8] = [0x60, 0, 0, 0, 0, 0, 0, 0];
+
+    /// The upload's one path in the smallest mailbox (10 bytes of answer): a normal initiate
+    /// says the size and carries no data, the segment then sends the value from offset 0 and
+    /// ends the transfer; an expedited initiate leaves no transfer behind.
+    #[test]
+    fn an_upload_into_the_smallest_mailbox_continues_from_offset_0() {
+        let mut session = Session::<16>::new();
+        let initiate = [0x50, 0x00, 0x20, 0x00, 0, 0, 0, 0];
+        assert_eq!(
+            session.serve(10, &initiate),
+            [0x00, 0x30, 0x51, 0x00, 0x20, 0x00, 5, 0, 0, 0]
+        );
+        // 5 bytes of the 7 (2 unused), the last.
+        assert_eq!(
+            session.serve(10, &UPLOAD_SEGMENT),
+            [0x00, 0x30, 0x05, 4, 0, 0x11, 0x44, 0x44, 0, 0]
+        );
+        assert_eq!(session.serve(10, &UPLOAD_SEGMENT), NO_TRANSFER);
+        assert_eq!(
+            session.serve(10, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+            [0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]
+        );
+        assert_eq!(session.serve(10, &UPLOAD_SEGMENT), NO_TRANSFER);
+    }
+
+    /// The download's one path: a value that comes whole with its initiate is stored from the
+    /// message, whatever the buffer (4 bytes here, the value 5); one that continues in segments
+    /// must fit the buffer (0x05040005 at the initiate) and is stored at its last segment.
+    #[test]
+    fn a_download_is_stored_from_its_message_or_from_the_buffer() {
+        let answered = [0x00, 0x30, 0x70, 0x00, 0x20, 0x00, 0, 0, 0, 0];
+        let whole = [0x31, 0x00, 0x20, 0x00, 5, 0, 0, 0, 4, 0, 0x22, 0x55, 0x55];
+        let mut small = Session::<4>::new();
+        assert_eq!(small.serve(40, &whole), answered);
+        assert_eq!(
+            (small.od.sparse.first, small.od.sparse.fourth),
+            (0x22, 0x5555)
+        );
+        let partial = &whole[..11];
+        assert_eq!(
+            small.serve(40, partial),
+            [0x00, 0x20, 0x80, 0x00, 0x20, 0x00, 0x05, 0x00, 0x04, 0x05]
+        );
+        let mut session = Session::<16>::new();
+        assert_eq!(session.serve(40, partial), answered);
+        assert_eq!(
+            session.od.sparse.first, 0x11,
+            "nothing stored before the last segment"
+        );
+        // 2 bytes of the 7 (5 unused), the last.
+        assert_eq!(
+            session.serve(40, &[0x0B, 0x55, 0x55, 0, 0, 0, 0, 0]),
+            [0x00, 0x30, 0x20, 0, 0, 0, 0, 0, 0, 0]
+        );
+        assert_eq!(
+            (session.od.sparse.first, session.od.sparse.fourth),
+            (0x22, 0x5555)
+        );
+        assert_eq!(session.serve(40, &[0x00, 0, 0, 0, 0, 0, 0, 0]), NO_TRANSFER);
+    }
+
     /// A gap of a sparse RECORD (0x2000:02, :03 here; 0x1C32:0E..1F on a device), which SDO
     /// Information describes as an empty entry, is refused with 0x06010000 "unsupported access"
     /// for upload and download, as SSC 5.12 refuses an entry of access 0 (change V5.12 COE7);
