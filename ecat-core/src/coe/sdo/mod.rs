@@ -285,7 +285,9 @@ impl<const N: usize> SdoServer<N> {
         let last = done >= size;
         match (last, request, &mut self.transfer) {
             (true, ..) => self.transfer = None,
-            (false, Upload::Initiate, _) => self.begin(cx, Kind::Upload, target, size, done, false),
+            (false, Upload::Initiate, _) => {
+                self.begin(cx, Kind::Upload, target, size, done, false);
+            }
             (false, _, Some(t)) => t.advance(done),
             (false, _, None) => {}
         }
@@ -312,7 +314,7 @@ impl<const N: usize> SdoServer<N> {
         request: Download,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        let (data, last, command, answered) = match request {
+        let (data, last, command, answered, transfer) = match request {
             Download::Initiate {
                 expedited,
                 size_indicated,
@@ -337,16 +339,16 @@ impl<const N: usize> SdoServer<N> {
                 };
                 // Toggle 1: `take` moves the transfer on as after a segment, to toggle 0 for the
                 // first one.
-                self.begin(cx, Kind::Download, target, size, 0, true);
+                let transfer = self.begin(cx, Kind::Download, target, size, 0, true);
                 let command = response::download(target.complete);
-                (data, data.len() == size, command, target)
+                (data, data.len() == size, command, target, transfer)
             }
             Download::Segment {
                 toggle,
                 unused,
                 last,
             } => {
-                next_segment(
+                let transfer = *next_segment(
                     &mut self.transfer,
                     &mut self.timed_out,
                     Kind::Download,
@@ -359,25 +361,24 @@ impl<const N: usize> SdoServer<N> {
                     last,
                     command,
                     Target::new(0, 0, false),
+                    transfer,
                 )
             }
         };
-        self.take(cx, data, last)?;
+        self.take(cx, transfer, data, last)?;
         Ok(respond(out, SDO_RESPONSE, command, answered, [0; 4]))
     }
 
-    /// Stores a download's `data` at the transfer's offset: a DOMAIN streams it to the
-    /// application, a value that came whole in one message is stored from it, any other is
-    /// gathered in the buffer and stored on the `last` segment.
+    /// Stores a download's `data` at the offset of `t` (the server's transfer): a DOMAIN
+    /// streams it to the application, a value that came whole in one message is stored from
+    /// it, any other is gathered in the buffer and stored on the `last` segment.
     fn take<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
+        t: Segmented,
         data: &[u8],
         last: bool,
     ) -> Result<(), AbortCode> {
-        let Some(t) = self.transfer else {
-            return Err(AbortCode::COMMAND_SPECIFIER);
-        };
         let (target, size, received) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
@@ -415,7 +416,7 @@ impl<const N: usize> SdoServer<N> {
     }
 
     /// Starts a segmented transfer with `done` bytes already moved, waiting for a segment with
-    /// `toggle` (the first segment carries 0).
+    /// `toggle` (the first segment carries 0); returns it.
     fn begin<D, H>(
         &mut self,
         cx: &Context<'_, D, H>,
@@ -424,16 +425,18 @@ impl<const N: usize> SdoServer<N> {
         size: usize,
         done: usize,
         toggle: bool,
-    ) {
-        self.transfer = Some(Segmented {
+    ) -> Segmented {
+        let transfer = Segmented {
             kind,
             target,
             size,
             done,
             toggle,
             deadline: cx.now,
-        });
+        };
+        self.transfer = Some(transfer);
         self.checked_in = cx.state;
+        transfer
     }
 }
 
