@@ -845,9 +845,7 @@ fn respond(out: &mut [u8], coe: [u8; 2], command: u8, target: Target, data: [u8;
     }
 }
 
-/// The SDO abort message for `index:sub` with `code`. Out of line: the server's answer to
-/// every refused request and the CoE handler's to an unsupported service, one copy.
-#[inline(never)]
+/// The SDO abort message for `index:sub` with `code`.
 pub fn abort(out: &mut [u8], index: u16, sub: u8, code: AbortCode) -> usize {
     let target = Target::new(index, sub, false);
     let code = code.0.to_le_bytes();
