@@ -4,26 +4,42 @@
 /// Bit 4 of an initiate request (upload or download) and of its response: complete access.
 pub(crate) const COMPLETE: u8 = 0x10;
 
-/// A request from the SDO client (the MainDevice), decoded from its command byte.
+/// An upload request: both kinds copy the value's bytes from the transfer's offset into the
+/// answer (one path in the server).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Request {
+pub(crate) enum Upload {
+    /// ccs 2: initiate upload (complete access: bit 4, [`COMPLETE`]).
+    Initiate,
+    /// ccs 3: upload segment with toggle `toggle`.
+    Segment { toggle: bool },
+}
+
+/// A download request: both kinds store bytes at the transfer's offset (one path in the
+/// server).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Download {
     /// ccs 1: initiate download. `expedited` with `size` given or not (complete access: bit
     /// 4, [`COMPLETE`]).
-    Download {
+    Initiate {
         expedited: bool,
         size_indicated: bool,
         unused: u8,
     },
     /// ccs 0: download segment with toggle `toggle`, `unused` bytes of the 7, `last`.
-    DownloadSegment {
+    Segment {
         toggle: bool,
         unused: u8,
         last: bool,
     },
-    /// ccs 2: initiate upload (complete access: bit 4, [`COMPLETE`]).
-    Upload,
-    /// ccs 3: upload segment with toggle `toggle`.
-    UploadSegment { toggle: bool },
+}
+
+/// A request from the SDO client (the MainDevice), decoded from its command byte.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Request {
+    /// ccs 1 or 0: a download's initiate or segment.
+    Download(Download),
+    /// ccs 2 or 3: an upload's initiate or segment.
+    Upload(Upload),
     /// ccs 4: abort transfer.
     Abort,
     /// Any other specifier.
@@ -35,18 +51,18 @@ impl Request {
     pub(crate) const fn from_byte(b: u8) -> Self {
         let toggle = b & 0x10 != 0;
         match b >> 5 {
-            1 => Self::Download {
+            1 => Self::Download(Download::Initiate {
                 expedited: b & 0x02 != 0,
                 size_indicated: b & 0x01 != 0,
                 unused: (b >> 2) & 0x03,
-            },
-            0 => Self::DownloadSegment {
+            }),
+            0 => Self::Download(Download::Segment {
                 toggle,
                 unused: (b >> 1) & 0x07,
                 last: b & 0x01 != 0,
-            },
-            2 => Self::Upload,
-            3 => Self::UploadSegment { toggle },
+            }),
+            2 => Self::Upload(Upload::Initiate),
+            3 => Self::Upload(Upload::Segment { toggle }),
             4 => Self::Abort,
             _ => Self::Unknown,
         }

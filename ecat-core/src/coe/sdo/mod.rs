@@ -23,7 +23,7 @@ mod writes;
 
 pub use writes::Writes;
 
-use command::{Request, response};
+use command::{Download, Request, Upload, response};
 use frame::Frame;
 
 use super::{AbortCode, CoeHeader, Service};
@@ -75,16 +75,17 @@ struct Segmented {
     done: usize,
     /// The toggle bit the next segment must carry.
     toggle: bool,
+    /// When the next segment is due: set by [`SdoServer::request`] after every request that
+    /// leaves the transfer under way (one sum for the initiate and each segment).
     deadline: Instant,
 }
 
 impl Segmented {
     /// A segment moved the transfer to `done` bytes; it waits for the next segment with the
     /// other toggle (the last one ends it: the server drops the transfer).
-    fn advance(&mut self, now: Instant, done: usize) {
+    fn advance(&mut self, done: usize) {
         self.done = done;
         self.toggle = !self.toggle;
-        self.deadline = now.saturating_add(SdoServer::<0>::SEGMENT_TIMEOUT);
     }
 }
 
@@ -158,18 +159,8 @@ impl<const N: usize> SdoServer<N> {
         // An initiate's target: bit 4 of either command asks for complete access.
         let target = Target::new(index, sub, frame.command() & command::COMPLETE != 0);
         let result = match Request::from_byte(frame.command()) {
-            Request::Upload => self.upload(cx, target, out),
-            Request::UploadSegment { toggle } => self.upload_segment(cx, toggle, out),
-            Request::Download {
-                expedited,
-                size_indicated,
-                unused,
-            } => self.download(cx, target, &frame, (expedited, size_indicated, unused), out),
-            Request::DownloadSegment {
-                toggle,
-                unused,
-                last,
-            } => self.download_segment(cx, toggle, segment_data(&frame, unused), last, out),
+            Request::Upload(request) => self.upload(cx, target, request, out),
+            Request::Download(request) => self.download(cx, target, &frame, request, out),
             Request::Abort => {
                 self.transfer = None;
                 return 0;
@@ -177,7 +168,14 @@ impl<const N: usize> SdoServer<N> {
             Request::Unknown => Err(AbortCode::COMMAND_SPECIFIER),
         };
         match result {
-            Ok(len) => len,
+            Ok(len) => {
+                // Whatever the request, a transfer still under way waits for its next segment
+                // from now on.
+                if let Some(t) = &mut self.transfer {
+                    t.deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
+                }
+                len
+            }
             Err(code) => {
                 // The abort names the transfer's entry, if one was under way: it ends here.
                 let (index, sub) = self
@@ -208,159 +206,179 @@ impl<const N: usize> SdoServer<N> {
         self.timed_out = false;
     }
 
+    /// An upload's initiate or segment: both copy the value's bytes from the transfer's offset
+    /// into the answer (an initiate starts a transfer at 0 and says the size, or carries a
+    /// value of 1 to 4 bytes in its header; a transfer ends with the segment that sends its
+    /// last byte).
     fn upload<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
         target: Target,
+        request: Upload,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.transfer = None;
-        self.timed_out = false;
-        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
-        cx.hooks.before_read(cx.od, target.index, target.sub)?;
-        // The value is read once, straight into the answer's data area; its size then says
-        // expedited or normal. A send mailbox without room for four bytes behind the header
+        let (object, target, at, size, offset) = match request {
+            Upload::Initiate => {
+                self.transfer = None;
+                self.timed_out = false;
+                let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Read)?;
+                cx.hooks.before_read(cx.od, target.index, target.sub)?;
+                let size = 0; // the read says, or for a DOMAIN the hook (below)
+                (object, target, RESPONSE_HEADER, size, 0)
+            }
+            Upload::Segment { toggle } => {
+                let t = next_segment(
+                    &mut self.transfer,
+                    &mut self.timed_out,
+                    Kind::Upload,
+                    toggle,
+                )?;
+                let object = D::object(t.target.index).ok_or(AbortCode::NO_OBJECT)?;
+                (
+                    object,
+                    t.target,
+                    CoeHeader::SIZE + SEGMENT_HEADER,
+                    t.size,
+                    t.done,
+                )
+            }
+        };
+        // The CoE header, then zeros: a segment's command is set below and the 7 bytes it
+        // carries at least are zero where the value does not fill them; an initiate's header
+        // is written whole below.
+        let [c0, c1] = SDO_RESPONSE;
+        *out.first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)? = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
+        // The value is read straight into the answer's data area (a DOMAIN's no further than
+        // its size). A send mailbox without room for four bytes behind an initiate's header
         // (the 16 bytes of the smallest) reads into `small`: an expedited value fits it, a
         // longer one sends nothing with the initiate.
-        let (head, data) = split_response(out)?;
+        let data = out.get_mut(at..).unwrap_or_default();
         let mut small = [0u8; 4];
         let short = data.len() < small.len();
-        let (size, sent) = if is_domain::<D>(target) {
-            (
-                domain_size(cx, target)?,
-                fetch(cx, object, target, 0, data)?,
-            )
+        let (sent, size) = if is_domain::<D>(target) {
+            let size = match request {
+                Upload::Initiate => domain_size(cx, target)?,
+                Upload::Segment { .. } => size,
+            };
+            let rest = size.saturating_sub(offset);
+            let data = match data.get_mut(..rest) {
+                Some(data) => data,
+                None => data,
+            };
+            (fetch(cx, object, target, offset, data)?, size)
         } else {
             let into: &mut [u8] = if short { &mut small } else { data };
-            let read = read(cx.od, object, target, 0, into)?;
-            if (1..=4).contains(&read.size()) {
-                // Expedited: the data moves into the header (ETG.1000.6 Table 37): the four
-                // bytes read, of which the value's size count.
-                let size = read.size();
+            let read = read(cx.od, object, target, offset, into)?;
+            let size = read.size();
+            if request == Upload::Initiate && (1..=4).contains(&size) {
+                // Expedited (no transfer): the data moves into the header (ETG.1000.6 Table
+                // 37): the four bytes read, of which the value's size count.
                 let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
                 let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
                 let command = response::upload_expedited(size, target.complete);
-                *head = header(SDO_RESPONSE, command, target, value.to_le_bytes());
-                return Ok(RESPONSE_HEADER);
+                let value = value.to_le_bytes();
+                return Ok(respond(out, SDO_RESPONSE, command, target, value));
             }
-            (read.size(), if short { 0 } else { read.copied() })
+            (if short { 0 } else { read.copied() }, size)
         };
-        let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-        let command = response::upload_normal(target.complete);
-        if sent < size {
-            self.begin(cx, Kind::Upload, target, size, sent);
+        let done = offset + sent;
+        let last = done >= size;
+        match (last, request, &mut self.transfer) {
+            (true, ..) => self.transfer = None,
+            (false, Upload::Initiate, _) => {
+                self.begin(cx, Kind::Upload, target, size, done, false);
+            }
+            (false, _, Some(t)) => t.advance(done),
+            (false, _, None) => {}
         }
-        *head = header(SDO_RESPONSE, command, target, size_bytes);
-        Ok(RESPONSE_HEADER + sent)
-    }
-
-    fn upload_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-        toggle: bool,
-        out: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        let t = next_segment(
-            &mut self.transfer,
-            &mut self.timed_out,
-            Kind::Upload,
-            toggle,
-        )?;
-        let (target, size, offset) = (t.target, t.size, t.done);
-        let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
-        // The CoE header, the command (set below) and the 7 bytes a segment carries at least,
-        // zero where the value does not fill them: one store.
-        let [c0, c1] = SDO_RESPONSE;
-        if let Some(head) = out.first_chunk_mut() {
-            *head = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
-        }
-        let body = out.get_mut(CoeHeader::SIZE..).unwrap_or_default();
-        let room = body.len().saturating_sub(SEGMENT_HEADER);
-        let want = room.min(size.saturating_sub(offset));
-        let data = body
-            .get_mut(SEGMENT_HEADER..SEGMENT_HEADER + want)
-            .unwrap_or_default();
-        let n = fetch(cx, object, target, offset, data)?;
-        let last = offset + n >= size;
-        let unused = MIN_SEGMENT_DATA.saturating_sub(n);
-        if let Some(command) = body.first_mut() {
+        let Upload::Segment { toggle } = request else {
+            let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
+            let command = response::upload_normal(target.complete);
+            return Ok(respond(out, SDO_RESPONSE, command, target, size_bytes) + sent);
+        };
+        let unused = MIN_SEGMENT_DATA.saturating_sub(sent);
+        if let Some(command) = out.get_mut(CoeHeader::SIZE) {
             *command = response::upload_segment(toggle, unused as u8, last);
         }
-        match last {
-            true => self.transfer = None,
-            false => t.advance(cx.now, offset + n),
-        }
-        let len = CoeHeader::SIZE + SEGMENT_HEADER + n.max(MIN_SEGMENT_DATA);
+        let len = CoeHeader::SIZE + SEGMENT_HEADER + sent.max(MIN_SEGMENT_DATA);
         Ok(len.min(out.len()))
     }
 
+    /// A download's initiate or segment: both store their bytes at the transfer's offset (an
+    /// initiate starts a transfer at 0; one that carries the whole value ends it at once).
     fn download<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
         target: Target,
         frame: &Frame<&[u8]>,
-        (expedited, size_indicated, unused): (bool, bool, u8),
+        request: Download,
         out: &mut [u8],
     ) -> Result<usize, AbortCode> {
-        self.transfer = None;
-        self.timed_out = false;
-        let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
-        let data = if expedited {
-            let size = if size_indicated {
-                4 - usize::from(unused)
-            } else {
-                expedited_size(object, target)
-            };
-            frame.expedited(size).ok_or(AbortCode::LENGTH_MISMATCH)?
-        } else {
-            let size = usize::try_from(frame.size()).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
-            let here = frame.payload();
-            let here = here.get(..size).unwrap_or(here);
-            if here.len() < size {
-                return self.begin_segmented_download(cx, object, target, size, here, out);
+        let (data, last, command, answered, transfer) = match request {
+            Download::Initiate {
+                expedited,
+                size_indicated,
+                unused,
+            } => {
+                self.transfer = None;
+                self.timed_out = false;
+                let (object, target) = resolve(&*cx.od, target, cx.state, Direction::Write)?;
+                let (size, data) = if expedited {
+                    let size = if size_indicated {
+                        4 - usize::from(unused)
+                    } else {
+                        expedited_size(object, target)
+                    };
+                    let data = frame.expedited(size).ok_or(AbortCode::LENGTH_MISMATCH)?;
+                    (data.len(), data)
+                } else {
+                    let size =
+                        usize::try_from(frame.size()).map_err(|_| AbortCode::OUT_OF_MEMORY)?;
+                    let here = frame.payload();
+                    (size, here.get(..size).unwrap_or(here))
+                };
+                // Toggle 1: `take` moves the transfer on as after a segment, to toggle 0 for the
+                // first one.
+                let transfer = self.begin(cx, Kind::Download, target, size, 0, true);
+                let command = response::download(target.complete);
+                (data, data.len() == size, command, target, transfer)
             }
-            here
+            Download::Segment {
+                toggle,
+                unused,
+                last,
+            } => {
+                let transfer = *next_segment(
+                    &mut self.transfer,
+                    &mut self.timed_out,
+                    Kind::Download,
+                    toggle,
+                )?;
+                let command = response::download_segment(toggle);
+                // The answer is the command and 7 bytes of padding.
+                (
+                    segment_data(frame, unused),
+                    last,
+                    command,
+                    Target::new(0, 0, false),
+                    transfer,
+                )
+            }
         };
-        store(cx, object, target, data, 0, true)?;
-        Ok(download_response(out, target))
+        self.take(cx, transfer, data, last)?;
+        Ok(respond(out, SDO_RESPONSE, command, answered, [0; 4]))
     }
 
-    fn begin_segmented_download<D: ObjectDictionary, H: ObjectHooks<D>>(
+    /// Stores a download's `data` at the offset of `t` (the server's transfer): a DOMAIN
+    /// streams it to the application, a value that came whole in one message is stored from
+    /// it, any other is gathered in the buffer and stored on the `last` segment.
+    fn take<D: ObjectDictionary, H: ObjectHooks<D>>(
         &mut self,
         cx: &mut Context<'_, D, H>,
-        object: &Object<D>,
-        target: Target,
-        size: usize,
-        first: &[u8],
-        out: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        if is_domain::<D>(target) {
-            store(cx, object, target, first, 0, false)?;
-        } else {
-            if size > N {
-                return Err(AbortCode::OUT_OF_MEMORY);
-            }
-            let buf = self.buf.get_mut(..first.len());
-            crate::bytes::copy(buf.ok_or(AbortCode::OUT_OF_MEMORY)?, first);
-        }
-        self.begin(cx, Kind::Download, target, size, first.len());
-        Ok(download_response(out, target))
-    }
-
-    fn download_segment<D: ObjectDictionary, H: ObjectHooks<D>>(
-        &mut self,
-        cx: &mut Context<'_, D, H>,
-        toggle: bool,
+        t: Segmented,
         data: &[u8],
         last: bool,
-        out: &mut [u8],
-    ) -> Result<usize, AbortCode> {
-        let t = next_segment(
-            &mut self.transfer,
-            &mut self.timed_out,
-            Kind::Download,
-            toggle,
-        )?;
+    ) -> Result<(), AbortCode> {
         let (target, size, received) = (t.target, t.size, t.done);
         let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
         let total = received + data.len();
@@ -375,34 +393,30 @@ impl<const N: usize> SdoServer<N> {
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
             resolve(&*cx.od, target, cx.state, Direction::Write)?;
         }
-        if is_domain::<D>(target) {
-            store(cx, object, target, data, received, last)?;
+        let streamed = is_domain::<D>(target);
+        let value: &[u8] = if streamed || (last && received == 0) {
+            data
         } else {
-            let buf = self.buf.get_mut(received..total);
-            crate::bytes::copy(buf.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
-            if last {
-                let value = self.buf.get(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
-                store(cx, object, target, value, 0, true)?;
-            }
+            // A value larger than the buffer is refused when its transfer starts.
+            let buf = self.buf.get_mut(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
+            let here = buf.get_mut(received..total);
+            crate::bytes::copy(here.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
+            buf
+        };
+        // One store: a DOMAIN's every piece at its offset, any other value once, whole (the
+        // offset and the flag count for a DOMAIN only).
+        if streamed || last {
+            store(cx, object, target, value, received, last)?;
         }
-        match last {
-            true => self.transfer = None,
-            false => t.advance(cx.now, total),
+        match (last, &mut self.transfer) {
+            (false, Some(t)) => t.advance(total),
+            _ => self.transfer = None,
         }
-        // The CoE header, the command and 7 bytes of padding, in one store.
-        let [c0, c1] = SDO_RESPONSE;
-        let command = response::download_segment(toggle);
-        Ok(match out.first_chunk_mut() {
-            Some(answer) => {
-                *answer = [c0, c1, command, 0, 0, 0, 0, 0, 0, 0];
-                CoeHeader::SIZE + SEGMENT_HEADER + MIN_SEGMENT_DATA
-            }
-            None => 0,
-        })
+        Ok(())
     }
 
-    /// Starts a segmented transfer with `done` bytes already moved; the first segment carries
-    /// toggle 0.
+    /// Starts a segmented transfer with `done` bytes already moved, waiting for a segment with
+    /// `toggle` (the first segment carries 0); returns it.
     fn begin<D, H>(
         &mut self,
         cx: &Context<'_, D, H>,
@@ -410,17 +424,19 @@ impl<const N: usize> SdoServer<N> {
         target: Target,
         size: usize,
         done: usize,
-    ) {
-        let deadline = cx.now.saturating_add(Self::SEGMENT_TIMEOUT);
-        self.transfer = Some(Segmented {
+        toggle: bool,
+    ) -> Segmented {
+        let transfer = Segmented {
             kind,
             target,
             size,
             done,
-            toggle: false,
-            deadline,
-        });
+            toggle,
+            deadline: cx.now,
+        };
+        self.transfer = Some(transfer);
         self.checked_in = cx.state;
+        transfer
     }
 }
 
@@ -808,12 +824,6 @@ fn segment_data<'a>(frame: &'a Frame<&[u8]>, unused: u8) -> &'a [u8] {
     }
 }
 
-/// The download initiate response for `target` (scs 3, index, subindex, 4 zero bytes).
-fn download_response(out: &mut [u8], target: Target) -> usize {
-    let command = response::download(target.complete);
-    respond(out, SDO_RESPONSE, command, target, [0; 4])
-}
-
 /// The fixed part of a response (ETG.1000.6 Tables 33–40): the CoE header `coe`
 /// ([`SDO_RESPONSE`], [`SDO_REQUEST`]), the command, index, subindex and four data bytes.
 fn header(coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> [u8; RESPONSE_HEADER] {
@@ -821,12 +831,6 @@ fn header(coe: [u8; 2], command: u8, target: Target, data: [u8; 4]) -> [u8; RESP
     let [i0, i1] = target.index.to_le_bytes();
     let [d0, d1, d2, d3] = data;
     [c0, c1, command, i0, i1, target.sub, d0, d1, d2, d3]
-}
-
-/// `out` as the fixed part of a response and the data area behind it; too short (a send
-/// mailbox below the 16 bytes a device configuration needs) to answer at all: 0x05040005.
-fn split_response(out: &mut [u8]) -> Result<(&mut [u8; RESPONSE_HEADER], &mut [u8]), AbortCode> {
-    out.split_first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)
 }
 
 /// Writes the fixed part of a response into `out` ([`header`]); returns its length, 0 when
@@ -911,6 +915,114 @@ mod tests {
         let mut out = [0u8; 40];
         let n = SdoServer::<16>::new().request(&mut cx, request, &mut out);
         (out, n)
+    }
+
+    /// A server with a `N`-byte buffer that keeps its transfer between requests, each served
+    /// in PREOP into an answer of `room` bytes.
+    struct Session<const N: usize> {
+        od: Od,
+        server: SdoServer<N>,
+    }
+
+    impl<const N: usize> Session<N> {
+        fn new() -> Self {
+            Self {
+                od: Od::default(),
+                server: SdoServer::new(),
+            }
+        }
+
+        fn serve(&mut self, room: usize, request: &[u8]) -> Answer {
+            let mut cx = Context {
+                od: &mut self.od,
+                hooks: &mut (),
+                state: AlState::PreOp,
+                now: Instant::from_micros(0),
+                writes: &mut Writes::default(),
+                device: None,
+            };
+            let mut out = [0xAA; 40];
+            let len = self.server.request(&mut cx, request, &mut out[..room]);
+            Answer { out, len }
+        }
+    }
+
+    /// The bytes of an answer.
+    #[derive(Debug)]
+    struct Answer {
+        out: [u8; 40],
+        len: usize,
+    }
+
+    impl<const K: usize> PartialEq<[u8; K]> for Answer {
+        fn eq(&self, other: &[u8; K]) -> bool {
+            self.out[..self.len] == other[..]
+        }
+    }
+
+    /// 0x05040001 with no transfer under way: the abort names 0000:00.
+    const NO_TRANSFER: [u8; 10] = [0x00, 0x20, 0x80, 0, 0, 0, 0x01, 0x00, 0x04, 0x05];
+    /// An upload segment request with toggle 0.
+    const UPLOAD_SEGMENT: [u8; 8] = [0x60, 0, 0, 0, 0, 0, 0, 0];
+
+    /// The upload's one path in the smallest mailbox (10 bytes of answer): a normal initiate
+    /// says the size and carries no data, the segment then sends the value from offset 0 and
+    /// ends the transfer; an expedited initiate leaves no transfer behind.
+    #[test]
+    fn an_upload_into_the_smallest_mailbox_continues_from_offset_0() {
+        let mut session = Session::<16>::new();
+        let initiate = [0x50, 0x00, 0x20, 0x00, 0, 0, 0, 0];
+        assert_eq!(
+            session.serve(10, &initiate),
+            [0x00, 0x30, 0x51, 0x00, 0x20, 0x00, 5, 0, 0, 0]
+        );
+        // 5 bytes of the 7 (2 unused), the last.
+        assert_eq!(
+            session.serve(10, &UPLOAD_SEGMENT),
+            [0x00, 0x30, 0x05, 4, 0, 0x11, 0x44, 0x44, 0, 0]
+        );
+        assert_eq!(session.serve(10, &UPLOAD_SEGMENT), NO_TRANSFER);
+        assert_eq!(
+            session.serve(10, &[0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+            [0x00, 0x30, 0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]
+        );
+        assert_eq!(session.serve(10, &UPLOAD_SEGMENT), NO_TRANSFER);
+    }
+
+    /// The download's one path: a value that comes whole with its initiate is stored from the
+    /// message, whatever the buffer (4 bytes here, the value 5); one that continues in segments
+    /// must fit the buffer (0x05040005 at the initiate) and is stored at its last segment.
+    #[test]
+    fn a_download_is_stored_from_its_message_or_from_the_buffer() {
+        let answered = [0x00, 0x30, 0x70, 0x00, 0x20, 0x00, 0, 0, 0, 0];
+        let whole = [0x31, 0x00, 0x20, 0x00, 5, 0, 0, 0, 4, 0, 0x22, 0x55, 0x55];
+        let mut small = Session::<4>::new();
+        assert_eq!(small.serve(40, &whole), answered);
+        assert_eq!(
+            (small.od.sparse.first, small.od.sparse.fourth),
+            (0x22, 0x5555)
+        );
+        let partial = &whole[..11];
+        assert_eq!(
+            small.serve(40, partial),
+            [0x00, 0x20, 0x80, 0x00, 0x20, 0x00, 0x05, 0x00, 0x04, 0x05]
+        );
+        let mut session = Session::<16>::new();
+        assert_eq!(session.serve(40, partial), answered);
+        assert_eq!(
+            session.od.sparse.first, 0x11,
+            "nothing stored before the last segment"
+        );
+        // 2 bytes of the 7 (5 unused), the last.
+        assert_eq!(
+            session.serve(40, &[0x0B, 0x55, 0x55, 0, 0, 0, 0, 0]),
+            [0x00, 0x30, 0x20, 0, 0, 0, 0, 0, 0, 0]
+        );
+        assert_eq!(
+            (session.od.sparse.first, session.od.sparse.fourth),
+            (0x22, 0x5555)
+        );
+        assert_eq!(session.serve(40, &[0x00, 0, 0, 0, 0, 0, 0, 0]), NO_TRANSFER);
     }
 
     /// A gap of a sparse RECORD (0x2000:02, :03 here; 0x1C32:0E..1F on a device), which SDO
