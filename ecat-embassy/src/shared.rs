@@ -26,6 +26,37 @@ pub(crate) enum Runner {
     ProcessData,
 }
 
+/// Whose chunk an access moves next: the runner, and for the state-machine runner whether it
+/// is its access's first chunk ([`SharedEsc::take_pdi`]). One byte that [`SharedEsc::access`]'s
+/// future keeps for both (docs/performance.md, session 12, ram3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Turn {
+    /// The process-data runner's access, one piece.
+    ProcessData,
+    /// The state-machine runner's first chunk.
+    EsmFirst,
+    /// A later chunk of the state-machine runner's access.
+    EsmLater,
+}
+
+impl Turn {
+    /// The first chunk of `runner`'s access.
+    const fn first(runner: Runner) -> Self {
+        match runner {
+            Runner::ProcessData => Self::ProcessData,
+            Runner::Esm => Self::EsmFirst,
+        }
+    }
+
+    /// Who moves the chunk.
+    const fn runner(self) -> Runner {
+        match self {
+            Self::ProcessData => Runner::ProcessData,
+            Self::EsmFirst | Self::EsmLater => Runner::Esm,
+        }
+    }
+}
+
 /// What the runners know about each other, behind a short critical section. Every field is a
 /// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
 /// flag or carries its panic path.
@@ -298,27 +329,34 @@ impl<P: Pdi> SharedEsc<P> {
         mut rest: Data<'_>,
         clears: AlEvent,
     ) -> impl Future<Output = Result<AlEvent, P::Error>> {
+        // The runner with whether the chunk is the first, in one byte beside the data.
+        let mut turn = Turn::first(runner);
         async move {
-            let (mut event, mut first) = (AlEvent::NONE, true);
+            let mut event = AlEvent::NONE;
             // One wait for the turn and the lock, one driver access, each awaited at one place
             // for both runners: the driver's access future is inlined once.
             loop {
-                let mut pdi = self.take_pdi(runner, first).await;
-                first = false;
-                let len = match (runner, self.chunk) {
-                    (Runner::ProcessData, _) | (_, 0) => rest.len(),
-                    (Runner::Esm, chunk) => {
-                        pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
+                // The guard dropped at the block's end, not moved: the future keeps no drop flag.
+                let seen = {
+                    let mut pdi = self.take_pdi(turn).await;
+                    let len = match (turn, self.chunk) {
+                        (Turn::ProcessData, _) | (_, 0) => rest.len(),
+                        (Turn::EsmFirst | Turn::EsmLater, chunk) => {
+                            pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
+                        }
+                    };
+                    if turn == Turn::EsmFirst {
+                        turn = Turn::EsmLater;
                     }
+                    let (piece, tail) = rest.split_at(len);
+                    rest = tail;
+                    // The next chunk's address, taken before the await: the future keeps no
+                    // length.
+                    let at = address;
+                    address = address.wrapping_add(len as u16);
+                    pdi.access(at, piece).await
                 };
-                let (piece, tail) = rest.split_at(len);
-                rest = tail;
-                // The next chunk's address, taken before the await: the future keeps no length.
-                let at = address;
-                address = address.wrapping_add(len as u16);
-                let seen = pdi.access(at, piece).await;
-                drop(pdi);
-                event = event.union(self.observe_access(runner, seen, clears)?);
+                event = event.union(self.observe_access(turn.runner(), seen, clears)?);
                 if rest.is_empty() {
                     return Ok(event);
                 }
@@ -326,8 +364,8 @@ impl<P: Pdi> SharedEsc<P> {
         }
     }
 
-    /// `runner`'s turn and the PDI's lock, in one wait; with the lock taken, the driver is told
-    /// what the chunk's AL event must be ([`Pdi::sample`]; `first`: the access's first chunk). The process-data runner says that it
+    /// The `turn`'s runner's turn and the PDI's lock, in one wait; with the lock taken, the
+    /// driver is told what the chunk's AL event must be ([`Pdi::sample`]). The process-data runner says that it
     /// waits for the PDI. The state-machine runner waits while the process-data runner waits for
     /// the PDI or has news it has not looked at (its trigger seen by a chunk, the IRQ line free
     /// again): that one comes first. In firmware it has always run by then (its interrupt
@@ -338,12 +376,11 @@ impl<P: Pdi> SharedEsc<P> {
     /// the lock's own waiting is not used (docs/performance.md, "Codegen rules").
     fn take_pdi(
         &self,
-        runner: Runner,
-        first: bool,
+        turn: Turn,
     ) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                let waker = if runner == Runner::ProcessData {
+                let waker = if turn == Turn::ProcessData {
                     r.pd_waiting.set(true);
                     &r.pd_waker
                 } else {
@@ -359,10 +396,10 @@ impl<P: Pdi> SharedEsc<P> {
                     return Poll::Pending;
                 };
                 // What the chunk's AL event must be, told the driver with the lock taken.
-                let sample = if runner == Runner::ProcessData {
+                let sample = if turn == Turn::ProcessData {
                     r.pd_waiting.set(false);
                     Sample::Usual
-                } else if first {
+                } else if turn == Turn::EsmFirst {
                     Sample::Usual
                 } else if r.esm_holds_irq.get() {
                     // The trigger makes no edge: a later chunk's AL event is its only news
