@@ -4,6 +4,7 @@
 
 use core::cell::Cell;
 use core::future::poll_fn;
+use core::num::NonZeroU16;
 use core::pin::{Pin, pin};
 use core::task::Poll;
 
@@ -147,13 +148,19 @@ where
             // Every step is followed by the accesses it asks for: the only place they are made,
             // in this loop rather than in a future of their own (docs/performance.md, "Codegen
             // rules"); then the process-data layout is published.
-            while let Some((mut address, mut data, mut last, clears)) = next_access(sub) {
+            while let Some((mut address, mut data, mut last, mut clears)) = next_access(sub) {
                 // The access, then, when the message is shorter than SM1, its last byte, which
-                // hands SM1 to the MainDevice: awaited at one place.
+                // hands SM1 to the MainDevice: awaited at one place. The last byte's write
+                // clears what a write of SM1's buffer clears, SM1's event: so the future keeps
+                // neither the access's `clears` nor more than the last byte's address (2 bytes,
+                // in its padding) beside the access (docs/performance.md, session 12, ram3).
                 let event = loop {
                     match common.esc.access(Runner::Esm, address, data, clears).await {
                         Ok(event) => match last.take() {
-                            Some(byte) => (address, data) = (byte, Data::Write(&[0])),
+                            Some(byte) => {
+                                (address, data) = (byte.get(), Data::Write(&[0]));
+                                clears = AlEvent::sync_manager(1);
+                            }
                             None => break event,
                         },
                         Err(e) => break 'run e,
@@ -379,13 +386,14 @@ fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevic
 }
 
 /// The next access the core asks for, as the PDI performs it: address, data, the address of a
-/// last byte to write after the data ([`RegisterAccess::Send`]), the AL event bits it clears.
+/// last byte to write after the data ([`RegisterAccess::Send`]: SM1's last byte, never at
+/// address 0, the ESC's type register), the AL event bits it clears.
 /// Taken apart here so that the runner's future keeps the parts, not the access; not inlined
 /// into that future (docs/performance.md, "Codegen rules").
 #[inline(never)]
 fn next_access<'s, const MBX: usize>(
     sub: &'s mut SubDevice<'_, MBX>,
-) -> Option<(u16, Data<'s>, Option<u16>, AlEvent)> {
+) -> Option<(u16, Data<'s>, Option<NonZeroU16>, AlEvent)> {
     let access = sub.poll_access()?;
     let clears = access.clears();
     match access {
@@ -396,7 +404,12 @@ fn next_access<'s, const MBX: usize>(
             data,
             last,
             ..
-        } => (address, Data::Write(data), last, clears),
+        } => (
+            address,
+            Data::Write(data),
+            last.and_then(NonZeroU16::new),
+            clears,
+        ),
     }
     .into()
 }

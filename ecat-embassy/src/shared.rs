@@ -26,19 +26,47 @@ pub(crate) enum Runner {
     ProcessData,
 }
 
+/// Whose chunk an access moves next: the runner, and for the state-machine runner whether it
+/// is its access's first chunk ([`SharedEsc::take_pdi`]). One byte that [`SharedEsc::access`]'s
+/// future keeps for both (docs/performance.md, session 12, ram3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Turn {
+    /// The process-data runner's access, one piece.
+    ProcessData,
+    /// The state-machine runner's first chunk.
+    EsmFirst,
+    /// A later chunk of the state-machine runner's access.
+    EsmLater,
+}
+
+impl Turn {
+    /// The first chunk of `runner`'s access.
+    const fn first(runner: Runner) -> Self {
+        match runner {
+            Runner::ProcessData => Self::ProcessData,
+            Runner::Esm => Self::EsmFirst,
+        }
+    }
+
+    /// Who moves the chunk.
+    const fn runner(self) -> Runner {
+        match self {
+            Self::ProcessData => Runner::ProcessData,
+            Self::EsmFirst | Self::EsmLater => Runner::Esm,
+        }
+    }
+}
+
 /// What the runners know about each other, behind a short critical section. Every field is a
 /// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
 /// flag or carries its panic path.
-// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the flags together
-// (apart, each padded a word: 8 bytes more).
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the four flags and the
+// two 16-bit generations in the first 8 bytes (apart, each padded a word: 8 bytes more).
 #[repr(C)]
 struct Routing {
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
     /// may hold the IRQ line asserted.
     esm_holds_irq: Cell<bool>,
-    /// The state-machine runner has published at least once, so its AL event mask is in the ESC.
-    /// Before that the ESC's reset mask may assert the IRQ for events no runner clears.
-    esm_started: Cell<bool>,
     /// What the process-data runner reported and the state-machine runner has not taken yet.
     reports: Cell<Reports>,
     /// The process-data runner waits for the PDI: the state-machine runner does not take it
@@ -47,6 +75,13 @@ struct Routing {
     pd_waiting: Cell<bool>,
     /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
     pd_stopped: Cell<bool>,
+    /// Bumped whenever something changes for the process-data runner: its trigger was seen, the
+    /// IRQ line is free again, the layout changed. 16 bits are plenty: the state-machine runner
+    /// waits for the PDI while the process-data runner has not looked at a bump
+    /// ([`SharedEsc::take_pdi`]), so the count runs at most a few bumps ahead of `pd_seen`.
+    pd_generation: Cell<u16>,
+    /// The `pd_generation` the process-data runner looked at last.
+    pd_seen: Cell<u16>,
     /// State-machine events seen by the process-data runner and not yet taken.
     esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
@@ -57,13 +92,10 @@ struct Routing {
     mask: Cell<AlEvent>,
     /// The AL event seen by the last access of either runner.
     last_event: Cell<AlEvent>,
-    /// Bumped whenever something changes for the process-data runner: its trigger was seen, the
-    /// IRQ line is free again, the layout changed.
-    pd_generation: Cell<u32>,
-    /// The `pd_generation` the process-data runner looked at last.
-    pd_seen: Cell<u32>,
     /// The AL status and status code the state-machine runner last published, for the
-    /// indicators ([`Indication`]).
+    /// indicators ([`Indication`]); [`Indication::UNPUBLISHED`] until its first publication, which
+    /// puts its AL event mask in the ESC (before that the ESC's reset mask may assert the IRQ for
+    /// events no runner clears).
     indication: Cell<Indication>,
     /// The state-machine runner waits for news ([`SharedEsc::poll_esm_events`]).
     esm_waker: WakerCell,
@@ -156,7 +188,7 @@ impl WakerCell {
 /// What the process-data runner looks at before it waits ([`SharedEsc::pd_view`]).
 pub(crate) struct PdView {
     /// The token for [`SharedEsc::pd_changed_since`], taken with the rest.
-    pub(crate) generation: u32,
+    pub(crate) generation: u16,
     /// The process-data layout of the current state.
     pub(crate) layout: Option<Setup>,
     /// Process-data trigger events the state-machine runner saw.
@@ -198,6 +230,10 @@ impl Reports {
 pub(crate) struct Indication(u32);
 
 impl Indication {
+    /// Before the state-machine runner's first publication: no AL status (a published one has
+    /// a state, never 0).
+    pub(crate) const UNPUBLISHED: Self = Self(0);
+
     /// What the SubDevice presents now.
     pub(crate) fn of<const MBX: usize>(sub: &ecat_core::SubDevice<'_, MBX>) -> Self {
         Self(u32::from(sub.al_status().bits()) | u32::from(sub.al_status_code().0) << 16)
@@ -253,9 +289,8 @@ impl<P: Pdi> SharedEsc<P> {
                 layout: Cell::new(None),
                 mask: Cell::new(AlEvent::NONE),
                 last_event: Cell::new(AlEvent::NONE),
-                esm_started: Cell::new(false),
                 pd_generation: Cell::new(0),
-                indication: Cell::new(Indication(0)),
+                indication: Cell::new(Indication::UNPUBLISHED),
                 // Evaluated at compile time: no call of `Ring::new` where the firmware builds
                 // its resources.
                 emergencies: Cell::new(const { Ring::new(Emergency::NONE) }),
@@ -294,27 +329,34 @@ impl<P: Pdi> SharedEsc<P> {
         mut rest: Data<'_>,
         clears: AlEvent,
     ) -> impl Future<Output = Result<AlEvent, P::Error>> {
+        // The runner with whether the chunk is the first, in one byte beside the data.
+        let mut turn = Turn::first(runner);
         async move {
-            let (mut event, mut first) = (AlEvent::NONE, true);
+            let mut event = AlEvent::NONE;
             // One wait for the turn and the lock, one driver access, each awaited at one place
             // for both runners: the driver's access future is inlined once.
             loop {
-                let mut pdi = self.take_pdi(runner, first).await;
-                first = false;
-                let len = match (runner, self.chunk) {
-                    (Runner::ProcessData, _) | (_, 0) => rest.len(),
-                    (Runner::Esm, chunk) => {
-                        pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
+                // The guard dropped at the block's end, not moved: the future keeps no drop flag.
+                let seen = {
+                    let mut pdi = self.take_pdi(turn).await;
+                    let len = match (turn, self.chunk) {
+                        (Turn::ProcessData, _) | (_, 0) => rest.len(),
+                        (Turn::EsmFirst | Turn::EsmLater, chunk) => {
+                            pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
+                        }
+                    };
+                    if turn == Turn::EsmFirst {
+                        turn = Turn::EsmLater;
                     }
+                    let (piece, tail) = rest.split_at(len);
+                    rest = tail;
+                    // The next chunk's address, taken before the await: the future keeps no
+                    // length.
+                    let at = address;
+                    address = address.wrapping_add(len as u16);
+                    pdi.access(at, piece).await
                 };
-                let (piece, tail) = rest.split_at(len);
-                rest = tail;
-                // The next chunk's address, taken before the await: the future keeps no length.
-                let at = address;
-                address = address.wrapping_add(len as u16);
-                let seen = pdi.access(at, piece).await;
-                drop(pdi);
-                event = event.union(self.observe_access(runner, seen, clears)?);
+                event = event.union(self.observe_access(turn.runner(), seen, clears)?);
                 if rest.is_empty() {
                     return Ok(event);
                 }
@@ -322,8 +364,8 @@ impl<P: Pdi> SharedEsc<P> {
         }
     }
 
-    /// `runner`'s turn and the PDI's lock, in one wait; with the lock taken, the driver is told
-    /// what the chunk's AL event must be ([`Pdi::sample`]; `first`: the access's first chunk). The process-data runner says that it
+    /// The `turn`'s runner's turn and the PDI's lock, in one wait; with the lock taken, the
+    /// driver is told what the chunk's AL event must be ([`Pdi::sample`]). The process-data runner says that it
     /// waits for the PDI. The state-machine runner waits while the process-data runner waits for
     /// the PDI or has news it has not looked at (its trigger seen by a chunk, the IRQ line free
     /// again): that one comes first. In firmware it has always run by then (its interrupt
@@ -334,12 +376,11 @@ impl<P: Pdi> SharedEsc<P> {
     /// the lock's own waiting is not used (docs/performance.md, "Codegen rules").
     fn take_pdi(
         &self,
-        runner: Runner,
-        first: bool,
+        turn: Turn,
     ) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                let waker = if runner == Runner::ProcessData {
+                let waker = if turn == Turn::ProcessData {
                     r.pd_waiting.set(true);
                     &r.pd_waker
                 } else {
@@ -355,10 +396,10 @@ impl<P: Pdi> SharedEsc<P> {
                     return Poll::Pending;
                 };
                 // What the chunk's AL event must be, told the driver with the lock taken.
-                let sample = if runner == Runner::ProcessData {
+                let sample = if turn == Turn::ProcessData {
                     r.pd_waiting.set(false);
                     Sample::Usual
-                } else if first {
+                } else if turn == Turn::EsmFirst {
                     Sample::Usual
                 } else if r.esm_holds_irq.get() {
                     // The trigger makes no edge: a later chunk's AL event is its only news
@@ -455,12 +496,12 @@ impl<P: Pdi> SharedEsc<P> {
     pub(crate) fn publish(&self, layout: Option<Setup>, mask: AlEvent, indication: Indication) {
         self.with(|r| {
             r.mask.set(mask);
-            if r.indication.replace(indication) != indication {
+            let published = r.indication.replace(indication);
+            if published != indication {
                 r.led_waker.wake();
             }
-            if r.layout.get() != layout || !r.esm_started.get() {
+            if r.layout.get() != layout || published == Indication::UNPUBLISHED {
                 r.layout.set(layout);
-                r.esm_started.set(true);
                 r.notify_pd();
             }
             r.update_irq_holder();
@@ -487,7 +528,7 @@ impl<P: Pdi> SharedEsc<P> {
                 AlEvent::NONE
             },
             // Before the state-machine runner set up the ESC, its reset mask may hold the line.
-            irq_free: r.esm_started.get() && !r.esm_holds_irq.get(),
+            irq_free: r.indication.get() != Indication::UNPUBLISHED && !r.esm_holds_irq.get(),
         })
     }
 
@@ -506,7 +547,7 @@ impl<P: Pdi> SharedEsc<P> {
 
     /// Waits until something changed for the process-data runner since `seen` was taken: its
     /// trigger was seen, the state-machine events released the IRQ line, or the layout changed.
-    pub(crate) fn pd_changed_since(&self, seen: u32) -> impl Future<Output = ()> + '_ {
+    pub(crate) fn pd_changed_since(&self, seen: u16) -> impl Future<Output = ()> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
                 if r.pd_generation.get() != seen {
