@@ -214,6 +214,13 @@ pub enum ListType {
     Settings = 5,
 }
 
+// `ListType::contains` takes list 2 + n's flag as the RxPDO flag shifted by n.
+const _: () = assert!(
+    Access::TXPDO.0 == Access::RXPDO.0 << 1
+        && Access::BACKUP.0 == Access::RXPDO.0 << 2
+        && Access::SETTINGS.0 == Access::RXPDO.0 << 3
+);
+
 /// The lists whose lengths list type 0 reports, in order.
 const OBJECT_LISTS: [ListType; 5] = [
     ListType::All,
@@ -246,17 +253,16 @@ impl ListType {
     /// [`ListType::Lengths`] holds no object.
     #[allow(clippy::indexing_slicing)] // bounded by the loop condition
     pub const fn contains(self, object: &ObjectInfo) -> bool {
+        // Lists 2..=5 take the access flags 0x0040 (RxPDO) .. 0x0200 (settings), in order
+        // (asserted at compile time above `OBJECT_LISTS`): one shift rather than a match.
         let flag = match self {
             Self::Lengths => return false,
             Self::All => return true,
-            Self::RxPdo => Access::RXPDO,
-            Self::TxPdo => Access::TXPDO,
-            Self::Backup => Access::BACKUP,
-            Self::Settings => Access::SETTINGS,
+            list => Access::RXPDO.0 << (list as u16 - Self::RxPdo as u16),
         };
         let mut i = 0;
         while i < object.entries.len() {
-            if object.entries[i].access.0 & flag.0 != 0 {
+            if object.entries[i].access.0 & flag != 0 {
                 return true;
             }
             i += 1;
@@ -266,12 +272,12 @@ impl ListType {
 
     /// How many objects of `D` the list holds (list type 0: its five counts): counted at
     /// compile time ([`list_lengths`]).
-    fn len<D: ObjectDictionary>(self) -> usize {
+    fn len<D: ObjectDictionary>(self) -> u16 {
         let lengths = const { list_lengths(D::OBJECTS) };
         if const { D::OBJECTS.is_empty() } {
             // No table for a device without a dictionary: list type 0's five counts, no object.
             return if self == Self::Lengths {
-                OBJECT_LISTS.len()
+                OBJECT_LISTS.len() as u16
             } else {
                 0
             };
@@ -283,15 +289,15 @@ impl ListType {
 /// The length of each list (by its code) of a dictionary of `objects`: what a Get OD List
 /// response counts, a table in flash rather than a count of the dictionary at run time.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-const fn list_lengths<D>(objects: &[Object<D>]) -> [usize; 6] {
-    let mut lengths = [OBJECT_LISTS.len(), 0, 0, 0, 0, 0];
+const fn list_lengths<D>(objects: &[Object<D>]) -> [u16; 6] {
+    let mut lengths = [OBJECT_LISTS.len() as u16, 0, 0, 0, 0, 0];
     let mut l = 0;
     while l < OBJECT_LISTS.len() {
         let list = OBJECT_LISTS[l];
         let mut i = 0;
         while i < objects.len() {
             if list.contains(&objects[i].info) {
-                lengths[list as usize] += 1;
+                lengths[list as usize] = lengths[list as usize].saturating_add(1);
             }
             i += 1;
         }
@@ -496,13 +502,22 @@ fn entry_description<D: ObjectDictionary>(
     let object = D::object(index).ok_or(AbortCode::NO_OBJECT)?;
     let entry = object.info.entry(sub);
     let mut gap_name = *b"SubIndex 000";
-    let (fixed, name) = match entry {
-        Some(entry) => (entry_fixed_part(index, sub, entry), entry.name.as_bytes()),
-        None => (
-            gap_fixed_part(&object.info, sub, &mut gap_name)?,
-            &gap_name[..],
+    // Data type, bit length and access: a gap's are 0.
+    let ((data_type, bit_len, access), name) = match entry {
+        Some(entry) => (
+            (entry.data_type.code(), entry.bit_len, entry.access.0),
+            entry.name.as_bytes(),
         ),
+        None => {
+            name_gap(&object.info, sub, &mut gap_name)?;
+            ((0, 0, 0), &gap_name[..])
+        }
     };
+    let [i0, i1] = index.to_le_bytes();
+    let [t0, t1] = data_type.to_le_bytes();
+    let [b0, b1] = bit_len.to_le_bytes();
+    let [a0, a1] = access.to_le_bytes();
+    let fixed = [i0, i1, sub, 0, t0, t1, b0, b1, a0, a1];
     let mut w = Writer::starting(data, fixed).ok_or(AbortCode::EXCEEDS_MAILBOX)?;
     let mut honoured = 0;
     if let Some(entry) = entry {
@@ -517,20 +532,16 @@ fn entry_description<D: ObjectDictionary>(
     Ok(Response::whole(Opcode::GetEntryDescriptionResponse, w.len))
 }
 
-/// The fixed part of the entry description of a subindex a RECORD does not declare below its
-/// highest one (a gap of a sparse record, 0x1C32:0E..1F), and its name into `name`: described as
-/// SSC describes it (its records are dense arrays of entry descriptions, a gap `{0x0000, 0, 0}`,
+/// The name, into `name`, of a subindex a RECORD does not declare below its highest one (a gap
+/// of a sparse record, 0x1C32:0E..1F), whose entry description [`entry_description`] writes as
+/// SSC writes it (its records are dense arrays of entry descriptions, a gap `{0x0000, 0, 0}`,
 /// Beckhoff SSC 5.12 `objdef.c` `OBJ_GetEntryDesc`/`OBJ_GetDesc`, `coeappl.c`
 /// `asEntryDesc0x1C3x`): data type 0, bit length 0, access 0, value info 0 (no optional field,
 /// whatever the request asks) and the name SSC gives an entry without one, `SubIndex NNN` (three
 /// decimal digits). SOEM's `ecx_readOE` asks for every subindex 0..max of every object and
 /// records an SDO Info error for each one refused. Any other missing subindex is `0x06090011`
 /// (ETG.1000.6 Table 41).
-fn gap_fixed_part(
-    object: &ObjectInfo,
-    sub: u8,
-    name: &mut [u8; 12],
-) -> Result<[u8; 10], AbortCode> {
+fn name_gap(object: &ObjectInfo, sub: u8, name: &mut [u8; 12]) -> Result<(), AbortCode> {
     if object.code != ObjectCode::Record || sub == 0 || sub > object.max_sub {
         return Err(AbortCode::NO_SUBINDEX);
     }
@@ -539,17 +550,7 @@ fn gap_fixed_part(
         *digit = b'0' + n % 10;
         n /= 10;
     }
-    let [i0, i1] = object.index.to_le_bytes();
-    Ok([i0, i1, sub, 0, 0, 0, 0, 0, 0, 0])
-}
-
-/// The first 10 bytes of an entry description, value info 0 (patched once known).
-fn entry_fixed_part(index: u16, sub: u8, entry: &EntryInfo) -> [u8; 10] {
-    let [i0, i1] = index.to_le_bytes();
-    let [t0, t1] = entry.data_type.code().to_le_bytes();
-    let [b0, b1] = entry.bit_len.to_le_bytes();
-    let [a0, a1] = entry.access.0.to_le_bytes();
-    [i0, i1, sub, 0, t0, t1, b0, b1, a0, a1]
+    Ok(())
 }
 
 /// Appends the declared `limit` of `index:sub`: the unit as a u16, 0 for none (always
@@ -595,7 +596,7 @@ impl ListTransfer {
             list,
             opening: true,
             cursor: 0,
-            left: list.len::<D>(),
+            left: usize::from(list.len::<D>()),
         }
     }
 
@@ -636,7 +637,7 @@ impl ListTransfer {
             ListType::Lengths => {
                 let list = *OBJECT_LISTS.get(self.cursor)?;
                 self.cursor += 1;
-                Some(u16::try_from(list.len::<D>()).unwrap_or(u16::MAX))
+                Some(list.len::<D>())
             }
             list => {
                 let objects = D::OBJECTS.get(self.cursor..)?;
