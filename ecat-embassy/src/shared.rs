@@ -374,10 +374,7 @@ impl<P: Pdi> SharedEsc<P> {
     /// that drops its future while it waits for the PDI stalls the state machine). A runner that
     /// finds the PDI locked is woken when the other releases it ([`SharedEsc::observe_access`]):
     /// the lock's own waiting is not used (docs/performance.md, "Codegen rules").
-    fn take_pdi(
-        &self,
-        turn: Turn,
-    ) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
+    fn take_pdi(&self, turn: Turn) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
                 let waker = if turn == Turn::ProcessData {

@@ -53,8 +53,8 @@
 //!   `next_fragment` abandons the transfer and returns `None`.
 //!
 //! ## Work per call
-//! Bounded by the dictionary size: an OD-list call scans `D::OBJECTS` at most once per list it
-//! counts (six scans for list type 0) and once to fill the message.
+//! Bounded by the dictionary size: the lists' lengths are a table made at compile time
+//! (`list_lengths`), so an OD-list call scans `D::OBJECTS` once, to fill the message.
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::dictionary::{
