@@ -391,7 +391,12 @@ fn repeat_room_is_what_the_tx_configuration_holds() {
     }
     let room = <<Small as ObjectDictionary>::Repeatable as Length>::array(0u8);
     assert_eq!(room.as_ref().len(), 2);
-    assert_eq!(<<Od as ObjectDictionary>::Repeatable as Length>::array(0u8).as_ref().len(), 8);
+    assert_eq!(
+        <<Od as ObjectDictionary>::Repeatable as Length>::array(0u8)
+            .as_ref()
+            .len(),
+        8
+    );
     let entry = MappingEntry::new(0x6000, 0, 16);
     let od = Small {
         tx: PdoMapping::mapping(&[entry; 3]),

@@ -254,7 +254,10 @@ pub const fn mappable_entries<D>(objects: &[Object<D>]) -> usize {
         }
         i += 1;
     }
-    assert!(n <= u16::MAX as usize, "at most 65 535 PDO-mappable entries");
+    assert!(
+        n <= u16::MAX as usize,
+        "at most 65 535 PDO-mappable entries"
+    );
     n
 }
 
