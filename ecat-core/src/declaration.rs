@@ -451,10 +451,10 @@ macro_rules! __ecat_declared {
         $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
     )) => {
         &[
-            $( $crate::__ecat_value!($index, 1, Default, element(|d: &$dict| &d.$field, $default)), )?
-            $( $crate::__ecat_value!($index, 1, Min, element(|d: &$dict| &d.$field, $min)), )?
-            $( $crate::__ecat_value!($index, 1, Max, element(|d: &$dict| &d.$field, $max)), )?
-            $( $crate::__ecat_value!($index, 1, Unit, unit($unit)), )?
+            $( $crate::__ecat_value!($index, 1, Default, element(|d: &$dict| &d.$field, $default)).every_element(), )?
+            $( $crate::__ecat_value!($index, 1, Min, element(|d: &$dict| &d.$field, $min)).every_element(), )?
+            $( $crate::__ecat_value!($index, 1, Max, element(|d: &$dict| &d.$field, $max)).every_element(), )?
+            $( $crate::__ecat_value!($index, 1, Unit, unit($unit)).every_element(), )?
         ]
     };
     ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {

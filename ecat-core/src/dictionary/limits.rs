@@ -5,7 +5,8 @@
 //! ([`Object::limit`](super::Object::limit)) instead of code per object.
 //!
 //! The table is a run of records `index (u16 LE), subindex, Limit, length, bytes…`, in the order
-//! of declaration; an ARRAY's elements share the record of SI1. `dictionary!` builds it from
+//! of declaration; an ARRAY's elements share one record, of SI1 with the [`Limit`] marked
+//! [`EVERY_ELEMENT`]. `dictionary!` builds it from
 //! [`Declared`] values, each encoded by [`Encode`] with the encoding of the field's type (the
 //! same little-endian bytes its `Value` reads).
 
@@ -17,7 +18,8 @@ use super::value::{Bits, ByteString, UnicodeString};
 pub struct Declared {
     index: u16,
     sub: u8,
-    which: Limit,
+    /// The [`Limit`], with [`EVERY_ELEMENT`].
+    which: u8,
     bytes: &'static [u8],
 }
 
@@ -27,11 +29,24 @@ impl Declared {
         Self {
             index,
             sub,
-            which,
+            which: which as u8,
             bytes,
         }
     }
+
+    /// The same value for every element of an ARRAY (SI1 and up).
+    pub const fn every_element(self) -> Self {
+        Self {
+            sub: 1,
+            which: self.which | EVERY_ELEMENT,
+            ..self
+        }
+    }
 }
+
+/// The mark on a record's [`Limit`] that makes it every element's, SI1 and up (an ARRAY's
+/// declared values; 0x1C00 declares each SyncManager's type on its own).
+const EVERY_ELEMENT: u8 = 0x80;
 
 /// The bytes of a record's head: index, subindex, kind and length.
 const HEAD: usize = 5;
@@ -70,7 +85,7 @@ pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
             out[at] = i0;
             out[at + 1] = i1;
             out[at + 2] = d.sub;
-            out[at + 3] = d.which as u8;
+            out[at + 3] = d.which;
             out[at + 4] = d.bytes.len() as u8;
             at += HEAD;
             let mut k = 0;
@@ -89,18 +104,14 @@ pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
 /// Copies the `which` of `index:sub` from the packed `table` into `out` (as far as it goes);
 /// 0 when the table declares none.
 pub(super) fn find(table: &[u8], index: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    let key = [
-        index.to_le_bytes()[0],
-        index.to_le_bytes()[1],
-        sub,
-        which as u8,
-    ];
+    let [i0, i1] = index.to_le_bytes();
     let mut rest = table;
-    while let [i0, i1, s, w, len, tail @ ..] = rest {
+    while let [r0, r1, s, w, len, tail @ ..] = rest {
         let Some((bytes, next)) = tail.split_at_checked(usize::from(*len)) else {
             break;
         };
-        if [*i0, *i1, *s, *w] == key {
+        let subs = *s == sub || (*w & EVERY_ELEMENT != 0 && sub != 0);
+        if [*r0, *r1] == [i0, i1] && *w & !EVERY_ELEMENT == which as u8 && subs {
             return crate::bytes::copy(out, bytes);
         }
         rest = next;
@@ -255,7 +266,8 @@ mod tests {
                     1,
                     Limit::Max,
                     Bytes::as_slice(&element(|d: &Od| &d.gains, 500).encode()),
-                ),
+                )
+                .every_element(),
             ],
         ];
         assert!(packed_len(GROUPS) == 38);
@@ -282,6 +294,9 @@ mod tests {
         assert_eq!(bytes(&get(0x2001, 0, Limit::Default, 8)), b"abc");
         assert_eq!(bytes(&get(0x2002, 0, Limit::Default, 8)), [0x3A, 0x26]);
         assert_eq!(bytes(&get(0x2003, 1, Limit::Max, 8)), [0xF4, 0x01]);
+        // An ARRAY's value is every element's, not SI0's.
+        assert_eq!(bytes(&get(0x2003, 3, Limit::Max, 8)), [0xF4, 0x01]);
+        assert_eq!(bytes(&get(0x2003, 0, Limit::Max, 8)), [0u8; 0]);
         // Not declared: nothing.
         assert_eq!(bytes(&get(0x2000, 0, Limit::Max, 8)), [0u8; 0]);
         assert_eq!(bytes(&get(0x2000, 1, Limit::Min, 8)), [0u8; 0]);

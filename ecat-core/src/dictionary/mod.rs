@@ -248,16 +248,9 @@ impl<D> Copy for Object<D> {}
 
 impl<D: ObjectDictionary> Object<D> {
     /// Encodes the declared default, minimum, maximum or unit of subindex `sub` ([`Limit`])
-    /// into `out`; 0 bytes when not declared. From the dictionary's [`ObjectDictionary::LIMITS`]:
-    /// an ARRAY's elements share SI1's unless one declares its own (0x1C00's types).
+    /// into `out`; 0 bytes when not declared. From the dictionary's [`ObjectDictionary::LIMITS`].
     pub fn limit(&self, sub: u8, which: Limit, out: &mut [u8]) -> usize {
-        let index = self.info.index;
-        match limits::find(D::LIMITS, index, sub, which, out) {
-            0 if sub > 1 && self.info.code == ObjectCode::Array => {
-                limits::find(D::LIMITS, index, 1, which, out)
-            }
-            n => n,
-        }
+        limits::find(D::LIMITS, self.info.index, sub, which, out)
     }
 }
 
