@@ -122,9 +122,10 @@ pub trait ObjectDictionary: Sized + 'static {
     /// no walk of the descriptions.
     const MAPPABLE: &'static [u32];
 
-    /// Every declared default, minimum, maximum and unit, encoded at compile time
-    /// ([`limits`]): what [`Object::limit`] reads, one walk of data where each object had its
-    /// own code. Empty by default (a dictionary without declared values).
+    /// Every declared default, minimum, maximum and unit, encoded at compile time by
+    /// [`dictionary!`](crate::dictionary!) as records of index, subindex, kind, length and
+    /// bytes: what [`Object::limit`] walks, no code per object. Empty by default (a dictionary
+    /// without declared values).
     const LIMITS: &'static [u8] = &[];
 
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
