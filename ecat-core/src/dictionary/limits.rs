@@ -6,7 +6,7 @@
 //!
 //! The table is a run of records `index (u16 LE), subindex, Limit, length, bytes…`, in the order
 //! of declaration; an ARRAY's elements share one record, of SI1 with the [`Limit`] marked
-//! [`EVERY_ELEMENT`]. `dictionary!` builds it from
+//! `EVERY_ELEMENT`. `dictionary!` builds it from
 //! [`Declared`] values, each encoded by [`Encode`] with the encoding of the field's type (the
 //! same little-endian bytes its `Value` reads).
 
@@ -18,7 +18,7 @@ use super::value::{Bits, ByteString, UnicodeString};
 pub struct Declared {
     index: u16,
     sub: u8,
-    /// The [`Limit`], with [`EVERY_ELEMENT`].
+    /// The [`Limit`], with `EVERY_ELEMENT`.
     which: u8,
     bytes: &'static [u8],
 }
