@@ -11,7 +11,7 @@
 //! same little-endian bytes its `Value` reads).
 
 use super::Limit;
-use super::value::{Bits, ByteString, UnicodeString};
+use super::value::{Bits, ByteString, Domain, UnicodeString};
 
 /// One declared value of an entry, before packing: where it belongs and its bytes.
 #[derive(Debug, Clone, Copy)]
@@ -182,6 +182,16 @@ impl<const N: u8> Encode<Bits<N>> {
         Bytes {
             units: [[self.0.get()]],
             len: 1,
+        }
+    }
+}
+
+impl Encode<Domain> {
+    /// The encoded value: none (a DOMAIN's bytes stream through the hooks).
+    pub const fn encode(self) -> Bytes<0, 1> {
+        Bytes {
+            units: [],
+            len: 0,
         }
     }
 }
