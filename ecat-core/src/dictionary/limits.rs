@@ -4,7 +4,8 @@
 //! ([`ObjectDictionary::LIMITS`](super::ObjectDictionary::LIMITS)), read by one function
 //! ([`Object::limit`](super::Object::limit)) instead of code per object.
 //!
-//! The table is a run of records `index (u16 LE), subindex, Limit, length, bytes…`, in the order
+//! The table is a run of records `index (u16 LE), subindex, Limit, length, bytes…` (a length of
+//! 255 bytes or more as 0xFF and a u16 LE), in the order
 //! of declaration; an ARRAY's elements share one record, of SI1 with the [`Limit`] marked
 //! `EVERY_ELEMENT`. `dictionary!` builds it from
 //! [`Declared`] values, each encoded by [`Encode`] with the encoding of the field's type (the
@@ -51,6 +52,15 @@ const EVERY_ELEMENT: u8 = 0x80;
 /// The bytes of a record's head: index, subindex, kind and length.
 const HEAD: usize = 5;
 
+/// The length byte of a value of [`LONG`] bytes or more: its length follows in two bytes
+/// (a string's default; an entry is at most 8 191 bytes).
+const LONG: u8 = 0xFF;
+
+/// The head of a record of a value of `len` bytes.
+const fn head_len(len: usize) -> usize {
+    if len < LONG as usize { HEAD } else { HEAD + 2 }
+}
+
 /// The size of the packed table of `groups` (each the declared values of one object).
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
 pub const fn packed_len(groups: &[&[Declared]]) -> usize {
@@ -59,7 +69,7 @@ pub const fn packed_len(groups: &[&[Declared]]) -> usize {
     while i < groups.len() {
         let mut j = 0;
         while j < groups[i].len() {
-            len += HEAD + groups[i][j].bytes.len();
+            len += head_len(groups[i][j].bytes.len()) + groups[i][j].bytes.len();
             j += 1;
         }
         i += 1;
@@ -68,7 +78,7 @@ pub const fn packed_len(groups: &[&[Declared]]) -> usize {
 }
 
 /// The packed table of `groups`, `N` = [`packed_len`]: [`ObjectDictionary::LIMITS`](super::ObjectDictionary::LIMITS).
-#[allow(clippy::indexing_slicing, clippy::cast_possible_truncation)] // compile time; a value is at most 255 bytes (asserted)
+#[allow(clippy::indexing_slicing, clippy::cast_possible_truncation)] // compile time; a value's length is a u16 (asserted)
 pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
     let mut out = [0; N];
     let mut at = 0;
@@ -77,17 +87,25 @@ pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
         let mut j = 0;
         while j < groups[i].len() {
             let d = groups[i][j];
+            let len = d.bytes.len();
             assert!(
-                d.bytes.len() <= 255,
-                "a declared value is at most 255 bytes"
+                len <= u16::MAX as usize,
+                "a declared value is at most 65 535 bytes"
             );
             let [i0, i1] = d.index.to_le_bytes();
             out[at] = i0;
             out[at + 1] = i1;
             out[at + 2] = d.sub;
             out[at + 3] = d.which;
-            out[at + 4] = d.bytes.len() as u8;
-            at += HEAD;
+            if len < LONG as usize {
+                out[at + 4] = len as u8;
+            } else {
+                let [l0, l1] = (len as u16).to_le_bytes();
+                out[at + 4] = LONG;
+                out[at + 5] = l0;
+                out[at + 6] = l1;
+            }
+            at += head_len(len);
             let mut k = 0;
             while k < d.bytes.len() {
                 out[at] = d.bytes[k];
@@ -107,7 +125,11 @@ pub(super) fn find(table: &[u8], index: u16, sub: u8, which: Limit, out: &mut [u
     let [i0, i1] = index.to_le_bytes();
     let mut rest = table;
     while let [r0, r1, s, w, len, tail @ ..] = rest {
-        let Some((bytes, next)) = tail.split_at_checked(usize::from(*len)) else {
+        let (len, tail) = match (*len, tail) {
+            (LONG, [l0, l1, tail @ ..]) => (u16::from_le_bytes([*l0, *l1]), tail),
+            _ => (u16::from(*len), tail),
+        };
+        let Some((bytes, next)) = tail.split_at_checked(usize::from(len)) else {
             break;
         };
         let subs = *s == sub || (*w & EVERY_ELEMENT != 0 && sub != 0);
@@ -189,10 +211,7 @@ impl<const N: u8> Encode<Bits<N>> {
 impl Encode<Domain> {
     /// The encoded value: none (a DOMAIN's bytes stream through the hooks).
     pub const fn encode(self) -> Bytes<0, 1> {
-        Bytes {
-            units: [],
-            len: 0,
-        }
+        Bytes { units: [], len: 0 }
     }
 }
 
@@ -313,6 +332,42 @@ mod tests {
         assert_eq!(bytes(&get(0x2004, 0, Limit::Min, 8)), [0u8; 0]);
         // As far as `out` goes.
         assert_eq!(bytes(&get(0x2000, 0, Limit::Min, 3)), [0xFE, 0xFF, 0xFF]);
+    }
+
+    #[test]
+    fn a_value_of_255_bytes_or_more_has_a_long_length() {
+        struct Long {
+            text: VisibleString<300>,
+            after: u8,
+        }
+        const TEXT: VisibleString<300> = VisibleString::new(&[b'x'; 300]);
+        const GROUPS: &[&[Declared]] = &[&[
+            Declared::new(
+                0x2000,
+                0,
+                Limit::Default,
+                Bytes::as_slice(&of(|d: &Long| &d.text, TEXT).encode()),
+            ),
+            Declared::new(
+                0x2001,
+                0,
+                Limit::Default,
+                Bytes::as_slice(&of(|d: &Long| &d.after, 7).encode()),
+            ),
+        ]];
+        const LONG_TABLE: [u8; 7 + 300 + 6] = pack(GROUPS);
+        assert_eq!(packed_len(GROUPS), 313);
+        assert_eq!(LONG_TABLE[4..7], [0xFF, 0x2C, 0x01]);
+        let mut out = [0; 400];
+        assert_eq!(find(&LONG_TABLE, 0x2000, 0, Limit::Default, &mut out), 300);
+        assert!(out[..300].iter().all(|&b| b == b'x'));
+        assert_eq!(find(&LONG_TABLE, 0x2001, 0, Limit::Default, &mut out), 1);
+        assert_eq!(out[0], 7);
+        // A long length cut short ends the walk.
+        assert_eq!(
+            find(&LONG_TABLE[..6], 0x2000, 0, Limit::Default, &mut out),
+            0
+        );
     }
 
     #[test]
