@@ -344,8 +344,8 @@ macro_rules! __ecat_communication {
         [
             $crate::__ecat_constant!(
                 $dict,
-                $crate::dictionary::communication::DEVICE_TYPE,
-                const { &$info.device_type.to_le_bytes() }
+                0x1000,
+                $crate::dictionary::communication::DEVICE_TYPE
             ),
             $crate::__ecat_text!($dict, 0x1008, "Manufacturer device name", $info.name),
             $crate::__ecat_text!(
@@ -497,28 +497,40 @@ macro_rules! __ecat_text {
     ($dict:ident, $index:literal, $name:literal, $text:expr) => {
         $crate::__ecat_constant!(
             $dict,
+            $index,
             $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Var,
                 name: $name,
                 max_sub: 0,
                 entries: &[$crate::dictionary::communication::text_entry($name, $text)],
-            },
-            $text.as_bytes()
+            }
         )
     };
 }
 
-/// A constant VAR of the communication area (0x1000 and the texts): described by `$info`, its
-/// encoded value `$bytes`, read-only, declared as its own default.
+/// A constant VAR of the communication area (0x1000 and the texts): described by `$info`,
+/// read-only, declared as its own default — and read from there: its value is the bytes of its
+/// default's record in the dictionary's `LIMITS`, in flash once.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_constant {
-    ($dict:ident, $info:expr, $bytes:expr) => {
+    ($dict:ident, $index:literal, $info:expr) => {
         $crate::dictionary::Object::<$dict> {
             info: $info,
             read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant(od, sub, offset, out, $bytes)
+                $crate::dictionary::communication::read_constant(
+                    od,
+                    sub,
+                    offset,
+                    out,
+                    const {
+                        $crate::dictionary::limits::default_of(
+                            <$dict as $crate::dictionary::ObjectDictionary>::LIMITS,
+                            $index,
+                        )
+                    },
+                )
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
         }

@@ -119,6 +119,28 @@ pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
     out
 }
 
+/// The bytes of the default of VAR `index` in the packed `table`, at compile time: what a
+/// constant VAR of the communication area reads (0x1000 and the texts, whose default is their
+/// value), so that its bytes are in flash once. A slice of `table` itself.
+#[allow(clippy::indexing_slicing)] // compile time; a missing record fails the build
+pub const fn default_of(table: &'static [u8], index: u16) -> &'static [u8] {
+    let [i0, i1] = index.to_le_bytes();
+    let mut at = 0;
+    loop {
+        let mut len = table[at + 4] as usize;
+        let mut head = HEAD;
+        if table[at + 4] == LONG {
+            len = u16::from_le_bytes([table[at + 5], table[at + 6]]) as usize;
+            head = HEAD + 2;
+        }
+        let default = table[at + 3] == Limit::Default as u8;
+        if table[at] == i0 && table[at + 1] == i1 && table[at + 2] == 0 && default {
+            return table.split_at(at + head).1.split_at(len).0;
+        }
+        at += head + len;
+    }
+}
+
 /// Copies the `which` of `index:sub` from the packed `table` into `out` (as far as it goes);
 /// 0 when the table declares none.
 pub(super) fn find(table: &[u8], index: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
