@@ -188,7 +188,7 @@ macro_rules! __ecat_dictionary {
                 "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
             );
             &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
-        }, [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($items)*);
+        }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($items)*);
     };
     ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
@@ -203,11 +203,11 @@ macro_rules! __ecat_dictionary {
             const BASE: [$crate::dictionary::Object<$dict>; APPLICATION.len() + AREA.len()] =
                 $crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
             &$crate::dictionary::communication::merge::<$dict, { BASE.len() + 2 }>(&STORAGE, &BASE)
-        }, [$area: const { $crate::dictionary::Communication::new(&$info) }, $stored: $crate::dictionary::parameters::StoredParameters::new(),]
+        }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) }, $stored: $crate::dictionary::parameters::StoredParameters::new(),]
         communication = $area; stored = $stored; $($items)*);
     };
     ($mode:ident, $dict:ident { $($items:tt)* }) => {
-        $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [] $($items)*);
+        $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [], [] $($items)*);
     };
 }
 
@@ -225,7 +225,7 @@ macro_rules! __ecat_objects {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_impl {
-    ($mode:ident, $dict:ident, $objects:expr, [$($area:tt)*] $(communication = $communication:ident;)?
+    ($mode:ident, $dict:ident, $objects:expr, [$($area_limits:expr),*], [$($area:tt)*] $(communication = $communication:ident;)?
      $(stored = $stored:ident;)?
      $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
@@ -235,6 +235,14 @@ macro_rules! __ecat_impl {
                 $dict,
                 { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
+            const LIMITS: &'static [u8] = {
+                const GROUPS: &[&[$crate::dictionary::limits::Declared]] = &[
+                    $($area_limits,)*
+                    $( $crate::__ecat_declared!($dict, $index, $kind ( $field $($spec)* ) $({ $($subs)* })?), )*
+                ];
+                &$crate::dictionary::limits::pack::<{ $crate::dictionary::limits::packed_len(GROUPS) }>(GROUPS)
+            };
 
             $(
                 fn communication(&mut self) -> Option<&mut $crate::dictionary::Communication> {
@@ -336,8 +344,8 @@ macro_rules! __ecat_communication {
         [
             $crate::__ecat_constant!(
                 $dict,
-                $crate::dictionary::communication::DEVICE_TYPE,
-                const { &$info.device_type.to_le_bytes() }
+                0x1000,
+                $crate::dictionary::communication::DEVICE_TYPE
             ),
             $crate::__ecat_text!($dict, 0x1008, "Manufacturer device name", $info.name),
             $crate::__ecat_text!(
@@ -363,14 +371,6 @@ macro_rules! __ecat_communication {
                     )
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
-                limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                    $crate::dictionary::communication::identity_limit(
-                        &$info.identity,
-                        sub,
-                        which,
-                        out,
-                    )
-                },
             },
             $crate::dictionary::Object::<$dict> {
                 info: $crate::dictionary::communication::SM_TYPES,
@@ -378,25 +378,115 @@ macro_rules! __ecat_communication {
                     $crate::dictionary::communication::read_sm_types(sub, offset, out)
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
-                limit: $crate::dictionary::communication::sm_types_limit,
             },
             $crate::__ecat_sync_parameters!(
                 $dict,
                 0x1C32,
                 $area.outputs,
                 "SM output parameter",
-                write,
-                output_limit
+                write
             ),
             $crate::__ecat_sync_parameters!(
                 $dict,
                 0x1C33,
                 $area.inputs,
                 "SM input parameter",
-                write_input,
-                input_limit
+                write_input
             ),
         ]
+    };
+}
+
+/// The declared values of the communication area that come from the device's `DeviceInfo`
+/// `$info`: the constants' (0x1000, 0x1008, 0x1009, 0x100A) and the identity's (0x1018:01..04)
+/// defaults, their values.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_area_limits {
+    ($info:path) => {
+        &[
+            $crate::__ecat_area_limit!(0x1000, 0, &$info.device_type.to_le_bytes()),
+            $crate::__ecat_area_limit!(0x1008, 0, $info.name.as_bytes()),
+            $crate::__ecat_area_limit!(0x1009, 0, $info.hardware_version.as_bytes()),
+            $crate::__ecat_area_limit!(0x100A, 0, $info.software_version.as_bytes()),
+            $crate::__ecat_area_limit!(0x1018, 1, &$info.identity.vendor_id.to_le_bytes()),
+            $crate::__ecat_area_limit!(0x1018, 2, &$info.identity.product_code.to_le_bytes()),
+            $crate::__ecat_area_limit!(0x1018, 3, &$info.identity.revision.to_le_bytes()),
+            $crate::__ecat_area_limit!(0x1018, 4, &$info.identity.serial.to_le_bytes()),
+        ]
+    };
+}
+
+/// One default of the communication area.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_area_limit {
+    ($index:literal, $sub:literal, $bytes:expr) => {
+        $crate::dictionary::limits::Declared::new(
+            $index,
+            $sub,
+            $crate::dictionary::Limit::Default,
+            $bytes,
+        )
+    };
+}
+
+/// The declared values of one object ([`dictionary::limits`](crate::dictionary::limits)).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_declared {
+    ($dict:ident, $index:literal, var (
+        $field:ident, $($acc:ident)|+, $name:literal
+        $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
+    )) => {
+        &[
+            $( $crate::__ecat_value!($index, 0, Default, of(|d: &$dict| &d.$field, $default)), )?
+            $( $crate::__ecat_value!($index, 0, Min, of(|d: &$dict| &d.$field, $min)), )?
+            $( $crate::__ecat_value!($index, 0, Max, of(|d: &$dict| &d.$field, $max)), )?
+            $( $crate::__ecat_value!($index, 0, Unit, unit($unit)), )?
+        ]
+    };
+    ($dict:ident, $index:literal, array (
+        $field:ident, $($acc:ident)|+, $name:literal, $element:literal
+        $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
+    )) => {
+        &[
+            $( $crate::__ecat_value!($index, 1, Default, element(|d: &$dict| &d.$field, $default)).every_element(), )?
+            $( $crate::__ecat_value!($index, 1, Min, element(|d: &$dict| &d.$field, $min)).every_element(), )?
+            $( $crate::__ecat_value!($index, 1, Max, element(|d: &$dict| &d.$field, $max)).every_element(), )?
+            $( $crate::__ecat_value!($index, 1, Unit, unit($unit)).every_element(), )?
+        ]
+    };
+    ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
+        $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
+           $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
+    }) => {
+        &[ $(
+            $( $crate::__ecat_value!($index, $sub, Default, of(|d: &$dict| &d.$field.$sfield, $default)), )?
+            $( $crate::__ecat_value!($index, $sub, Min, of(|d: &$dict| &d.$field.$sfield, $min)), )?
+            $( $crate::__ecat_value!($index, $sub, Max, of(|d: &$dict| &d.$field.$sfield, $max)), )?
+            $( $crate::__ecat_value!($index, $sub, Unit, unit($unit)), )?
+        )+ ]
+    };
+    // PDO configuration objects and the diagnosis history declare none.
+    ($dict:ident, $index:literal, $($other:tt)*) => {
+        &[]
+    };
+}
+
+/// One declared value, encoded at compile time by its type's `encode`.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __ecat_value {
+    ($index:literal, $sub:literal, $which:ident, $how:ident ( $($args:tt)* )) => {
+        $crate::dictionary::limits::Declared::new(
+            $index,
+            $sub,
+            $crate::dictionary::Limit::$which,
+            $crate::dictionary::limits::Bytes::as_slice(
+                &$crate::dictionary::limits::$how($($args)*).encode(),
+            ),
+        )
     };
 }
 
@@ -407,33 +497,42 @@ macro_rules! __ecat_text {
     ($dict:ident, $index:literal, $name:literal, $text:expr) => {
         $crate::__ecat_constant!(
             $dict,
+            $index,
             $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Var,
                 name: $name,
                 max_sub: 0,
                 entries: &[$crate::dictionary::communication::text_entry($name, $text)],
-            },
-            $text.as_bytes()
+            }
         )
     };
 }
 
-/// A constant VAR of the communication area (0x1000 and the texts): described by `$info`, its
-/// encoded value `$bytes`, read-only, declared as its own default.
+/// A constant VAR of the communication area (0x1000 and the texts): described by `$info`,
+/// read-only, declared as its own default — and read from there: its value is the bytes of its
+/// default's record in the dictionary's `LIMITS`, in flash once.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_constant {
-    ($dict:ident, $info:expr, $bytes:expr) => {
+    ($dict:ident, $index:literal, $info:expr) => {
         $crate::dictionary::Object::<$dict> {
             info: $info,
             read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant(od, sub, offset, out, $bytes)
+                $crate::dictionary::communication::read_constant(
+                    od,
+                    sub,
+                    offset,
+                    out,
+                    const {
+                        $crate::dictionary::limits::default_of(
+                            <$dict as $crate::dictionary::ObjectDictionary>::LIMITS,
+                            $index,
+                        )
+                    },
+                )
             },
             write: $crate::dictionary::communication::read_only::<$dict>,
-            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                $crate::dictionary::communication::constant_limit(sub, which, out, $bytes)
-            },
         }
     };
 }
@@ -465,13 +564,6 @@ macro_rules! __ecat_object {
                     &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
                 )
             }),
-            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
-                $( (0, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $default, out), )?
-                $( (0, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $min, out), )?
-                $( (0, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_like(|d: &$dict| &d.$field, $max, out), )?
-                $( (0, $crate::dictionary::Limit::Unit, _) => $crate::dictionary::encode_unit($unit, out), )?
-                _ => 0,
-            },
         }
     };
     ($dict:ident, $index:literal, array (
@@ -500,14 +592,6 @@ macro_rules! __ecat_object {
                     &mut d.$field, sub, data, $crate::__ecat_some!($($min)?), $crate::__ecat_some!($($max)?),
                 )
             }),
-            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| match (sub, which, &out) {
-                (0, _, _) => 0,
-                $( (_, $crate::dictionary::Limit::Default, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $default, out), )?
-                $( (_, $crate::dictionary::Limit::Min, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $min, out), )?
-                $( (_, $crate::dictionary::Limit::Max, _) => $crate::dictionary::encode_element_like(|d: &$dict| &d.$field, $max, out), )?
-                $( (_, $crate::dictionary::Limit::Unit, _) => $crate::dictionary::encode_unit($unit, out), )?
-                _ => 0,
-            },
         }
     };
     ($dict:ident, $index:literal, pdo (
@@ -536,7 +620,6 @@ macro_rules! __ecat_object {
             write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
                 d.$field.write::<$dict>(sub, data, $index)
             }),
-            limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
     };
     ($dict:ident, $index:literal, diagnosis ( $field:ident )) => {
@@ -553,7 +636,6 @@ macro_rules! __ecat_object {
                 let field = &mut d.$field;
                 field.log.write(&field.messages, sub, data)
             },
-            limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
     };
     ($dict:ident, $index:literal, record ( $field:ident : $record:ident, $name:literal ) {
@@ -586,13 +668,6 @@ macro_rules! __ecat_object {
                 ), )+
                 _ => Err($crate::abort::AbortCode::NO_SUBINDEX),
             },
-            limit: |sub: u8, which: $crate::dictionary::Limit, out: &mut [u8]| {
-                let _ = (&which, &out);
-                match sub {
-                    $( $sub => $crate::__ecat_record_limit!($dict, $field.$sfield, which, out; $($default)?; $($min)?; $($max)?; $($unit)?), )+
-                    _ => 0,
-                }
-            },
         }
     };
 }
@@ -618,7 +693,6 @@ macro_rules! __ecat_storage {
                 d.$stored
                     .write($crate::dictionary::parameters::Command::$command, sub, data)
             },
-            limit: |_: u8, _: $crate::dictionary::Limit, _: &mut [u8]| 0,
         }
     };
 }
@@ -716,12 +790,11 @@ macro_rules! __ecat_default {
 /// The record of a sync manager parameter object (0x1C32 outputs, 0x1C33 inputs; ETG.1000.6
 /// Table 74): the standard entries (`sync_parameters::PARAMETER_ENTRIES`),
 /// read and written by the non-generic [`SyncParameters`](crate::sync_parameters::SyncParameters) methods
-/// every dictionary shares (`$write`: `write`, or `write_input` for 0x1C33); `$limit` declares
-/// SI1's default.
+/// every dictionary shares (`$write`: `write`, or `write_input` for 0x1C33).
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_sync_parameters {
-    ($dict:ident, $index:literal, $($place:ident).+, $name:literal, $write:ident, $limit:ident) => {
+    ($dict:ident, $index:literal, $($place:ident).+, $name:literal, $write:ident) => {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
@@ -732,23 +805,6 @@ macro_rules! __ecat_sync_parameters {
             },
             read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| d.$($place).+.read(sub, offset, out),
             write: |d: &mut $dict, sub: u8, data: &[u8]| d.$($place).+.$write(sub, data),
-            limit: $crate::sync_parameters::$limit,
-        }
-    };
-}
-
-/// A record entry's declared limit.
-#[doc(hidden)]
-#[macro_export]
-macro_rules! __ecat_record_limit {
-    ($dict:ident, $field:ident . $sfield:ident, $which:ident, $out:ident; $($default:expr)?; $($min:expr)?; $($max:expr)?; $($unit:expr)?) => {
-        match $which {
-            $( $crate::dictionary::Limit::Default => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $default, $out), )?
-            $( $crate::dictionary::Limit::Min => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $min, $out), )?
-            $( $crate::dictionary::Limit::Max => $crate::dictionary::encode_like(|d: &$dict| &d.$field.$sfield, $max, $out), )?
-            $( $crate::dictionary::Limit::Unit => $crate::dictionary::encode_unit($unit, $out), )?
-            #[allow(unreachable_patterns)]
-            _ => 0,
         }
     };
 }

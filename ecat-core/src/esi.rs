@@ -428,7 +428,11 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
 }
 
 /// One `Object`: index, name, type, bit size, declared values, flags.
-fn object<D, W: Write>(x: &mut Xml<'_, W>, od: &D, object: &Object<D>) -> Result<(), EsiError> {
+fn object<D: ObjectDictionary, W: Write>(
+    x: &mut Xml<'_, W>,
+    od: &D,
+    object: &Object<D>,
+) -> Result<(), EsiError> {
     let info = &object.info;
     x.open("Object", &[])?;
     x.leaf("Index", Index(info.index))?;
@@ -469,7 +473,7 @@ fn object<D, W: Write>(x: &mut Xml<'_, W>, od: &D, object: &Object<D>) -> Result
 /// declared values. SubIndex 0 has no declared default: its default is the count the dictionary
 /// holds (the highest subindex, or a PDO object's default number of entries), so the dictionary
 /// passed to [`write()`] holds its defaults, as it does for the SII image.
-fn sub_item<D, W: Write>(
+fn sub_item<D: ObjectDictionary, W: Write>(
     x: &mut Xml<'_, W>,
     od: &D,
     object: &Object<D>,
@@ -514,7 +518,11 @@ fn has_values<D>(object: &Object<D>, sub: u8) -> bool {
 }
 
 /// `MinData`, `MaxData`, `DefaultData`: the declared values, little-endian hex.
-fn values<D, W: Write>(x: &mut Xml<'_, W>, object: &Object<D>, sub: u8) -> Result<(), EsiError> {
+fn values<D: ObjectDictionary, W: Write>(
+    x: &mut Xml<'_, W>,
+    object: &Object<D>,
+    sub: u8,
+) -> Result<(), EsiError> {
     let too_long = object
         .info
         .entry(sub)
@@ -531,7 +539,7 @@ fn values<D, W: Write>(x: &mut Xml<'_, W>, object: &Object<D>, sub: u8) -> Resul
         (Limit::Default, "DefaultData"),
     ] {
         let mut buf = [0u8; MAX_VALUE];
-        let len = (object.limit)(sub, limit, &mut buf);
+        let len = object.limit(sub, limit, &mut buf);
         if len > 0 {
             x.leaf(tag, HexBytes(buf.get(..len).unwrap_or_default()))?;
         }

@@ -21,6 +21,7 @@
 use crate::AlStatusCode;
 use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
+use crate::dictionary::limits::Declared;
 use crate::dictionary::{
     Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read,
 };
@@ -76,30 +77,18 @@ const OUTPUT_SYNC_DEFAULT: u16 = SyncMode::SmSynchronous.code();
 /// The declared default of 0x1C33:01, SM2-synchronous.
 const INPUT_SYNC_DEFAULT: u16 = SyncMode::Sm2Synchronous.code();
 
-/// The declared values of 0x1C32 (the `limit` of its object): SI1's default, SM-synchronous.
+/// The declared defaults of 0x1C32:01 and 0x1C33:01 (SM-synchronous, SM2-synchronous), as
+/// the records read them (UNSIGNED16).
 #[doc(hidden)]
-pub fn output_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    sync_type_default(OUTPUT_SYNC_DEFAULT, sub, which, out)
-}
-
-/// The declared values of 0x1C33: SI1's default, SM2-synchronous.
-#[doc(hidden)]
-pub fn input_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    sync_type_default(INPUT_SYNC_DEFAULT, sub, which, out)
-}
-
-/// Inlined into both limits: a shared copy costs its callers more in moving arguments than the
-/// two bytes' copy it shares.
-#[inline(always)]
-fn sync_type_default(default: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    match (sub, which) {
-        // The encoding of the record's reads (`read_unsigned`), one copy for both.
-        (1, Limit::Default) => {
-            crate::dictionary::read_unsigned(u32::from(default), 2, 0, out).copied()
-        }
-        _ => 0,
-    }
-}
+pub const DECLARED: &[Declared] = &[
+    Declared::new(
+        0x1C32,
+        1,
+        Limit::Default,
+        &OUTPUT_SYNC_DEFAULT.to_le_bytes(),
+    ),
+    Declared::new(0x1C33, 1, Limit::Default, &INPUT_SYNC_DEFAULT.to_le_bytes()),
+];
 
 /// The entries of 0x1C32 and 0x1C33 (ETG.1000.6 Table 74, SSC's `asEntryDesc0x1C3x`): SI1 and
 /// SI2 writable in PREOP (the MainDevice's choice of sync mode and cycle), SI8 (get cycle time)

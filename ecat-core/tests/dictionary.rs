@@ -98,7 +98,7 @@ fn metadata_comes_from_the_field_types() {
     let position = object.info.entry(0).unwrap();
     // The declared unit: flagged in the entry, its value from the object's `limit`.
     let mut unit = [0u8; 2];
-    let unit_len = (object.limit)(0, Limit::Unit, &mut unit);
+    let unit_len = object.limit(0, Limit::Unit, &mut unit);
     assert!(position.limits.has(Limit::Unit));
     assert_eq!(
         (unit_len, unit, position.access.backup()),
@@ -203,7 +203,7 @@ fn writes_decode_check_the_range_and_store() {
 fn declared_limits_encode_in_the_entry_type() {
     let limit = |index: u16, sub: u8, which: Limit| {
         let mut out = [0; 8];
-        let n = (Od::object(index).unwrap().limit)(sub, which, &mut out);
+        let n = Od::object(index).unwrap().limit(sub, which, &mut out);
         out[..n].to_vec()
     };
     assert_eq!(limit(0x6060, 0, Limit::Default), [8]);
@@ -276,7 +276,7 @@ mod communication_item {
     fn default(index: u16, sub: u8) -> Vec<u8> {
         let object = Od::object(index).expect("present");
         let mut out = [0u8; 64];
-        let n = (object.limit)(sub, Limit::Default, &mut out);
+        let n = object.limit(sub, Limit::Default, &mut out);
         out[..n].to_vec()
     }
 
@@ -430,7 +430,7 @@ mod communication_item {
             );
             let mut out = [0u8; 2];
             assert_eq!(
-                (object.limit)(1, Limit::Default, &mut out),
+                object.limit(1, Limit::Default, &mut out),
                 2,
                 "SI1 declares its default"
             );

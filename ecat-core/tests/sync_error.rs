@@ -78,7 +78,7 @@ fn the_local_error_reaction_is_sscs_1_and_nothing_else() {
     assert_eq!(out, [1, 0, 0, 0]);
     for limit in [Limit::Default, Limit::Min, Limit::Max] {
         let mut value = [0; 4];
-        assert_eq!((object.limit)(LOCAL_ERROR_REACTION, limit, &mut value), 4);
+        assert_eq!(object.limit(LOCAL_ERROR_REACTION, limit, &mut value), 4);
         assert_eq!(value, [1, 0, 0, 0], "{limit:?}");
     }
     assert_eq!(

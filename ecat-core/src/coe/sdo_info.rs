@@ -556,7 +556,7 @@ fn name_gap(object: &ObjectInfo, sub: u8, name: &mut [u8; 12]) -> Result<(), Abo
 /// Appends the declared `limit` of `index:sub`: the unit as a u16, 0 for none (always
 /// appended when it fits); a value as a field of `ceil(bit length / 8)` bytes, `false`
 /// (nothing appended) when it is not declared or does not fit.
-fn put_value<D>(
+fn put_value<D: ObjectDictionary>(
     w: &mut Writer<'_>,
     object: &Object<D>,
     sub: u8,
@@ -571,7 +571,7 @@ fn put_value<D>(
     };
     // An object's `limit` encodes only what the entry declares (0 bytes otherwise).
     w.put_field(size, |field| {
-        usize::from(unit) | (object.limit)(sub, limit, field)
+        usize::from(unit) | object.limit(sub, limit, field)
     })
 }
 

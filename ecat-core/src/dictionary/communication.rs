@@ -24,6 +24,7 @@
 //! whether a MainDevice may change them is the device's choice. A CoE device's dictionary must
 //! have both assignment objects (empty for a direction without data): `dictionary!` asserts it.
 
+use super::limits::Declared;
 use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read, read_value};
 use crate::abort::AbortCode;
 use crate::device::Identity;
@@ -165,19 +166,7 @@ pub fn read_constant<D>(
     }
 }
 
-/// The declared default of a constant VAR: its value. `bytes` last, after the arguments of
-/// [`Object::limit`](super::Object::limit) in their order: the code `dictionary!` generates
-/// per object adds it without moving the others.
-#[doc(hidden)]
-pub fn constant_limit(sub: u8, which: Limit, out: &mut [u8], bytes: &[u8]) -> usize {
-    match (sub, which) {
-        (0, Limit::Default) => copy(bytes, 0, out).copied(),
-        _ => 0,
-    }
-}
-
-/// Reads 0x1018 from `identity` (each entry a fixed-width copy, as a declared field's). Out of
-/// line: the object's read and its limits share it (inlined into both it costs ≈ 50 B more).
+/// Reads 0x1018 from `identity` (each entry a fixed-width copy, as a declared field's).
 #[doc(hidden)]
 #[inline(never)]
 pub fn read_identity(
@@ -197,15 +186,6 @@ pub fn read_identity(
     Ok(read_value(&value, offset, out))
 }
 
-/// The declared defaults of 0x1018: the device's constant identity.
-#[doc(hidden)]
-pub fn identity_limit(identity: &Identity, sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    match (sub, which) {
-        (1..=4, Limit::Default) => read_identity(identity, sub, 0, out).map_or(0, |r| r.copied()),
-        _ => 0,
-    }
-}
-
 /// 0x1C00's values by subindex: SI0 (the number of SyncManagers), then SM0..SM3's types.
 const SM_TYPE_VALUES: [u8; 5] = {
     let [sm0, sm1, sm2, sm3] = sync_manager::STANDARD_KINDS;
@@ -222,13 +202,25 @@ pub fn read_sm_types(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, Abo
         .ok_or(AbortCode::NO_SUBINDEX)
 }
 
-/// The declared defaults of 0x1C00: each SyncManager's type.
+/// The declared defaults of 0x1C00, each SyncManager's type (the identity's and the
+/// constants' come from the device's `DeviceInfo`, in `dictionary!`).
 #[doc(hidden)]
-pub fn sm_types_limit(sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    match (sub, which) {
-        (1..=4, Limit::Default) => read_sm_types(sub, 0, out).map_or(0, |r| r.copied()),
-        _ => 0,
-    }
+pub const DECLARED: &[Declared] = &[
+    sm_type_default(1),
+    sm_type_default(2),
+    sm_type_default(3),
+    sm_type_default(4),
+];
+
+/// The default of 0x1C00:`sub`, its value in [`SM_TYPE_VALUES`].
+const fn sm_type_default(sub: u8) -> Declared {
+    let at = sub as usize;
+    Declared::new(
+        SM_TYPES.index,
+        sub,
+        Limit::Default,
+        SM_TYPE_VALUES.split_at(at).1.split_at(1).0,
+    )
 }
 
 /// The write of an object no one writes (the SDO server refuses read-only entries before).

@@ -78,6 +78,8 @@
 mod access;
 pub mod communication;
 mod data_type;
+#[doc(hidden)]
+pub mod limits;
 mod object;
 pub mod parameters;
 mod value;
@@ -119,6 +121,12 @@ pub trait ObjectDictionary: Sized + 'static {
     /// mapping entry is checked against and a layout made from at run time: one binary search,
     /// no walk of the descriptions.
     const MAPPABLE: &'static [u32];
+
+    /// Every declared default, minimum, maximum and unit, encoded at compile time by
+    /// [`dictionary!`](crate::dictionary!) as records of index, subindex, kind, length and
+    /// bytes: what [`Object::limit`] walks, no code per object. Empty by default (a dictionary
+    /// without declared values).
+    const LIMITS: &'static [u8] = &[];
 
     /// Copies every RxPDO-mappable entry from its offset in `image` into its field (generated: one
     /// [`Mapped::unpack`](crate::pdo::image::Mapped::unpack) per field, no lookup).
@@ -227,12 +235,9 @@ pub struct Object<D> {
     pub read: fn(&D, u8, usize, &mut [u8]) -> Result<Read, AbortCode>,
     /// Decodes `data` into a subindex, after the range check.
     pub write: fn(&mut D, u8, &[u8]) -> Result<(), AbortCode>,
-    /// Encodes a declared default, minimum, maximum or unit of a subindex ([`Limit`]); 0 bytes
-    /// when not declared.
-    pub limit: fn(u8, Limit, &mut [u8]) -> usize,
 }
 
-// Not derived: a description and three `fn` pointers copy whatever `D` is (the
+// Not derived: a description and two `fn` pointers copy whatever `D` is (the
 // communication area's table is merged with the application's at compile time).
 impl<D> Clone for Object<D> {
     fn clone(&self) -> Self {
@@ -241,6 +246,14 @@ impl<D> Clone for Object<D> {
 }
 
 impl<D> Copy for Object<D> {}
+
+impl<D: ObjectDictionary> Object<D> {
+    /// Encodes the declared default, minimum, maximum or unit of subindex `sub` ([`Limit`])
+    /// into `out`; 0 bytes when not declared. From the dictionary's [`ObjectDictionary::LIMITS`].
+    pub fn limit(&self, sub: u8, which: Limit, out: &mut [u8]) -> usize {
+        limits::find(D::LIMITS, self.info.index, sub, which, out)
+    }
+}
 
 /// Typed reads of the unsigned entries the stack itself looks at (PDO assignment and mapping
 /// entries, sync parameters, limits): `None` when the entry is missing or of another size.
@@ -484,24 +497,4 @@ pub fn write_element<T: Value + PartialOrd>(
             None => Err(AbortCode::NO_SUBINDEX),
         },
     }
-}
-
-/// Encodes a declared unit (UNSIGNED16) into `out`: the object's `limit` for [`Limit::Unit`].
-#[doc(hidden)]
-pub fn encode_unit(unit: u16, out: &mut [u8]) -> usize {
-    unit.read_at(0, out)
-}
-
-#[doc(hidden)]
-pub fn encode_like<S, T: Value>(_: fn(&S) -> &T, value: T, out: &mut [u8]) -> usize {
-    value.read_at(0, out)
-}
-
-#[doc(hidden)]
-pub fn encode_element_like<S, T: Value, const N: usize>(
-    _: fn(&S) -> &[T; N],
-    value: T,
-    out: &mut [u8],
-) -> usize {
-    value.read_at(0, out)
 }

@@ -30,7 +30,8 @@ pub struct EntryInfo {
     /// Access rights and flags.
     pub access: Access,
     /// Which of default, minimum, maximum and unit the dictionary declares (their values: the
-    /// object's [`limit`](super::Object::limit)). 16 bytes an entry on a 32-bit target.
+    /// dictionary's [`LIMITS`](super::ObjectDictionary::LIMITS), by
+    /// [`Object::limit`](super::Object::limit)). 16 bytes an entry on a 32-bit target.
     pub limits: Limits,
 }
 

@@ -195,6 +195,11 @@ impl<const N: usize, const VISIBLE: bool> ByteString<N, VISIBLE> {
         Self { bytes, len }
     }
 
+    /// The buffer and the current length, for a declared value's encoding at compile time.
+    pub(super) const fn parts(self) -> ([u8; N], usize) {
+        (self.bytes, self.len)
+    }
+
     /// The current bytes.
     pub fn as_bytes(&self) -> &[u8] {
         self.bytes.get(..self.len).unwrap_or_default()
@@ -254,6 +259,11 @@ impl<const N: usize> UnicodeString<N> {
             .0
             .copy_from_slice(units.split_at(len).0);
         Self { units: out, len }
+    }
+
+    /// The units and the current length, for a declared value's encoding at compile time.
+    pub(super) const fn parts(self) -> ([u16; N], usize) {
+        (self.units, self.len)
     }
 
     /// The current code units.

@@ -270,7 +270,7 @@ fn check_values<D: ObjectDictionary>(info: Option<Node>, index: u16, sub: u8) {
         (Limit::Default, "DefaultData"),
     ] {
         let mut buf = [0u8; 256];
-        let n = (object.limit)(sub, limit, &mut buf);
+        let n = object.limit(sub, limit, &mut buf);
         let expected = (n > 0).then(|| hex(&buf[..n]));
         let actual = info.and_then(|i| opt_text(i, tag)).map(str::to_owned);
         assert_eq!(actual, expected, "{index:#06x}:{sub} {tag}");
