@@ -137,22 +137,20 @@ impl Routing {
         }
     }
 
-    /// Publishes `layout` as news for the process-data runner: the bump sets [`LAYOUT_NEWS`],
+    /// Publishes `layout` as news for the process-data runner: the bump's [`LAYOUT_NEWS`] bit,
     /// which [`SharedEsc::pd_view`] clears (the runners compare no layouts).
     fn new_layout(&self, layout: Option<Setup>) {
         self.layout.set(layout);
-        self.bump(LAYOUT_NEWS);
-    }
-
-    fn notify_pd(&self) {
-        self.bump(0);
-    }
-
-    /// Bumps `pd_generation` (by 2: its low bit is [`LAYOUT_NEWS`]), sets `news` in it and wakes
-    /// the process-data runner.
-    fn bump(&self, news: u16) {
+        self.notify_pd();
         self.pd_generation
-            .set(self.pd_generation.get().wrapping_add(2) | news);
+            .set(self.pd_generation.get() | LAYOUT_NEWS);
+    }
+
+    /// Bumps `pd_generation` (by 2: its low bit is [`LAYOUT_NEWS`]) and wakes the process-data
+    /// runner.
+    fn notify_pd(&self) {
+        self.pd_generation
+            .set(self.pd_generation.get().wrapping_add(2));
         self.pd_waker.wake();
     }
 

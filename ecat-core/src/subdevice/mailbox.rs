@@ -186,9 +186,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             .mailbox
             .serve(self.coe.handler(&mut cx), handlers, self.state, now);
         // A write to 0x1C32 changes the sync choices at once, the rest with the refresh.
-        if core::mem::take(&mut self.writes.configured) {
-            self.due.set(Due::REFRESH | Due::LAYOUT);
-        }
+        let configured = u8::from(core::mem::take(&mut self.writes.configured));
+        self.due.set(configured * (Due::REFRESH | Due::LAYOUT));
         if let Some(error) = self.mailbox.take_refused() {
             self.log_refused(now, od, error);
         }
