@@ -205,8 +205,7 @@ impl Due {
     const SM_CHECK: u8 = 1 << 1;
     /// What [`SubDevice::process_data`] answers may have changed since
     /// [`SubDevice::process_data_news`] took it (or was never taken): the state, the PDO
-    /// configuration, the sync choices or the DC settings changed, or the SyncManagers were
-    /// checked after an SM-change event (SM2/SM3 may have moved).
+    /// configuration, the sync choices, the DC settings or an address of SM2/SM3 changed.
     const LAYOUT: u8 = 1 << 2;
 
     /// Makes the work of `bits` due.

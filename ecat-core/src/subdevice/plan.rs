@@ -9,6 +9,7 @@ use crate::al::{AlControl, AlEvent, AlState, AlStatusCode};
 use crate::indicator::err_pattern;
 use crate::register;
 use crate::sync_manager::Channel;
+use crate::sync_manager::check::Channels;
 use crate::sync_parameters::DcSettings;
 use crate::time::Instant;
 
@@ -369,7 +370,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     return;
                 }
                 if let Some(bytes) = self.buf.first_chunk() {
+                    let starts = |c: &Channels| (c.outputs().start, c.inputs().start);
+                    let before = starts(&self.channels);
                     self.channels.update(bytes);
+                    if starts(&self.channels) != before {
+                        self.due.set(Due::LAYOUT);
+                    }
                     let repeat =
                         self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
                     self.mailbox.repeat_request(repeat);

@@ -164,7 +164,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         if !self.due.take(Due::SM_CHECK) {
             return;
         }
-        self.due.set(Due::LAYOUT);
         self.checked(self.state);
     }
 
