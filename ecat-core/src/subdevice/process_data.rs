@@ -38,9 +38,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// [`SubDevice::process_data`] at the first call and when it may have changed since the
     /// last (a new state, PDO configuration, sync choice, DC setting or SM2/SM3 address), `None`
-    /// when it has not:
-    /// for a driver that hands the setup to its process-data side only when it is new, without
-    /// comparing setups. It may also answer an unchanged setup.
+    /// when it has not: for a driver that hands the setup to its process-data side only when it
+    /// is new, without comparing setups. It may also answer an unchanged setup (a refresh in
+    /// SAFEOP/OP that changed nothing).
     pub fn process_data_news(&mut self) -> Option<Option<Setup>> {
         self.due.take(Due::LAYOUT).then(|| self.process_data())
     }
