@@ -167,9 +167,11 @@ where
                     }
                 };
                 sub.access_done(now(), event);
-                common
-                    .esc
-                    .publish(sub.process_data(), sub.event_mask(), Indication::of(sub));
+                common.esc.publish(
+                    sub.process_data_news(),
+                    sub.event_mask(),
+                    Indication::of(sub),
+                );
             }
             // The transition whose answer the wait is for, `None`: the wait is for news.
             let answering = loop {

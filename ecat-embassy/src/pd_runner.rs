@@ -178,10 +178,9 @@ where
             // What woke the runner and what follows; the view and its copy of the layout end here,
             // so only `current` lives on across the waits and the exchange.
             let plan = {
-                let view = common.esc.pd_view(current);
+                let view = common.esc.pd_view();
                 let sampled = core::mem::take(&mut exchange.trigger_sampled);
-                if view.layout != current {
-                    let layout = view.layout;
+                if let Some(layout) = view.new_layout {
                     let was_active = current.is_some_and(|l| l.outputs_active);
                     current = layout;
                     if was_active && !layout.is_some_and(|l| l.outputs_active) {

@@ -76,7 +76,8 @@ struct Routing {
     /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
     pd_stopped: Cell<bool>,
     /// Bumped whenever something changes for the process-data runner: its trigger was seen, the
-    /// IRQ line is free again, the layout changed. 16 bits are plenty: the state-machine runner
+    /// IRQ line is free again, the layout changed (then its low bit, [`LAYOUT_NEWS`], is set until
+    /// the process-data runner looks). 16 bits are plenty: the state-machine runner
     /// waits for the PDI while the process-data runner has not looked at a bump
     /// ([`SharedEsc::take_pdi`]), so the count runs at most a few bumps ahead of `pd_seen`.
     pd_generation: Cell<u16>,
@@ -136,9 +137,20 @@ impl Routing {
         }
     }
 
+    /// Publishes `layout` as news for the process-data runner: the bump's [`LAYOUT_NEWS`] bit,
+    /// which [`SharedEsc::pd_view`] clears (the runners compare no layouts).
+    fn new_layout(&self, layout: Option<Setup>) {
+        self.layout.set(layout);
+        self.notify_pd();
+        self.pd_generation
+            .set(self.pd_generation.get() | LAYOUT_NEWS);
+    }
+
+    /// Bumps `pd_generation` (by 2: its low bit is [`LAYOUT_NEWS`]) and wakes the process-data
+    /// runner.
     fn notify_pd(&self) {
         self.pd_generation
-            .set(self.pd_generation.get().wrapping_add(1));
+            .set(self.pd_generation.get().wrapping_add(2));
         self.pd_waker.wake();
     }
 
@@ -162,6 +174,10 @@ impl Routing {
         self.update_irq_holder();
     }
 }
+
+/// The low bit of `Routing::pd_generation`: the state-machine runner published a layout the
+/// process-data runner has not taken yet ([`SharedEsc::pd_view`] clears it).
+const LAYOUT_NEWS: u16 = 1;
 
 /// A [`WakerRegistration`] in a `Cell`: taken out for each call and put back.
 struct WakerCell(Cell<WakerRegistration>);
@@ -189,8 +205,8 @@ impl WakerCell {
 pub(crate) struct PdView {
     /// The token for [`SharedEsc::pd_changed_since`], taken with the rest.
     pub(crate) generation: u16,
-    /// The process-data layout of the current state.
-    pub(crate) layout: Option<Setup>,
+    /// The process-data layout of the current state, when it is new since the last view.
+    pub(crate) new_layout: Option<Option<Setup>>,
     /// Process-data trigger events the state-machine runner saw.
     pub(crate) pd_events: AlEvent,
     /// No state-machine event may hold the IRQ line asserted: the process-data runner may wait
@@ -486,46 +502,56 @@ impl<P: Pdi> SharedEsc<P> {
         })
     }
 
-    /// Publishes the process-data layout of the current state and the AL event mask in the ESC.
-    /// The core writes its mask before anything else, so from the first publication on, every
-    /// masked event is one a runner clears.
+    /// Publishes the AL event mask in the ESC and, when it may be new, the process-data layout
+    /// of the current state ([`ecat_core::SubDevice::process_data_news`]: no layouts are
+    /// compared). The core writes its mask before anything else, so from the first publication
+    /// on, every masked event is one a runner clears.
     /// With them the AL status and code the SubDevice presents, for the indicators.
-    pub(crate) fn publish(&self, layout: Option<Setup>, mask: AlEvent, indication: Indication) {
+    pub(crate) fn publish(
+        &self,
+        news: Option<Option<Setup>>,
+        mask: AlEvent,
+        indication: Indication,
+    ) {
         self.with(|r| {
             r.mask.set(mask);
             let published = r.indication.replace(indication);
             if published != indication {
                 r.led_waker.wake();
             }
-            if r.layout.get() != layout || published == Indication::UNPUBLISHED {
-                r.layout.set(layout);
-                r.notify_pd();
+            // The first publication has news (the core's first answer): the process-data runner
+            // looks again, and finds the IRQ line free.
+            if let Some(layout) = news {
+                r.new_layout(layout);
             }
             r.update_irq_holder();
         });
     }
 
     /// What the process-data runner looks at before it waits, in one critical section: the
-    /// layout of the current state, the trigger events seen by the state-machine runner (taken
-    /// only while `current` is still the layout), whether the IRQ line is free for it, and the
-    /// token for [`SharedEsc::pd_changed_since`].
-    pub(crate) fn pd_view(&self, current: Option<Setup>) -> PdView {
-        self.with(|r| PdView {
-            generation: {
-                let generation = r.pd_generation.get();
-                if r.pd_seen.replace(generation) != generation {
-                    r.esm_pdi_waker.wake();
-                }
-                generation
-            },
-            layout: r.layout.get(),
-            pd_events: if r.layout.get() == current {
-                r.pd_events.take()
-            } else {
-                AlEvent::NONE
-            },
-            // Before the state-machine runner set up the ESC, its reset mask may hold the line.
-            irq_free: r.indication.get() != Indication::UNPUBLISHED && !r.esm_holds_irq.get(),
+    /// layout of the current state when it is new, else the trigger events seen by the
+    /// state-machine runner, whether the IRQ line is free for it, and the token for
+    /// [`SharedEsc::pd_changed_since`].
+    pub(crate) fn pd_view(&self) -> PdView {
+        self.with(|r| {
+            let bumped = r.pd_generation.get();
+            let news = bumped & LAYOUT_NEWS != 0;
+            let generation = bumped & !LAYOUT_NEWS;
+            r.pd_generation.set(generation);
+            if r.pd_seen.replace(generation) != bumped {
+                r.esm_pdi_waker.wake();
+            }
+            PdView {
+                generation,
+                new_layout: news.then(|| r.layout.get()),
+                pd_events: if news {
+                    AlEvent::NONE
+                } else {
+                    r.pd_events.take()
+                },
+                // Before the state-machine runner set up the ESC, its reset mask may hold the line.
+                irq_free: r.indication.get() != Indication::UNPUBLISHED && !r.esm_holds_irq.get(),
+            }
         })
     }
 

@@ -2,7 +2,7 @@
 
 use super::plan::{InFlight, read};
 use super::targets::Stale;
-use super::{ESM_EVENTS, MAILBOX_EVENTS, SubDevice};
+use super::{Due, ESM_EVENTS, MAILBOX_EVENTS, SubDevice};
 use crate::al::{AlEvent, AlState};
 
 impl<'c, const MBX: usize> SubDevice<'c, MBX> {
@@ -39,7 +39,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             self.reads |= read::AL_CONTROL | read::WATCHDOG | read::DC;
         }
         if event.contains(AlEvent::SM_CHANGE) {
-            self.due.sm_check = true;
+            self.due.set(Due::SM_CHECK);
         }
         if al_control || event.contains(AlEvent::SM_CHANGE) {
             self.sm_unread = self.sm_bytes();

@@ -2,7 +2,7 @@
 
 use super::plan::InFlight;
 use super::targets::Stale;
-use super::{MAILBOX_EVENTS, RegisterAccess, SubDevice};
+use super::{Due, MAILBOX_EVENTS, RegisterAccess, SubDevice};
 use crate::al::{AlEvent, AlState};
 use crate::coe::Emergency;
 use crate::coe::sdo::Context;
@@ -185,7 +185,9 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let built = self
             .mailbox
             .serve(self.coe.handler(&mut cx), handlers, self.state, now);
-        self.due.refresh |= core::mem::take(&mut self.writes.configured);
+        // A write to 0x1C32 changes the sync choices at once, the rest with the refresh.
+        let configured = u8::from(core::mem::take(&mut self.writes.configured));
+        self.due.set(configured * (Due::REFRESH | Due::LAYOUT));
         if let Some(error) = self.mailbox.take_refused() {
             self.log_refused(now, od, error);
         }

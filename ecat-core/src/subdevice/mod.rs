@@ -191,15 +191,34 @@ struct Indication {
     id_requested: bool,
 }
 
-/// Work an event left for later, done when its inputs are there.
+/// Work an event left for later, done when its inputs are there: a bit each (one byte, in the
+/// SubDevice's bytes without padding).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-struct Due {
+struct Due(u8);
+
+impl Due {
     /// The PDO configuration may have changed since `pd_sizes` was computed:
     /// [`SubDevice::refresh_process_data`] recomputes it.
-    refresh: bool,
+    const REFRESH: u8 = 1 << 0;
     /// An SM-change event came: the configuration is checked against the state once the
     /// SyncManagers are read.
-    sm_check: bool,
+    const SM_CHECK: u8 = 1 << 1;
+    /// What [`SubDevice::process_data`] answers may have changed since
+    /// [`SubDevice::process_data_news`] took it (or was never taken): the state, the PDO
+    /// configuration, the sync choices, the DC settings or an address of SM2/SM3 changed.
+    const LAYOUT: u8 = 1 << 2;
+
+    /// Makes the work of `bits` due.
+    fn set(&mut self, bits: u8) {
+        self.0 |= bits;
+    }
+
+    /// Whether the work of `bit` was due; it no longer is.
+    fn take(&mut self, bit: u8) -> bool {
+        let due = self.0 & bit != 0;
+        self.0 &= !bit;
+        due
+    }
 }
 
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
@@ -276,7 +295,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     written: Written,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
     /// MainDevice wrote, and whether the process-data configuration changed since the last
-    /// [`SubDevice::refresh_process_data`] (taken into `due.refresh` after each message).
+    /// [`SubDevice::refresh_process_data`] (taken into `due` after each message).
     writes: Writes,
     /// The DC registers as last read.
     dc: DcSettings,
@@ -334,10 +353,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             stale: Stale::ALL,
             pd_sizes: config.process_data,
             pd_unusable: AlStatusCode::NO_ERROR,
-            due: Due {
-                refresh: true,
-                sm_check: false,
-            },
+            due: Due(Due::REFRESH | Due::LAYOUT),
             received: CycleSigns::default(),
             sync_mode: Ok(sync_parameters::Requested {
                 mode: SyncMode::SmSynchronous,

@@ -4,11 +4,12 @@
 
 use super::mailbox::MailboxOp;
 use super::targets::{Stale, Written};
-use super::{ESM_EVENTS, RegisterAccess, SM_CHUNK, SubDevice};
+use super::{Due, ESM_EVENTS, RegisterAccess, SM_CHUNK, SubDevice};
 use crate::al::{AlControl, AlEvent, AlState, AlStatusCode};
 use crate::indicator::err_pattern;
 use crate::register;
 use crate::sync_manager::Channel;
+use crate::sync_manager::check::Channels;
 use crate::sync_parameters::DcSettings;
 use crate::time::Instant;
 
@@ -369,7 +370,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                     return;
                 }
                 if let Some(bytes) = self.buf.first_chunk() {
+                    let starts = |c: &Channels| (c.outputs().start, c.inputs().start);
+                    let before = starts(&self.channels);
                     self.channels.update(bytes);
+                    if starts(&self.channels) != before {
+                        self.due.set(Due::LAYOUT);
+                    }
                     let repeat =
                         self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
                     self.mailbox.repeat_request(repeat);
@@ -392,7 +398,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 let bytes = self.buf.get(..self.dc_read_len()).unwrap_or_default();
                 let dc = DcSettings::from_bytes(bytes);
                 if dc != self.dc {
-                    self.due.refresh = true;
+                    self.due.set(Due::REFRESH | Due::LAYOUT);
                     self.targets_changed();
                     self.dc = dc;
                 }

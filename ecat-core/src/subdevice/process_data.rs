@@ -1,7 +1,7 @@
 //! The process-data side: where the image lives, its sizes from the PDO configuration, and
 //! the outputs that let SAFEOP→OP complete.
 
-use super::{CycleSigns, SubDevice};
+use super::{CycleSigns, Due, SubDevice};
 use crate::al::{AlEvent, AlState, AlStatusCode};
 use crate::device::{Area, ProcessDataSizes};
 use crate::dictionary::ObjectDictionary;
@@ -34,6 +34,15 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             },
             outputs_active: self.state == AlState::Op,
         })
+    }
+
+    /// [`SubDevice::process_data`] at the first call and when it may have changed since the
+    /// last (a new state, PDO configuration, sync choice, DC setting or SM2/SM3 address), `None`
+    /// when it has not: for a driver that hands the setup to its process-data side only when it
+    /// is new, without comparing setups. It may also answer an unchanged setup (a refresh in
+    /// SAFEOP/OP that changed nothing).
+    pub fn process_data_news(&mut self) -> Option<Option<Setup>> {
+        self.due.take(Due::LAYOUT).then(|| self.process_data())
     }
 
     /// The AL event that triggers a process-data cycle in SyncManager-synchronous mode.
@@ -91,7 +100,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     #[inline]
     pub fn refresh_process_data<D: ObjectDictionary>(&mut self, od: &mut D) {
         // Inline: it is called after every AL event and rarely has anything to do.
-        if core::mem::take(&mut self.due.refresh) {
+        if self.due.take(Due::REFRESH) {
             self.refresh(od);
         }
     }
@@ -99,6 +108,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`SubDevice::refresh_process_data`] when the configuration may have changed.
     fn refresh<D: ObjectDictionary>(&mut self, od: &mut D) {
         self.targets_changed();
+        self.due.set(Due::LAYOUT);
         self.sync_mode = sync_parameters::requested(od, self.config, self.writes.chosen);
         let fixed = self.config.process_data;
         let size = |direction, fixed| match Layout::of(od, direction) {

@@ -3,7 +3,7 @@
 
 use super::plan::InFlight;
 use super::targets::Stale;
-use super::{CycleSigns, Event, Logged, Pending, SubDevice};
+use super::{CycleSigns, Due, Event, Logged, Pending, SubDevice};
 use crate::al::{AlControl, AlState, AlStatusCode};
 use crate::coe::sdo::Writes;
 use crate::esm::{self, Decision, Transition};
@@ -161,7 +161,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// (0x0016 and back to INIT for the mailboxes, 0x001D/0x001E and back to PREOP for process
     /// data).
     pub(super) fn check_sm_change(&mut self) {
-        if !core::mem::take(&mut self.due.sm_check) {
+        if !self.due.take(Due::SM_CHECK) {
             return;
         }
         self.checked(self.state);
@@ -204,6 +204,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     fn change_state(&mut self, t: Transition) {
         self.abort_pending();
         self.targets_changed();
+        self.due.set(Due::LAYOUT);
         self.state = t.to;
         if t.to == AlState::SafeOp {
             self.received = CycleSigns::default();
@@ -218,7 +219,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.in_flight = None;
             }
             if t.to.has_mailbox() {
-                self.due.refresh = true;
+                self.due.set(Due::REFRESH);
                 self.writes = Writes::default();
                 let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
                 self.mailbox.start(self.active_mailbox(), repeat);
