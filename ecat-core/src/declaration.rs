@@ -362,20 +362,15 @@ macro_rules! __ecat_communication {
             ),
             $crate::dictionary::Object::<$dict> {
                 info: $crate::dictionary::communication::IDENTITY,
-                read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                    $crate::dictionary::communication::read_identity(
-                        &d.$area.identity,
-                        sub,
-                        offset,
-                        out,
-                    )
+                read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                    $crate::dictionary::communication::read_identity(&d.$area.identity, at, out)
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
             },
             $crate::dictionary::Object::<$dict> {
                 info: $crate::dictionary::communication::SM_TYPES,
-                read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                    $crate::dictionary::communication::read_sm_types(sub, offset, out)
+                read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                    $crate::dictionary::communication::read_sm_types(at, out)
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
             },
@@ -518,11 +513,10 @@ macro_rules! __ecat_constant {
     ($dict:ident, $index:literal, $info:expr) => {
         $crate::dictionary::Object::<$dict> {
             info: $info,
-            read: |od: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
+            read: |od: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
                 $crate::dictionary::communication::read_constant(
                     od,
-                    sub,
-                    offset,
+                    at,
                     out,
                     const {
                         $crate::dictionary::limits::default_of(
@@ -556,8 +550,8 @@ macro_rules! __ecat_object {
                     [$($acc)|+], [$($unit)?], [$($default)?; $($min)?; $($max)?]
                 )],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::read_var(&d.$field, sub, offset, out)
+            read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                $crate::dictionary::read_var(&d.$field, at, out)
             },
             write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
                 $crate::dictionary::write_var(
@@ -584,8 +578,8 @@ macro_rules! __ecat_object {
                     ),
                 ],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::read_element(&d.$field, sub, offset, out)
+            read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                $crate::dictionary::read_element(&d.$field, at, out)
             },
             write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
                 $crate::dictionary::write_element(
@@ -614,8 +608,8 @@ macro_rules! __ecat_object {
                     ),
                 ],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                d.$field.read(sub, offset, out)
+            read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                d.$field.read(at, out)
             },
             write: $crate::__ecat_write!($dict, [$($acc)|+], |d: &mut $dict, sub: u8, data: &[u8]| {
                 d.$field.write::<$dict>(sub, data, $index)
@@ -629,8 +623,8 @@ macro_rules! __ecat_object {
                 max_sub: $crate::diagnosis::max_sub_of(|d: &$dict| &d.$field),
                 ..$crate::diagnosis::OBJECT
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                d.$field.log.read(&d.$field.messages, sub, offset, out)
+            read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                d.$field.log.read(&d.$field.messages, at, out)
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
                 let field = &mut d.$field;
@@ -656,9 +650,9 @@ macro_rules! __ecat_object {
                     ), )+
                 ],
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| match sub {
-                0 => Ok($crate::dictionary::read_value(&$crate::dictionary::last_sub(&[$($sub),+]), offset, out)),
-                $( $sub => Ok($crate::dictionary::read_value(&d.$field.$sfield, offset, out)), )+
+            read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| match at.sub() {
+                0 => Ok($crate::dictionary::read_value(&$crate::dictionary::last_sub(&[$($sub),+]), at.offset(), out)),
+                $( $sub => Ok($crate::dictionary::read_value(&d.$field.$sfield, at.offset(), out)), )+
                 _ => Err($crate::abort::AbortCode::NO_SUBINDEX),
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| match sub {
@@ -686,8 +680,8 @@ macro_rules! __ecat_storage {
     ($dict:ident, $stored:ident, $info:ident, $command:ident) => {
         $crate::dictionary::Object::<$dict> {
             info: $crate::dictionary::parameters::$info,
-            read: |_: &$dict, sub: u8, offset: usize, out: &mut [u8]| {
-                $crate::dictionary::parameters::StoredParameters::read(sub, offset, out)
+            read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                $crate::dictionary::parameters::StoredParameters::read(at, out)
             },
             write: |d: &mut $dict, sub: u8, data: &[u8]| {
                 d.$stored
@@ -803,7 +797,7 @@ macro_rules! __ecat_sync_parameters {
                 max_sub: $crate::sync_parameters::SyncParameters::MAX_SUB,
                 entries: $crate::sync_parameters::PARAMETER_ENTRIES,
             },
-            read: |d: &$dict, sub: u8, offset: usize, out: &mut [u8]| d.$($place).+.read(sub, offset, out),
+            read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| d.$($place).+.read(at, out),
             write: |d: &mut $dict, sub: u8, data: &[u8]| d.$($place).+.$write(sub, data),
         }
     };

@@ -37,7 +37,7 @@ pub(crate) use crate::history::{FIRST_MESSAGE, MESSAGE_MAX};
 
 use crate::abort::AbortCode;
 use crate::coe::Emergency;
-use crate::dictionary::{Access, DataType, EntryInfo, Limits, ObjectCode, ObjectInfo, Read};
+use crate::dictionary::{Access, At, DataType, EntryInfo, Limits, ObjectCode, ObjectInfo, Read};
 
 /// The index of the diagnosis history.
 pub(crate) const DIAGNOSIS_HISTORY: u16 = 0x10F3;
@@ -73,14 +73,9 @@ impl History<'_> {
 }
 
 impl Log {
-    /// Reads subindex `sub`.
-    pub fn read(
-        &self,
-        messages: &[Message],
-        sub: u8,
-        offset: usize,
-        out: &mut [u8],
-    ) -> Result<Read, AbortCode> {
+    /// Reads a subindex from an offset ([`At`]).
+    pub fn read(&self, messages: &[Message], at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+        let (sub, offset) = (at.sub(), at.offset());
         let capacity = messages.len();
         let byte: u8 = match sub {
             0 => FIRST_MESSAGE - 1 + capacity as u8,
@@ -221,7 +216,7 @@ mod tests {
 
     fn read(h: &DiagnosisHistory<3>, sub: u8) -> Vec<u8> {
         let mut out = [0u8; 64];
-        let r = h.log.read(&h.messages, sub, 0, &mut out).unwrap();
+        let r = h.log.read(&h.messages, At::start(sub), &mut out).unwrap();
         out[..r.size()].to_vec()
     }
 

@@ -32,7 +32,8 @@ use crate::coe::sdo::complete_access;
 use crate::device::Identity;
 use crate::diagnosis::MAILBOX_ERROR_TEXT;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectCode, ObjectDictionary, ObjectInfo,
+    Access, At, DataType, EntryInfo, Limit, Limits, Object, ObjectCode, ObjectDictionary,
+    ObjectInfo,
 };
 use crate::mailbox::MailboxError;
 use crate::pdo::Direction;
@@ -491,7 +492,11 @@ fn sub_item<D: ObjectDictionary, W: Write>(
     }
     let mut count = [0u8];
     let count = (sub == 0)
-        .then(|| (object.read)(od, 0, 0, &mut count).ok().map(|_| count))
+        .then(|| {
+            (object.read)(od, At::start(0), &mut count)
+                .ok()
+                .map(|_| count)
+        })
         .flatten();
     if count.is_some() || has_values(object, sub) {
         x.open("Info", &[])?;

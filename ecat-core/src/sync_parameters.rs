@@ -23,7 +23,7 @@ use crate::abort::AbortCode;
 use crate::device::DeviceConfig;
 use crate::dictionary::limits::Declared;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read,
+    Access, At, DataType, EntryInfo, Limit, Limits, Object, ObjectDictionary, Read,
 };
 use crate::register::DcActivation;
 pub use crate::sync_mode::SyncParameters;
@@ -31,11 +31,16 @@ use crate::sync_mode::{Entry, SupportedSyncModes, SyncMode};
 use crate::time::{Duration, Instant};
 
 impl SyncParameters {
-    /// Copies the encoded value of `sub` from `offset` into `out` (the read of the standard
-    /// record: one function for 0x1C32 and 0x1C33 of every dictionary): the entry's bytes.
-    pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        let entry = self.entry(sub).ok_or(AbortCode::NO_SUBINDEX)?;
-        Ok(crate::dictionary::communication::copy(entry, offset, out))
+    /// Copies the encoded value of a subindex from an offset ([`At`]) into `out` (the read of
+    /// the standard record: one function for 0x1C32 and 0x1C33 of every dictionary): the
+    /// entry's bytes.
+    pub fn read(&self, at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+        let entry = self.entry(at.sub()).ok_or(AbortCode::NO_SUBINDEX)?;
+        Ok(crate::dictionary::communication::copy(
+            entry,
+            at.offset(),
+            out,
+        ))
     }
 
     /// Decodes `data` into `sub`: what an SDO download stores after the access check. Only
@@ -801,11 +806,15 @@ mod tests {
         p.set(SyncParameters::SHIFT_TIME, 0x0403_0201);
         p.set(SyncParameters::SYNC_ERROR, 1);
         let mut out = [0xFF; 4];
-        let read = p.read(0, 0, &mut out).map(|r| (r.copied(), r.size()));
+        let read = p
+            .read(At::new(0, 0), &mut out)
+            .map(|r| (r.copied(), r.size()));
         assert_eq!((read, out[0]), (Ok((1, 1)), 0x20));
-        let read = p.read(3, 0, &mut out).map(|r| (r.copied(), r.size()));
+        let read = p
+            .read(At::new(3, 0), &mut out)
+            .map(|r| (r.copied(), r.size()));
         assert_eq!((read, out), (Ok((4, 4)), [1, 2, 3, 4]));
-        let read = p.read(3, 2, &mut out).map(|r| r.copied());
+        let read = p.read(At::new(3, 2), &mut out).map(|r| r.copied());
         assert_eq!((read, &out[..2]), (Ok(2), &[3, 4][..]));
         assert_eq!(p.write(2, &[5, 6, 7, 8]), Ok(()));
         assert_eq!(p.write(2, &[5, 6, 7]), Err(AbortCode::LENGTH_TOO_LOW));
@@ -814,7 +823,10 @@ mod tests {
         assert_eq!(p.write(0x0E, &[0; 4]), Err(AbortCode::NO_SUBINDEX));
         let values = [0, 1, 2, 3, 0x0B, 0x20].map(|sub| p.get(sub));
         assert_eq!(values, [0x20, 1, 0x0807_0605, 0x0403_0201, 0, 1]);
-        assert_eq!(p.read(0x21, 0, &mut out), Err(AbortCode::NO_SUBINDEX));
+        assert_eq!(
+            p.read(At::new(0x21, 0), &mut out),
+            Err(AbortCode::NO_SUBINDEX)
+        );
         // SI 0x20 is a BOOLEAN: any value but 0 is stored as 1.
         p.set(SyncParameters::SYNC_ERROR, 2);
         assert_eq!(p.get(SyncParameters::SYNC_ERROR), 1);

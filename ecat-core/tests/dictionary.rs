@@ -3,7 +3,7 @@
 
 use ecat_core::coe::AbortCode;
 use ecat_core::dictionary::{
-    Access, Bits, DataType, Limit, ObjectCode, ObjectDictionary, Read, VisibleString,
+    Access, At, Bits, DataType, Limit, ObjectCode, ObjectDictionary, Read, VisibleString,
 };
 
 struct Identity {
@@ -39,7 +39,7 @@ ecat_core::dictionary! {
 fn read(od: &Od, index: u16, sub: u8) -> Result<Vec<u8>, AbortCode> {
     let object = Od::object(index).ok_or(AbortCode::NO_OBJECT)?;
     let mut out = [0; 16];
-    let read = (object.read)(od, sub, 0, &mut out)?;
+    let read = (object.read)(od, At::start(sub), &mut out)?;
     let (copied, size) = (read.copied(), read.size());
     assert_eq!(copied, size);
     Ok(out[..copied].to_vec())
@@ -147,7 +147,10 @@ fn reads_stream_from_an_offset() {
     let od = Od::default();
     let object = Od::object(0x1008).unwrap();
     let mut out = [0; 3];
-    assert_eq!((object.read)(&od, 0, 2, &mut out), Ok(Read::new(2, 4)));
+    assert_eq!(
+        (object.read)(&od, At::new(0, 2), &mut out),
+        Ok(Read::new(2, 4))
+    );
     assert_eq!(&out[..2], b"at");
 }
 
@@ -226,7 +229,7 @@ fn declared_limits_encode_in_the_entry_type() {
 mod communication_item {
     use ecat_core::device::Identity;
     use ecat_core::dictionary::{
-        Access, Communication, DeviceInfo, Limit, ObjectCode, ObjectDictionary,
+        Access, At, Communication, DeviceInfo, Limit, ObjectCode, ObjectDictionary,
     };
     use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 
@@ -268,7 +271,7 @@ mod communication_item {
     fn read(od: &Od, index: u16, sub: u8) -> Vec<u8> {
         let object = Od::object(index).expect("present");
         let mut out = [0u8; 64];
-        let read = (object.read)(od, sub, 0, &mut out).unwrap();
+        let read = (object.read)(od, At::start(sub), &mut out).unwrap();
         assert_eq!(read.copied(), read.size());
         out[..read.size()].to_vec()
     }
@@ -416,13 +419,19 @@ mod communication_item {
             assert_eq!(object.info.entry(0x1F), None);
             let mut od = Od::default();
             let mut out = [0xAA; 4];
-            assert_eq!((object.read)(&od, 0, 0, &mut out).unwrap().copied(), 1);
+            assert_eq!(
+                (object.read)(&od, At::start(0), &mut out).unwrap().copied(),
+                1
+            );
             assert_eq!(out[0], 0x20, "SI0");
             // SI8 (get cycle time) takes a command word and keeps it; 0 by default.
-            assert_eq!((object.read)(&od, 8, 0, &mut out).unwrap().size(), 2);
+            assert_eq!(
+                (object.read)(&od, At::start(8), &mut out).unwrap().size(),
+                2
+            );
             assert_eq!(out[..2], [0, 0]);
             (object.write)(&mut od, 8, &[0x01, 0x00]).unwrap();
-            (object.read)(&od, 8, 0, &mut out).unwrap();
+            (object.read)(&od, At::start(8), &mut out).unwrap();
             assert_eq!(out[..2], [0x01, 0x00]);
             assert_eq!(
                 (object.write)(&mut od, 0x0E, &[0, 0]),

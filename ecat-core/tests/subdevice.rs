@@ -753,10 +753,10 @@ ecat_core::dictionary! {
 
 /// Reads 0x10F3:`sub` as a MainDevice's upload does.
 fn history_entry(od: &DiagOd, sub: u8) -> Vec<u8> {
-    use ecat_core::dictionary::ObjectDictionary;
+    use ecat_core::dictionary::{At, ObjectDictionary};
     let object = DiagOd::object(0x10F3).unwrap();
     let mut out = [0u8; 64];
-    let read = (object.read)(od, sub, 0, &mut out).unwrap();
+    let read = (object.read)(od, At::start(sub), &mut out).unwrap();
     out[..read.size()].to_vec()
 }
 

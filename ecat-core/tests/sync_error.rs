@@ -2,7 +2,7 @@
 //! Settings object (ETG.1020 §6.3), else SSC's default 4.
 
 use ecat_core::coe::AbortCode;
-use ecat_core::dictionary::{Limit, ObjectDictionary};
+use ecat_core::dictionary::{At, Limit, ObjectDictionary};
 use ecat_core::sync_error::{
     DEFAULT_LIMIT, ERROR_SETTINGS, ErrorSettings, LOCAL_ERROR_REACTION, REACTION_SAFEOP,
     SyncSupervision, limit,
@@ -74,7 +74,7 @@ fn the_local_error_reaction_is_sscs_1_and_nothing_else() {
     assert_eq!(od.error_settings, ErrorSettings::new());
     let object = Od::object(ERROR_SETTINGS).expect("0x10F1");
     let mut out = [0; 4];
-    (object.read)(&od, LOCAL_ERROR_REACTION, 0, &mut out).expect("read");
+    (object.read)(&od, At::start(LOCAL_ERROR_REACTION), &mut out).expect("read");
     assert_eq!(out, [1, 0, 0, 0]);
     for limit in [Limit::Default, Limit::Min, Limit::Max] {
         let mut value = [0; 4];

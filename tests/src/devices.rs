@@ -395,6 +395,7 @@ pub fn dio_update(firmware: &Firmware) -> Sample<Updatable<AcceptAll>, DioLoop, 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ecat_core::dictionary::At;
 
     fn indices<D: ObjectDictionary>() -> Vec<u16> {
         D::OBJECTS.iter().map(|o| o.info.index).collect()
@@ -434,7 +435,9 @@ mod tests {
         let read = |od: &Dio, index: u16, sub: u8| {
             let object = Dio::object(index).unwrap();
             let mut out = [0u8; 64];
-            let n = (object.read)(od, sub, 0, &mut out).unwrap().copied();
+            let n = (object.read)(od, At::start(sub), &mut out)
+                .unwrap()
+                .copied();
             out[..n].to_vec()
         };
         let sample = dio();

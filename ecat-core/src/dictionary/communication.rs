@@ -25,7 +25,9 @@
 //! have both assignment objects (empty for a direction without data): `dictionary!` asserts it.
 
 use super::limits::Declared;
-use super::{Access, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read, read_value};
+use super::{
+    Access, At, DataType, EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, Read, read_value,
+};
 use crate::abort::AbortCode;
 use crate::device::Identity;
 use crate::sync_manager;
@@ -153,15 +155,9 @@ pub(crate) fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
 /// dictionary unused), `bytes` last: the code `dictionary!` generates per object adds it
 /// without moving the others.
 #[doc(hidden)]
-pub fn read_constant<D>(
-    _: &D,
-    sub: u8,
-    offset: usize,
-    out: &mut [u8],
-    bytes: &[u8],
-) -> Result<Read, AbortCode> {
-    match sub {
-        0 => Ok(copy(bytes, offset, out)),
+pub fn read_constant<D>(_: &D, at: At, out: &mut [u8], bytes: &[u8]) -> Result<Read, AbortCode> {
+    match at.sub() {
+        0 => Ok(copy(bytes, at.offset(), out)),
         _ => Err(AbortCode::NO_SUBINDEX),
     }
 }
@@ -169,13 +165,9 @@ pub fn read_constant<D>(
 /// Reads 0x1018 from `identity` (each entry a fixed-width copy, as a declared field's).
 #[doc(hidden)]
 #[inline(never)]
-pub fn read_identity(
-    identity: &Identity,
-    sub: u8,
-    offset: usize,
-    out: &mut [u8],
-) -> Result<Read, AbortCode> {
-    let value = match sub {
+pub fn read_identity(identity: &Identity, at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+    let offset = at.offset();
+    let value = match at.sub() {
         0 => return Ok(read_value(&IDENTITY.max_sub, offset, out)),
         1 => identity.vendor_id,
         2 => identity.product_code,
@@ -194,11 +186,11 @@ const SM_TYPE_VALUES: [u8; 5] = {
 
 /// Reads 0x1C00: every entry one byte of [`SM_TYPE_VALUES`], a constant's copy.
 #[doc(hidden)]
-pub fn read_sm_types(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-    let at = usize::from(sub);
+pub fn read_sm_types(at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+    let sub = usize::from(at.sub());
     SM_TYPE_VALUES
-        .get(at..=at)
-        .map(|value| copy(value, offset, out))
+        .get(sub..=sub)
+        .map(|value| copy(value, at.offset(), out))
         .ok_or(AbortCode::NO_SUBINDEX)
 }
 

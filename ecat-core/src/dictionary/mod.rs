@@ -227,12 +227,46 @@ impl Read {
     }
 }
 
+/// Where [`Object::read`] starts: a subindex and a byte offset into its value, in one word
+/// (subindex in the low byte, offset above it).
+///
+/// One word keeps every read function's arguments in the four argument registers of the Arm
+/// procedure call standard (the dictionary, this, `out`'s pointer and length) instead of one on
+/// the stack.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct At(u32);
+
+impl At {
+    /// Subindex `sub` from byte `offset` of its value on; the offset is taken modulo 2²⁴ (no
+    /// entry is that large: at most 8 191 bytes, [`Read`]).
+    #[allow(clippy::cast_possible_truncation)] // as documented
+    pub const fn new(sub: u8, offset: usize) -> Self {
+        Self((offset as u32) << 8 | sub as u32)
+    }
+
+    /// Subindex `sub` from its first byte.
+    pub const fn start(sub: u8) -> Self {
+        Self::new(sub, 0)
+    }
+
+    /// The subindex.
+    #[allow(clippy::cast_possible_truncation)] // the low byte
+    pub const fn sub(self) -> u8 {
+        self.0 as u8
+    }
+
+    /// The byte offset into the value.
+    pub const fn offset(self) -> usize {
+        (self.0 >> 8) as usize
+    }
+}
+
 /// One object: its description and the typed code that reaches its fields.
 pub struct Object<D> {
     /// The description.
     pub info: ObjectInfo,
-    /// Copies the encoded value of a subindex from an offset into `out`.
-    pub read: fn(&D, u8, usize, &mut [u8]) -> Result<Read, AbortCode>,
+    /// Copies the encoded value of a subindex from an offset ([`At`]) into `out`.
+    pub read: fn(&D, At, &mut [u8]) -> Result<Read, AbortCode>,
     /// Decodes `data` into a subindex, after the range check.
     pub write: fn(&mut D, u8, &[u8]) -> Result<(), AbortCode>,
 }
@@ -279,7 +313,7 @@ impl<D> Object<D> {
     fn read_uint(&self, od: &D, sub: u8, width: usize) -> Option<u32> {
         let mut bytes = [0u8; 4];
         let buf = bytes.get_mut(..width)?;
-        let read = (self.read)(od, sub, 0, buf).ok()?;
+        let read = (self.read)(od, At::start(sub), buf).ok()?;
         (read.copied() == width).then(|| u32::from_le_bytes(bytes))
     }
 }
@@ -431,14 +465,9 @@ pub fn write_value<T: Value + PartialOrd>(
 /// `dictionary!` generates per object is a call.
 #[doc(hidden)]
 #[inline]
-pub fn read_var<T: Value>(
-    value: &T,
-    sub: u8,
-    offset: usize,
-    out: &mut [u8],
-) -> Result<Read, AbortCode> {
-    match sub {
-        0 => Ok(read_value(value, offset, out)),
+pub fn read_var<T: Value>(value: &T, at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+    match at.sub() {
+        0 => Ok(read_value(value, at.offset(), out)),
         _ => Err(AbortCode::NO_SUBINDEX),
     }
 }
@@ -465,13 +494,9 @@ pub fn write_var<T: Value + PartialOrd>(
 /// One copy per element type for every ARRAY of every dictionary: the code `dictionary!`
 /// generates per object is a call.
 #[doc(hidden)]
-pub fn read_element<T: Value>(
-    items: &[T],
-    sub: u8,
-    offset: usize,
-    out: &mut [u8],
-) -> Result<Read, AbortCode> {
-    match sub.checked_sub(1) {
+pub fn read_element<T: Value>(items: &[T], at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+    let offset = at.offset();
+    match at.sub().checked_sub(1) {
         None => Ok(read_value(&(items.len() as u8), offset, out)),
         Some(n) => items
             .get(usize::from(n))

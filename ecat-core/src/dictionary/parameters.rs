@@ -26,7 +26,9 @@
 //! firmware no longer has, no longer backs up, or whose value it refuses (out of range after a
 //! firmware update) is skipped and counted ([`Loaded::skipped`]), never applied.
 
-use super::{Access, DataType, EntryInfo, Limits, ObjectCode, ObjectDictionary, ObjectInfo, Read};
+use super::{
+    Access, At, DataType, EntryInfo, Limits, ObjectCode, ObjectDictionary, ObjectInfo, Read,
+};
 use super::{read_value, write_value};
 use crate::abort::AbortCode;
 
@@ -79,8 +81,9 @@ impl StoredParameters {
 
     /// Reads 0x1010 or 0x1011: SI0 1, SI1 [`ON_COMMAND`].
     #[doc(hidden)]
-    pub fn read(sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
-        match sub {
+    pub fn read(at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
+        let offset = at.offset();
+        match at.sub() {
             0 => Ok(read_value(&1u8, offset, out)),
             1 => Ok(read_value(&ON_COMMAND, offset, out)),
             _ => Err(AbortCode::NO_SUBINDEX),
@@ -191,7 +194,7 @@ pub fn save<D: ObjectDictionary>(od: &D, out: &mut [u8]) -> Result<usize, SaveEr
         let (header, value) = rest
             .split_at_mut_checked(ENTRY_HEADER)
             .ok_or(SaveError::TooSmall)?;
-        let read = (object.read)(od, sub, 0, value).map_err(|_| SaveError::TooSmall)?;
+        let read = (object.read)(od, At::start(sub), value).map_err(|_| SaveError::TooSmall)?;
         if read.copied() < read.size() {
             return Err(SaveError::TooSmall);
         }
@@ -310,7 +313,7 @@ mod tests {
     fn read(od: &Od, index: u16, sub: u8) -> ([u8; 4], usize) {
         let mut out = [0u8; 4];
         let object = Od::object(index).unwrap();
-        let r = (object.read)(od, sub, 0, &mut out).unwrap();
+        let r = (object.read)(od, At::start(sub), &mut out).unwrap();
         (out, r.size())
     }
 

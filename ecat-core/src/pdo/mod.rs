@@ -21,7 +21,7 @@ mod width;
 
 use crate::abort::AbortCode;
 use crate::device::{DeviceConfig, MailboxConfig};
-use crate::dictionary::{Access, Object, ObjectCode, ObjectDictionary, Read, write_value};
+use crate::dictionary::{Access, At, Object, ObjectCode, ObjectDictionary, Read, write_value};
 use width::{Items, Slots, Width};
 
 /// One mapping entry: `index << 16 | subindex << 8 | bit length`.
@@ -322,16 +322,21 @@ impl<T: Width, const N: usize> Counted<T, N> {
     /// generates.
     #[doc(hidden)]
     #[inline]
-    pub fn read(&self, sub: u8, offset: usize, out: &mut [u8]) -> Result<Read, AbortCode> {
+    pub fn read(&self, at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
         // SI0 one byte, an entry its width: each object's read picks its entry and leaves the
         // copy to the one unsigned reader.
-        let (value, size) = match sub.checked_sub(1) {
+        let (value, size) = match at.sub().checked_sub(1) {
             None => (u32::from(self.count), 1),
             Some(n) => T::items(&self.items)
                 .get(usize::from(n))
                 .ok_or(AbortCode::NO_SUBINDEX)?,
         };
-        Ok(crate::dictionary::read_unsigned(value, size, offset, out))
+        Ok(crate::dictionary::read_unsigned(
+            value,
+            size,
+            at.offset(),
+            out,
+        ))
     }
 
     /// Writes `data` into SI `sub` of PDO mapping or assignment object `index` after the PDO

@@ -6,7 +6,7 @@
 use ecat_core::DeviceConfig;
 use ecat_core::device::Identity;
 use ecat_core::dictionary::{
-    Access, DataType, EntryInfo, Limit, ObjectCode, ObjectDictionary, ObjectInfo,
+    Access, At, DataType, EntryInfo, Limit, ObjectCode, ObjectDictionary, ObjectInfo,
 };
 use ecat_core::sii::{self, Names, SiiError};
 use ecat_embassy::Application;
@@ -157,7 +157,9 @@ fn hex(bytes: &[u8]) -> String {
 fn read<D: ObjectDictionary>(od: &D, index: u16, sub: u8) -> Vec<u8> {
     let object = D::object(index).unwrap();
     let mut buf = [0u8; 256];
-    let n = (object.read)(od, sub, 0, &mut buf).unwrap().copied();
+    let n = (object.read)(od, At::start(sub), &mut buf)
+        .unwrap()
+        .copied();
     buf[..n].to_vec()
 }
 

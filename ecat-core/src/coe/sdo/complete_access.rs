@@ -8,7 +8,7 @@
 //! an object unfit for complete access (0x06010004).
 
 use crate::abort::AbortCode;
-use crate::dictionary::{EntryInfo, Object, ObjectCode, ObjectInfo, Read};
+use crate::dictionary::{At, EntryInfo, Object, ObjectCode, ObjectInfo, Read};
 use crate::pdo::image::copy_bits;
 
 /// One entry's place in the complete-access image.
@@ -190,7 +190,7 @@ pub fn read<D>(
         // Every entry fits 8 bytes (`check`: no variable-length entry); SI0's second byte is
         // padding, zero.
         let mut value = [0u8; 8];
-        (object.read)(od, slot.sub, 0, &mut value)?;
+        (object.read)(od, At::start(slot.sub), &mut value)?;
         copy_bits(&value, 0, out, slot.bit_offset, offset, slot.bit_len);
         end = slot.bit_offset + slot.bit_len;
     }

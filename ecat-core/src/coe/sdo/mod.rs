@@ -30,7 +30,7 @@ use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    Access, DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
+    Access, At, DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
 };
 use crate::pdo;
 use crate::time::{Duration, Instant};
@@ -616,7 +616,7 @@ fn read<D>(
     if target.complete {
         return complete_access::read(od, object, target.sub, offset, out);
     }
-    (object.read)(od, target.sub, offset, out)
+    (object.read)(od, At::new(target.sub, offset), out)
 }
 
 /// Copies the target's bytes from `offset` into `out`.
