@@ -122,45 +122,40 @@ pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
 /// The bytes of the default of VAR `index` in the packed `table`, at compile time: what a
 /// constant VAR of the communication area reads (0x1000 and the texts, whose default is their
 /// value), so that its bytes are in flash once. A slice of `table` itself.
-#[allow(clippy::indexing_slicing)] // compile time; a missing record fails the build
+#[allow(clippy::panic)] // evaluated in a `const` block: a missing record fails the build
 pub const fn default_of(table: &'static [u8], index: u16) -> &'static [u8] {
-    let [i0, i1] = index.to_le_bytes();
-    let mut at = 0;
-    loop {
-        let mut len = table[at + 4] as usize;
-        let mut head = HEAD;
-        if table[at + 4] == LONG {
-            len = u16::from_le_bytes([table[at + 5], table[at + 6]]) as usize;
-            head = HEAD + 2;
-        }
-        let default = table[at + 3] == Limit::Default as u8;
-        if table[at] == i0 && table[at + 1] == i1 && table[at + 2] == 0 && default {
-            return table.split_at(at + head).1.split_at(len).0;
-        }
-        at += head + len;
+    match record(table, index, 0, Limit::Default) {
+        [] => panic!("a constant object declares its value as its default"),
+        bytes => bytes,
     }
 }
 
 /// Copies the `which` of `index:sub` from the packed `table` into `out` (as far as it goes);
 /// 0 when the table declares none.
 pub(super) fn find(table: &[u8], index: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    let [i0, i1] = index.to_le_bytes();
+    crate::bytes::copy(out, record(table, index, sub, which))
+}
+
+/// The bytes of the `which` of `index:sub` in the packed `table`, none when it declares none
+/// (a DOMAIN's declared value has none either): the one reader of the records, at compile time
+/// ([`default_of`]) and at run time ([`find`]).
+const fn record(table: &[u8], index: u16, sub: u8, which: Limit) -> &[u8] {
     let mut rest = table;
     while let [r0, r1, s, w, len, tail @ ..] = rest {
         let (len, tail) = match (*len, tail) {
             (LONG, [l0, l1, tail @ ..]) => (u16::from_le_bytes([*l0, *l1]), tail),
-            _ => (u16::from(*len), tail),
+            _ => (*len as u16, tail),
         };
-        let Some((bytes, next)) = tail.split_at_checked(usize::from(len)) else {
+        let Some((bytes, next)) = tail.split_at_checked(len as usize) else {
             break;
         };
         let subs = *s == sub || (*w & EVERY_ELEMENT != 0 && sub != 0);
-        if [*r0, *r1] == [i0, i1] && *w & !EVERY_ELEMENT == which as u8 && subs {
-            return crate::bytes::copy(out, bytes);
+        if u16::from_le_bytes([*r0, *r1]) == index && *w & !EVERY_ELEMENT == which as u8 && subs {
+            return bytes;
         }
         rest = next;
     }
-    0
+    &[]
 }
 
 /// The encoded bytes of a declared value: `K` units of `W` bytes, the first `len` bytes valid.
