@@ -51,7 +51,9 @@ impl Stale {
     }
 }
 
-/// What the core last wrote to the ESC, so that it writes only what changed.
+/// What the core last wrote to the ESC, so that it writes only what changed. A write counts from
+/// the moment the plan chooses it: the same access is returned until it is done, and the plan
+/// looks again only after that.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Written {
     /// AL event mask; 0 until written (the state machine's events are always in it).
