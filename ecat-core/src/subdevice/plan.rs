@@ -205,9 +205,14 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// ERR) the ERR LED override's, noted as written: its address, length and value.
     fn next_status(&mut self) -> Option<(u16, u8, u32)> {
         let code = self.al_status_code().0;
-        let status = self.al_status().bits();
-        if self.written.status_code != u32::from(code) {
-            self.written.status_code = u32::from(code);
+        let status = self.al_status().byte();
+        // The first code is written whatever its value: with it AL status 0 (nothing written
+        // yet) becomes `UNKNOWN` (the code written, the status not yet), never wanted either.
+        if self.written.status == 0 || self.written.status_code != code {
+            self.written.status_code = code;
+            if self.written.status == 0 {
+                self.written.status = Written::UNKNOWN;
+            }
             Some((register::AL_STATUS_CODE, 2, u32::from(code)))
         } else if self.written.status != status {
             // The ESC clears the override's enable bit with a new AL status.
