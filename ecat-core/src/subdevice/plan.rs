@@ -113,7 +113,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             InFlight::Mailbox(MailboxOp::Write) => self.sent(),
             _ => {
                 self.stale = Stale::ALL;
-                self.complete_register(now, op);
+                // A write was noted in `Written` when chosen: nothing to complete.
+                if !matches!(op, InFlight::Write { .. }) {
+                    self.complete_register(now, op);
+                }
             }
         }
         self.handle_al_event(event.difference(op.clears()));
