@@ -218,7 +218,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.due.set(Due::REFRESH);
                 self.writes = Writes::default();
                 let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
-                self.mailbox.start(self.active_mailbox(), repeat);
+                // The layout `verify` checked: the bootstrap mailbox in BOOT (a device without
+                // one never gets there).
+                if let Some((layout, _)) = self.config.mailbox_for(t.to == AlState::Boot) {
+                    self.mailbox.start(*layout, repeat);
+                }
             }
         }
         self.events.push(Event::StateChanged(t));
