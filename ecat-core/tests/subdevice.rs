@@ -70,6 +70,29 @@ fn start_up_writes_mask_deactivates_sync_managers_and_presents_init() {
 }
 
 #[test]
+fn a_device_id_asked_for_before_the_first_status_write_is_written_whatever_its_value() {
+    // 0xFFFF: a code no older bookkeeping could tell from "not written yet".
+    let mut regs = Regs::new();
+    let mut sub = SubDevice::new(&DEVICE);
+    sub.set_device_id(0xFFFF);
+    regs.al_control(0x0021);
+    sub.handle_al_event(AlEvent(regs.event));
+    let log = regs.drive(&mut sub, T0);
+    let status: Vec<_> = log
+        .iter()
+        .filter(|op| matches!(op, Op::Write(0x0130 | 0x0134, _)))
+        .collect();
+    assert_eq!(
+        status,
+        [
+            &Op::Write(0x0134, vec![0xFF, 0xFF]),
+            &Op::Write(0x0130, vec![0x21, 0]),
+        ]
+    );
+    assert_eq!((regs.u16_at(0x0130), regs.u16_at(0x0134)), (0x0021, 0xFFFF));
+}
+
+#[test]
 fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application() {
     let mut regs = Regs::new();
     let mut sub = started(&mut regs);

@@ -30,6 +30,12 @@ impl AlStatus {
         }
     }
 
+    /// The register value's low byte, which holds every bit (the high byte is reserved, 0).
+    pub(crate) const fn byte(self) -> u8 {
+        let [low, _] = self.bits().to_le_bytes();
+        low
+    }
+
     /// The register value.
     pub const fn bits(self) -> u16 {
         let mut bits = self.state.bits() as u16;

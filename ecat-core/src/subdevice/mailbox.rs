@@ -6,7 +6,6 @@ use super::{Due, MAILBOX_EVENTS, RegisterAccess, SubDevice};
 use crate::al::{AlEvent, AlState};
 use crate::coe::Emergency;
 use crate::coe::sdo::Context;
-use crate::device::MailboxConfig;
 use crate::dictionary::{ObjectDictionary, ObjectHooks};
 use crate::mailbox::Handlers;
 use crate::time::Instant;
@@ -125,14 +124,6 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         }
         if self.mailbox.repeat_ack() != ack {
             self.stale.insert(Stale::PDI_CONTROL);
-        }
-    }
-
-    /// The mailbox layout of the current state: the bootstrap mailbox in BOOT.
-    pub(super) fn active_mailbox(&self) -> MailboxConfig {
-        match (self.state, self.config.bootstrap_mailbox) {
-            (AlState::Boot, Some(boot)) => boot,
-            _ => self.config.mailbox,
         }
     }
 

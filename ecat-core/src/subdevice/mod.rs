@@ -400,6 +400,8 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     }
 
     /// The AL event mask as last written to the ESC: the events that may assert the IRQ line.
+    /// A mask write counts from the [`poll_access`](Self::poll_access) that returns it: ask
+    /// after [`access_done`](Self::access_done), as the driver's loop does.
     pub fn event_mask(&self) -> AlEvent {
         AlEvent(self.written.event_mask)
     }

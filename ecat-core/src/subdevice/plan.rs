@@ -14,12 +14,20 @@ use crate::sync_parameters::DcSettings;
 use crate::time::Instant;
 
 /// The register access in flight, in the order the plan makes them, with what its completion
-/// needs: the value a write puts in the ESC (stored as written once it is done), the chunk a
-/// SyncManager read covers.
+/// needs: the chunk a SyncManager read covers. A write's value is in the core's buffer and in
+/// [`Written`] from the moment the plan chose it: the same access is returned until it is done,
+/// and nothing looks at what the ESC holds before then.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(super) enum InFlight {
-    /// Write the AL event mask (0x0204).
-    WriteEventMask(u32),
+    /// Write the first `len` bytes of the buffer at `address`: the AL event mask (0x0204), PDI
+    /// control of a SyncManager (0x0807 + 8·n), AL status code (0x0134), AL status (0x0130)
+    /// or the ERR LED override (0x0139).
+    Write {
+        /// ESC address of the first byte.
+        address: u16,
+        /// 1, 2 or 4 bytes.
+        len: u8,
+    },
     /// Read the SyncManager registers from 0x0800 + `start` to 0x0800 + `end`.
     ReadSyncManagers {
         /// The chunk's first byte, from 0x0800.
@@ -32,21 +40,8 @@ pub(super) enum InFlight {
     },
     /// One of the other register reads: its bit in [`read`] (exactly one set).
     Read(u8),
-    /// Write PDI control of a SyncManager (0x0807 + 8·n).
-    WritePdiControl {
-        /// The SyncManager, 0..=3.
-        sm: u8,
-        /// The value written.
-        value: u8,
-    },
     /// An SM0 read or SM1 write of the mailbox.
     Mailbox(MailboxOp),
-    /// Write AL status code (0x0134).
-    WriteStatusCode(u16),
-    /// Write AL status (0x0130).
-    WriteStatus(u16),
-    /// Write the ERR LED override (0x0139).
-    WriteErrLed(u8),
 }
 
 impl InFlight {
@@ -118,7 +113,10 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
             InFlight::Mailbox(MailboxOp::Write) => self.sent(),
             _ => {
                 self.stale = Stale::ALL;
-                self.complete_register(now, op);
+                // A write was noted in `Written` when chosen: nothing to complete.
+                if !matches!(op, InFlight::Write { .. }) {
+                    self.complete_register(now, op);
+                }
             }
         }
         self.handle_al_event(event.difference(op.clears()));
@@ -150,61 +148,87 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
     /// [`SubDevice::next_op`] on a copy of the stale parts, stored back once (none of the parts'
     /// questions looks at them).
     fn next_op_in(&mut self, stale: &mut Stale) -> Option<InFlight> {
-        if stale.contains(Stale::EVENT_MASK) {
-            let mask = self.desired_event_mask();
-            if self.written.event_mask != mask {
-                return Some(InFlight::WriteEventMask(mask));
+        // A write's address, length and value, put in the buffer at one place.
+        let (address, len, value) = 'write: {
+            if stale.contains(Stale::EVENT_MASK) {
+                let mask = self.desired_event_mask();
+                if self.written.event_mask != mask {
+                    self.written.event_mask = mask;
+                    break 'write (register::AL_EVENT_MASK, 4, mask);
+                }
+                stale.remove(Stale::EVENT_MASK);
             }
-            stale.remove(Stale::EVENT_MASK);
-        }
-        if stale.contains(Stale::READS) {
-            if let Some(read) = self.next_read() {
-                return Some(read);
+            if stale.contains(Stale::READS) {
+                if let Some(read) = self.next_read() {
+                    return Some(read);
+                }
+                stale.remove(Stale::READS);
             }
-            stale.remove(Stale::READS);
-        }
-        if stale.contains(Stale::PDI_CONTROL) {
-            if let Some(write) = self.next_pdi_control() {
-                return Some(write);
+            if stale.contains(Stale::PDI_CONTROL) {
+                if let Some(write) = self.next_pdi_control() {
+                    break 'write write;
+                }
+                stale.remove(Stale::PDI_CONTROL);
             }
-            stale.remove(Stale::PDI_CONTROL);
-        }
-        if stale.contains(Stale::MAILBOX) {
-            // Satisfied once its access is under way: the access's completion marks what it
-            // makes due (see `access_done`).
-            stale.remove(Stale::MAILBOX);
-            if let Some(op) = self.next_mailbox_op() {
-                return Some(InFlight::Mailbox(op));
+            if stale.contains(Stale::MAILBOX) {
+                // Satisfied once its access is under way: the access's completion marks what it
+                // makes due (see `access_done`).
+                stale.remove(Stale::MAILBOX);
+                if let Some(op) = self.next_mailbox_op() {
+                    return Some(InFlight::Mailbox(op));
+                }
             }
-        }
-        if stale.contains(Stale::STATUS) {
-            if let Some(write) = self.next_status() {
-                return Some(write);
+            if stale.contains(Stale::STATUS) {
+                if let Some(write) = self.next_status() {
+                    break 'write write;
+                }
+                stale.remove(Stale::STATUS);
             }
-            stale.remove(Stale::STATUS);
+            return None;
+        };
+        if let Some(head) = self.buf.first_chunk_mut() {
+            // All four bytes in one store; the write takes the first `len`.
+            *head = value.to_le_bytes();
         }
-        None
+        Some(InFlight::Write { address, len })
     }
 
     /// The PDI control write due, deactivations first
-    /// ([`Written::pdi_control_due`](super::targets::Written::pdi_control_due)).
-    fn next_pdi_control(&self) -> Option<InFlight> {
+    /// ([`Written::pdi_control_due`](super::targets::Written::pdi_control_due)), noted as
+    /// written: its address, length and value.
+    fn next_pdi_control(&mut self) -> Option<(u16, u8, u32)> {
         let (sm, value) = self.written.pdi_control_due(self.desired_pdi_control())?;
-        Some(InFlight::WritePdiControl { sm, value })
+        let slot = self.written.pdi_control.get_mut(usize::from(sm))?;
+        *slot = value;
+        let address = register::sync_manager(sm) + Channel::PDI_CONTROL_OFFSET;
+        Some((address, 1, u32::from(value)))
     }
 
     /// The AL status code write due, or else the AL status write, or else (when the ESC drives
-    /// ERR) the ERR LED override's.
-    fn next_status(&self) -> Option<InFlight> {
+    /// ERR) the ERR LED override's, noted as written: its address, length and value.
+    fn next_status(&mut self) -> Option<(u16, u8, u32)> {
         let code = self.al_status_code().0;
-        let status = self.al_status();
-        if self.written.status_code != u32::from(code) {
-            Some(InFlight::WriteStatusCode(code))
-        } else if self.written.status != status.bits() {
-            Some(InFlight::WriteStatus(status.bits()))
+        let status = self.al_status().byte();
+        // The first code is written whatever its value: with it AL status 0 (nothing written
+        // yet) becomes `UNKNOWN` (the code written, the status not yet), never wanted either.
+        if self.written.status == 0 || self.written.status_code != code {
+            self.written.status_code = code;
+            if self.written.status == 0 {
+                self.written.status = Written::UNKNOWN;
+            }
+            Some((register::AL_STATUS_CODE, 2, u32::from(code)))
+        } else if self.written.status != status {
+            // The ESC clears the override's enable bit with a new AL status.
+            (self.written.status, self.written.err_led) = (status, Written::UNKNOWN);
+            Some((register::AL_STATUS, 2, u32::from(status)))
         } else if self.config.esc_err_led {
-            let led = err_pattern(status.error.then_some(self.code)).override_register();
-            (self.written.err_led != led).then_some(InFlight::WriteErrLed(led))
+            let error = self.indication.error.then_some(self.code);
+            let led = err_pattern(error).override_register();
+            if self.written.err_led == led {
+                return None;
+            }
+            self.written.err_led = led;
+            Some((register::ERR_LED_OVERRIDE, 1, u32::from(led)))
         } else {
             None
         }
@@ -282,13 +306,12 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
 
     /// A register access of the plan: event mask, reads, PDI control, AL status code and status.
     fn prepare_register(&mut self, op: InFlight) -> RegisterAccess<'_> {
-        // The address, the length and, for a write, the value.
-        let (address, len, write) = match op {
-            InFlight::WriteEventMask(mask) => (register::AL_EVENT_MASK, 4, Some(mask)),
+        let clears = op.clears();
+        let (address, len) = match op {
+            InFlight::Write { address, len } => (address, usize::from(len)),
             InFlight::ReadSyncManagers { start, end, .. } => (
                 register::SM_BASE + u16::from(start),
                 usize::from(end.saturating_sub(start)),
-                None,
             ),
             InFlight::Read(read) => {
                 let address = match read {
@@ -302,56 +325,33 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 } else {
                     2
                 };
-                (address, len, None)
+                (address, len)
             }
-            InFlight::WritePdiControl { sm, value } => (
-                register::sync_manager(sm) + Channel::PDI_CONTROL_OFFSET,
-                1,
-                Some(u32::from(value)),
-            ),
-            InFlight::WriteStatusCode(code) => (register::AL_STATUS_CODE, 2, Some(u32::from(code))),
-            InFlight::WriteStatus(status) => (register::AL_STATUS, 2, Some(u32::from(status))),
-            InFlight::WriteErrLed(led) => (register::ERR_LED_OVERRIDE, 1, Some(u32::from(led))),
-            InFlight::Mailbox(_) => (0, 0, None),
+            InFlight::Mailbox(_) => (0, 0),
         };
-        if let (Some(value), Some(head)) = (write, self.buf.first_chunk_mut()) {
-            // All four bytes in one store; the write takes the first `len` (at most 4).
-            *head = value.to_le_bytes();
-        }
         let buf = self.buf.get_mut(..len).unwrap_or_default();
-        if write.is_some() {
+        if let InFlight::Write { .. } = op {
             RegisterAccess::Write {
                 address,
                 data: buf,
-                clears: op.clears(),
+                clears,
             }
         } else {
             RegisterAccess::Read {
                 address,
                 buf,
-                clears: op.clears(),
+                clears,
             }
         }
     }
 
     /// Completes a register access (the mailbox's are completed in [`SubDevice::access_done`]);
-    /// kept out of line, away from the mailbox's path.
+    /// kept out of line, away from the mailbox's path. A write has nothing left to do: its value
+    /// went into [`Written`] when the plan chose it.
     #[inline(never)]
     fn complete_register(&mut self, now: Instant, op: InFlight) {
         match op {
-            InFlight::Mailbox(_) => {}
-            InFlight::WriteEventMask(mask) => self.written.event_mask = mask,
-            InFlight::WritePdiControl { sm, value } => {
-                if let Some(slot) = self.written.pdi_control.get_mut(usize::from(sm)) {
-                    *slot = value;
-                }
-            }
-            InFlight::WriteStatusCode(code) => self.written.status_code = u32::from(code),
-            InFlight::WriteStatus(status) => {
-                self.written.status = status;
-                self.written.err_led = Written::UNKNOWN;
-            }
-            InFlight::WriteErrLed(led) => self.written.err_led = led,
+            InFlight::Mailbox(_) | InFlight::Write { .. } => {}
             InFlight::Read(read) => {
                 self.reads &= !read;
                 self.complete_read(now, read);

@@ -82,7 +82,7 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         let Some(p) = self.pending else { return };
         if p.accepted && p.awaits == CycleSigns::default() {
             // The transition's end marks the plan stale (`change_state` or `fail`).
-            self.finish_transition(p.transition, Ok(()));
+            self.finish_transition(p.transition);
         }
     }
 

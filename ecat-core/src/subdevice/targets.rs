@@ -51,34 +51,39 @@ impl Stale {
     }
 }
 
-/// What the core last wrote to the ESC, so that it writes only what changed.
+/// What the core last wrote to the ESC, so that it writes only what changed. A write counts from
+/// the moment the plan chooses it: the same access is returned until it is done, and the plan
+/// looks again only after that.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Written {
     /// AL event mask; 0 until written (the state machine's events are always in it).
     pub(super) event_mask: u32,
     /// PDI control of SM0..SM3; [`Written::UNKNOWN`] until written.
     pub(super) pdi_control: [u8; 4],
-    /// AL status code; [`Written::NO_CODE`] until written.
-    pub(super) status_code: u32,
-    /// AL status; 0 until written (a state code is always in it).
-    pub(super) status: u16,
+    /// AL status code; any value until written (`status` says whether it is).
+    pub(super) status_code: u16,
+    /// AL status, its low byte (the high one is reserved, written 0); 0 until the status part
+    /// is written, [`Written::UNKNOWN`] once the code is and the status not yet (a state code
+    /// is always in a status wanted, and the reserved bits never).
+    pub(super) status: u8,
     /// The ERR LED override; [`Written::UNKNOWN`] until written and after each AL status
     /// write (the ESC clears the override's enable bit on a new error condition).
     pub(super) err_led: u8,
 }
+// 12 bytes (a code and a status of 16 bits and 0 standing for neither: 16): the SubDevice's
+// fields before its mailbox end on the mailbox's 8-byte alignment, 8 bytes less padding.
+const _: () = assert!(size_of::<Written>() == 12);
 
 impl Written {
-    /// A PDI control or LED override value never wanted (PDI control with the deactivate bit
-    /// set, an override with reserved bits): not written yet.
+    /// A PDI control, LED override or AL status value never wanted (PDI control with the
+    /// deactivate bit set, an override or a status with reserved bits): not written yet.
     pub(super) const UNKNOWN: u8 = 0xFF;
-    /// An AL status code never wanted (codes are 16 bits): not written yet.
-    pub(super) const NO_CODE: u32 = u32::MAX;
 
     pub(super) const fn new() -> Self {
         Self {
             event_mask: 0,
             pdi_control: [Self::UNKNOWN; 4],
-            status_code: Self::NO_CODE,
+            status_code: 0,
             status: 0,
             err_led: Self::UNKNOWN,
         }

@@ -46,36 +46,32 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
         transition: Transition,
         result: Result<(), AlStatusCode>,
     ) {
-        let waits = match &mut self.pending {
-            Some(p) if p.transition == transition && !p.accepted => {
-                p.accepted = result.is_ok();
-                p.awaits != CycleSigns::default()
-            }
+        match &mut self.pending {
+            Some(p) if p.transition == transition && !p.accepted => p.accepted = result.is_ok(),
             _ => return,
-        };
-        self.stale = Stale::ALL;
-        if result.is_ok() && waits {
-            return;
         }
-        self.finish_transition(transition, result);
+        self.stale = Stale::ALL;
+        match result {
+            // Completed now unless it still waits for the process data.
+            Ok(()) => self.complete_when_fed(),
+            // The refusal shows a code: 0x0001 for none.
+            Err(code) => {
+                self.pending = None;
+                let code = if code == AlStatusCode::NO_ERROR {
+                    AlStatusCode::UNSPECIFIED_ERROR
+                } else {
+                    code
+                };
+                self.fail(code, transition.from);
+            }
+        }
     }
 
-    pub(super) fn finish_transition(
-        &mut self,
-        transition: Transition,
-        result: Result<(), AlStatusCode>,
-    ) {
+    /// Completes the accepted `transition` if the configuration is still valid for its state.
+    pub(super) fn finish_transition(&mut self, transition: Transition) {
         self.pending = None;
-        match result {
-            Ok(()) => {
-                if self.checked(transition.to) {
-                    self.change_state(transition);
-                }
-            }
-            Err(AlStatusCode::NO_ERROR) => {
-                self.fail(AlStatusCode::UNSPECIFIED_ERROR, transition.from);
-            }
-            Err(code) => self.fail(code, transition.from),
+        if self.checked(transition.to) {
+            self.change_state(transition);
         }
     }
 
@@ -222,7 +218,11 @@ impl<'c, const MBX: usize> SubDevice<'c, MBX> {
                 self.due.set(Due::REFRESH);
                 self.writes = Writes::default();
                 let repeat = self.channels.mailbox_send().activate & Channel::ACTIVATE_REPEAT != 0;
-                self.mailbox.start(self.active_mailbox(), repeat);
+                // The layout `verify` checked: the bootstrap mailbox in BOOT (a device without
+                // one never gets there).
+                if let Some((layout, _)) = self.config.mailbox_for(t.to == AlState::Boot) {
+                    self.mailbox.start(*layout, repeat);
+                }
             }
         }
         self.events.push(Event::StateChanged(t));
