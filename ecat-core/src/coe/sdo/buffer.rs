@@ -16,17 +16,17 @@ use crate::dictionary::{DataType, Object, ObjectCode};
 /// ([`complete_access`](super::complete_access)).
 pub const fn largest_download<D>(objects: &[Object<D>]) -> usize {
     let mut largest = 0;
-    let mut i = 0;
-    while i < objects.len() {
-        let info = &objects[i].info;
-        let entries = info.entries;
+    let mut objects = objects;
+    while let [object, rest @ ..] = objects {
+        objects = rest;
+        let info = &object.info;
         // The complete-access image: SI0 and its padding byte, then SI1..=max_sub, the last
         // description standing for the subindices above its own.
         let mut image = 2;
-        let mut complete = !matches!(info.code, ObjectCode::Var);
-        let mut j = 0;
-        while j < entries.len() {
-            let entry = &entries[j];
+        let mut complete = !matches!(info.code, ObjectCode::Var) && info.entries.len() > 1;
+        let mut entries = info.entries;
+        while let [entry, rest @ ..] = entries {
+            entries = rest;
             let bytes = entry.bit_len.div_ceil(8) as usize;
             let writable = entry.access.writable();
             if writable && !matches!(entry.data_type, DataType::Domain) {
@@ -34,18 +34,16 @@ pub const fn largest_download<D>(objects: &[Object<D>]) -> usize {
             }
             if entry.sub > 0 {
                 complete = complete && writable && !entry.data_type.is_variable_length();
-                let covers = match j + 1 == entries.len() {
+                let covers = match rest.is_empty() {
                     true => (info.max_sub as usize + 1).saturating_sub(entry.sub as usize),
                     false => 1,
                 };
                 image += covers * bytes;
             }
-            j += 1;
         }
-        if complete && entries.len() > 1 {
+        if complete {
             largest = max(largest, image);
         }
-        i += 1;
     }
     largest
 }
