@@ -264,6 +264,10 @@ macro_rules! __ecat_impl {
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
             ) }>;
 
+            type Download = $crate::dictionary::Len<{ $crate::coe::sdo::largest_download(
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
+            ) }>;
+
             const MAPPABLE: &'static [u32] = &$crate::pdo::layout::mappable_keys::<
                 $dict,
                 { $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },

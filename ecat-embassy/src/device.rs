@@ -6,6 +6,7 @@ use core::cell::RefCell;
 use core::marker::PhantomData;
 
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
+use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::{DeviceConfig, SubDevice};
 use embassy_sync::blocking_mutex::Mutex as BlockingMutex;
 use embassy_sync::blocking_mutex::raw::CriticalSectionRawMutex;
@@ -128,19 +129,23 @@ pub(crate) struct Common<P, A, D> {
 /// the routing of its AL events, the application `A` with its dictionary `D`, the device's
 /// description and the process-data buffers (`OUT`, `IN` bytes; `MBX`: the mailbox buffers of
 /// the state-machine runner, see [`Config`]).
-pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usize = 128> {
+pub struct Resources<P, A, D, const OUT: usize, const IN: usize, const MBX: usize = 128>
+where
+    D: ObjectDictionary,
+{
     common: Common<P, A, D>,
     outputs: [u8; OUT],
     inputs: [u8; IN],
-    /// The SubDevice, made with the rest (in INIT) and lent to the state-machine runner.
-    sub: SubDevice<'static, MBX>,
+    /// The SubDevice, made with the rest (in INIT) and lent to the state-machine runner; its
+    /// segmented-download buffer sized by the dictionary (`D::Download`), not the mailbox.
+    sub: SubDevice<'static, MBX, D::Download>,
 }
 
 impl<P, A, D, const OUT: usize, const IN: usize, const MBX: usize> Resources<P, A, D, OUT, IN, MBX>
 where
     P: Pdi,
     A: Application<D>,
-    D: ecat_core::dictionary::ObjectDictionary,
+    D: ObjectDictionary,
 {
     /// The device `config` on the ESC behind `pdi`, with the application `app` over the
     /// dictionary `od`, and the SubDevice in INIT. State-machine accesses move in chunks of

@@ -8,7 +8,7 @@ use core::num::NonZeroU16;
 use core::pin::{Pin, pin};
 use core::task::Poll;
 
-use ecat_core::dictionary::ObjectDictionary;
+use ecat_core::dictionary::{Length, ObjectDictionary};
 use ecat_core::{AlEvent, AlStatusCode, Event, RegisterAccess, SubDevice, Transition};
 use embassy_futures::select::{Either, select};
 use embassy_time::Timer;
@@ -27,11 +27,14 @@ use crate::{Application, Pdi};
 /// Runs the state machine and the mailbox of the SubDevice: made by
 /// [`Resources::split`](crate::Resources::split), for the thread executor; `S`: the stored
 /// parameters' [`Storage`] ([`StateMachineRunner::with_storage`]), none by default.
-pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128, S = ()> {
+pub struct StateMachineRunner<'a, P, A, D, const MBX: usize = 128, S = ()>
+where
+    D: ObjectDictionary,
+{
     common: &'a Common<P, A, D>,
     /// In the `Resources`, not in the runner: a SubDevice moved into the runner's future is a
     /// copy of several hundred bytes the firmware pays in code (a `memmove`) and stack.
-    sub: &'a mut SubDevice<'static, MBX>,
+    sub: &'a mut SubDevice<'static, MBX, D::Download>,
     storage: S,
 }
 
@@ -41,7 +44,10 @@ where
     A: Application<D>,
     D: ObjectDictionary,
 {
-    pub(crate) fn new(common: &'a Common<P, A, D>, sub: &'a mut SubDevice<'static, MBX>) -> Self {
+    pub(crate) fn new(
+        common: &'a Common<P, A, D>,
+        sub: &'a mut SubDevice<'static, MBX, D::Download>,
+    ) -> Self {
         Self {
             common,
             sub,
@@ -128,7 +134,7 @@ where
 #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
 fn run<'a, P, A, D, const MBX: usize, S>(
     common: &'a Common<P, A, D>,
-    sub: &'a mut SubDevice<'static, MBX>,
+    sub: &'a mut SubDevice<'static, MBX, D::Download>,
     mut storage: S,
     stopped: impl FnOnce(P::Error) + 'a,
 ) -> impl Future<Output = ()> + 'a
@@ -316,8 +322,8 @@ fn wait<'f, P: Pdi, F: Future<Output = Result<(), AlStatusCode>>>(
 /// core's mailbox. Not inlined into the runner's future, whose poll it would make larger by
 /// more than its own size (docs/performance.md, "Codegen rules").
 #[inline(never)]
-fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize>(
-    sub: &mut SubDevice<'_, MBX>,
+fn serve_mailbox<A: Application<D>, D: ObjectDictionary, const MBX: usize, L: Length>(
+    sub: &mut SubDevice<'_, MBX, L>,
     app: &AppCell<A, D>,
 ) -> bool {
     app.lock(|app, od| {
@@ -349,9 +355,9 @@ enum Step {
 
 /// Takes what changed outside the core before it is served: the process-data configuration the
 /// dictionary holds, and what the rest of the firmware reported ([`take_reports`]).
-fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize>(
+fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize, L: Length>(
     esc: &SharedEsc<P>,
-    sub: &mut SubDevice<'_, MBX>,
+    sub: &mut SubDevice<'_, MBX, L>,
     app: &AppCell<A, D>,
 ) {
     app.lock(|_, od| sub.refresh_process_data(od));
@@ -361,7 +367,10 @@ fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize>(
 /// Hands the core what the rest of the firmware reported to the runner: emergencies the
 /// application raised and what the process-data runner saw (outputs, SYNC0). Taking them is
 /// what lets the runner's wait ([`SharedEsc::poll_esm_events`]) wait again.
-fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevice<'_, MBX>) {
+fn take_reports<P: Pdi, const MBX: usize, L: Length>(
+    esc: &SharedEsc<P>,
+    sub: &mut SubDevice<'_, MBX, L>,
+) {
     // Each pass takes the reports so far with the oldest emergency, in one critical section:
     // one in the code, not one for each.
     loop {
@@ -393,8 +402,8 @@ fn take_reports<P: Pdi, const MBX: usize>(esc: &SharedEsc<P>, sub: &mut SubDevic
 /// Taken apart here so that the runner's future keeps the parts, not the access; not inlined
 /// into that future (docs/performance.md, "Codegen rules").
 #[inline(never)]
-fn next_access<'s, const MBX: usize>(
-    sub: &'s mut SubDevice<'_, MBX>,
+fn next_access<'s, const MBX: usize, L: Length>(
+    sub: &'s mut SubDevice<'_, MBX, L>,
 ) -> Option<(u16, Data<'s>, Option<NonZeroU16>, AlEvent)> {
     let access = sub.poll_access()?;
     let clears = access.clears();

@@ -251,7 +251,9 @@ impl Indication {
     pub(crate) const UNPUBLISHED: Self = Self(0);
 
     /// What the SubDevice presents now.
-    pub(crate) fn of<const MBX: usize>(sub: &ecat_core::SubDevice<'_, MBX>) -> Self {
+    pub(crate) fn of<const MBX: usize, L: ecat_core::dictionary::Length>(
+        sub: &ecat_core::SubDevice<'_, MBX, L>,
+    ) -> Self {
         Self(u32::from(sub.al_status().bits()) | u32::from(sub.al_status_code().0) << 16)
     }
 

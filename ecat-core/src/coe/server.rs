@@ -5,7 +5,7 @@
 use super::sdo::{self, Context, SdoServer};
 use super::sdo_info::{InfoRequest, SdoInfo};
 use super::{AbortCode, CoeHeader, Emergency, Service};
-use crate::dictionary::{ObjectDictionary, ObjectHooks};
+use crate::dictionary::{Length, ObjectDictionary, ObjectHooks};
 use crate::mailbox::{Env, Handler, MailboxError, MailboxType, Reply};
 use crate::ring::Ring;
 use crate::time::Instant;
@@ -16,20 +16,21 @@ use crate::time::Instant;
 /// state-machine runner, so both queues are the same type (one copy of its code).
 pub const EMERGENCY_QUEUE: usize = 4;
 
-/// The CoE state a SubDevice with mailboxes of `N` bytes keeps between messages, beside the
-/// mailbox (`SubDevice` composes them; the mailbox knows CoE only as a [`Handler`]).
+/// The CoE state a SubDevice with mailboxes of `N` bytes keeps between messages (`L`: the
+/// bytes of its SDO server's download buffer), beside the mailbox (`SubDevice` composes them;
+/// the mailbox knows CoE only as a [`Handler`]).
 #[derive(Debug)]
-// `repr(C)`: the small fields first, the SDO server's buffer last (see `SubDevice`).
+// `repr(C)`: the small fields first, the SDO server last (see `SubDevice`).
 #[repr(C)]
-pub(crate) struct CoeServer<const N: usize> {
+pub(crate) struct CoeServer<const N: usize, L: Length> {
     emergencies: Ring<Emergency, EMERGENCY_QUEUE>,
     sdo_info: SdoInfo,
-    sdo: SdoServer<N>,
+    sdo: SdoServer<N, L>,
 }
 
-impl<const N: usize> CoeServer<N> {
+impl<const N: usize, L: Length> CoeServer<N, L> {
     /// No transfer in progress, no emergency queued.
-    pub(crate) const fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Self {
             sdo: SdoServer::new(),
             sdo_info: SdoInfo::new(),
@@ -41,7 +42,7 @@ impl<const N: usize> CoeServer<N> {
     pub(crate) fn handler<'a, 'c, D: ObjectDictionary, H: ObjectHooks<D>>(
         &'a mut self,
         cx: &'a mut Context<'c, D, H>,
-    ) -> Coe<'a, 'c, N, D, H> {
+    ) -> Coe<'a, 'c, N, L, D, H> {
         Coe { server: self, cx }
     }
 
@@ -78,19 +79,21 @@ impl<const N: usize> CoeServer<N> {
     }
 }
 
-impl<const N: usize> Default for CoeServer<N> {
+impl<const N: usize, L: Length> Default for CoeServer<N, L> {
     fn default() -> Self {
         Self::new()
     }
 }
 
 /// CoE's [`Handler`]: the [`CoeServer`] with the dictionary and hooks of one service call.
-pub(crate) struct Coe<'a, 'c, const N: usize, D, H> {
-    server: &'a mut CoeServer<N>,
+pub(crate) struct Coe<'a, 'c, const N: usize, L: Length, D, H> {
+    server: &'a mut CoeServer<N, L>,
     cx: &'a mut Context<'c, D, H>,
 }
 
-impl<const N: usize, D: ObjectDictionary, H: ObjectHooks<D>> Handler for Coe<'_, '_, N, D, H> {
+impl<const N: usize, L: Length, D: ObjectDictionary, H: ObjectHooks<D>> Handler
+    for Coe<'_, '_, N, L, D, H>
+{
     const KIND: MailboxType = MailboxType::Coe;
 
     fn request(&mut self, _: Env, payload: &[u8], reply: &mut [u8]) -> Reply {

@@ -115,6 +115,13 @@ pub trait ObjectDictionary: Sized + 'static {
     /// layouts then take no space for them.
     type Repeatable: Length;
 
+    /// The most bytes a download stores, as a [`Length`]:
+    /// [`largest_download`](crate::coe::sdo::largest_download) of the objects. What
+    /// `SubDevice<'c, MBX, D::Download>` sizes its SDO server's segmented-download buffer by: a
+    /// dictionary whose values are a few bytes long keeps a buffer of a few bytes, not one of
+    /// the mailbox's size.
+    type Download: Length;
+
     /// Every PDO-mappable entry's key, by [number](crate::pdo::layout::number)
     /// ([`mappable_keys`](crate::pdo::layout::mappable_keys)): its index and subindex, the
     /// directions it may be mapped in and its bit length, one word each, ascending. What a
@@ -170,6 +177,7 @@ impl ObjectDictionary for () {
     const INDICES: &'static [u16] = &[];
     type Mappable = Len<0>;
     type Repeatable = Len<0>;
+    type Download = Len<0>;
     const MAPPABLE: &'static [u32] = &[];
     fn unpack_mapped(&mut self, _: &[u16; 0], _: &[u8]) {}
     fn pack_mapped(&self, _: &[u16; 0], _: &mut [u8]) {}
@@ -186,6 +194,7 @@ pub trait Length {
 }
 
 /// The length `N`.
+#[derive(Debug)]
 pub struct Len<const N: usize>;
 
 impl<const N: usize> Length for Len<N> {

@@ -13,7 +13,7 @@ use crate::time::{Duration, Instant};
 /// repeats a refused request every cycle gets one a second.
 pub const EMERGENCY_PERIOD: Duration = Duration::from_millis(1000);
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// Adds `message` to the dictionary's diagnosis history, if it has one; when it is stored
     /// and 0x10F3:05 bit 0 is set, raises its emergency ([`Message::emergency`]). Returns
     /// whether it was stored.

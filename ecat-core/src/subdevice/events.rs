@@ -5,7 +5,7 @@ use super::targets::Stale;
 use super::{Due, ESM_EVENTS, MAILBOX_EVENTS, SubDevice};
 use crate::al::{AlEvent, AlState};
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// Takes the AL event register value the driver saw (with the bits its own access cleared
     /// removed, see [`RegisterAccess::clears`](super::RegisterAccess::clears)). Bits the state machine does
     /// not handle are ignored.

@@ -31,7 +31,7 @@ impl MailboxOp {
     }
 }
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// SM0 written or SM1 read by the MainDevice, in a state with a mailbox.
     pub(super) fn handle_mailbox_events(&mut self, event: AlEvent) {
         if event.contains(AlEvent::sync_manager(0)) {

@@ -39,6 +39,7 @@ use crate::al::{AlEvent, AlState, AlStatus, AlStatusCode};
 use crate::coe::sdo::Writes;
 use crate::coe::server::CoeServer;
 use crate::device::{DeviceConfig, ProcessDataSizes};
+use crate::dictionary::{Len, Length};
 use crate::esm::Transition;
 use crate::mailbox::{Mailbox, NO_TIMEOUT};
 use crate::ring::Ring;
@@ -223,6 +224,10 @@ impl Due {
 
 /// The sans-IO EtherCAT SubDevice: state machine, SyncManager checks and mailbox, for mailboxes of
 /// at most `MBX` bytes (a configured mailbox larger than that is refused with 0x0002 "no memory").
+/// Its SDO server gathers a download that continues in segments in `L` bytes: by default `MBX`,
+/// or the dictionary's largest value, `SubDevice<'c, MBX, D::Download>`
+/// ([`ObjectDictionary::Download`](crate::dictionary::ObjectDictionary::Download)), as
+/// `ecat-embassy` makes it: a few bytes for a dictionary of numbers.
 ///
 /// # Methods in call order
 ///
@@ -264,7 +269,7 @@ impl Due {
 // within 64, words within 128 bytes); the compiler's own order put the mailbox, and its
 // buffers, first.
 #[repr(C)]
-pub struct SubDevice<'c, const MBX: usize = 128> {
+pub struct SubDevice<'c, const MBX: usize = 128, L: Length = Len<MBX>> {
     pending: Option<Pending>,
     in_flight: Option<InFlight>,
     state: AlState,
@@ -301,7 +306,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     dc: DcSettings,
     mailbox: Mailbox<MBX>,
     /// CoE, the protocol every mailbox here speaks, beside the mailbox that frames it.
-    coe: CoeServer<MBX>,
+    coe: CoeServer<MBX, L>,
     /// When `last_emergency` raised its emergency. Apart from the code: a pair pads the code to
     /// the instant's 8 bytes.
     last_emergency_at: Instant,
@@ -315,7 +320,7 @@ pub struct SubDevice<'c, const MBX: usize = 128> {
     last_emergency: AlStatusCode,
     buf: [u8; BUF_LEN],
 }
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: Length> SubDevice<'c, MBX, L> {
     /// A SubDevice in INIT. Its first accesses write the AL event mask, deactivate the
     /// SyncManagers through their PDI control registers and present INIT in AL status.
     pub fn new(config: &'c DeviceConfig) -> Self {

@@ -72,7 +72,7 @@ pub(super) mod read {
     pub(crate) const AL_CONTROL: u8 = 1 << 3;
 }
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// The next register access the core needs, or `None` when it has nothing to do. Until
     /// [`SubDevice::access_done`] is called the same access is returned again.
     #[inline]

@@ -12,7 +12,7 @@ use crate::sync_manager::Channel;
 use crate::sync_mode::SyncMode;
 use crate::sync_parameters;
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// Where the process data lives, in SAFEOP and OP.
     #[inline(never)] // one caller, the driver's loop: out of its state machine
     pub fn process_data(&self) -> Option<Setup> {

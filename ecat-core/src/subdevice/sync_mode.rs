@@ -12,7 +12,7 @@ use crate::sync_parameters::{self, DcSettings};
 /// stack matches.
 const UNUSABLE_SYNC_MODE: SyncMode = SyncMode::Unknown(u16::MAX);
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// The sync mode in effect: what 0x1C32:01 asks for, or DC SYNC0 when the MainDevice did not
     /// choose and activated SYNC0 ([`sync_parameters::Requested::effective`]);
     /// [`UNUSABLE_SYNC_MODE`] when the dictionary's cannot be.

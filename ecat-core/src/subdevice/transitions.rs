@@ -12,7 +12,7 @@ use crate::sync_manager::check;
 use crate::sync_mode::SyncMode;
 use crate::time::Instant;
 
-impl<'c, const MBX: usize> SubDevice<'c, MBX> {
+impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// Expires what is due at `now`: a transition the application left pending is refused with
     /// [`AlStatusCode::UNSPECIFIED_ERROR`], a SAFEOP→OP still waiting for SYNC0 with
     /// [`AlStatusCode::NO_SYNC_ERROR`], one still waiting for outputs with

@@ -12,15 +12,21 @@
 //!
 //! Segments alternate a toggle bit starting at 0 (0x05030000 otherwise). A transfer left
 //! unfinished for [`SdoServer::SEGMENT_TIMEOUT`] is dropped; the next segment request gets
-//! 0x05040000. A download larger than the server's buffer `N` (other than a DOMAIN, which
-//! streams to the application) is refused with 0x05040005. In SAFEOP and OP a download into an
-//! entry the RxPDO configuration maps is refused with 0x06010006: the process data owns it.
+//! 0x05040000. A value that continues in segments (other than a DOMAIN's, which streams to the
+//! application) is gathered in the server's buffer and stored at its last segment; the buffer
+//! is `N` bytes, or as large as the dictionary's largest value ([`largest_download`]). One
+//! larger than `N` is refused at its initiate with 0x05040005, one within `N` but larger than
+//! the buffer (so than any value the dictionary can store) with 0x06070012. In SAFEOP and OP a
+//! download into an entry the RxPDO configuration maps is refused with 0x06010006: the process
+//! data owns it.
 
+mod buffer;
 mod command;
 pub mod complete_access;
 mod frame;
 mod writes;
 
+pub use buffer::largest_download;
 pub use writes::Writes;
 
 use command::{Download, Request, Upload, response};
@@ -30,7 +36,8 @@ use super::{AbortCode, CoeHeader, Service};
 use crate::AlState;
 use crate::device::DeviceConfig;
 use crate::dictionary::{
-    Access, At, DataType, EntryInfo, Object, ObjectCode, ObjectDictionary, ObjectHooks, ObjectInfo,
+    Access, At, DataType, EntryInfo, Len, Length, Object, ObjectCode, ObjectDictionary,
+    ObjectHooks, ObjectInfo,
 };
 use crate::pdo;
 use crate::time::{Duration, Instant};
@@ -108,37 +115,50 @@ pub struct Context<'a, D, H> {
     pub device: Option<&'a DeviceConfig>,
 }
 
-/// The SDO server, with an `N`-byte buffer for segmented downloads.
-#[derive(Debug)]
-// `repr(C)`: the small fields first, the buffer last (see `SubDevice`).
+/// The SDO server, which takes downloads of at most `N` bytes and gathers a value that
+/// continues in segments in a buffer of `L` bytes: by default `N`, or the dictionary's largest
+/// value ([`ObjectDictionary::Download`], [`largest_download`]), which `ecat-embassy` gives it.
+// `repr(C)`: the small fields first, then the buffer (a dictionary's of a few bytes fills the
+// padding before the transfer's 8-byte alignment), the transfer last.
 #[repr(C)]
-pub struct SdoServer<const N: usize> {
+pub struct SdoServer<const N: usize, L: Length = Len<N>> {
     /// The ESM state the transfer's rights were checked in: a download whose state changed
     /// meanwhile is checked again before it stores (access rights, RxPDO-mapped entries). Here
     /// rather than in [`Segmented`], where it would cost 8 bytes of alignment.
     checked_in: AlState,
     timed_out: bool,
+    buf: L::Array<u8>,
     transfer: Option<Segmented>,
-    buf: [u8; N],
 }
 
-impl<const N: usize> Default for SdoServer<N> {
+impl<const N: usize, L: Length> core::fmt::Debug for SdoServer<N, L> {
+    /// The transfer under way; the buffer's bytes are left out.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("SdoServer")
+            .field("checked_in", &self.checked_in)
+            .field("timed_out", &self.timed_out)
+            .field("transfer", &self.transfer)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<const N: usize, L: Length> Default for SdoServer<N, L> {
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const N: usize> SdoServer<N> {
+impl<const N: usize, L: Length> SdoServer<N, L> {
     /// How long a segmented transfer may wait for its next segment.
     pub const SEGMENT_TIMEOUT: Duration = Duration::from_millis(1_000);
 
     /// A server with no transfer in progress.
-    pub const fn new() -> Self {
+    pub fn new() -> Self {
         Self {
             transfer: None,
             checked_in: AlState::Init,
             timed_out: false,
-            buf: [0; N],
+            buf: L::array(0),
         }
     }
 
@@ -397,8 +417,12 @@ impl<const N: usize> SdoServer<N> {
         let value: &[u8] = if streamed || (last && received == 0) {
             data
         } else {
-            // A value larger than the buffer is refused when its transfer starts.
-            let buf = self.buf.get_mut(..size).ok_or(AbortCode::OUT_OF_MEMORY)?;
+            // A value the server cannot gather is refused when its transfer starts: over `N`
+            // for want of memory, over the buffer as longer than any value of the dictionary.
+            if size > N {
+                return Err(AbortCode::OUT_OF_MEMORY);
+            }
+            let buf = (self.buf.as_mut().get_mut(..size)).ok_or(AbortCode::LENGTH_TOO_HIGH)?;
             let here = buf.get_mut(received..total);
             crate::bytes::copy(here.ok_or(AbortCode::OUT_OF_MEMORY)?, data);
             buf
@@ -921,7 +945,7 @@ mod tests {
     /// in PREOP into an answer of `room` bytes.
     struct Session<const N: usize> {
         od: Od,
-        server: SdoServer<N>,
+        server: SdoServer<N, <Od as ObjectDictionary>::Download>,
     }
 
     impl<const N: usize> Session<N> {
@@ -1023,6 +1047,44 @@ mod tests {
             (0x22, 0x5555)
         );
         assert_eq!(session.serve(40, &[0x00, 0, 0, 0, 0, 0, 0, 0]), NO_TRANSFER);
+    }
+
+    /// The download buffer is the dictionary's largest value: `Od`'s complete access to
+    /// 0x2000 (SI0 and its padding, 1 and 2 bytes; no entry is longer), none for `WithBlob`,
+    /// whose one value is a DOMAIN that streams.
+    #[test]
+    fn the_download_buffer_holds_the_largest_value_a_download_stores() {
+        assert_eq!(largest_download(Od::OBJECTS), 5);
+        assert_eq!(largest_download(WithBlob::OBJECTS), 0);
+    }
+
+    /// A value that continues in segments and is longer than the buffer (so than any value of
+    /// the dictionary) is refused at its initiate as too long, 0x06070012; longer than the
+    /// server's `N`, for want of memory, 0x05040005, as a server with a buffer of `N` bytes
+    /// refuses it. Nothing is stored, no transfer is left.
+    #[test]
+    fn a_segmented_download_longer_than_the_buffer_is_refused_at_its_initiate() {
+        let mut session = Session::<16>::new();
+        let abort = |code: [u8; 4]| {
+            [
+                0x00, 0x20, 0x80, 0x00, 0x20, 0x00, code[0], code[1], code[2], code[3],
+            ]
+        };
+        let initiate = |size: u8| [0x31, 0x00, 0x20, 0x00, size, 0, 0, 0, 4, 0, 0x22];
+        assert_eq!(
+            session.serve(40, &initiate(6)),
+            abort([0x12, 0x00, 0x07, 0x06])
+        );
+        assert_eq!(
+            session.serve(40, &initiate(16)),
+            abort([0x12, 0x00, 0x07, 0x06])
+        );
+        assert_eq!(
+            session.serve(40, &initiate(17)),
+            abort([0x05, 0x00, 0x04, 0x05])
+        );
+        assert_eq!(session.serve(40, &[0x00, 0, 0, 0, 0, 0, 0, 0]), NO_TRANSFER);
+        assert_eq!(session.od.sparse.first, 0x11);
     }
 
     /// A gap of a sparse RECORD (0x2000:02, :03 here; 0x1C32:0E..1F on a device), which SDO
