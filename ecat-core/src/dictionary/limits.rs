@@ -139,7 +139,7 @@ pub(super) fn find(table: &[u8], index: u16, sub: u8, which: Limit, out: &mut [u
 /// The bytes of the `which` of `index:sub` in the packed `table`, none when it declares none
 /// (a DOMAIN's declared value has none either): the one reader of the records, at compile time
 /// ([`default_of`]) and at run time ([`find`]).
-const fn record(table: &[u8], index: u16, sub: u8, which: Limit) -> &[u8] {
+pub(super) const fn record(table: &[u8], index: u16, sub: u8, which: Limit) -> &[u8] {
     let mut rest = table;
     while let [r0, r1, s, w, len, tail @ ..] = rest {
         let (len, tail) = match (*len, tail) {
