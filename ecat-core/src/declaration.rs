@@ -371,10 +371,7 @@ macro_rules! __ecat_communication {
                 info: $crate::dictionary::communication::SM_TYPES,
                 read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
                     $crate::dictionary::communication::read_declared::<$dict>(
-                        const {
-                            let info = $crate::dictionary::communication::SM_TYPES;
-                            info.index as u32 | (info.max_sub as u32) << 16
-                        },
+                        $crate::dictionary::communication::SM_TYPES.index,
                         at,
                         out,
                     )

@@ -150,28 +150,21 @@ pub(crate) fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
     Read::new(super::value::copy_from(bytes, offset, out), bytes.len())
 }
 
-/// Reads a constant object of the communication area from its declared values: a VAR (0x1000,
-/// 0x1008, 0x1009, 0x100A) is its default's record at subindex 0, 0x1C00's entries the records
-/// of SI1..SI4 ([`DECLARED`]) and SI0 its number of entries. `key` is the index in bits 0..16
-/// and, for an ARRAY, SI0's value in bits 16..24 (0 for a VAR: its one entry is the record at
-/// SI0). One function for every constant of every dictionary, walking `D::LIMITS` (the
-/// constants' records come first); what a dictionary adds per constant is a call with its key,
-/// the arguments of [`Object::read`](super::Object::read) in registers.
+/// Reads a constant object of the communication area, index `index`, from its records in the
+/// dictionary's `LIMITS`: a VAR (0x1000, 0x1008, 0x1009, 0x100A) is its default's record at
+/// subindex 0; 0x1C00's entries are their defaults ([`DECLARED`]), its SI0 a record of kind
+/// `VALUE` (no default: none is reported). One function for every constant of every
+/// dictionary, its arguments in registers; what a dictionary adds per constant is a call with
+/// its index.
 #[doc(hidden)]
 #[inline(never)]
 pub fn read_declared<D: super::ObjectDictionary>(
-    key: u32,
+    index: u16,
     at: At,
     out: &mut [u8],
 ) -> Result<Read, AbortCode> {
-    #[allow(clippy::cast_possible_truncation)] // the key's fields, as documented
-    let (index, count) = (key as u16, (key >> 16) as u8);
-    let sub = at.sub();
-    let count = [count];
-    let bytes = match sub {
-        0 if count[0] > 0 => &count[..],
-        _ => super::limits::record(D::LIMITS, index, sub, Limit::Default),
-    };
+    let which = Limit::Default as u8 | super::limits::VALUE;
+    let bytes = super::limits::record(D::LIMITS, index, at.sub(), which);
     if bytes.is_empty() {
         return Err(AbortCode::NO_SUBINDEX);
     }
@@ -197,10 +190,12 @@ pub fn read_identity(identity: &Identity, at: At, out: &mut [u8]) -> Result<Read
 /// SM0..SM3's types, 0x1C00:01..04.
 const SM_TYPE_VALUES: [u8; 4] = sync_manager::STANDARD_KINDS;
 
-/// The declared defaults of 0x1C00, each SyncManager's type (the identity's and the
+/// The declared values of 0x1C00: SI0 (the number of SyncManagers, no default) and each
+/// SyncManager's type as its default (the identity's and the
 /// constants' come from the device's `DeviceInfo`, in `dictionary!`).
 #[doc(hidden)]
 pub const DECLARED: &[Declared] = &[
+    Declared::value(SM_TYPES.index, 0, &[SM_TYPES.max_sub]),
     sm_type_default(1),
     sm_type_default(2),
     sm_type_default(3),
