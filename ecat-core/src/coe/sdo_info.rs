@@ -583,8 +583,8 @@ struct ListTransfer {
     list: ListType,
     /// The list type word is still to be sent: it opens the first fragment.
     opening: bool,
-    /// Where the next value comes from: a position in `D::OBJECTS`, or in [`OBJECT_LISTS`] for
-    /// list type 0.
+    /// Where the next value comes from: a position in `D::OBJECTS`, or for list type 0 the
+    /// number of lengths sent ([`list_lengths`]' table, by list code).
     cursor: usize,
     /// Values still to be sent.
     left: usize,
@@ -635,9 +635,13 @@ impl ListTransfer {
     fn next_value<D: ObjectDictionary>(&mut self) -> Option<u16> {
         match self.list {
             ListType::Lengths => {
-                let list = *OBJECT_LISTS.get(self.cursor)?;
-                self.cursor += 1;
-                Some(list.len::<D>())
+                // Lists 1..=5's lengths: the table after list type 0's own.
+                let cursor = self.cursor + 1;
+                self.cursor = cursor;
+                if const { D::OBJECTS.is_empty() } {
+                    return Some(0);
+                }
+                const { list_lengths(D::OBJECTS) }.get(cursor).copied()
             }
             list => {
                 let objects = D::OBJECTS.get(self.cursor..)?;
