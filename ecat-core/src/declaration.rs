@@ -269,6 +269,11 @@ macro_rules! __ecat_impl {
                 { $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
 
+            const OD_LISTS: &'static [u16] = &$crate::coe::sdo_info::od_lists::<
+                $dict,
+                { $crate::coe::sdo_info::od_lists_len(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },
+            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
             #[allow(unused_variables)] // a dictionary without RxPDO-mappable entries
             fn unpack_mapped(&mut self, offsets: &$crate::dictionary::PerMappable<Self, u16>, image: &[u8]) {
                 let od = self;

@@ -122,6 +122,14 @@ pub trait ObjectDictionary: Sized + 'static {
     /// no walk of the descriptions.
     const MAPPABLE: &'static [u32];
 
+    /// The indices of the objects of SDO Information's OD lists 2..=5 (RxPDO-, TxPDO-mappable,
+    /// backup, settings; ETG.1000.6 Table 43), one list after the other, ascending in each:
+    /// built by [`dictionary!`](crate::dictionary!) at compile time, so a Get OD List response
+    /// copies words from a table instead of testing every object's entries. List 1 (all
+    /// objects) is [`Self::INDICES`].
+    #[doc(hidden)]
+    const OD_LISTS: &'static [u16] = &[];
+
     /// Every declared default, minimum, maximum and unit, encoded at compile time by
     /// [`dictionary!`](crate::dictionary!) as records of index, subindex, kind, length and
     /// bytes: what [`Object::limit`] walks, no code per object. Empty by default (a dictionary
