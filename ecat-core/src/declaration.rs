@@ -273,6 +273,11 @@ macro_rules! __ecat_impl {
                 { $crate::pdo::layout::mappable_entries(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },
             >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
 
+            const OD_LISTS: &'static [u16] = &$crate::coe::sdo_info::od_lists::<
+                $dict,
+                { $crate::coe::sdo_info::od_lists_len(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS) },
+            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+
             #[allow(unused_variables)] // a dictionary without RxPDO-mappable entries
             fn unpack_mapped(&mut self, offsets: &$crate::dictionary::PerMappable<Self, u16>, image: &[u8]) {
                 let od = self;
@@ -374,7 +379,11 @@ macro_rules! __ecat_communication {
             $crate::dictionary::Object::<$dict> {
                 info: $crate::dictionary::communication::SM_TYPES,
                 read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
-                    $crate::dictionary::communication::read_sm_types(at, out)
+                    $crate::dictionary::communication::read_declared::<$dict>(
+                        $crate::dictionary::communication::SM_TYPES.index,
+                        at,
+                        out,
+                    )
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
             },
@@ -510,24 +519,26 @@ macro_rules! __ecat_text {
 
 /// A constant VAR of the communication area (0x1000 and the texts): described by `$info`,
 /// read-only, declared as its own default — and read from there: its value is the bytes of its
-/// default's record in the dictionary's `LIMITS`, in flash once.
+/// default's record in the dictionary's `LIMITS`, in flash once, read by the shared
+/// `read_declared` with the index as its key.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_constant {
     ($dict:ident, $index:literal, $info:expr) => {
         $crate::dictionary::Object::<$dict> {
             info: $info,
-            read: |od: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
-                $crate::dictionary::communication::read_constant(
-                    od,
-                    at,
-                    out,
+            read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
+                $crate::dictionary::communication::read_declared::<$dict>(
                     const {
+                        // Its value is its default: the record must exist (a build error else).
                         $crate::dictionary::limits::default_of(
                             <$dict as $crate::dictionary::ObjectDictionary>::LIMITS,
                             $index,
-                        )
+                        );
+                        $index
                     },
+                    at,
+                    out,
                 )
             },
             write: $crate::dictionary::communication::read_only::<$dict>,

@@ -269,21 +269,6 @@ impl ListType {
         }
         false
     }
-
-    /// How many objects of `D` the list holds (list type 0: its five counts): counted at
-    /// compile time ([`list_lengths`]).
-    fn len<D: ObjectDictionary>(self) -> u16 {
-        let lengths = const { list_lengths(D::OBJECTS) };
-        if const { D::OBJECTS.is_empty() } {
-            // No table for a device without a dictionary: list type 0's five counts, no object.
-            return if self == Self::Lengths {
-                OBJECT_LISTS.len() as u16
-            } else {
-                0
-            };
-        }
-        lengths.get(usize::from(self.code())).copied().unwrap_or(0)
-    }
 }
 
 /// The length of each list (by its code) of a dictionary of `objects`: what a Get OD List
@@ -304,6 +289,51 @@ const fn list_lengths<D>(objects: &[Object<D>]) -> [u16; 6] {
         l += 1;
     }
     lengths
+}
+
+/// Where each of lists 2..=5 starts in [`ObjectDictionary::OD_LISTS`] (by list code less 2),
+/// and where the last ends.
+#[allow(clippy::indexing_slicing)] // constant positions; evaluated at compile time
+const fn list_starts<D>(objects: &[Object<D>]) -> [usize; 5] {
+    let lengths = list_lengths(objects);
+    let mut starts = [0; 5];
+    let mut l = 1;
+    while l < starts.len() {
+        starts[l] = starts[l - 1] + lengths[l + 1] as usize;
+        l += 1;
+    }
+    starts
+}
+
+/// The length of [`ObjectDictionary::OD_LISTS`] for a dictionary of `objects`.
+#[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // a constant position; evaluated at compile time
+pub const fn od_lists_len<D>(objects: &[Object<D>]) -> usize {
+    list_starts(objects)[4]
+}
+
+/// [`ObjectDictionary::OD_LISTS`] of a dictionary of `objects`: the indices of lists 2..=5's
+/// objects, list after list.
+#[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+pub const fn od_lists<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
+    let mut indices = [0; N];
+    let mut n = 0;
+    let mut l = 1;
+    while l < OBJECT_LISTS.len() {
+        let list = OBJECT_LISTS[l];
+        let mut i = 0;
+        while i < objects.len() {
+            if list.contains(&objects[i].info) {
+                indices[n] = objects[i].info.index;
+                n += 1;
+            }
+            i += 1;
+        }
+        l += 1;
+    }
+    assert!(n == N);
+    indices
 }
 
 /// The value-info byte of a Get Entry Description request and response: which optional fields
@@ -382,7 +412,7 @@ impl SdoInfo {
             return None;
         }
         let data = out.get_mut(HEADERS..)?;
-        let response = self.send::<D>(transfer, data);
+        let response = self.send(transfer, data);
         Some(finish(out, response))
     }
 
@@ -397,13 +427,13 @@ impl SdoInfo {
     }
 
     /// Writes the next fragment of `transfer` into `data`; keeps the transfer while values remain.
-    fn send<D: ObjectDictionary>(
+    fn send(
         &mut self,
         mut transfer: ListTransfer,
         data: &mut [u8],
     ) -> Response {
-        let response = transfer.fragment::<D>(data);
-        self.transfer = Some(transfer).filter(|t| t.left > 0);
+        let response = transfer.fragment(data);
+        self.transfer = Some(transfer).filter(|t| !t.values.is_empty());
         response
     }
 
@@ -416,7 +446,7 @@ impl SdoInfo {
         match request {
             InfoRequest::OdList(code) => {
                 let list = ListType::from_code(code).ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
-                Ok(self.send::<D>(ListTransfer::new::<D>(list), data))
+                Ok(self.send(ListTransfer::new::<D>(list), data))
             }
             InfoRequest::ObjectDescription(index) => object_description::<D>(index, data),
             InfoRequest::EntryDescription {
@@ -577,45 +607,64 @@ fn put_value<D: ObjectDictionary>(
 
 /// Get OD List (ETG.1000.6 §5.6.3): a response in progress. Request: u16 list type.
 /// Response: u16 list type (first fragment only), then u16 values: the indices of the list's
-/// objects in ascending order, or for list type 0 the lengths of lists 1..=5.
+/// objects in ascending order, or for list type 0 the lengths of lists 1..=5 — every list a
+/// table in flash, built at compile time, which the fragments copy from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct ListTransfer {
     list: ListType,
     /// The list type word is still to be sent: it opens the first fragment.
     opening: bool,
-    /// Where the next value comes from: a position in `D::OBJECTS`, or in [`OBJECT_LISTS`] for
-    /// list type 0.
-    cursor: usize,
-    /// Values still to be sent.
-    left: usize,
+    /// The values still to be sent.
+    values: &'static [u16],
 }
 
 impl ListTransfer {
     fn new<D: ObjectDictionary>(list: ListType) -> Self {
+        let values: &'static [u16] = if const { D::OBJECTS.is_empty() } {
+            // No table for a device without a dictionary: list type 0's five counts, no object.
+            match list {
+                ListType::Lengths => &[0; OBJECT_LISTS.len()],
+                _ => &[],
+            }
+        } else {
+            match list {
+                // Lists 1..=5's lengths: the table after list type 0's own.
+                ListType::Lengths => const { &list_lengths(D::OBJECTS) }
+                    .get(1..)
+                    .unwrap_or_default(),
+                ListType::All => D::INDICES,
+                list => {
+                    let starts = const { &list_starts(D::OBJECTS) };
+                    let at = usize::from(list.code()) - 2;
+                    let (start, end) = (starts.get(at), starts.get(at + 1));
+                    match (start, end) {
+                        (Some(&start), Some(&end)) => D::OD_LISTS.get(start..end),
+                        _ => None,
+                    }
+                    .unwrap_or_default()
+                }
+            }
+        };
         Self {
             list,
             opening: true,
-            cursor: 0,
-            left: usize::from(list.len::<D>()),
+            values,
         }
     }
 
     /// Writes the next fragment's service data into `data`: as many 16-bit words as fit.
     /// The one writer of OD-list fragments, first and following.
-    fn fragment<D: ObjectDictionary>(&mut self, data: &mut [u8]) -> Response {
+    fn fragment(&mut self, data: &mut [u8]) -> Response {
         let words_per_fragment = (data.len() / 2).max(1);
         let mut len = 0;
         for word in data.chunks_exact_mut(2) {
             let value = if self.opening {
                 self.opening = false;
                 self.list.code()
-            } else if self.left == 0 {
-                break;
-            } else if let Some(value) = self.next_value::<D>() {
-                self.left -= 1;
+            } else if let Some((&value, rest)) = self.values.split_first() {
+                self.values = rest;
                 value
             } else {
-                self.left = 0; // the dictionary ran out early (another `D`?): end here
                 break;
             };
             if let Ok(word) = <&mut [u8; 2]>::try_from(word) {
@@ -623,28 +672,11 @@ impl ListTransfer {
             }
             len += 2;
         }
-        let fragments_left = self.left.div_ceil(words_per_fragment);
+        let fragments_left = self.values.len().div_ceil(words_per_fragment);
         Response {
             code: Opcode::GetOdListResponse.code(),
             fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),
             len,
-        }
-    }
-
-    /// The next value of the list, advancing the cursor.
-    fn next_value<D: ObjectDictionary>(&mut self) -> Option<u16> {
-        match self.list {
-            ListType::Lengths => {
-                let list = *OBJECT_LISTS.get(self.cursor)?;
-                self.cursor += 1;
-                Some(list.len::<D>())
-            }
-            list => {
-                let objects = D::OBJECTS.get(self.cursor..)?;
-                let skipped = objects.iter().position(|o| list.contains(&o.info))?;
-                self.cursor += skipped + 1;
-                objects.get(skipped).map(|o| o.info.index)
-            }
         }
     }
 }

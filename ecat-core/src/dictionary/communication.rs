@@ -150,16 +150,25 @@ pub(crate) fn copy(bytes: &[u8], offset: usize, out: &mut [u8]) -> Read {
     Read::new(super::value::copy_from(bytes, offset, out), bytes.len())
 }
 
-/// Reads a constant VAR (0x1000, 0x1008, 0x1009, 0x100A): `bytes`, its encoded value, at
-/// subindex 0. The arguments of [`Object::read`](super::Object::read) in their order (the
-/// dictionary unused), `bytes` last: the code `dictionary!` generates per object adds it
-/// without moving the others.
+/// Reads a constant object of the communication area, index `index`, from its records in the
+/// dictionary's `LIMITS`: a VAR (0x1000, 0x1008, 0x1009, 0x100A) is its default's record at
+/// subindex 0; 0x1C00's entries are their defaults ([`DECLARED`]), its SI0 a record of kind
+/// `VALUE` (no default: none is reported). One function for every constant of every
+/// dictionary, its arguments in registers; what a dictionary adds per constant is a call with
+/// its index.
 #[doc(hidden)]
-pub fn read_constant<D>(_: &D, at: At, out: &mut [u8], bytes: &[u8]) -> Result<Read, AbortCode> {
-    match at.sub() {
-        0 => Ok(copy(bytes, at.offset(), out)),
-        _ => Err(AbortCode::NO_SUBINDEX),
+#[inline(never)]
+pub fn read_declared<D: super::ObjectDictionary>(
+    index: u16,
+    at: At,
+    out: &mut [u8],
+) -> Result<Read, AbortCode> {
+    let which = Limit::Default as u8 | super::limits::VALUE;
+    let bytes = super::limits::record(D::LIMITS, index, at.sub(), which);
+    if bytes.is_empty() {
+        return Err(AbortCode::NO_SUBINDEX);
     }
+    Ok(copy(bytes, at.offset(), out))
 }
 
 /// Reads 0x1018 from `identity` (each entry a fixed-width copy, as a declared field's).
@@ -178,26 +187,15 @@ pub fn read_identity(identity: &Identity, at: At, out: &mut [u8]) -> Result<Read
     Ok(read_value(&value, offset, out))
 }
 
-/// 0x1C00's values by subindex: SI0 (the number of SyncManagers), then SM0..SM3's types.
-const SM_TYPE_VALUES: [u8; 5] = {
-    let [sm0, sm1, sm2, sm3] = sync_manager::STANDARD_KINDS;
-    [SM_TYPES.max_sub, sm0, sm1, sm2, sm3]
-};
+/// SM0..SM3's types, 0x1C00:01..04.
+const SM_TYPE_VALUES: [u8; 4] = sync_manager::STANDARD_KINDS;
 
-/// Reads 0x1C00: every entry one byte of [`SM_TYPE_VALUES`], a constant's copy.
-#[doc(hidden)]
-pub fn read_sm_types(at: At, out: &mut [u8]) -> Result<Read, AbortCode> {
-    let sub = usize::from(at.sub());
-    SM_TYPE_VALUES
-        .get(sub..=sub)
-        .map(|value| copy(value, at.offset(), out))
-        .ok_or(AbortCode::NO_SUBINDEX)
-}
-
-/// The declared defaults of 0x1C00, each SyncManager's type (the identity's and the
+/// The declared values of 0x1C00: SI0 (the number of SyncManagers, no default) and each
+/// SyncManager's type as its default (the identity's and the
 /// constants' come from the device's `DeviceInfo`, in `dictionary!`).
 #[doc(hidden)]
 pub const DECLARED: &[Declared] = &[
+    Declared::value(SM_TYPES.index, 0, &[SM_TYPES.max_sub]),
     sm_type_default(1),
     sm_type_default(2),
     sm_type_default(3),
@@ -206,7 +204,7 @@ pub const DECLARED: &[Declared] = &[
 
 /// The default of 0x1C00:`sub`, its value in [`SM_TYPE_VALUES`].
 const fn sm_type_default(sub: u8) -> Declared {
-    let at = sub as usize;
+    let at = sub as usize - 1;
     Declared::new(
         SM_TYPES.index,
         sub,

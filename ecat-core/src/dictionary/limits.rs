@@ -35,6 +35,19 @@ impl Declared {
         }
     }
 
+    /// `bytes` as the value of the constant entry `index:sub` that declares no default (0x1C00's
+    /// SI0, the number of SyncManagers): a record of kind [`VALUE`], which
+    /// [`communication::read_declared`](super::communication::read_declared) reads and no
+    /// [`Limit`] finds (SDO Information and the ESI report no default for it).
+    pub const fn value(index: u16, sub: u8, bytes: &'static [u8]) -> Self {
+        Self {
+            index,
+            sub,
+            which: VALUE,
+            bytes,
+        }
+    }
+
     /// The same value for every element of an ARRAY (SI1 and up).
     pub const fn every_element(self) -> Self {
         Self {
@@ -48,6 +61,11 @@ impl Declared {
 /// The mark on a record's [`Limit`] that makes it every element's, SI1 and up (an ARRAY's
 /// declared values; 0x1C00 declares each SyncManager's type on its own).
 const EVERY_ELEMENT: u8 = 0x80;
+
+/// The kind of a constant's value that is no declared [`Limit`] ([`Declared::value`]): a bit
+/// beside theirs.
+pub(super) const VALUE: u8 = 0x10;
+const _: () = assert!(VALUE & (Limit::Default as u8 | Limit::Min as u8 | Limit::Max as u8 | Limit::Unit as u8 | EVERY_ELEMENT) == 0);
 
 /// The bytes of a record's head: index, subindex, kind and length.
 const HEAD: usize = 5;
@@ -124,7 +142,7 @@ pub const fn pack<const N: usize>(groups: &[&[Declared]]) -> [u8; N] {
 /// value), so that its bytes are in flash once. A slice of `table` itself.
 #[allow(clippy::panic)] // evaluated in a `const` block: a missing record fails the build
 pub const fn default_of(table: &'static [u8], index: u16) -> &'static [u8] {
-    match record(table, index, 0, Limit::Default) {
+    match record(table, index, 0, Limit::Default as u8) {
         [] => panic!("a constant object declares its value as its default"),
         bytes => bytes,
     }
@@ -133,13 +151,14 @@ pub const fn default_of(table: &'static [u8], index: u16) -> &'static [u8] {
 /// Copies the `which` of `index:sub` from the packed `table` into `out` (as far as it goes);
 /// 0 when the table declares none.
 pub(super) fn find(table: &[u8], index: u16, sub: u8, which: Limit, out: &mut [u8]) -> usize {
-    crate::bytes::copy(out, record(table, index, sub, which))
+    crate::bytes::copy(out, record(table, index, sub, which as u8))
 }
 
-/// The bytes of the `which` of `index:sub` in the packed `table`, none when it declares none
-/// (a DOMAIN's declared value has none either): the one reader of the records, at compile time
-/// ([`default_of`]) and at run time ([`find`]).
-const fn record(table: &[u8], index: u16, sub: u8, which: Limit) -> &[u8] {
+/// The bytes of the first record of `index:sub` in the packed `table` whose kind is one of the
+/// bits of `which` (a [`Limit`], or with [`VALUE`] a constant's value), none when it declares
+/// none (a DOMAIN's declared value has none either): the one reader of the records, at compile
+/// time ([`default_of`]) and at run time ([`find`], `communication::read_declared`).
+pub(super) const fn record(table: &[u8], index: u16, sub: u8, which: u8) -> &[u8] {
     let mut rest = table;
     while let [r0, r1, s, w, len, tail @ ..] = rest {
         let (len, tail) = match (*len, tail) {
@@ -150,7 +169,7 @@ const fn record(table: &[u8], index: u16, sub: u8, which: Limit) -> &[u8] {
             break;
         };
         let subs = *s == sub || (*w & EVERY_ELEMENT != 0 && sub != 0);
-        if u16::from_le_bytes([*r0, *r1]) == index && *w & !EVERY_ELEMENT == which as u8 && subs {
+        if u16::from_le_bytes([*r0, *r1]) == index && *w & which != 0 && subs {
             return bytes;
         }
         rest = next;
