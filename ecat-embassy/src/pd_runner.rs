@@ -196,7 +196,7 @@ where
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
                         OrNever(view.irq_free.then_some(irq_low.as_mut())),
-                        common.esc.pd_changed_since(view.generation),
+                        common.esc.pd_changed(),
                         until((tick != NO_TICK).then_some(tick)),
                         OrNever(sync0_on.then_some(sync0_edge.as_mut())),
                     )
