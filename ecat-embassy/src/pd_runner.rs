@@ -329,13 +329,6 @@ struct Reported {
 }
 
 impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
-    /// Tells the state-machine runner that outputs arrived, once per layout.
-    fn report_outputs(&mut self) {
-        if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.common.esc.report(Reports::OUTPUTS_RECEIVED);
-        }
-    }
-
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
         self.common.app.lock(|app, od| app.safe_state(od));
@@ -417,16 +410,11 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         event: AlEvent,
         layout: &Option<Setup>,
     ) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
-        let (layout, apply_outputs, new_outputs) = match (then, layout) {
+        let (layout, new_outputs) = match (then, layout) {
             (Then::Nothing, _) | (_, None) => return Ok(None),
-            (Then::FirstCycle, Some(layout)) => (layout, false, None),
+            (Then::FirstCycle, Some(layout)) => (layout, None),
             (Then::Clocked, Some(layout)) => {
-                let new_outputs = event.intersects(AlEvent::sync_manager(2));
-                if new_outputs {
-                    self.report_outputs();
-                }
-                let apply = layout.outputs_active && layout.outputs.is_some();
-                (layout, apply, Some(new_outputs))
+                (layout, Some(event.intersects(AlEvent::sync_manager(2))))
             }
             (Then::Triggered(known), Some(layout)) => {
                 // Taken whatever the read saw: a trigger the other runner saw before it is the
@@ -441,25 +429,19 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
                     self.trigger_sampled = true;
                     return Ok(None);
                 }
-                let new_outputs = layout.outputs.is_some();
-                if new_outputs {
-                    self.report_outputs();
-                }
-                (
-                    layout,
-                    layout.outputs_active && new_outputs,
-                    Some(new_outputs),
-                )
+                (layout, Some(layout.outputs.is_some()))
             }
         };
-        let write = self.cycle(layout, apply_outputs, new_outputs)?;
+        let apply = new_outputs.is_some() && layout.outputs_active && layout.outputs.is_some();
+        let write = self.cycle(layout, apply, new_outputs)?;
         Ok(write.map(|(address, inputs)| (address, Data::Write(inputs), AlEvent::sync_manager(3))))
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
     /// application's cycle, the inputs packed. `new_outputs`, for a cycle of the sync mode (not
-    /// the one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
-    /// for the cycle diagnostics. Returns the input area's address and image, to be written.
+    /// the one that starts a new layout, which applies no outputs): whether the MainDevice wrote
+    /// SM2 since the last cycle, for the state-machine runner (once per layout) and the cycle
+    /// diagnostics. Returns the input area's address and image, to be written.
     fn cycle<I>(
         &mut self,
         layout: &Setup,
@@ -482,7 +464,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         let report = new_outputs.map(|new_outputs| CycleReport {
             now: now(),
             nominal: layout.period(),
-            expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
+            expects_outputs: layout.sync0() && apply_outputs,
             new_outputs,
         });
         let sync_error = self.common.app.lock(|app, od| {
@@ -497,8 +479,17 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
             }
             sync_error
         });
+        // What the state-machine runner is told, in one report: the first outputs of the
+        // layout, a tripped sync error supervision.
+        let mut reports = Reports::NONE;
+        if new_outputs == Some(true) && !core::mem::replace(&mut self.reported.outputs, true) {
+            reports = Reports::OUTPUTS_RECEIVED;
+        }
         if sync_error {
-            self.common.esc.report(Reports::SYNC_ERROR);
+            reports = reports.union(Reports::SYNC_ERROR);
+        }
+        if reports != Reports::NONE {
+            self.common.esc.report(reports);
         }
         Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }

@@ -221,7 +221,7 @@ impl Reports {
     /// The sync error supervision tripped (0x10F1, too many missed SM/SYNC events).
     pub(crate) const SYNC_ERROR: Self = Self(8);
 
-    const fn union(self, other: Self) -> Self {
+    pub(crate) const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
     }
 
