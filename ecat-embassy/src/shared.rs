@@ -531,7 +531,9 @@ impl<P: Pdi> SharedEsc<P> {
     /// What the process-data runner looks at before it waits, in one critical section: the
     /// layout of the current state when it is new, else the trigger events seen by the
     /// state-machine runner and whether the IRQ line is free for it; from then on
-    /// [`SharedEsc::pd_changed`] waits for what changes next.
+    /// [`SharedEsc::pd_changed`] waits for what changes next. Not inlined into the process-data
+    /// runner's future (docs/performance.md, "Codegen rules").
+    #[inline(never)]
     pub(crate) fn pd_view(&self) -> PdView {
         self.with(|r| {
             let news = r.layout_news.take();
