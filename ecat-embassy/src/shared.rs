@@ -442,8 +442,8 @@ impl<P: Pdi> SharedEsc<P> {
         self.with(|r| {
             // The process-data runner's waker is the one of its wait for news: it waits at one
             // place at a time (a wake while it waits for news that are set is no loss: they are
-            // ready).
-            if r.pd_news.get() {
+            // ready). Its own access wakes nobody.
+            if runner == Runner::Esm && r.pd_news.get() {
                 r.pd_waker.wake();
             }
             if let Ok(event) = event {
