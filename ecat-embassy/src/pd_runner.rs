@@ -5,7 +5,6 @@ use core::cell::Cell;
 use core::pin::pin;
 
 use ecat_core::AlEvent;
-use ecat_core::device::Area;
 use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::pdo::Direction;
 use ecat_core::pdo::image::{pack, unpack};
@@ -177,7 +176,7 @@ where
         let error = 'run: loop {
             // What woke the runner and what follows; the view and its copy of the layout end here,
             // so only `current` lives on across the waits and the exchange.
-            let plan = {
+            let then = {
                 let view = common.esc.pd_view();
                 let sampled = core::mem::take(&mut exchange.trigger_sampled);
                 if let Some(layout) = view.new_layout {
@@ -189,7 +188,7 @@ where
                     tick = layout.and_then(first_deadline).unwrap_or(NO_TICK);
                     exchange.on_new_layout(layout)
                 } else if sampled || !view.pd_events.is_empty() {
-                    Some(exchange.on_trigger(current, true))
+                    Some(Then::triggered(current, true))
                 } else {
                     // The layout is `current`: no second copy is kept across the wait.
                     let sync0_on = current.is_some_and(|l| l.sync0());
@@ -197,13 +196,13 @@ where
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
                         OrNever(view.irq_free.then_some(irq_low.as_mut())),
-                        common.esc.pd_changed_since(view.generation),
+                        common.esc.pd_changed(),
                         until((tick != NO_TICK).then_some(tick)),
                         OrNever(sync0_on.then_some(sync0_edge.as_mut())),
                     )
                     .await
                     {
-                        Either4::First(Ok(())) => Some(exchange.on_trigger(current, false)),
+                        Either4::First(Ok(())) => Some(Then::triggered(current, false)),
                         Either4::First(Err(e)) | Either4::Fourth(Err(e)) => {
                             break 'run Error::Irq(e);
                         }
@@ -216,15 +215,15 @@ where
                     }
                 }
             };
-            let Some(plan) = plan else { continue };
-            // The plan's read, then the cycle when the read confirms it, then the write of the
-            // inputs: the two accesses of an exchange, awaited at one place rather than in a
-            // future of their own.
-            let mut access = match exchange.read(plan.read) {
+            let Some(then) = then else { continue };
+            // The read `then` starts with, then the cycle when the read confirms it, then the
+            // write of the inputs: the two accesses of an exchange, awaited at one place rather
+            // than in a future of their own.
+            let mut access = match exchange.read(then, current) {
                 Ok(access) => access,
                 Err(e) => break 'run e,
             };
-            let mut then = Some(plan.then);
+            let mut then = Some(then);
             loop {
                 let mut event = AlEvent::NONE;
                 if let Some((address, data, clears)) = access {
@@ -256,24 +255,12 @@ where
     }
 }
 
-/// What a wake-up of the runner leads to: at most one read, then maybe a cycle (whose input
-/// write is the only other access). The decisions are synchronous, so the runner's future holds
-/// one access at a time, whatever woke it. A read of the AL event alone that shows the trigger
-/// leads to a turn that reads the outputs.
-struct Plan {
-    /// Read first: the output area (SM2), or the AL event alone, which routes the IRQ's cause.
-    read: Option<Read>,
-    /// What follows the read.
-    then: Then,
-}
-
-/// The read a [`Plan`] starts with.
-enum Read {
-    Outputs(Area),
-    AlEvent,
-}
-
-/// What a [`Plan`] does after its read; a cycle runs on the current layout.
+/// What a wake-up of the runner leads to: at most one read (the output area, or the AL event
+/// alone, which routes the IRQ's cause; [`Exchange::read`]), then maybe a cycle (whose input
+/// write is the only other access), on the current layout. The decisions are synchronous, so
+/// the runner's future holds one access at a time, whatever woke it. A read of the AL event
+/// alone that shows the trigger leads to a turn that reads the outputs.
+#[derive(Clone, Copy)]
 enum Then {
     /// Nothing: the read only routed the AL event to the state-machine runner.
     Nothing,
@@ -287,6 +274,19 @@ enum Then {
     /// read of the outputs). `false`: the read was of the AL event alone; if it shows the trigger,
     /// the outputs are read next turn.
     Triggered(bool),
+}
+
+impl Then {
+    /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
+    /// Not exchanging process data on events (none, or free-run): the IRQ is for the state
+    /// machine, and reading the AL event routes it there.
+    fn triggered(layout: Option<Setup>, known: bool) -> Self {
+        if layout.is_some_and(|l| l.period().is_none()) {
+            Self::Triggered(known)
+        } else {
+            Self::Nothing
+        }
+    }
 }
 
 /// The PDO layouts of both directions, from the dictionary's assignment and mapping objects.
@@ -329,13 +329,6 @@ struct Reported {
 }
 
 impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
-    /// Tells the state-machine runner that outputs arrived, once per layout.
-    fn report_outputs(&mut self) {
-        if !core::mem::replace(&mut self.reported.outputs, true) {
-            self.common.esc.report(Reports::OUTPUTS_RECEIVED);
-        }
-    }
-
     /// Outputs are no longer applied: the application's safe state.
     fn safe_state(&mut self) {
         self.common.app.lock(|app, od| app.safe_state(od));
@@ -343,7 +336,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
 
     /// Entering SAFEOP (or a new layout): the PDO layouts of the configuration the SubDevice
     /// accepted, and valid inputs at once.
-    fn on_new_layout(&mut self, layout: Option<Setup>) -> Option<Plan> {
+    fn on_new_layout(&mut self, layout: Option<Setup>) -> Option<Then> {
         self.reported = Reported::default();
         if layout.is_none() {
             self.images = None;
@@ -358,16 +351,13 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
                 inputs: PdoLayout::of(&*od, Direction::Tx).ok().flatten(),
             })
         });
-        Some(Plan {
-            read: None,
-            then: Then::FirstCycle,
-        })
+        Some(Then::FirstCycle)
     }
 
     /// Free-run: a cycle is due. It reads the outputs (their SM2 event, coming along, tells
     /// whether the MainDevice sent any) and runs; the next one is due one cycle later.
     /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
-    fn on_tick(&mut self, layout: Option<Setup>, tick: &mut Instant) -> Option<Plan> {
+    fn on_tick(&mut self, layout: Option<Setup>, tick: &mut Instant) -> Option<Then> {
         let layout = layout?;
         if layout.sync0() {
             *tick = NO_TICK;
@@ -377,64 +367,42 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         if let Some(period) = layout.period() {
             *tick = tick.checked_add(to_embassy(period)).unwrap_or(NO_TICK);
         }
-        Some(Self::clocked(layout))
+        Some(Then::Clocked)
     }
 
-    fn on_sync0(&mut self, layout: Option<Setup>) -> Option<Plan> {
-        let layout = layout.filter(Setup::sync0)?;
+    fn on_sync0(&mut self, layout: Option<Setup>) -> Option<Then> {
+        layout.filter(Setup::sync0)?;
         if !core::mem::replace(&mut self.reported.sync, true) {
             self.common.esc.report(Reports::SYNC_RECEIVED);
         }
-        Some(Self::clocked(layout))
+        Some(Then::Clocked)
     }
 
-    /// A cycle started by a clock: read the outputs, run the cycle.
-    fn clocked(layout: Setup) -> Plan {
-        Plan {
-            read: layout.outputs.map(Read::Outputs),
-            then: Then::Clocked,
-        }
-    }
-
-    /// The IRQ fired (`known` = false) or the other runner saw the trigger (`known` = true).
-    /// The outputs are read at once only when the trigger is known; on the IRQ the AL event is
-    /// read first.
-    fn on_trigger(&mut self, layout: Option<Setup>, known: bool) -> Plan {
-        match layout.filter(|l| l.period().is_none()) {
-            Some(layout) => Plan {
-                read: Some(match layout.outputs {
-                    Some(area) if known => Read::Outputs(area),
-                    _ => Read::AlEvent,
-                }),
-                then: Then::Triggered(known),
-            },
-            // Not exchanging process data on events (none, or free-run): the IRQ is for the state
-            // machine; reading the AL event routes it there.
-            None => Plan {
-                read: Some(Read::AlEvent),
-                then: Then::Nothing,
-            },
-        }
-    }
-
-    /// The read of a plan: the output area into the output buffer, or nothing at the AL event
-    /// register (an empty read: the AL event alone); `None` when the plan reads nothing.
-    fn read<I>(&mut self, read: Option<Read>) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
-        let (address, buf) = match read {
-            Some(Read::Outputs(area)) => (
+    /// The read `then` starts with on `layout`: the output area into the output buffer
+    /// (`Clocked`, and `Triggered` when the trigger is known), or nothing at the AL event
+    /// register (an empty read: the AL event alone, which is all an IRQ's `Triggered` reads
+    /// first); `None` when it reads nothing.
+    fn read<I>(
+        &mut self,
+        then: Then,
+        layout: Option<Setup>,
+    ) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
+        let outputs = layout.and_then(|l| l.outputs);
+        let (address, buf) = match (then, outputs) {
+            (Then::FirstCycle, _) | (Then::Clocked, None) => return Ok(None),
+            (Then::Clocked | Then::Triggered(true), Some(area)) => (
                 area.start,
                 self.buffers
                     .outputs
                     .get_mut(..usize::from(area.length))
                     .ok_or(Error::BufferTooSmall)?,
             ),
-            Some(Read::AlEvent) => (AL_EVENT_REQUEST, &mut [][..]),
-            None => return Ok(None),
+            (Then::Nothing | Then::Triggered(_), _) => (AL_EVENT_REQUEST, &mut [][..]),
         };
         Ok(Some((address, Data::Read(buf), AlEvent::NONE)))
     }
 
-    /// What follows a plan's read, which saw `event`: the cycle when the read confirms it.
+    /// What follows the read of `then`, which saw `event`: the cycle when the read confirms it.
     /// Returns the write of the inputs, if any (it clears the SM3 event).
     fn after_read<I>(
         &mut self,
@@ -442,16 +410,11 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         event: AlEvent,
         layout: &Option<Setup>,
     ) -> Result<ExchangeAccess<'_>, Error<P::Error, I>> {
-        let (layout, apply_outputs, new_outputs) = match (then, layout) {
+        let (layout, new_outputs) = match (then, layout) {
             (Then::Nothing, _) | (_, None) => return Ok(None),
-            (Then::FirstCycle, Some(layout)) => (layout, false, None),
+            (Then::FirstCycle, Some(layout)) => (layout, None),
             (Then::Clocked, Some(layout)) => {
-                let new_outputs = event.intersects(AlEvent::sync_manager(2));
-                if new_outputs {
-                    self.report_outputs();
-                }
-                let apply = layout.outputs_active && layout.outputs.is_some();
-                (layout, apply, Some(new_outputs))
+                (layout, Some(event.intersects(AlEvent::sync_manager(2))))
             }
             (Then::Triggered(known), Some(layout)) => {
                 // Taken whatever the read saw: a trigger the other runner saw before it is the
@@ -466,25 +429,19 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
                     self.trigger_sampled = true;
                     return Ok(None);
                 }
-                let new_outputs = layout.outputs.is_some();
-                if new_outputs {
-                    self.report_outputs();
-                }
-                (
-                    layout,
-                    layout.outputs_active && new_outputs,
-                    Some(new_outputs),
-                )
+                (layout, Some(layout.outputs.is_some()))
             }
         };
-        let write = self.cycle(layout, apply_outputs, new_outputs)?;
+        let apply = new_outputs.is_some() && layout.outputs_active && layout.outputs.is_some();
+        let write = self.cycle(layout, apply, new_outputs)?;
         Ok(write.map(|(address, inputs)| (address, Data::Write(inputs), AlEvent::sync_manager(3))))
     }
 
     /// One exchange: outputs (already read) into the dictionary when `apply_outputs`, the
     /// application's cycle, the inputs packed. `new_outputs`, for a cycle of the sync mode (not
-    /// the one that starts a new layout): whether the MainDevice wrote SM2 since the last cycle,
-    /// for the cycle diagnostics. Returns the input area's address and image, to be written.
+    /// the one that starts a new layout, which applies no outputs): whether the MainDevice wrote
+    /// SM2 since the last cycle, for the state-machine runner (once per layout) and the cycle
+    /// diagnostics. Returns the input area's address and image, to be written.
     fn cycle<I>(
         &mut self,
         layout: &Setup,
@@ -507,7 +464,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         let report = new_outputs.map(|new_outputs| CycleReport {
             now: now(),
             nominal: layout.period(),
-            expects_outputs: layout.sync0() && layout.outputs_active && layout.outputs.is_some(),
+            expects_outputs: layout.sync0() && apply_outputs,
             new_outputs,
         });
         let sync_error = self.common.app.lock(|app, od| {
@@ -522,8 +479,17 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
             }
             sync_error
         });
+        // What the state-machine runner is told, in one report: the first outputs of the
+        // layout, a tripped sync error supervision.
+        let mut reports = Reports::NONE;
+        if new_outputs == Some(true) && !core::mem::replace(&mut self.reported.outputs, true) {
+            reports = Reports::OUTPUTS_RECEIVED;
+        }
         if sync_error {
-            self.common.esc.report(Reports::SYNC_ERROR);
+            reports = reports.union(Reports::SYNC_ERROR);
+        }
+        if reports != Reports::NONE {
+            self.common.esc.report(reports);
         }
         Ok(layout.inputs.map(|area| (area.start, &*inputs)))
     }

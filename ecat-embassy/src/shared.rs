@@ -60,8 +60,8 @@ impl Turn {
 /// What the runners know about each other, behind a short critical section. Every field is a
 /// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
 /// flag or carries its panic path.
-// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the four flags and the
-// two 16-bit generations in the first 8 bytes (apart, each padded a word: 8 bytes more).
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the six flags in the
+// first 8 bytes.
 #[repr(C)]
 struct Routing {
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
@@ -69,20 +69,20 @@ struct Routing {
     esm_holds_irq: Cell<bool>,
     /// What the process-data runner reported and the state-machine runner has not taken yet.
     reports: Cell<Reports>,
-    /// The process-data runner waits for the PDI: the state-machine runner does not take it
-    /// before the process-data runner had it (see [`SharedEsc::access`]), nor while the
-    /// process-data runner has news it has not looked at (`pd_seen` is not `pd_generation`).
-    pd_waiting: Cell<bool>,
+    /// Something changed for the process-data runner since it last looked
+    /// ([`SharedEsc::pd_view`]): its trigger was seen, the IRQ line is free again, the layout
+    /// changed (then also `layout_news`); or it waits for the PDI. One fact for the
+    /// state-machine runner: the process-data runner comes first, so it does not take the PDI
+    /// while this is set ([`SharedEsc::take_pdi`]).
+    pd_news: Cell<bool>,
     /// The process-data runner has stopped (its PDI or IRQ failed): nothing to give way to.
     pd_stopped: Cell<bool>,
-    /// Bumped whenever something changes for the process-data runner: its trigger was seen, the
-    /// IRQ line is free again, the layout changed (then its low bit, [`LAYOUT_NEWS`], is set until
-    /// the process-data runner looks). 16 bits are plenty: the state-machine runner
-    /// waits for the PDI while the process-data runner has not looked at a bump
-    /// ([`SharedEsc::take_pdi`]), so the count runs at most a few bumps ahead of `pd_seen`.
-    pd_generation: Cell<u16>,
-    /// The `pd_generation` the process-data runner looked at last.
-    pd_seen: Cell<u16>,
+    /// The state-machine runner waits for its turn or for the PDI ([`SharedEsc::take_pdi`]),
+    /// not for news: the process-data runner's next view wakes it.
+    esm_waits_pdi: Cell<bool>,
+    /// The layout changed since the process-data runner last looked: [`SharedEsc::pd_view`]
+    /// hands it over (the runners compare no layouts).
+    layout_news: Cell<bool>,
     /// State-machine events seen by the process-data runner and not yet taken.
     esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
@@ -98,13 +98,13 @@ struct Routing {
     /// puts its AL event mask in the ESC (before that the ESC's reset mask may assert the IRQ for
     /// events no runner clears).
     indication: Cell<Indication>,
-    /// The state-machine runner waits for news ([`SharedEsc::poll_esm_events`]).
+    /// The state-machine runner waits for news ([`SharedEsc::poll_esm_events`]) or for its turn
+    /// and the PDI ([`SharedEsc::take_pdi`], then also `esm_waits_pdi`): it waits at one place
+    /// at a time.
     esm_waker: WakerCell,
-    /// The process-data runner waits for news ([`SharedEsc::pd_changed_since`]) or for the PDI
+    /// The process-data runner waits for news ([`SharedEsc::pd_changed`]) or for the PDI
     /// ([`SharedEsc::take_pdi`]): it waits at one place at a time.
     pd_waker: WakerCell,
-    /// The state-machine runner waits for its turn or for the PDI ([`SharedEsc::take_pdi`]).
-    esm_pdi_waker: WakerCell,
     /// The indicator task, woken when the indication changes.
     led_waker: WakerCell,
     /// Emergencies raised by the application, waiting for the state-machine runner.
@@ -137,20 +137,17 @@ impl Routing {
         }
     }
 
-    /// Publishes `layout` as news for the process-data runner: the bump's [`LAYOUT_NEWS`] bit,
-    /// which [`SharedEsc::pd_view`] clears (the runners compare no layouts).
+    /// Publishes `layout` as news for the process-data runner, which [`SharedEsc::pd_view`]
+    /// hands over (the runners compare no layouts).
     fn new_layout(&self, layout: Option<Setup>) {
         self.layout.set(layout);
+        self.layout_news.set(true);
         self.notify_pd();
-        self.pd_generation
-            .set(self.pd_generation.get() | LAYOUT_NEWS);
     }
 
-    /// Bumps `pd_generation` (by 2: its low bit is [`LAYOUT_NEWS`]) and wakes the process-data
-    /// runner.
+    /// Tells the process-data runner that something changed for it, and wakes it.
     fn notify_pd(&self) {
-        self.pd_generation
-            .set(self.pd_generation.get().wrapping_add(2));
+        self.pd_news.set(true);
         self.pd_waker.wake();
     }
 
@@ -174,10 +171,6 @@ impl Routing {
         self.update_irq_holder();
     }
 }
-
-/// The low bit of `Routing::pd_generation`: the state-machine runner published a layout the
-/// process-data runner has not taken yet ([`SharedEsc::pd_view`] clears it).
-const LAYOUT_NEWS: u16 = 1;
 
 /// A [`WakerRegistration`] in a `Cell`: taken out for each call and put back.
 struct WakerCell(Cell<WakerRegistration>);
@@ -203,8 +196,6 @@ impl WakerCell {
 
 /// What the process-data runner looks at before it waits ([`SharedEsc::pd_view`]).
 pub(crate) struct PdView {
-    /// The token for [`SharedEsc::pd_changed_since`], taken with the rest.
-    pub(crate) generation: u16,
     /// The process-data layout of the current state, when it is new since the last view.
     pub(crate) new_layout: Option<Option<Setup>>,
     /// Process-data trigger events the state-machine runner saw.
@@ -230,7 +221,7 @@ impl Reports {
     /// The sync error supervision tripped (0x10F1, too many missed SM/SYNC events).
     pub(crate) const SYNC_ERROR: Self = Self(8);
 
-    const fn union(self, other: Self) -> Self {
+    pub(crate) const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
     }
 
@@ -307,18 +298,17 @@ impl<P: Pdi> SharedEsc<P> {
                 layout: Cell::new(None),
                 mask: Cell::new(AlEvent::NONE),
                 last_event: Cell::new(AlEvent::NONE),
-                pd_generation: Cell::new(0),
                 indication: Cell::new(Indication::UNPUBLISHED),
                 // Evaluated at compile time: no call of `Ring::new` where the firmware builds
                 // its resources.
                 emergencies: Cell::new(const { Ring::new(Emergency::NONE) }),
                 reports: Cell::new(Reports::NONE),
-                pd_waiting: Cell::new(false),
-                pd_seen: Cell::new(0),
+                pd_news: Cell::new(false),
+                layout_news: Cell::new(false),
                 pd_stopped: Cell::new(false),
+                esm_waits_pdi: Cell::new(false),
                 esm_waker: WakerCell::new(),
                 pd_waker: WakerCell::new(),
-                esm_pdi_waker: WakerCell::new(),
                 led_waker: WakerCell::new(),
             }),
         }
@@ -383,38 +373,46 @@ impl<P: Pdi> SharedEsc<P> {
     }
 
     /// The `turn`'s runner's turn and the PDI's lock, in one wait; with the lock taken, the
-    /// driver is told what the chunk's AL event must be ([`Pdi::sample`]). The process-data runner says that it
-    /// waits for the PDI. The state-machine runner waits while the process-data runner waits for
-    /// the PDI or has news it has not looked at (its trigger seen by a chunk, the IRQ line free
-    /// again): that one comes first. In firmware it has always run by then (its interrupt
-    /// preempts as soon as it is woken), so this waits only where the runners share an
-    /// executor. Both runners must run (the process-data runner says when it stops; a firmware
-    /// that drops its future while it waits for the PDI stalls the state machine). A runner that
-    /// finds the PDI locked is woken when the other releases it ([`SharedEsc::observe_access`]):
-    /// the lock's own waiting is not used (docs/performance.md, "Codegen rules").
+    /// driver is told what the chunk's AL event must be ([`Pdi::sample`]). The process-data
+    /// runner's wait for the PDI is news for the state-machine runner (`pd_news`, until its next
+    /// view). The state-machine runner waits while the process-data runner has news it has not
+    /// looked at (its trigger seen by a chunk, the IRQ line free again, its wait for the PDI):
+    /// that one comes first. In firmware it has always run by then (its interrupt preempts as
+    /// soon as it is woken), so this waits only where the runners share an executor. Both
+    /// runners must run (the process-data runner says when it stops; a firmware that drops its
+    /// future while it waits for the PDI stalls the state machine). The process-data runner,
+    /// finding the PDI locked, is woken when the state-machine runner releases it
+    /// ([`SharedEsc::observe_access`]); the state-machine runner by the process-data runner's
+    /// next view ([`SharedEsc::pd_view`]): the lock's own waiting is not used
+    /// (docs/performance.md, "Codegen rules").
     fn take_pdi(&self, turn: Turn) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                let waker = if turn == Turn::ProcessData {
-                    r.pd_waiting.set(true);
-                    &r.pd_waker
+                let pd = turn == Turn::ProcessData;
+                if pd {
+                    // Its wait for the PDI is news the state-machine runner gives way to; its
+                    // next view clears it.
+                    r.pd_news.set(true);
+                }
+                // The state-machine runner gives way while the process-data runner has news,
+                // which it has while it holds the PDI.
+                let pd_first = !pd && r.pd_news.get() && !r.pd_stopped.get();
+                let locked = if pd_first {
+                    None
                 } else {
-                    let pd_turn = r.pd_waiting.get() || r.pd_seen.get() != r.pd_generation.get();
-                    if pd_turn && !r.pd_stopped.get() {
-                        r.esm_pdi_waker.register(cx.waker());
-                        return Poll::Pending;
-                    }
-                    &r.esm_pdi_waker
+                    self.pdi.try_lock().ok()
                 };
-                let Ok(mut pdi) = self.pdi.try_lock() else {
-                    waker.register(cx.waker());
+                let Some(mut pdi) = locked else {
+                    if pd {
+                        r.pd_waker.register(cx.waker());
+                    } else {
+                        r.esm_waits_pdi.set(true);
+                        r.esm_waker.register(cx.waker());
+                    }
                     return Poll::Pending;
                 };
                 // What the chunk's AL event must be, told the driver with the lock taken.
-                let sample = if turn == Turn::ProcessData {
-                    r.pd_waiting.set(false);
-                    Sample::Usual
-                } else if turn == Turn::EsmFirst {
+                let sample = if turn != Turn::EsmLater {
                     Sample::Usual
                 } else if r.esm_holds_irq.get() {
                     // The trigger makes no edge: a later chunk's AL event is its only news
@@ -432,8 +430,10 @@ impl<P: Pdi> SharedEsc<P> {
         })
     }
 
-    /// After `runner` released the PDI: wakes the other runner, which may wait for it
-    /// ([`SharedEsc::take_pdi`]); the AL event the access saw, less the bits it cleared, routed.
+    /// After `runner` released the PDI: wakes the process-data runner, which may wait for it
+    /// ([`SharedEsc::take_pdi`]; the state-machine runner, which waits for the process-data
+    /// runner's news while it holds the PDI, is woken by its next view); the AL event the access
+    /// saw, less the bits it cleared, routed.
     fn observe_access<E>(
         &self,
         runner: Runner,
@@ -443,11 +443,11 @@ impl<P: Pdi> SharedEsc<P> {
         let event = seen.map(|seen| seen.difference(clears));
         self.with(|r| {
             // The process-data runner's waker is the one of its wait for news: it waits at one
-            // place at a time.
-            if r.pd_waiting.get() {
+            // place at a time (a wake while it waits for news that are set is no loss: they are
+            // ready). Its own access wakes nobody.
+            if runner == Runner::Esm && r.pd_news.get() {
                 r.pd_waker.wake();
             }
-            r.esm_pdi_waker.wake();
             if let Ok(event) = event {
                 r.observe(runner, event);
             }
@@ -532,19 +532,18 @@ impl<P: Pdi> SharedEsc<P> {
 
     /// What the process-data runner looks at before it waits, in one critical section: the
     /// layout of the current state when it is new, else the trigger events seen by the
-    /// state-machine runner, whether the IRQ line is free for it, and the token for
-    /// [`SharedEsc::pd_changed_since`].
+    /// state-machine runner and whether the IRQ line is free for it; from then on
+    /// [`SharedEsc::pd_changed`] waits for what changes next. Not inlined into the process-data
+    /// runner's future (docs/performance.md, "Codegen rules").
+    #[inline(never)]
     pub(crate) fn pd_view(&self) -> PdView {
         self.with(|r| {
-            let bumped = r.pd_generation.get();
-            let news = bumped & LAYOUT_NEWS != 0;
-            let generation = bumped & !LAYOUT_NEWS;
-            r.pd_generation.set(generation);
-            if r.pd_seen.replace(generation) != bumped {
-                r.esm_pdi_waker.wake();
+            let news = r.layout_news.take();
+            r.pd_news.set(false);
+            if r.esm_waits_pdi.take() {
+                r.esm_waker.wake();
             }
             PdView {
-                generation,
                 new_layout: news.then(|| r.layout.get()),
                 pd_events: if news {
                     AlEvent::NONE
@@ -561,7 +560,7 @@ impl<P: Pdi> SharedEsc<P> {
     pub(crate) fn pd_stopped(&self) {
         self.with(|r| {
             r.pd_stopped.set(true);
-            r.esm_pdi_waker.wake();
+            r.esm_waker.wake();
         });
     }
 
@@ -570,12 +569,13 @@ impl<P: Pdi> SharedEsc<P> {
         self.with(|r| r.pd_events.take())
     }
 
-    /// Waits until something changed for the process-data runner since `seen` was taken: its
-    /// trigger was seen, the state-machine events released the IRQ line, or the layout changed.
-    pub(crate) fn pd_changed_since(&self, seen: u16) -> impl Future<Output = ()> + '_ {
+    /// Waits until something changed for the process-data runner since its last
+    /// [`SharedEsc::pd_view`]: its trigger was seen, the state-machine events released the IRQ
+    /// line, or the layout changed.
+    pub(crate) fn pd_changed(&self) -> impl Future<Output = ()> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
-                if r.pd_generation.get() != seen {
+                if r.pd_news.get() {
                     Poll::Ready(())
                 } else {
                     r.pd_waker.register(cx.waker());
