@@ -427,11 +427,7 @@ impl SdoInfo {
     }
 
     /// Writes the next fragment of `transfer` into `data`; keeps the transfer while values remain.
-    fn send(
-        &mut self,
-        mut transfer: ListTransfer,
-        data: &mut [u8],
-    ) -> Response {
+    fn send(&mut self, mut transfer: ListTransfer, data: &mut [u8]) -> Response {
         let response = transfer.fragment(data);
         self.transfer = Some(transfer).filter(|t| !t.values.is_empty());
         response

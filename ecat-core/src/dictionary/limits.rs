@@ -65,7 +65,15 @@ const EVERY_ELEMENT: u8 = 0x80;
 /// The kind of a constant's value that is no declared [`Limit`] ([`Declared::value`]): a bit
 /// beside theirs.
 pub(super) const VALUE: u8 = 0x10;
-const _: () = assert!(VALUE & (Limit::Default as u8 | Limit::Min as u8 | Limit::Max as u8 | Limit::Unit as u8 | EVERY_ELEMENT) == 0);
+const _: () = assert!(
+    VALUE
+        & (Limit::Default as u8
+            | Limit::Min as u8
+            | Limit::Max as u8
+            | Limit::Unit as u8
+            | EVERY_ELEMENT)
+        == 0
+);
 
 /// The bytes of a record's head: index, subindex, kind and length.
 const HEAD: usize = 5;
