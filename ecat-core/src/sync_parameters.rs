@@ -231,13 +231,13 @@ impl DcSettings {
     }
 }
 
-/// The DC configuration checks at PREOP→SAFEOP (conformance.md "Distributed clocks"): the SYNC
+/// The DC configuration check at PREOP→SAFEOP (conformance.md "Distributed clocks"): the SYNC
 /// unit activated without SYNC0, SYNC1 without SYNC0, SYNC1 activated on a device that does not
 /// support it (0x1C32:04 without 0x0008; 0x0981 = 0x07 on a SYNC0-only device), DC SYNC0
 /// requested without SYNC0 running, or SYNC0 running while the device is told to run free or
 /// SM-synchronous: 0x0030 (ETG.1000.6 Table 11 "invalid DC SYNC configuration"; SSC 5.12
 /// `ecatslv.c` `CheckDcSettings` refuses a SYNC signal the supported sync modes lack with the
-/// same code); a SYNC0 cycle of 0 (single shot) or below the device's minimum cycle: 0x0036.
+/// same code). The SYNC0 cycle itself is [`check_cycle`]'s.
 pub(crate) fn check_dc(
     sync: SyncMode,
     dc: DcSettings,
@@ -252,9 +252,6 @@ pub(crate) fn check_dc(
     let unsupported_sync1 = sync1 && device.sync_modes.0 & SupportedSyncModes::SYNC1 == 0;
     if without_sync0 || unsupported_sync1 || wanted != dc.activation.sync0() {
         return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
-    }
-    if wanted && (dc.sync0_cycle_ns == 0 || below_min_cycle(dc.sync0_cycle_ns, device)) {
-        return Err(AlStatusCode::DC_SYNC0_CYCLE_TIME);
     }
     Ok(())
 }
@@ -469,27 +466,32 @@ pub(crate) fn requested<D: ObjectDictionary>(
     }
 }
 
-/// The cycle time the MainDevice wrote into 0x1C32:02, checked at PREOP→SAFEOP against the
-/// sync mode in effect (conformance.md AL status codes): in free-run or SM-synchronous mode below
-/// the device's minimum cycle (SI5) 0x002E, in free-run also below the local timer's 1 µs; in DC
-/// SYNC0 mode other than the SYNC0 cycle 0x0035.
+/// The cycle times checked at PREOP→SAFEOP against the sync mode in effect, after
+/// [`check_dc`] (conformance.md AL status codes, "Distributed clocks"). In DC SYNC0 mode the
+/// SYNC0 cycle (0x09A0) of 0 (single shot) or below the device's minimum cycle (SI5) is 0x0036,
+/// a cycle time the MainDevice wrote into 0x1C32:02 other than the SYNC0 cycle 0x0035; in
+/// free-run or SM-synchronous mode the written cycle time below the minimum cycle is 0x002E, in
+/// free-run also below the local timer's 1 µs. One cycle, one floor and one code per mode: a
+/// single comparison with the minimum. `cycle_ns` is never `Some(0)` ([`Chosen::cycle_ns`]), so
+/// SM-synchronous mode's floor of 1 ns refuses nothing (a floor of 0 made the compiler copy the
+/// comparison for that mode: +16 bytes).
 pub(crate) fn check_cycle(
     sync: SyncMode,
     cycle_ns: Option<u32>,
     dc: DcSettings,
     device: &DeviceConfig,
 ) -> Result<(), AlStatusCode> {
-    let below_min = |ns: u32| below_min_cycle(ns, device);
-    match (sync, cycle_ns) {
-        (SyncMode::DcSync0, Some(ns)) if ns != dc.sync0_cycle_ns => {
-            Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME)
-        }
-        (SyncMode::FreeRun, Some(ns)) if ns < 1_000 || below_min(ns) => {
-            Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
-        }
-        (SyncMode::SmSynchronous, Some(ns)) if below_min(ns) => {
-            Err(AlStatusCode::CYCLE_TIME_TOO_SMALL)
-        }
+    let (ns, floor, code) = match (sync, cycle_ns) {
+        (SyncMode::DcSync0, _) => (dc.sync0_cycle_ns, 1, AlStatusCode::DC_SYNC0_CYCLE_TIME),
+        (SyncMode::FreeRun, Some(ns)) => (ns, 1_000, AlStatusCode::CYCLE_TIME_TOO_SMALL),
+        (SyncMode::SmSynchronous, Some(ns)) => (ns, 1, AlStatusCode::CYCLE_TIME_TOO_SMALL),
+        _ => return Ok(()),
+    };
+    if ns < floor || below_min_cycle(ns, device) {
+        return Err(code);
+    }
+    match cycle_ns {
+        Some(chosen) if chosen != ns => Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME),
         _ => Ok(()),
     }
 }
@@ -665,6 +667,66 @@ mod tests {
                     for ns in [ns.saturating_sub(1), ns, ns.saturating_add(1)] {
                         let expected = u64::from(ns) < min.saturating_mul(1_000);
                         assert_eq!(below_min_cycle(ns, &device), expected, "{ns} ns, {min} µs");
+                    }
+                }
+            }
+        }
+    }
+
+    /// The cycle checks give each mode's code at every edge, in ETG's order: in DC SYNC0 mode
+    /// a SYNC0 cycle of 0 or below the minimum (0x0036) before a written cycle time other than
+    /// it (0x0035); in free-run under 1 µs or below the minimum, in SM-synchronous mode below the
+    /// minimum (0x002E); nothing written, nothing refused but the SYNC0 cycle.
+    #[test]
+    fn cycle_checks_give_each_modes_code_at_the_edges() {
+        use crate::device::{MailboxConfig, ProcessDataSizes};
+        let mut device = DeviceConfig::new(
+            MailboxConfig::contiguous(0x1000, 128),
+            ProcessDataSizes::default(),
+        );
+        let edges = [0, 1, 999, 1_000, 1_001, 249_999, 250_000, 250_001, u32::MAX];
+        for min in [0, 1, 250, 4_294_967, 4_294_968] {
+            device.min_cycle_time = Duration::from_micros(min);
+            let below = |ns: u32| u64::from(ns) < min * 1_000;
+            for sync0 in edges {
+                let dc = DcSettings {
+                    activation: DcActivation(0x03),
+                    sync0_cycle_ns: sync0,
+                };
+                // A written cycle time is never 0 (`Chosen::cycle_ns`).
+                let written = Some(sync0).filter(|&ns| ns != 0);
+                for chosen in [
+                    None,
+                    Some(1),
+                    Some(999),
+                    Some(1_000),
+                    Some(250_000),
+                    written,
+                ] {
+                    let check = |sync| check_cycle(sync, chosen, dc, &device);
+                    let dc_expected = if sync0 == 0 || below(sync0) {
+                        Err(AlStatusCode::DC_SYNC0_CYCLE_TIME)
+                    } else if chosen.is_some_and(|ns| ns != sync0) {
+                        Err(AlStatusCode::DC_INVALID_SYNC_CYCLE_TIME)
+                    } else {
+                        Ok(())
+                    };
+                    let too_small = |refused: bool| match refused {
+                        true => Err(AlStatusCode::CYCLE_TIME_TOO_SMALL),
+                        false => Ok(()),
+                    };
+                    let free_run = chosen.is_some_and(|ns| ns < 1_000 || below(ns));
+                    let sm = chosen.is_some_and(below);
+                    let got = [
+                        SyncMode::DcSync0,
+                        SyncMode::FreeRun,
+                        SyncMode::SmSynchronous,
+                    ]
+                    .map(check);
+                    let expected = [dc_expected, too_small(free_run), too_small(sm)];
+                    assert_eq!(got, expected, "min {min} µs, SYNC0 {sync0} ns, {chosen:?}");
+                    for other in [SyncMode::DcSync1, SyncMode::Sm2Synchronous] {
+                        assert_eq!(check(other), Ok(()), "{other:?}, {sync0} ns, {chosen:?}");
                     }
                 }
             }

@@ -65,7 +65,7 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// [`EMERGENCY_PERIOD`] before, then goes into the diagnosis history.
     #[inline(never)] // rare: off the mailbox service's path
     pub(super) fn log_diagnosis<D: ObjectDictionary>(&mut self, now: Instant, od: &mut D) {
-        while let Some(Logged { code, state }) = self.logged.pop() {
+        while let Some(Logged { code, state }) = self.logged.pop().flatten() {
             let (last, at) = (self.last_emergency, self.last_emergency_at);
             if last != code || now >= at.saturating_add(EMERGENCY_PERIOD) {
                 (self.last_emergency, self.last_emergency_at) = (code, now);

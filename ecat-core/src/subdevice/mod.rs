@@ -142,17 +142,21 @@ impl RegisterAccess<'_> {
 
 /// What the application must hear about.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+// The variants numbered from 1: rustc then makes an `Option<Event>`'s `None` the tag 0, so the
+// SubDevice's queue of events is built by zeroing rather than copied from a filler in flash
+// (docs/performance.md, "Session 13: … (branch sync9)"; a matter of size, not of correctness).
+#[repr(u8)]
 pub enum Event {
     /// A valid upward transition passed the SyncManager checks and waits for the application's
     /// consent: answer with [`SubDevice::complete_transition`] before [`SubDevice::poll_timeout`].
-    TransitionRequested(Transition),
+    TransitionRequested(Transition) = 1,
     /// A transition waiting for the application ended without its answer: it timed out (the
     /// MainDevice got [`AlStatusCode::UNSPECIFIED_ERROR`]), or a new request or an error replaced
     /// it.
-    TransitionAborted(Transition),
+    TransitionAborted(Transition) = 2,
     /// The state changed: an accepted upward transition, a downward transition, or a fall back
     /// after an error.
-    StateChanged(Transition),
+    StateChanged(Transition) = 3,
 }
 
 /// An AL status code the stack set, and the state it was in then.
@@ -310,9 +314,12 @@ pub struct SubDevice<'c, const MBX: usize = 128, L: Length = Len<MBX>> {
     /// When `last_emergency` raised its emergency. Apart from the code: a pair pads the code to
     /// the instant's 8 bytes.
     last_emergency_at: Instant,
-    events: Ring<Event, 8>,
+    /// The application events not yet polled. The rings' free slots are `None` (the same size
+    /// as the values): a constant of zeros (`Option<Event>`'s tag, `Option<Logged>`'s state),
+    /// which the constructor writes with one `memclr` rather than copying a filler from flash.
+    events: Ring<Option<Event>, 8>,
     /// The AL status codes set and not yet logged.
-    logged: Ring<Logged, LOGGED>,
+    logged: Ring<Option<Logged>, LOGGED>,
     channels: Channels,
     /// The last AL status code that raised an emergency (when: `last_emergency_at`). Last, by
     /// the byte buffer: among the halfwords it would pad the mailbox's start to 8 bytes; read
@@ -338,19 +345,9 @@ impl<'c, const MBX: usize, L: Length> SubDevice<'c, MBX, L> {
             written: Written::new(),
             in_flight: None,
             pending: None,
-            events: const {
-                Ring::new(Event::StateChanged(Transition {
-                    from: AlState::Init,
-                    to: AlState::Init,
-                }))
-            },
+            events: const { Ring::new(None) },
             buf: [0; BUF_LEN],
-            logged: const {
-                Ring::new(Logged {
-                    code: AlStatusCode::NO_ERROR,
-                    state: AlState::Init,
-                })
-            },
+            logged: const { Ring::new(None) },
             last_emergency: AlStatusCode::NO_ERROR,
             last_emergency_at: Instant::from_micros(0),
             mailbox: Mailbox::new(),
@@ -419,7 +416,7 @@ impl<'c, const MBX: usize, L: Length> SubDevice<'c, MBX, L> {
     /// The next application event. Call it after the accesses are done, until it returns
     /// `None`.
     pub fn poll_event(&mut self) -> Option<Event> {
-        self.events.pop()
+        self.events.pop().flatten()
     }
 
     /// When [`SubDevice::handle_timeout`] must be called next, if ever. Ask before each wait:

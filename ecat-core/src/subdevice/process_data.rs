@@ -111,21 +111,21 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
         self.due.set(Due::LAYOUT);
         self.sync_mode = sync_parameters::requested(od, self.config, self.writes.chosen);
         let fixed = self.config.process_data;
-        let size = |direction, fixed| match Layout::of(od, direction) {
-            Ok(Some(layout)) => Ok(layout.bytes()),
-            Ok(None) => Ok(fixed),
-            Err(code) => Err(code),
-        };
-        let sizes = size(Direction::Rx, fixed.outputs).and_then(|outputs| {
-            Ok(ProcessDataSizes {
-                outputs,
-                inputs: size(Direction::Tx, fixed.inputs)?,
-            })
-        });
-        (self.pd_sizes, self.pd_unusable) = match sizes {
-            Ok(sizes) => (sizes, AlStatusCode::NO_ERROR),
-            Err(code) => (ProcessDataSizes::default(), code),
-        };
+        // One call of `Layout::of`, for both directions in turn: the first refusal (the outputs'
+        // before the inputs') leaves no image.
+        let mut sizes = [fixed.outputs, fixed.inputs];
+        let mut unusable = AlStatusCode::NO_ERROR;
+        for (size, direction) in sizes.iter_mut().zip([Direction::Rx, Direction::Tx]) {
+            match Layout::of(od, direction) {
+                Ok(layout) => *size = layout.map_or(*size, |l| l.bytes()),
+                Err(code) => {
+                    (sizes, unusable) = ([0; 2], code);
+                    break;
+                }
+            }
+        }
+        let [outputs, inputs] = sizes;
+        (self.pd_sizes, self.pd_unusable) = (ProcessDataSizes { outputs, inputs }, unusable);
         let has_outputs = self.pd_sizes.outputs > 0;
         let active = self.sync_mode.is_ok().then(|| self.sync_mode());
         let chosen_cycle = self.writes.chosen.cycle_ns();

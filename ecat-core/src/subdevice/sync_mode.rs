@@ -61,8 +61,9 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     }
 
     /// The sync mode must be supported; free-run needs SM2 in 3-buffer mode (0x0029); a
-    /// DC-capable device checks the DC SYNC unit ([`sync_parameters::check_dc`]); a cycle time the
-    /// MainDevice wrote must suit the sync mode ([`sync_parameters::check_cycle`]).
+    /// DC-capable device checks the DC SYNC unit ([`sync_parameters::check_dc`]); the SYNC0 cycle
+    /// and a cycle time the MainDevice wrote must suit the sync mode
+    /// ([`sync_parameters::check_cycle`]).
     pub(super) fn check_sync_mode(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
         self.sync_mode?;
         let sync = self.sync_mode();

@@ -121,7 +121,7 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
                     && !self.received.sync0,
             },
         });
-        self.events.push(Event::TransitionRequested(t));
+        self.events.push(Some(Event::TransitionRequested(t)));
     }
 
     /// Checks the SyncManagers a SubDevice in `state` relies on. On failure: the code, and the
@@ -180,10 +180,10 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// code is logged, for the diagnosis history and its emergency, at the next mailbox service
     /// ([`SubDevice::log_diagnosis`]).
     pub(super) fn fail(&mut self, code: AlStatusCode, state: AlState) {
-        self.logged.push(Logged {
+        self.logged.push(Some(Logged {
             code,
             state: self.state,
-        });
+        }));
         self.abort_pending();
         // A lower rank is another state.
         if state.rank() < self.state.rank() {
@@ -225,12 +225,13 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
                 }
             }
         }
-        self.events.push(Event::StateChanged(t));
+        self.events.push(Some(Event::StateChanged(t)));
     }
 
     fn abort_pending(&mut self) {
         if let Some(p) = self.pending.take() {
-            self.events.push(Event::TransitionAborted(p.transition));
+            self.events
+                .push(Some(Event::TransitionAborted(p.transition)));
         }
     }
 }
