@@ -508,7 +508,9 @@ enum Direction {
 }
 
 /// Finds the object and checks the access: existence, subindex, rights in `state`, then for a
-/// download that the process data does not own the entries ([`check_not_rx_mapped`]).
+/// download that the process data does not own the entries ([`check_not_rx_mapped`]). A single
+/// subindex is checked as a complete access of one entry ([`check_entries`]), bar an upload's,
+/// which needs the one entry's rights only.
 #[inline]
 fn resolve<D: ObjectDictionary>(
     od: &D,
@@ -517,26 +519,22 @@ fn resolve<D: ObjectDictionary>(
     direction: Direction,
 ) -> Result<(&'static Object<D>, Target), AbortCode> {
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
-    if target.complete {
-        check_complete(od, object, target, state, direction)?;
-        return Ok((object, target));
-    }
     let info = &object.info;
-    let entry = (info.dense_entry(target.sub))
-        .or_else(|| info.entry(target.sub))
-        .ok_or_else(|| missing_entry(info, target.sub))?;
-    check_access(entry, state, direction)?;
-    if direction == Direction::Write && entry.access.rxpdo() {
-        check_not_rx_mapped(od, state, info.index, target.sub)?;
+    let mut domain = false;
+    if !target.complete {
+        let entry = (info.dense_entry(target.sub))
+            .or_else(|| info.entry(target.sub))
+            .ok_or_else(|| missing_entry(info, target.sub))?;
+        domain = const { crate::dictionary::has_domain(D::OBJECTS) }
+            && entry.data_type == DataType::Domain;
+        // An upload's rights are the one entry's: no walk on the expedited upload's way.
+        if direction == Direction::Read {
+            check_access(entry, state, direction)?;
+            return Ok((object, Target { domain, ..target }));
+        }
     }
-    Ok((
-        object,
-        Target {
-            domain: const { crate::dictionary::has_domain(D::OBJECTS) }
-                && entry.data_type == DataType::Domain,
-            ..target
-        },
-    ))
+    check_entries(od, info, target, state, direction)?;
+    Ok((object, Target { domain, ..target }))
 }
 
 /// Why a single access to `object`'s subindex `sub`, which it does not declare, is refused:
@@ -555,21 +553,26 @@ fn missing_entry(object: &ObjectInfo, sub: u8) -> AbortCode {
     }
 }
 
-/// A complete access to `object` from `target.sub`: allowed on the object, every entry
-/// accessible in `state` (from the subindex on, SI0 aside: it carries the count), then for a
-/// download none of them owned by the process data. Out of line, away from the single
-/// entries' way.
+/// The entries `target` covers in `object`: its subindex, or for a complete access every
+/// entry from it (SI0 aside: it carries the count; [`complete_access::check`] first). Every one
+/// accessible in `state`, then for a download none of them owned by the process data. Out of
+/// line: the one walk of both accesses.
 #[inline(never)]
-fn check_complete<D: ObjectDictionary>(
+fn check_entries<D: ObjectDictionary>(
     od: &D,
-    object: &Object<D>,
+    info: &ObjectInfo,
     target: Target,
     state: AlState,
     direction: Direction,
 ) -> Result<(), AbortCode> {
-    let info = &object.info;
-    complete_access::check(info, target.sub)?;
-    let entries = || complete_access::declared(info, target.sub.max(1), info.max_sub);
+    let (first, last) = match target.complete {
+        true => {
+            complete_access::check(info, target.sub)?;
+            (target.sub.max(1), info.max_sub)
+        }
+        false => (target.sub, target.sub),
+    };
+    let entries = || complete_access::declared(info, first, last);
     entries().try_for_each(|(_, entry)| check_access(entry, state, direction))?;
     if direction == Direction::Read {
         return Ok(());
