@@ -411,7 +411,7 @@ impl<const N: usize, L: Length> SdoServer<N, L> {
         if self.checked_in != cx.state {
             // The rights of the initiate's state do not carry over (a download started in PREOP
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
-            resolve(&*cx.od, target, cx.state, Direction::Write)?;
+            check_entries(&*cx.od, &object.info, target, cx.state, Direction::Write)?;
         }
         let streamed = is_domain::<D>(target);
         let value: &[u8] = if streamed || (last && received == 0) {
