@@ -268,60 +268,63 @@ impl<const N: usize, L: Length> SdoServer<N, L> {
         // is written whole below.
         let [c0, c1] = SDO_RESPONSE;
         *out.first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)? = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
-        // The value is read straight into the answer's data area (a DOMAIN's no further than
-        // its size). A send mailbox without room for four bytes behind an initiate's header
-        // (the 16 bytes of the smallest) reads into `small`: an expedited value fits it, a
-        // longer one sends nothing with the initiate.
-        let data = out.get_mut(at..).unwrap_or_default();
-        let mut small = [0u8; 4];
-        let short = data.len() < small.len();
-        let (sent, size) = if is_domain::<D>(target) {
-            let size = match request {
-                Upload::Initiate => domain_size(cx, target)?,
-                Upload::Segment { .. } => size,
+        // Both initiates' answers leave by one header write (below the block): an expedited
+        // value's command and value, or a normal one's and the size; a segment's leaves within.
+        let (command, word, sent) = 'initiate: {
+            // The value is read straight into the answer's data area (a DOMAIN's no further
+            // than its size). A send mailbox without room for four bytes behind an initiate's
+            // header (the 16 bytes of the smallest) reads into `small`: an expedited value fits
+            // it, a longer one sends nothing with the initiate.
+            let data = out.get_mut(at..).unwrap_or_default();
+            let mut small = [0u8; 4];
+            let short = data.len() < small.len();
+            let (sent, size) = if is_domain::<D>(target) {
+                let size = match request {
+                    Upload::Initiate => domain_size(cx, target)?,
+                    Upload::Segment { .. } => size,
+                };
+                let rest = size.saturating_sub(offset);
+                let data = match data.get_mut(..rest) {
+                    Some(data) => data,
+                    None => data,
+                };
+                (fetch(cx, object, target, offset, data)?, size)
+            } else {
+                let into: &mut [u8] = if short { &mut small } else { data };
+                let read = read(cx.od, object, target, offset, into)?;
+                let size = read.size();
+                if request == Upload::Initiate && (1..=4).contains(&size) {
+                    // Expedited (no transfer): the data moves into the header (ETG.1000.6
+                    // Table 37): the four bytes read, of which the value's size count.
+                    let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
+                    let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
+                    let command = response::upload_expedited(size, target.complete);
+                    break 'initiate (command, value, 0);
+                }
+                (if short { 0 } else { read.copied() }, size)
             };
-            let rest = size.saturating_sub(offset);
-            let data = match data.get_mut(..rest) {
-                Some(data) => data,
-                None => data,
+            let done = offset + sent;
+            let last = done >= size;
+            match (last, request, &mut self.transfer) {
+                (true, ..) => self.transfer = None,
+                (false, Upload::Initiate, _) => {
+                    self.begin(cx, Kind::Upload, target, size, done, false);
+                }
+                (false, _, Some(t)) => t.advance(done),
+                (false, _, None) => {}
+            }
+            let Upload::Segment { toggle } = request else {
+                let size = u32::try_from(size).unwrap_or(u32::MAX);
+                break 'initiate (response::upload_normal(target.complete), size, sent);
             };
-            (fetch(cx, object, target, offset, data)?, size)
-        } else {
-            let into: &mut [u8] = if short { &mut small } else { data };
-            let read = read(cx.od, object, target, offset, into)?;
-            let size = read.size();
-            if request == Upload::Initiate && (1..=4).contains(&size) {
-                // Expedited (no transfer): the data moves into the header (ETG.1000.6 Table
-                // 37): the four bytes read, of which the value's size count.
-                let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
-                let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
-                let command = response::upload_expedited(size, target.complete);
-                let value = value.to_le_bytes();
-                return Ok(respond(out, SDO_RESPONSE, command, target, value));
+            let unused = MIN_SEGMENT_DATA.saturating_sub(sent);
+            if let Some(command) = out.get_mut(CoeHeader::SIZE) {
+                *command = response::upload_segment(toggle, unused as u8, last);
             }
-            (if short { 0 } else { read.copied() }, size)
+            let len = CoeHeader::SIZE + SEGMENT_HEADER + sent.max(MIN_SEGMENT_DATA);
+            return Ok(len.min(out.len()));
         };
-        let done = offset + sent;
-        let last = done >= size;
-        match (last, request, &mut self.transfer) {
-            (true, ..) => self.transfer = None,
-            (false, Upload::Initiate, _) => {
-                self.begin(cx, Kind::Upload, target, size, done, false);
-            }
-            (false, _, Some(t)) => t.advance(done),
-            (false, _, None) => {}
-        }
-        let Upload::Segment { toggle } = request else {
-            let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-            let command = response::upload_normal(target.complete);
-            return Ok(respond(out, SDO_RESPONSE, command, target, size_bytes) + sent);
-        };
-        let unused = MIN_SEGMENT_DATA.saturating_sub(sent);
-        if let Some(command) = out.get_mut(CoeHeader::SIZE) {
-            *command = response::upload_segment(toggle, unused as u8, last);
-        }
-        let len = CoeHeader::SIZE + SEGMENT_HEADER + sent.max(MIN_SEGMENT_DATA);
-        Ok(len.min(out.len()))
+        Ok(respond(out, SDO_RESPONSE, command, target, word.to_le_bytes()) + sent)
     }
 
     /// A download's initiate or segment: both store their bytes at the transfer's offset (an
