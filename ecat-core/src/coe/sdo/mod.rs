@@ -268,60 +268,63 @@ impl<const N: usize, L: Length> SdoServer<N, L> {
         // is written whole below.
         let [c0, c1] = SDO_RESPONSE;
         *out.first_chunk_mut().ok_or(AbortCode::OUT_OF_MEMORY)? = [c0, c1, 0, 0, 0, 0, 0, 0, 0, 0];
-        // The value is read straight into the answer's data area (a DOMAIN's no further than
-        // its size). A send mailbox without room for four bytes behind an initiate's header
-        // (the 16 bytes of the smallest) reads into `small`: an expedited value fits it, a
-        // longer one sends nothing with the initiate.
-        let data = out.get_mut(at..).unwrap_or_default();
-        let mut small = [0u8; 4];
-        let short = data.len() < small.len();
-        let (sent, size) = if is_domain::<D>(target) {
-            let size = match request {
-                Upload::Initiate => domain_size(cx, target)?,
-                Upload::Segment { .. } => size,
+        // Both initiates' answers leave by one header write (below the block): an expedited
+        // value's command and value, or a normal one's and the size; a segment's leaves within.
+        let (command, word, sent) = 'initiate: {
+            // The value is read straight into the answer's data area (a DOMAIN's no further
+            // than its size). A send mailbox without room for four bytes behind an initiate's
+            // header (the 16 bytes of the smallest) reads into `small`: an expedited value fits
+            // it, a longer one sends nothing with the initiate.
+            let data = out.get_mut(at..).unwrap_or_default();
+            let mut small = [0u8; 4];
+            let short = data.len() < small.len();
+            let (sent, size) = if is_domain::<D>(target) {
+                let size = match request {
+                    Upload::Initiate => domain_size(cx, target)?,
+                    Upload::Segment { .. } => size,
+                };
+                let rest = size.saturating_sub(offset);
+                let data = match data.get_mut(..rest) {
+                    Some(data) => data,
+                    None => data,
+                };
+                (fetch(cx, object, target, offset, data)?, size)
+            } else {
+                let into: &mut [u8] = if short { &mut small } else { data };
+                let read = read(cx.od, object, target, offset, into)?;
+                let size = read.size();
+                if request == Upload::Initiate && (1..=4).contains(&size) {
+                    // Expedited (no transfer): the data moves into the header (ETG.1000.6
+                    // Table 37): the four bytes read, of which the value's size count.
+                    let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
+                    let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
+                    let command = response::upload_expedited(size, target.complete);
+                    break 'initiate (command, value, 0);
+                }
+                (if short { 0 } else { read.copied() }, size)
             };
-            let rest = size.saturating_sub(offset);
-            let data = match data.get_mut(..rest) {
-                Some(data) => data,
-                None => data,
+            let done = offset + sent;
+            let last = done >= size;
+            match (last, request, &mut self.transfer) {
+                (true, ..) => self.transfer = None,
+                (false, Upload::Initiate, _) => {
+                    self.begin(cx, Kind::Upload, target, size, done, false);
+                }
+                (false, _, Some(t)) => t.advance(done),
+                (false, _, None) => {}
+            }
+            let Upload::Segment { toggle } = request else {
+                let size = u32::try_from(size).unwrap_or(u32::MAX);
+                break 'initiate (response::upload_normal(target.complete), size, sent);
             };
-            (fetch(cx, object, target, offset, data)?, size)
-        } else {
-            let into: &mut [u8] = if short { &mut small } else { data };
-            let read = read(cx.od, object, target, offset, into)?;
-            let size = read.size();
-            if request == Upload::Initiate && (1..=4).contains(&size) {
-                // Expedited (no transfer): the data moves into the header (ETG.1000.6 Table
-                // 37): the four bytes read, of which the value's size count.
-                let bytes = into.first_chunk::<4>().copied().unwrap_or_default();
-                let value = u32::from_le_bytes(bytes) & (u32::MAX >> (32 - 8 * size));
-                let command = response::upload_expedited(size, target.complete);
-                let value = value.to_le_bytes();
-                return Ok(respond(out, SDO_RESPONSE, command, target, value));
+            let unused = MIN_SEGMENT_DATA.saturating_sub(sent);
+            if let Some(command) = out.get_mut(CoeHeader::SIZE) {
+                *command = response::upload_segment(toggle, unused as u8, last);
             }
-            (if short { 0 } else { read.copied() }, size)
+            let len = CoeHeader::SIZE + SEGMENT_HEADER + sent.max(MIN_SEGMENT_DATA);
+            return Ok(len.min(out.len()));
         };
-        let done = offset + sent;
-        let last = done >= size;
-        match (last, request, &mut self.transfer) {
-            (true, ..) => self.transfer = None,
-            (false, Upload::Initiate, _) => {
-                self.begin(cx, Kind::Upload, target, size, done, false);
-            }
-            (false, _, Some(t)) => t.advance(done),
-            (false, _, None) => {}
-        }
-        let Upload::Segment { toggle } = request else {
-            let size_bytes = u32::try_from(size).unwrap_or(u32::MAX).to_le_bytes();
-            let command = response::upload_normal(target.complete);
-            return Ok(respond(out, SDO_RESPONSE, command, target, size_bytes) + sent);
-        };
-        let unused = MIN_SEGMENT_DATA.saturating_sub(sent);
-        if let Some(command) = out.get_mut(CoeHeader::SIZE) {
-            *command = response::upload_segment(toggle, unused as u8, last);
-        }
-        let len = CoeHeader::SIZE + SEGMENT_HEADER + sent.max(MIN_SEGMENT_DATA);
-        Ok(len.min(out.len()))
+        Ok(respond(out, SDO_RESPONSE, command, target, word.to_le_bytes()) + sent)
     }
 
     /// A download's initiate or segment: both store their bytes at the transfer's offset (an
@@ -411,7 +414,7 @@ impl<const N: usize, L: Length> SdoServer<N, L> {
         if self.checked_in != cx.state {
             // The rights of the initiate's state do not carry over (a download started in PREOP
             // that ends in SAFEOP: 0x08000022 for a PREOP-only entry, 0x06010006 for a mapped one).
-            resolve(&*cx.od, target, cx.state, Direction::Write)?;
+            check_entries(&*cx.od, &object.info, target, cx.state, Direction::Write)?;
         }
         let streamed = is_domain::<D>(target);
         let value: &[u8] = if streamed || (last && received == 0) {
@@ -508,7 +511,9 @@ enum Direction {
 }
 
 /// Finds the object and checks the access: existence, subindex, rights in `state`, then for a
-/// download that the process data does not own the entries ([`check_not_rx_mapped`]).
+/// download that the process data does not own the entries ([`check_not_rx_mapped`]). A single
+/// subindex is checked as a complete access of one entry ([`check_entries`]), bar an upload's,
+/// which needs the one entry's rights only.
 #[inline]
 fn resolve<D: ObjectDictionary>(
     od: &D,
@@ -517,26 +522,22 @@ fn resolve<D: ObjectDictionary>(
     direction: Direction,
 ) -> Result<(&'static Object<D>, Target), AbortCode> {
     let object = D::object(target.index).ok_or(AbortCode::NO_OBJECT)?;
-    if target.complete {
-        check_complete(od, object, target, state, direction)?;
-        return Ok((object, target));
-    }
     let info = &object.info;
-    let entry = (info.dense_entry(target.sub))
-        .or_else(|| info.entry(target.sub))
-        .ok_or_else(|| missing_entry(info, target.sub))?;
-    check_access(entry, state, direction)?;
-    if direction == Direction::Write && entry.access.rxpdo() {
-        check_not_rx_mapped(od, state, info.index, target.sub)?;
+    let mut domain = false;
+    if !target.complete {
+        let entry = (info.dense_entry(target.sub))
+            .or_else(|| info.entry(target.sub))
+            .ok_or_else(|| missing_entry(info, target.sub))?;
+        domain = const { crate::dictionary::has_domain(D::OBJECTS) }
+            && entry.data_type == DataType::Domain;
+        // An upload's rights are the one entry's: no walk on the expedited upload's way.
+        if direction == Direction::Read {
+            check_access(entry, state, direction)?;
+            return Ok((object, Target { domain, ..target }));
+        }
     }
-    Ok((
-        object,
-        Target {
-            domain: const { crate::dictionary::has_domain(D::OBJECTS) }
-                && entry.data_type == DataType::Domain,
-            ..target
-        },
-    ))
+    check_entries(od, info, target, state, direction)?;
+    Ok((object, Target { domain, ..target }))
 }
 
 /// Why a single access to `object`'s subindex `sub`, which it does not declare, is refused:
@@ -555,21 +556,26 @@ fn missing_entry(object: &ObjectInfo, sub: u8) -> AbortCode {
     }
 }
 
-/// A complete access to `object` from `target.sub`: allowed on the object, every entry
-/// accessible in `state` (from the subindex on, SI0 aside: it carries the count), then for a
-/// download none of them owned by the process data. Out of line, away from the single
-/// entries' way.
+/// The entries `target` covers in `object`: its subindex, or for a complete access every
+/// entry from it (SI0 aside: it carries the count; [`complete_access::check`] first). Every one
+/// accessible in `state`, then for a download none of them owned by the process data. Out of
+/// line: the one walk of both accesses.
 #[inline(never)]
-fn check_complete<D: ObjectDictionary>(
+fn check_entries<D: ObjectDictionary>(
     od: &D,
-    object: &Object<D>,
+    info: &ObjectInfo,
     target: Target,
     state: AlState,
     direction: Direction,
 ) -> Result<(), AbortCode> {
-    let info = &object.info;
-    complete_access::check(info, target.sub)?;
-    let entries = || complete_access::declared(info, target.sub.max(1), info.max_sub);
+    let (first, last) = match target.complete {
+        true => {
+            complete_access::check(info, target.sub)?;
+            (target.sub.max(1), info.max_sub)
+        }
+        false => (target.sub, target.sub),
+    };
+    let entries = || complete_access::declared(info, first, last);
     entries().try_for_each(|(_, entry)| check_access(entry, state, direction))?;
     if direction == Direction::Read {
         return Ok(());
