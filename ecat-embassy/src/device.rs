@@ -174,8 +174,8 @@ where
     /// on the LAN9252; docs/performance.md). A SyncManager's mailbox buffer is released when its
     /// last byte is read and marked full when its last byte is written, so a mailbox message
     /// moved in order, chunk by chunk, is handed over exactly as a whole one.
-    pub const fn with_chunk(mut self, chunk: u16) -> Self {
-        self.common.esc.chunk = chunk;
+    pub fn with_chunk(mut self, chunk: u16) -> Self {
+        self.common.esc.set_chunk(chunk);
         self
     }
 

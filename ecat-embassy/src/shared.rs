@@ -57,11 +57,13 @@ impl Turn {
     }
 }
 
-/// What the runners know about each other, behind a short critical section. Every field is a
-/// `Cell`: the routing is only ever borrowed shared, so no critical section checks a borrow
-/// flag or carries its panic path.
-// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the six flags in the
-// first 8 bytes.
+/// What the runners know about each other, behind a short critical section. Every field but
+/// the chunk (fixed before the runners start) is a `Cell`: the routing is only ever borrowed
+/// shared, so no critical section checks a borrow flag or carries its panic path.
+// `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the six flags and the
+// chunk in the first 8 bytes: no padding before the words, so every byte of the routing's start
+// is written and `SharedEsc::with_chunk` builds it in place, not on the stack and copied
+// (docs/performance.md, "Session 13: … (branch init10)").
 #[repr(C)]
 struct Routing {
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
@@ -83,6 +85,8 @@ struct Routing {
     /// The layout changed since the process-data runner last looked: [`SharedEsc::pd_view`]
     /// hands it over (the runners compare no layouts).
     layout_news: Cell<bool>,
+    /// The largest chunk of a state-machine access, in bytes; 0: whole accesses.
+    chunk: u16,
     /// State-machine events seen by the process-data runner and not yet taken.
     esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
@@ -274,8 +278,6 @@ const EMERGENCIES: usize = ecat_core::coe::EMERGENCY_QUEUE;
 pub(crate) struct SharedEsc<P> {
     pdi: Mutex<Cs, P>,
     routing: BlockingMutex<Cs, Routing>,
-    /// The largest chunk of a state-machine access, in bytes; 0: whole accesses.
-    pub(crate) chunk: u16,
 }
 
 impl<P: Pdi> SharedEsc<P> {
@@ -289,9 +291,9 @@ impl<P: Pdi> SharedEsc<P> {
     /// chunk by chunk, is handed over exactly as a whole one.
     pub(crate) const fn with_chunk(pdi: P, chunk: u16) -> Self {
         Self {
-            chunk,
             pdi: Mutex::new(pdi),
             routing: BlockingMutex::new(Routing {
+                chunk,
                 esm_events: Cell::new(AlEvent::NONE),
                 esm_holds_irq: Cell::new(false),
                 pd_events: Cell::new(AlEvent::NONE),
@@ -346,8 +348,8 @@ impl<P: Pdi> SharedEsc<P> {
             loop {
                 // The guard dropped at the block's end, not moved: the future keeps no drop flag.
                 let seen = {
-                    let mut pdi = self.take_pdi(turn).await;
-                    let len = match (turn, self.chunk) {
+                    let (mut pdi, chunk) = self.take_pdi(turn).await;
+                    let len = match (turn, chunk) {
                         (Turn::ProcessData, _) | (_, 0) => rest.len(),
                         (Turn::EsmFirst | Turn::EsmLater, chunk) => {
                             pdi.chunk(address, rest.len(), usize::from(chunk)).max(1)
@@ -385,7 +387,7 @@ impl<P: Pdi> SharedEsc<P> {
     /// ([`SharedEsc::observe_access`]); the state-machine runner by the process-data runner's
     /// next view ([`SharedEsc::pd_view`]): the lock's own waiting is not used
     /// (docs/performance.md, "Codegen rules").
-    fn take_pdi(&self, turn: Turn) -> impl Future<Output = MutexGuard<'_, Cs, P>> + '_ {
+    fn take_pdi(&self, turn: Turn) -> impl Future<Output = (MutexGuard<'_, Cs, P>, u16)> + '_ {
         poll_fn(move |cx| {
             self.with(|r| {
                 let pd = turn == Turn::ProcessData;
@@ -425,9 +427,14 @@ impl<P: Pdi> SharedEsc<P> {
                 if sample != Sample::Usual {
                     pdi.sample(sample);
                 }
-                Poll::Ready(pdi)
+                Poll::Ready((pdi, r.chunk))
             })
         })
+    }
+
+    /// Sets the largest chunk of a state-machine access ([`SharedEsc::with_chunk`]).
+    pub(crate) fn set_chunk(&mut self, chunk: u16) {
+        self.routing.get_mut().chunk = chunk;
     }
 
     /// After `runner` released the PDI: wakes the process-data runner, which may wait for it
