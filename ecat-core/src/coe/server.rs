@@ -85,6 +85,11 @@ impl<const N: usize, L: Length> Default for CoeServer<N, L> {
     }
 }
 
+/// The service codes a request may carry that the server answers (ETG.1000.6 Table 29).
+const SDO_REQUEST: u8 = Service::SdoRequest.code();
+/// See [`SDO_REQUEST`].
+const SDO_INFORMATION: u8 = Service::SdoInformation.code();
+
 /// CoE's [`Handler`]: the [`CoeServer`] with the dictionary and hooks of one service call.
 pub(crate) struct Coe<'a, 'c, const N: usize, L: Length, D, H> {
     server: &'a mut CoeServer<N, L>,
@@ -97,17 +102,19 @@ impl<const N: usize, L: Length, D: ObjectDictionary, H: ObjectHooks<D>> Handler
     const KIND: MailboxType = MailboxType::Coe;
 
     fn request(&mut self, _: Env, payload: &[u8], reply: &mut [u8]) -> Reply {
-        let Some(coe) = CoeHeader::parse(payload) else {
+        // The service's 4-bit code (header bits 12..15) straight from the byte, matched on
+        // the codes the server answers (through `Service` it cost a table and a bit test).
+        let Some((&[_, high], payload)) = payload.split_first_chunk::<{ CoeHeader::SIZE }>()
+        else {
             return Reply::Error(MailboxError::INVALID_SIZE);
         };
-        let payload = payload.get(CoeHeader::SIZE..).unwrap_or_default();
         let server = &mut *self.server;
-        let len = match coe.service {
-            Service::SdoRequest if payload.len() < 8 => {
+        let len = match high >> 4 {
+            SDO_REQUEST if payload.len() < 8 => {
                 return Reply::Error(MailboxError::INVALID_SIZE);
             }
-            Service::SdoRequest => server.sdo.request(&mut *self.cx, payload, reply),
-            Service::SdoInformation => match InfoRequest::parse(payload) {
+            SDO_REQUEST => server.sdo.request(&mut *self.cx, payload, reply),
+            SDO_INFORMATION => match InfoRequest::parse(payload) {
                 Some(request) => server.sdo_info.request::<D>(request, reply),
                 None => {
                     server.sdo_info.abandon();

@@ -179,7 +179,10 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
         // A write to 0x1C32 changes the sync choices at once, the rest with the refresh.
         let configured = u8::from(core::mem::take(&mut self.writes.configured));
         self.due.set(configured * (Due::REFRESH | Due::LAYOUT));
-        if let Some(error) = self.mailbox.take_refused() {
+        // Only a dictionary with a diagnosis history logs it (none: known at compile time).
+        if od.diagnosis().is_some()
+            && let Some(error) = self.mailbox.take_refused()
+        {
             self.log_refused(now, od, error);
         }
         // An answer to a request takes the request's place: SM0 stays blocked and SM1 free, so
