@@ -104,8 +104,7 @@ impl<const N: usize, L: Length, D: ObjectDictionary, H: ObjectHooks<D>> Handler
     fn request(&mut self, _: Env, payload: &[u8], reply: &mut [u8]) -> Reply {
         // The service's 4-bit code (header bits 12..15) straight from the byte, matched on
         // the codes the server answers (through `Service` it cost a table and a bit test).
-        let Some((&[_, high], payload)) = payload.split_first_chunk::<{ CoeHeader::SIZE }>()
-        else {
+        let Some((&[_, high], payload)) = payload.split_first_chunk::<{ CoeHeader::SIZE }>() else {
             return Reply::Error(MailboxError::INVALID_SIZE);
         };
         let server = &mut *self.server;
