@@ -619,9 +619,17 @@ impl<'a, P: Pdi> Status<'a, P> {
     /// Raises an emergency (ETG.1000.6 §5.6.4) from anywhere in the firmware: the state-machine
     /// runner queues it in the mailbox, which sends it when SM1 is free and the SubDevice is in
     /// PREOP, SAFEOP or OP. At most 4 wait between two turns of that runner; beyond that the
-    /// oldest is dropped.
+    /// oldest is dropped and counted ([`Status::emergencies_dropped`]).
     pub fn raise_emergency(self, emergency: Emergency) {
         self.0.raise_emergency(emergency);
+    }
+
+    /// How many emergencies [`raise_emergency`](Self::raise_emergency) dropped because 4 were
+    /// already waiting for the state-machine runner (saturating at 65 535). The mailbox's own
+    /// queue, which waits for SM1, counts its drops apart
+    /// ([`SubDevice::emergencies_dropped`](ecat_core::SubDevice::emergencies_dropped)).
+    pub fn emergencies_dropped(self) -> u16 {
+        self.0.with(|r| r.emergencies.get().dropped())
     }
 
     /// The AL status and code last published.

@@ -442,6 +442,40 @@ fn four_emergencies_wait_behind_an_unread_one_and_the_oldest_are_dropped() {
     });
 }
 
+/// The firmware may raise emergencies faster than the state-machine runner takes them: 4 wait
+/// for it (`Status::raise_emergency`); beyond that the oldest is dropped and counted, and
+/// `Status::emergencies_dropped` says how many, so no emergency is lost silently.
+#[test]
+fn emergencies_raised_between_two_turns_beyond_four_are_dropped_and_counted() {
+    let status = std::rc::Rc::new(std::cell::Cell::new(None));
+    let keep = status.clone();
+    let device = Device::new(common::drive(), BlobApp::default(), Loopback)
+        .with_dictionary(TestOd::default());
+    harness::run_with_tasks(
+        device,
+        move |s| {
+            keep.set(Some(s));
+            Vec::new()
+        },
+        async move |master| {
+            walk_to(&master, AlState::PreOp).await;
+            let status = status.get().expect("the harness hands over the status");
+            assert_eq!(status.emergencies_dropped(), 0);
+            let mut c = client(&master);
+            // No turn of the runner in between: the application's queue holds the last 4.
+            for code in 0x2001..=0x2006 {
+                master.raise_emergency(emergency(code));
+            }
+            assert_eq!(status.emergencies_dropped(), 2);
+            for (counter, code) in (1..).zip(0x2003..=0x2006) {
+                assert_eq!(c.read().await, Some(emergency_frame(counter, code)));
+            }
+            assert_eq!(c.read().await, None, "0x2001 and 0x2002 dropped");
+            assert_eq!(status.emergencies_dropped(), 2, "counted once");
+        },
+    );
+}
+
 #[test]
 fn emergencies_need_a_mailbox_state() {
     run(async |master| {
