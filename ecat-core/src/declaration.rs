@@ -231,10 +231,10 @@ macro_rules! __ecat_impl {
         impl $crate::dictionary::ObjectDictionary for $dict {
             const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
 
-            const INDICES: &'static [u16] = &$crate::dictionary::indices::<
-                $dict,
-                { <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS.len() },
-            >(<$dict as $crate::dictionary::ObjectDictionary>::OBJECTS);
+            const INDICES: &'static [u16] = $crate::coe::sdo_info::all_indices(
+                <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
+                <$dict as $crate::dictionary::ObjectDictionary>::OD_LISTS,
+            );
 
             const LIMITS: &'static [u8] = {
                 const GROUPS: &[&[$crate::dictionary::limits::Declared]] = &[

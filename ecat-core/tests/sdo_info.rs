@@ -126,6 +126,22 @@ fn od_list_type_0_gives_the_lengths_of_lists_1_to_5() {
 }
 
 #[test]
+fn od_lists_of_a_device_without_a_dictionary_are_empty() {
+    let list = |list_type: u8| {
+        ask_with::<()>(
+            &mut SdoInfo::new(),
+            &[0x01, 0x00, 0x00, 0x00, list_type, 0x00],
+            MBX_128,
+        )
+    };
+    assert_eq!(list(0), message(0x02, &[&[0x00, 0x00], &[0x00; 10]]));
+    for list_type in 1..=5 {
+        assert_eq!(list(list_type), message(0x02, &[&[list_type, 0x00]]));
+    }
+    assert_eq!(list(6), info_error(UNSUPPORTED_ACCESS));
+}
+
+#[test]
 fn od_list_types_1_to_5_list_the_objects_with_the_flag_in_any_entry() {
     let list = |list_type: u8| ask(&[0x01, 0x00, 0x00, 0x00, list_type, 0x00]);
     assert_eq!(

@@ -291,15 +291,15 @@ const fn list_lengths<D>(objects: &[Object<D>]) -> [u16; 6] {
     lengths
 }
 
-/// Where each of lists 2..=5 starts in [`ObjectDictionary::OD_LISTS`] (by list code less 2),
-/// and where the last ends.
+/// Where each list (by its code, 0..=5) starts in [`ObjectDictionary::OD_LISTS`], and where
+/// the last ends: each list is its list type word and then its values.
 #[allow(clippy::indexing_slicing)] // constant positions; evaluated at compile time
-const fn list_starts<D>(objects: &[Object<D>]) -> [usize; 5] {
+const fn list_starts<D>(objects: &[Object<D>]) -> [usize; 7] {
     let lengths = list_lengths(objects);
-    let mut starts = [0; 5];
+    let mut starts = [0; 7];
     let mut l = 1;
     while l < starts.len() {
-        starts[l] = starts[l - 1] + lengths[l + 1] as usize;
+        starts[l] = starts[l - 1] + 1 + lengths[l - 1] as usize;
         l += 1;
     }
     starts
@@ -309,31 +309,55 @@ const fn list_starts<D>(objects: &[Object<D>]) -> [usize; 5] {
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // a constant position; evaluated at compile time
 pub const fn od_lists_len<D>(objects: &[Object<D>]) -> usize {
-    list_starts(objects)[4]
+    list_starts(objects)[6]
 }
 
-/// [`ObjectDictionary::OD_LISTS`] of a dictionary of `objects`: the indices of lists 2..=5's
-/// objects, list after list.
+/// [`ObjectDictionary::OD_LISTS`] of a dictionary of `objects`: lists 0..=5 one after the
+/// other, each its list type word (which opens a Get OD List response) and then its values —
+/// list 0 the lengths of lists 1..=5, the others their objects' indices in ascending order.
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
 pub const fn od_lists<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
-    let mut indices = [0; N];
+    let lengths = list_lengths(objects);
+    let mut words = [0; N];
     let mut n = 0;
-    let mut l = 1;
-    while l < OBJECT_LISTS.len() {
-        let list = OBJECT_LISTS[l];
-        let mut i = 0;
-        while i < objects.len() {
-            if list.contains(&objects[i].info) {
-                indices[n] = objects[i].info.index;
+    let mut l = 0;
+    while l < lengths.len() {
+        words[n] = l as u16;
+        n += 1;
+        if l == 0 {
+            let mut k = 1;
+            while k < lengths.len() {
+                words[n] = lengths[k];
                 n += 1;
+                k += 1;
             }
-            i += 1;
+        } else {
+            let list = OBJECT_LISTS[l - 1];
+            let mut i = 0;
+            while i < objects.len() {
+                if list.contains(&objects[i].info) {
+                    words[n] = objects[i].info.index;
+                    n += 1;
+                }
+                i += 1;
+            }
         }
         l += 1;
     }
     assert!(n == N);
-    indices
+    words
+}
+
+/// [`ObjectDictionary::INDICES`] of a dictionary of `objects` whose
+/// [`ObjectDictionary::OD_LISTS`] is `lists`: list 1's values, the same words in flash once.
+#[doc(hidden)]
+#[allow(clippy::indexing_slicing)] // a constant position; evaluated at compile time
+pub const fn all_indices<D>(objects: &[Object<D>], lists: &'static [u16]) -> &'static [u16] {
+    let starts = list_starts(objects);
+    // List 1 starts after list 0's six words: its type word, then every index.
+    let (_, all) = lists.split_at(starts[1] + 1);
+    all.split_at(objects.len()).0
 }
 
 /// The value-info byte of a Get Entry Description request and response: which optional fields
@@ -429,7 +453,7 @@ impl SdoInfo {
     /// Writes the next fragment of `transfer` into `data`; keeps the transfer while values remain.
     fn send(&mut self, mut transfer: ListTransfer, data: &mut [u8]) -> Response {
         let response = transfer.fragment(data);
-        self.transfer = Some(transfer).filter(|t| !t.values.is_empty());
+        self.transfer = Some(transfer).filter(|t| !t.words.is_empty());
         response
     }
 
@@ -441,8 +465,8 @@ impl SdoInfo {
     ) -> Result<Response, AbortCode> {
         match request {
             InfoRequest::OdList(code) => {
-                let list = ListType::from_code(code).ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
-                Ok(self.send(ListTransfer::new::<D>(list), data))
+                let transfer = ListTransfer::new::<D>(code).ok_or(AbortCode::UNSUPPORTED_ACCESS)?;
+                Ok(self.send(transfer, data))
             }
             InfoRequest::ObjectDescription(index) => object_description::<D>(index, data),
             InfoRequest::EntryDescription {
@@ -603,49 +627,23 @@ fn put_value<D: ObjectDictionary>(
 
 /// Get OD List (ETG.1000.6 §5.6.3): a response in progress. Request: u16 list type.
 /// Response: u16 list type (first fragment only), then u16 values: the indices of the list's
-/// objects in ascending order, or for list type 0 the lengths of lists 1..=5 — every list a
-/// table in flash, built at compile time, which the fragments copy from.
+/// objects in ascending order, or for list type 0 the lengths of lists 1..=5 — every list,
+/// its type word first, a table in flash built at compile time
+/// ([`ObjectDictionary::OD_LISTS`]), which the fragments copy from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct ListTransfer {
-    list: ListType,
-    /// The list type word is still to be sent: it opens the first fragment.
-    opening: bool,
-    /// The values still to be sent.
-    values: &'static [u16],
+    /// The words still to be sent.
+    words: &'static [u16],
 }
 
 impl ListTransfer {
-    fn new<D: ObjectDictionary>(list: ListType) -> Self {
-        let values: &'static [u16] = if const { D::OBJECTS.is_empty() } {
-            // No table for a device without a dictionary: list type 0's five counts, no object.
-            match list {
-                ListType::Lengths => &[0; OBJECT_LISTS.len()],
-                _ => &[],
-            }
-        } else {
-            match list {
-                // Lists 1..=5's lengths: the table after list type 0's own.
-                ListType::Lengths => const { &list_lengths(D::OBJECTS) }
-                    .get(1..)
-                    .unwrap_or_default(),
-                ListType::All => D::INDICES,
-                list => {
-                    let starts = const { &list_starts(D::OBJECTS) };
-                    let at = usize::from(list.code()) - 2;
-                    let (start, end) = (starts.get(at), starts.get(at + 1));
-                    match (start, end) {
-                        (Some(&start), Some(&end)) => D::OD_LISTS.get(start..end),
-                        _ => None,
-                    }
-                    .unwrap_or_default()
-                }
-            }
-        };
-        Self {
-            list,
-            opening: true,
-            values,
-        }
+    /// The transfer of list type `code`, `None` above 5.
+    fn new<D: ObjectDictionary>(code: u16) -> Option<Self> {
+        let starts = const { &list_starts(D::OBJECTS) };
+        let at = usize::from(code);
+        let (&start, &end) = (starts.get(at)?, starts.get(at + 1)?);
+        let words = D::OD_LISTS.get(start..end)?;
+        Some(Self { words })
     }
 
     /// Writes the next fragment's service data into `data`: as many 16-bit words as fit.
@@ -653,22 +651,14 @@ impl ListTransfer {
     fn fragment(&mut self, data: &mut [u8]) -> Response {
         let words_per_fragment = (data.len() / 2).max(1);
         let mut len = 0;
-        for word in data.chunks_exact_mut(2) {
-            let value = if self.opening {
-                self.opening = false;
-                self.list.code()
-            } else if let Some((&value, rest)) = self.values.split_first() {
-                self.values = rest;
-                value
-            } else {
-                break;
-            };
+        for (word, &value) in data.chunks_exact_mut(2).zip(self.words) {
             if let Ok(word) = <&mut [u8; 2]>::try_from(word) {
                 *word = value.to_le_bytes();
             }
             len += 2;
         }
-        let fragments_left = self.values.len().div_ceil(words_per_fragment);
+        self.words = self.words.get(len / 2..).unwrap_or_default();
+        let fragments_left = self.words.len().div_ceil(words_per_fragment);
         Response {
             code: Opcode::GetOdListResponse.code(),
             fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),

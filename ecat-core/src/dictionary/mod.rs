@@ -100,8 +100,9 @@ pub trait ObjectDictionary: Sized + 'static {
     /// Every object, sorted by index.
     const OBJECTS: &'static [Object<Self>];
 
-    /// Every object's index, parallel to [`Self::OBJECTS`] ([`indices`]): what [`Self::object`]
-    /// searches, two bytes a step instead of a whole [`Object`].
+    /// Every object's index, parallel to [`Self::OBJECTS`]: what [`Self::object`] searches, two
+    /// bytes a step instead of a whole [`Object`]. [`dictionary!`](crate::dictionary!) takes it
+    /// from OD list 1 in [`Self::OD_LISTS`] (the same words, in flash once).
     const INDICES: &'static [u16];
 
     /// The number of PDO-mappable entries (RxPDO or TxPDO), as a [`Length`]: the PDO layout
@@ -129,13 +130,14 @@ pub trait ObjectDictionary: Sized + 'static {
     /// no walk of the descriptions.
     const MAPPABLE: &'static [u32];
 
-    /// The indices of the objects of SDO Information's OD lists 2..=5 (RxPDO-, TxPDO-mappable,
-    /// backup, settings; ETG.1000.6 Table 43), one list after the other, ascending in each:
-    /// built by [`dictionary!`](crate::dictionary!) at compile time, so a Get OD List response
-    /// copies words from a table instead of testing every object's entries. List 1 (all
-    /// objects) is [`Self::INDICES`].
+    /// SDO Information's OD lists 0..=5 (ETG.1000.6 Table 43: the lengths of lists 1..=5, then
+    /// all objects, RxPDO-, TxPDO-mappable, backup, settings), one after the other, each its
+    /// list type word and then its values (indices ascending): built by
+    /// [`dictionary!`](crate::dictionary!) at compile time, so a Get OD List response copies
+    /// words from a table instead of testing every object's entries. The default is the lists
+    /// of a dictionary without objects.
     #[doc(hidden)]
-    const OD_LISTS: &'static [u16] = &[];
+    const OD_LISTS: &'static [u16] = &[0, 0, 0, 0, 0, 0, 1, 2, 3, 4, 5];
 
     /// Every declared default, minimum, maximum and unit, encoded at compile time by
     /// [`dictionary!`](crate::dictionary!) as records of index, subindex, kind, length and
@@ -402,19 +404,6 @@ pub trait ObjectHooks<D> {
 impl<D> ObjectHooks<D> for () {}
 
 // --- helpers for the code `dictionary!` generates -------------------------------------------
-
-/// The index of each of `objects`, `N` = their number: [`ObjectDictionary::INDICES`].
-#[doc(hidden)]
-#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-pub const fn indices<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
-    let mut indices = [0; N];
-    let mut i = 0;
-    while i < N && i < objects.len() {
-        indices[i] = objects[i].info.index;
-        i += 1;
-    }
-    indices
-}
 
 #[doc(hidden)]
 pub const fn data_type_of<S, T: Value>(_: fn(&S) -> &T) -> DataType {
