@@ -649,20 +649,19 @@ impl ListTransfer {
     /// Writes the next fragment's service data into `data`: as many 16-bit words as fit.
     /// The one writer of OD-list fragments, first and following.
     fn fragment(&mut self, data: &mut [u8]) -> Response {
-        let words_per_fragment = (data.len() / 2).max(1);
-        let mut len = 0;
-        for (word, &value) in data.chunks_exact_mut(2).zip(self.words) {
+        let room = data.len() / 2;
+        let (now, rest) = self.words.split_at(self.words.len().min(room));
+        for (word, &value) in data.chunks_exact_mut(2).zip(now) {
             if let Ok(word) = <&mut [u8; 2]>::try_from(word) {
                 *word = value.to_le_bytes();
             }
-            len += 2;
         }
-        self.words = self.words.get(len / 2..).unwrap_or_default();
-        let fragments_left = self.words.len().div_ceil(words_per_fragment);
+        self.words = rest;
+        let fragments_left = rest.len().div_ceil(room.max(1));
         Response {
             code: Opcode::GetOdListResponse.code(),
             fragments_left: u16::try_from(fragments_left).unwrap_or(u16::MAX),
-            len,
+            len: now.len() * 2,
         }
     }
 }
