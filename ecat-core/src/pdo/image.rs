@@ -42,13 +42,10 @@ fn repeat_bits(image: &mut [u8], repeat: &Repeat) {
     if from + len > bits || to + len > bits {
         return;
     }
-    for i in 0..len.min(64) {
-        let (s, d) = (from + i, to + i);
-        let bit = image.get(s / 8).map_or(0, |b| b >> (s % 8) & 1);
-        if let Some(byte) = image.get_mut(d / 8) {
-            *byte = (*byte & !(1 << (d % 8))) | (bit << (d % 8));
-        }
-    }
+    // Through the entry's (at most 8) bytes: the one bit copier, twice.
+    let mut value = [0u8; 8];
+    copy_bits(image, from, &mut value, 0, 0, len.min(64));
+    copy_bits(&value, 0, image, to, 0, len.min(64));
 }
 
 /// A field PDO-mappable entries live in: a value (one entry) or an ARRAY's elements (one entry
