@@ -292,14 +292,17 @@ const fn list_lengths<D>(objects: &[Object<D>]) -> [u16; 6] {
 }
 
 /// Where each list (by its code, 0..=5) starts in [`ObjectDictionary::OD_LISTS`], and where
-/// the last ends: each list is its list type word and then its values.
+/// the last ends: each list is its list type word and then its values. 16-bit positions (a
+/// table of 14 bytes in flash): a dictionary of more words does not compile.
 #[allow(clippy::indexing_slicing)] // constant positions; evaluated at compile time
-const fn list_starts<D>(objects: &[Object<D>]) -> [usize; 7] {
+const fn list_starts<D>(objects: &[Object<D>]) -> [u16; 7] {
     let lengths = list_lengths(objects);
     let mut starts = [0; 7];
     let mut l = 1;
     while l < starts.len() {
-        starts[l] = starts[l - 1] + 1 + lengths[l - 1] as usize;
+        let end = starts[l - 1] as usize + 1 + lengths[l - 1] as usize;
+        assert!(end <= u16::MAX as usize, "at most 65 535 words of OD lists");
+        starts[l] = end as u16;
         l += 1;
     }
     starts
@@ -309,7 +312,7 @@ const fn list_starts<D>(objects: &[Object<D>]) -> [usize; 7] {
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // a constant position; evaluated at compile time
 pub const fn od_lists_len<D>(objects: &[Object<D>]) -> usize {
-    list_starts(objects)[6]
+    list_starts(objects)[6] as usize
 }
 
 /// [`ObjectDictionary::OD_LISTS`] of a dictionary of `objects`: lists 0..=5 one after the
@@ -356,7 +359,7 @@ pub const fn od_lists<D, const N: usize>(objects: &[Object<D>]) -> [u16; N] {
 pub const fn all_indices<D>(objects: &[Object<D>], lists: &'static [u16]) -> &'static [u16] {
     let starts = list_starts(objects);
     // List 1 starts after list 0's six words: its type word, then every index.
-    let (_, all) = lists.split_at(starts[1] + 1);
+    let (_, all) = lists.split_at(starts[1] as usize + 1);
     all.split_at(objects.len()).0
 }
 
@@ -642,7 +645,7 @@ impl ListTransfer {
         let starts = const { &list_starts(D::OBJECTS) };
         let at = usize::from(code);
         let (&start, &end) = (starts.get(at)?, starts.get(at + 1)?);
-        let words = D::OD_LISTS.get(start..end)?;
+        let words = D::OD_LISTS.get(usize::from(start)..usize::from(end))?;
         Some(Self { words })
     }
 
