@@ -652,12 +652,11 @@ impl ListTransfer {
     /// Writes the next fragment's service data into `data`: as many 16-bit words as fit.
     /// The one writer of OD-list fragments, first and following.
     fn fragment(&mut self, data: &mut [u8]) -> Response {
-        let room = data.len() / 2;
+        let (slots, _) = data.as_chunks_mut::<2>();
+        let room = slots.len();
         let (now, rest) = self.words.split_at(self.words.len().min(room));
-        for (word, &value) in data.chunks_exact_mut(2).zip(now) {
-            if let Ok(word) = <&mut [u8; 2]>::try_from(word) {
-                *word = value.to_le_bytes();
-            }
+        for (slot, &value) in slots.iter_mut().zip(now) {
+            *slot = value.to_le_bytes();
         }
         self.words = rest;
         let fragments_left = rest.len().div_ceil(room.max(1));
