@@ -53,8 +53,8 @@
 //!   `next_fragment` abandons the transfer and returns `None`.
 //!
 //! ## Work per call
-//! Bounded by the dictionary size: the lists' lengths are a table made at compile time
-//! (`list_lengths`), so an OD-list call scans `D::OBJECTS` once, to fill the message.
+//! Bounded by the message size: every OD list is a table made at compile time
+//! ([`ObjectDictionary::OD_LISTS`]), so an OD-list call copies the words that fit.
 
 use super::{AbortCode, CoeHeader, Service};
 use crate::dictionary::{
