@@ -207,15 +207,26 @@ where
                         continue 'run;
                     }
                     Step::Events { any } => match sub.poll_event() {
-                        // Asked at once, and waited for without accesses in between.
-                        Some(Event::TransitionRequested(t)) => {
-                            decision.set(Some(common.app.lock(|app, _| app.on_transition(t))));
+                        // The application told in one critical section for both; a request is
+                        // asked at once, and waited for without accesses in between.
+                        Some(
+                            event @ (Event::TransitionRequested(t) | Event::StateChanged(t)),
+                        ) => {
+                            let requested = matches!(event, Event::TransitionRequested(_));
+                            let asked = common.app.lock(|app, _| {
+                                if requested {
+                                    Some(app.on_transition(t))
+                                } else {
+                                    app.on_state_change(t);
+                                    None
+                                }
+                            });
+                            if !requested {
+                                step = Step::Events { any: true };
+                                continue 'run;
+                            }
+                            decision.set(asked);
                             step = Step::Answer(t);
-                        }
-                        Some(Event::StateChanged(t)) => {
-                            common.app.lock(|app, _| app.on_state_change(t));
-                            step = Step::Events { any: true };
-                            continue 'run;
                         }
                         Some(Event::TransitionAborted(_)) => {
                             step = Step::Events { any: true };
