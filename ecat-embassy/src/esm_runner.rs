@@ -207,19 +207,24 @@ where
                         continue 'run;
                     }
                     Step::Events { any } => match sub.poll_event() {
-                        // Asked at once, and waited for without accesses in between.
-                        Some(Event::TransitionRequested(t)) => {
-                            decision.set(Some(common.app.lock(|app, _| app.on_transition(t))));
+                        // Every event told in one place (an aborted transition in an empty
+                        // critical section); a request is asked at once, and waited for without
+                        // accesses in between.
+                        Some(event) => {
+                            let asked = common.app.lock(|app, _| match event {
+                                Event::TransitionRequested(t) => Some((t, app.on_transition(t))),
+                                Event::StateChanged(t) => {
+                                    app.on_state_change(t);
+                                    None
+                                }
+                                Event::TransitionAborted(_) => None,
+                            });
+                            let Some((t, answer)) = asked else {
+                                step = Step::Events { any: true };
+                                continue 'run;
+                            };
+                            decision.set(Some(answer));
                             step = Step::Answer(t);
-                        }
-                        Some(Event::StateChanged(t)) => {
-                            common.app.lock(|app, _| app.on_state_change(t));
-                            step = Step::Events { any: true };
-                            continue 'run;
-                        }
-                        Some(Event::TransitionAborted(_)) => {
-                            step = Step::Events { any: true };
-                            continue 'run;
                         }
                         // What events led to (a new state, emergencies taken while answering)
                         // may have given the mailbox work: one more pass before waiting.
