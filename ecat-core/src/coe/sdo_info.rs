@@ -642,7 +642,16 @@ struct ListTransfer {
 impl ListTransfer {
     /// The transfer of list type `code`, `None` above 5.
     fn new<D: ObjectDictionary>(code: u16) -> Option<Self> {
-        let starts = const { &list_starts(D::OBJECTS) };
+        // The positions are the objects'; the table must be theirs (as `dictionary!` makes it),
+        // or a list would be cut from the wrong words: a dictionary whose table is not does not
+        // compile.
+        let starts = const {
+            assert!(
+                D::OD_LISTS.len() == od_lists_len(D::OBJECTS),
+                "OD_LISTS is not the OD lists of OBJECTS (`coe::sdo_info::od_lists`)"
+            );
+            &list_starts(D::OBJECTS)
+        };
         let at = usize::from(code);
         let (&start, &end) = (starts.get(at)?, starts.get(at + 1)?);
         let words = D::OD_LISTS.get(usize::from(start)..usize::from(end))?;
