@@ -158,17 +158,22 @@ impl Routing {
     /// process-data trigger to the process-data runner.
     fn observe(&self, runner: Runner, event: AlEvent) {
         self.last_event.set(event);
-        let esm = self.esm_share(event);
-        if runner == Runner::Esm {
-            self.esm_events.set(AlEvent::NONE);
-        } else if !esm.is_empty() {
-            self.esm_events.set(self.esm_events.get() | esm);
-            self.esm_waker.wake();
-        }
-        let pd = event.intersection(self.trigger());
-        if !pd.is_empty() && runner == Runner::Esm {
-            self.pd_events.set(self.pd_events.get() | pd);
-            self.notify_pd();
+        match runner {
+            Runner::Esm => {
+                self.esm_events.set(AlEvent::NONE);
+                let pd = event.intersection(self.trigger());
+                if !pd.is_empty() {
+                    self.pd_events.set(self.pd_events.get() | pd);
+                    self.notify_pd();
+                }
+            }
+            Runner::ProcessData => {
+                let esm = self.esm_share(event);
+                if !esm.is_empty() {
+                    self.esm_events.set(self.esm_events.get() | esm);
+                    self.esm_waker.wake();
+                }
+            }
         }
         self.update_irq_holder();
     }
