@@ -91,10 +91,10 @@ struct Routing {
     esm_events: Cell<AlEvent>,
     /// Process-data trigger events seen and not yet taken.
     pd_events: Cell<AlEvent>,
-    /// The AL event mask in the ESC, published by the state-machine runner: the events that can
-    /// hold the IRQ line. The process-data trigger belongs to the process-data runner, every other
-    /// masked event to the state-machine runner.
-    mask: Cell<AlEvent>,
+    /// The state-machine runner's share of the AL event mask in the ESC: the masked events, which
+    /// can hold the IRQ line, less the process-data trigger, which belongs to the process-data
+    /// runner. Both are published by the state-machine runner ([`SharedEsc::publish`]).
+    esm_mask: Cell<AlEvent>,
     /// The AL event seen by the last access of either runner.
     last_event: Cell<AlEvent>,
     /// The AL status and status code the state-machine runner last published, for the
@@ -125,9 +125,7 @@ impl Routing {
 
     /// The masked events of `event` that belong to the state-machine runner.
     fn esm_share(&self, event: AlEvent) -> AlEvent {
-        event
-            .intersection(self.mask.get())
-            .difference(self.trigger())
+        event.intersection(self.esm_mask.get())
     }
 
     /// Updates whether state-machine events hold the IRQ line, from the last AL event seen
@@ -160,17 +158,22 @@ impl Routing {
     /// process-data trigger to the process-data runner.
     fn observe(&self, runner: Runner, event: AlEvent) {
         self.last_event.set(event);
-        let esm = self.esm_share(event);
-        if runner == Runner::Esm {
-            self.esm_events.set(AlEvent::NONE);
-        } else if !esm.is_empty() {
-            self.esm_events.set(self.esm_events.get() | esm);
-            self.esm_waker.wake();
-        }
-        let pd = event.intersection(self.trigger());
-        if !pd.is_empty() && runner == Runner::Esm {
-            self.pd_events.set(self.pd_events.get() | pd);
-            self.notify_pd();
+        match runner {
+            Runner::Esm => {
+                self.esm_events.set(AlEvent::NONE);
+                let pd = event.intersection(self.trigger());
+                if !pd.is_empty() {
+                    self.pd_events.set(self.pd_events.get() | pd);
+                    self.notify_pd();
+                }
+            }
+            Runner::ProcessData => {
+                let esm = self.esm_share(event);
+                if !esm.is_empty() {
+                    self.esm_events.set(self.esm_events.get() | esm);
+                    self.esm_waker.wake();
+                }
+            }
         }
         self.update_irq_holder();
     }
@@ -298,7 +301,7 @@ impl<P: Pdi> SharedEsc<P> {
                 esm_holds_irq: Cell::new(false),
                 pd_events: Cell::new(AlEvent::NONE),
                 layout: Cell::new(None),
-                mask: Cell::new(AlEvent::NONE),
+                esm_mask: Cell::new(AlEvent::NONE),
                 last_event: Cell::new(AlEvent::NONE),
                 indication: Cell::new(Indication::UNPUBLISHED),
                 // Evaluated at compile time: no call of `Ring::new` where the firmware builds
@@ -523,7 +526,6 @@ impl<P: Pdi> SharedEsc<P> {
         indication: Indication,
     ) {
         self.with(|r| {
-            r.mask.set(mask);
             let published = r.indication.replace(indication);
             if published != indication {
                 r.led_waker.wake();
@@ -533,6 +535,7 @@ impl<P: Pdi> SharedEsc<P> {
             if let Some(layout) = news {
                 r.new_layout(layout);
             }
+            r.esm_mask.set(mask.difference(r.trigger()));
             r.update_irq_holder();
         });
     }
