@@ -15,8 +15,11 @@
 //! #     pub struct Pdi;
 //! #     impl ecat_embassy::Pdi for Pdi {
 //! #         type Error = ();
-//! #         async fn access(&mut self, _: u16, _: Data<'_>) -> Result<ecat_core::AlEvent, ()> {
-//! #             Ok(ecat_core::AlEvent::NONE)
+//! #         async fn access(&mut self, _: u16, _: Data<'_>) -> Result<(), ()> {
+//! #             Ok(())
+//! #         }
+//! #         fn al_event(&self) -> ecat_core::AlEvent {
+//! #             ecat_core::AlEvent::NONE
 //! #         }
 //! #     }
 //! #     pub struct Pin;

@@ -73,9 +73,11 @@ pub trait Bus16 {
 
 /// A [`Pdi`] over the 16-bit asynchronous microcontroller interface of an ET1100 or AX58100.
 pub struct Mcu16<B> {
-    /// The AL event the last access read if it was an empty read: what a read right after it
-    /// reports instead of reading the register again.
-    sampled: Option<AlEvent>,
+    /// The AL event the last access reported ([`Pdi::al_event`]).
+    reported: AlEvent,
+    /// The last access was an empty read: a read right after it reports its AL event instead of
+    /// reading the register again.
+    sampled: bool,
     bus: B,
 }
 
@@ -83,11 +85,15 @@ impl<B: Bus16> Mcu16<B> {
     /// The driver on `bus`, whose ESC's EEPROM selects the 16-bit asynchronous microcontroller
     /// interface (0x0140 = 0x08). The ESC needs no start-up sequence.
     pub const fn new(bus: B) -> Self {
-        Self { sampled: None, bus }
+        Self {
+            reported: AlEvent::NONE,
+            sampled: false,
+            bus,
+        }
     }
 
     /// The AL event register's events of an ET1100 (0x0220..0x0221).
-    fn al_event(&mut self) -> AlEvent {
+    fn read_al_event(&mut self) -> AlEvent {
         let [low, high] = self.bus.read(AL_EVENT_REQUEST).to_le_bytes();
         AlEvent::from_le_bytes([low, high, 0, 0])
     }
@@ -159,33 +165,40 @@ impl<B: Bus16> Pdi for Mcu16<B> {
     /// between) reports the empty read's event without reading it again.
     ///
     /// The bus cycles complete within the call: the access is made at once and the future only
-    /// hands over its result (a `poll_fn`, no state machine: docs/performance.md, "Codegen
+    /// says it is done (a `poll_fn`, no state machine: docs/performance.md, "Codegen
     /// rules").
     fn access(
         &mut self,
         address: u16,
         data: Data<'_>,
-    ) -> impl Future<Output = Result<AlEvent, Infallible>> {
+    ) -> impl Future<Output = Result<(), Infallible>> {
         // Taken by every access: only the next one may report it.
-        let sampled = self.sampled.take();
-        let event = match data {
+        let sampled = core::mem::take(&mut self.sampled);
+        self.reported = match data {
             Data::Write([]) => AlEvent::NONE,
             Data::Write(data) => {
-                let event = self.al_event();
+                let event = self.read_al_event();
                 self.write_bytes(address, data);
                 event
             }
             Data::Read([]) => {
-                let event = self.al_event();
-                self.sampled = Some(event);
-                event
+                self.sampled = true;
+                self.read_al_event()
             }
             Data::Read(buf) => {
-                let event = sampled.unwrap_or_else(|| self.al_event());
+                let event = if sampled {
+                    self.reported
+                } else {
+                    self.read_al_event()
+                };
                 self.read_bytes(address, buf);
                 event
             }
         };
-        poll_fn(move |_| Poll::Ready(Ok(event)))
+        poll_fn(|_| Poll::Ready(Ok(())))
+    }
+
+    fn al_event(&self) -> AlEvent {
+        self.reported
     }
 }

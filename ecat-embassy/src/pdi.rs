@@ -62,15 +62,19 @@ pub enum Sample {
 
 /// Register and RAM access to the ESC over its PDI (SPI, parallel bus, or an emulator).
 ///
-/// Each access returns the AL event register (0x0220) value: SPI ESCs shift it out during the
-/// address phase of every transaction, so the runners learn about events without spending a
-/// transaction on it. A driver whose bus does not deliver it reads 0x0220 itself after the access.
-/// The value may be sampled before the access: callers discount the bits the access itself clears.
-/// An empty read moves no data and samples the AL event: the cheapest way to read it alone (a NOP
-/// on the Beckhoff SPI, one CSR read of 0x0220 on the LAN9252).
+/// Each access samples the AL event register (0x0220) value, which [`Pdi::al_event`] tells after
+/// it: SPI ESCs shift it out during the address phase of every transaction, so the runners learn
+/// about events without spending a transaction on it. A driver whose bus does not deliver it reads
+/// 0x0220 itself after the access. The value may be sampled before the access: callers discount
+/// the bits the access itself clears. An empty read moves no data and samples the AL event: the
+/// cheapest way to read it alone (a NOP on the Beckhoff SPI, one CSR read of 0x0220 on the
+/// LAN9252).
 ///
 /// Reads and writes are one method, so that the runners hold one access future each and the
-/// firmware carries one copy of the driver's access code.
+/// firmware carries one copy of the driver's access code. The AL event is asked for after the
+/// access, not returned by it: a driver whose access is one bus transaction returns the bus's
+/// future itself, with no future of its own around it to decode the event
+/// (docs/performance.md, "Session 14: the PDI access one future less").
 #[allow(async_fn_in_trait)]
 pub trait Pdi {
     /// A bus error; the runners stop and hand it to the firmware.
@@ -81,8 +85,15 @@ pub trait Pdi {
     /// ([`Chip::fit`]). `None` (the default) keeps the device description's.
     const CHIP: Option<Chip> = None;
 
-    /// Reads into or writes from `data`, starting at `address`, in one transaction.
-    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Self::Error>;
+    /// Reads into or writes from `data`, starting at `address`, in one transaction; then
+    /// [`Pdi::al_event`] tells the AL event it sampled.
+    /// One lifetime for the driver and the data: a driver may hand a future that borrows both
+    /// in one array of transaction parts.
+    async fn access<'a>(&'a mut self, address: u16, data: Data<'a>) -> Result<(), Self::Error>;
+
+    /// The AL event the last access sampled (after an error or before the first access: any
+    /// value).
+    fn al_event(&self) -> AlEvent;
 
     /// How many of the `len` bytes at `address` (more than 0) the next chunk of a state-machine
     /// access moves, given the chunk size `chunk` the firmware configured
@@ -101,13 +112,16 @@ pub trait Pdi {
         let _ = sample;
     }
 
-    /// Reads `buf.len()` bytes starting at `address` in one transaction.
+    /// Reads `buf.len()` bytes starting at `address` in one transaction; returns the AL event
+    /// it sampled.
     async fn read(&mut self, address: u16, buf: &mut [u8]) -> Result<AlEvent, Self::Error> {
-        self.access(address, Data::Read(buf)).await
+        self.access(address, Data::Read(buf)).await?;
+        Ok(self.al_event())
     }
 
-    /// Writes `data` starting at `address` in one transaction.
+    /// Writes `data` starting at `address` in one transaction; returns the AL event it sampled.
     async fn write(&mut self, address: u16, data: &[u8]) -> Result<AlEvent, Self::Error> {
-        self.access(address, Data::Write(data)).await
+        self.access(address, Data::Write(data)).await?;
+        Ok(self.al_event())
     }
 }

@@ -367,7 +367,7 @@ impl<P: Pdi> SharedEsc<P> {
                     // length.
                     let at = address;
                     address = address.wrapping_add(len as u16);
-                    pdi.access(at, piece).await
+                    pdi.access(at, piece).await.map(|()| pdi.al_event())
                 };
                 event = event.union(self.observe_access(turn.runner(), seen, clears)?);
                 if rest.is_empty() {

@@ -303,7 +303,7 @@ impl Emulator {
 
     /// The PDI port, for the runners.
     pub fn pdi(&self) -> EmulatedPdi {
-        EmulatedPdi(self.clone())
+        EmulatedPdi(self.clone(), AlEvent::NONE)
     }
 
     /// The IRQ pin (active low), for the process-data runner.
@@ -341,19 +341,24 @@ pub(crate) fn register(waiters: &RefCell<Vec<Waker>>, waker: &Waker) {
     }
 }
 
-/// The PDI port of an [`Emulator`]: every access completes at once and returns the AL event
-/// register sampled before it, as an SPI ESC does.
-pub struct EmulatedPdi(Emulator);
+/// The PDI port of an [`Emulator`]: every access completes at once and samples the AL event
+/// register before it, as an SPI ESC does.
+pub struct EmulatedPdi(Emulator, AlEvent);
 
 impl Pdi for EmulatedPdi {
     type Error = Infallible;
 
-    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Infallible> {
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<(), Infallible> {
         self.0.pdi_access();
-        Ok(self.0.with(|esc| match data {
+        self.1 = self.0.with(|esc| match data {
             Data::Read(buf) => esc.pdi_read(address, buf),
             Data::Write(data) => esc.pdi_write(address, data),
-        }))
+        });
+        Ok(())
+    }
+
+    fn al_event(&self) -> AlEvent {
+        self.1
     }
 }
 

@@ -113,15 +113,16 @@ struct Failing {
 impl Pdi for Failing {
     type Error = ();
 
-    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, ()> {
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<(), ()> {
         if self.fail.get() {
             return Err(());
         }
-        Ok(self
-            .inner
-            .access(address, data)
-            .await
-            .unwrap_or(AlEvent::NONE))
+        let Ok(()) = self.inner.access(address, data).await;
+        Ok(())
+    }
+
+    fn al_event(&self) -> AlEvent {
+        self.inner.al_event()
     }
 }
 
@@ -166,8 +167,12 @@ struct Broken;
 impl Pdi for Broken {
     type Error = u8;
 
-    async fn access(&mut self, _: u16, _: Data<'_>) -> Result<AlEvent, u8> {
+    async fn access(&mut self, _: u16, _: Data<'_>) -> Result<(), u8> {
         Err(7)
+    }
+
+    fn al_event(&self) -> AlEvent {
+        AlEvent::NONE
     }
 }
 

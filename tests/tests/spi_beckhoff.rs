@@ -7,7 +7,7 @@ mod common;
 use common::{INPUTS, OUTPUTS, walk_to};
 use ecat_core::{AlEvent, AlState, register};
 use ecat_embassy::Pdi;
-use ecat_embassy::spi::beckhoff::{BeckhoffSpi, Config, ReadLatency, Transactions};
+use ecat_embassy::spi::beckhoff::{BeckhoffSpi, BeckhoffSpiPerByte, Config, ReadLatency};
 use ecat_emu::emulator::Emulator;
 use ecat_emu::esc::EscConfig;
 use ecat_emu::harness::{self, AcceptAll, Device, Loopback};
@@ -141,7 +141,6 @@ fn three_byte_addressing_also_delivers_al_event_byte_0x0222() {
 fn slow_clock_reads_use_command_010b_without_wait_state() {
     let config = Config {
         read_latency: ReadLatency::SlowClock,
-        ..Config::default()
     };
     let (mut driver, _master, probe) = setup_with(config, EscConfig::default());
     block_on(driver.read(register::AL_CONTROL, &mut [0; 2])).expect("read");
@@ -155,11 +154,13 @@ fn slow_clock_reads_use_command_010b_without_wait_state() {
 
 #[test]
 fn per_byte_fallback_sends_one_terminated_transaction_per_byte() {
-    let config = Config {
-        transactions: Transactions::PerByte,
-        ..Config::default()
-    };
-    let (mut driver, master, probe) = setup_with(config, EscConfig::default());
+    let emu = Emulator::new(EscConfig::default());
+    let probe = Probe::default();
+    let spi = FakeSpi::new(BeckhoffEsc::new(emu.clone()), probe.clone());
+    let (mut driver, master) = (
+        BeckhoffSpiPerByte::new(spi, Config::default()),
+        TestMaster::new(emu),
+    );
     assert!(master.write(0x1FFF, &[7, 8]));
     master.write_al_control(0x0001);
     let mut control = [0; 2];
@@ -186,19 +187,22 @@ fn per_byte_fallback_sends_one_terminated_transaction_per_byte() {
 }
 
 #[test]
-fn an_empty_read_is_a_nop_that_brings_the_al_event_and_an_empty_write_costs_nothing() {
+fn an_empty_access_is_a_nop_that_brings_the_al_event() {
     let (mut driver, master, probe) = setup();
     master.write_al_control(0x0002);
     let seen = block_on(driver.read(register::AL_EVENT_REQUEST, &mut []));
     assert_eq!(seen, Ok(AlEvent::AL_CONTROL));
     // 0x0220 = A[12:5] 0x11, A[4:0] 0 with CMD0 000b (NOP): the address phase alone.
     assert_eq!(probe.take_log(), vec![vec![0x11, 0x00]]);
-    assert_eq!(block_on(driver.write(0x1000, &[])), Ok(AlEvent::NONE));
+    // An empty write as well: a NOP at its address, no write command.
+    let seen = block_on(driver.write(0x1000, &[]));
+    assert_eq!(seen, Ok(AlEvent::AL_CONTROL));
+    assert_eq!(probe.take_log(), vec![vec![0x80, 0x00]]);
     assert_eq!(
         probe.stats(),
         SpiStats {
-            transactions: 1,
-            bytes: 2
+            transactions: 2,
+            bytes: 4
         }
     );
     assert!(probe.violations().is_empty(), "{:?}", probe.violations());

@@ -341,11 +341,19 @@ impl Pdi for AnyPdi {
         &mut self,
         address: u16,
         data: ecat_embassy::pdi::Data<'_>,
-    ) -> Result<ecat_core::AlEvent, AnyError> {
+    ) -> Result<(), AnyError> {
         match self {
             AnyPdi::Beckhoff(pdi) => pdi.access(address, data).await.map_err(AnyError::Beckhoff),
             AnyPdi::Lan9252(pdi) => pdi.access(address, data).await.map_err(AnyError::Lan9252),
             AnyPdi::Mcu16(pdi) => pdi.access(address, data).await.map_err(AnyError::Mcu16),
+        }
+    }
+
+    fn al_event(&self) -> ecat_core::AlEvent {
+        match self {
+            AnyPdi::Beckhoff(pdi) => pdi.al_event(),
+            AnyPdi::Lan9252(pdi) => pdi.al_event(),
+            AnyPdi::Mcu16(pdi) => pdi.al_event(),
         }
     }
 

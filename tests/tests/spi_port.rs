@@ -124,7 +124,7 @@ fn parts_go_out_in_order_within_one_chip_select_cycle() {
     let (mut port, recorder) = port();
     recorder.0.borrow_mut().miso.extend([0xA1, 0xA2]);
     let mut exchanged = [0x11, 0x12];
-    let result = block_on(port.transaction(&mut [
+    let result = block_on(port.transaction([
         Part::Exchange(&mut exchanged),
         Part::Write(&[0x21, 0x22, 0x23]),
     ]));
@@ -150,8 +150,7 @@ fn parts_go_out_in_order_within_one_chip_select_cycle() {
 fn a_failing_part_ends_the_cycle_with_chip_select_released() {
     let (mut port, recorder) = port();
     recorder.0.borrow_mut().fail_at = Some(0);
-    let result =
-        block_on(port.transaction(&mut [Part::Exchange(&mut [0x11]), Part::Write(&[0x21])]));
+    let result = block_on(port.transaction([Part::Exchange(&mut [0x11]), Part::Write(&[0x21])]));
     assert_eq!(result, Err(Error::Spi(BusError)));
     assert_eq!(
         recorder.calls(),

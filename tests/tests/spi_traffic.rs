@@ -159,7 +159,6 @@ fn beckhoff_cycles_are_three_transactions_with_seven_bytes_of_overhead() {
     // reading the outputs on whatever event raised the IRQ).
     let slow_clock = beckhoff::Config {
         read_latency: beckhoff::ReadLatency::SlowClock,
-        ..beckhoff::Config::default()
     };
     let measured = beckhoff(11, slow_clock);
     let minimum = SpiStats {

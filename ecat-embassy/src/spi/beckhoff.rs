@@ -17,7 +17,9 @@
 //! termination byte 0xFF with the last one: only then does the ESC stop prefetching (a prefetched
 //! byte of a SyncManager buffer counts as read).
 //!
-//! An empty read is a NOP: the address phase alone, which brings the AL event and nothing else.
+//! An empty access is a NOP: the address phase alone, which brings the AL event and nothing else.
+//!
+//! [`BeckhoffSpi`] makes each access one transaction; [`BeckhoffSpiPerByte`] one per byte.
 
 use ecat_core::AlEvent;
 use ecat_core::chip::{Chip, SpiMode};
@@ -71,33 +73,17 @@ pub enum ReadLatency {
     SlowClock,
 }
 
-/// How an access is cut into SPI transactions.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Transactions {
-    /// One transaction per access: the address phase, then the whole region.
-    Burst,
-    /// One transaction per byte, each with its own address phase: for SPI masters that cannot
-    /// keep the clock running through a long transfer, or boards where a higher-priority interrupt
-    /// may stretch a transaction beyond what the ESC tolerates (the Beckhoff sample code's
-    /// byte-wise `HW_EscRead`). About three times the bytes of [`Transactions::Burst`].
-    PerByte,
-}
-
-/// The driver's configuration. The default suits an ET1100 or AX58100 on a DMA-driven SPI: wait
-/// state byte, whole regions in one transaction.
+/// The driver's configuration. The default suits an ET1100 or AX58100: the wait state byte.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Config {
     /// How reads wait for the ESC.
     pub read_latency: ReadLatency,
-    /// How accesses map to transactions.
-    pub transactions: Transactions,
 }
 
 impl Default for Config {
     fn default() -> Self {
         Self {
             read_latency: ReadLatency::WaitStateByte,
-            transactions: Transactions::Burst,
         }
     }
 }
@@ -173,7 +159,7 @@ impl AddressPhase {
 pub struct BeckhoffSpi<S> {
     config: Config,
     /// The address phase of the transaction in flight: kept here, once, rather than in the
-    /// access future each runner holds.
+    /// access future each runner holds; after it, what the ESC shifted out ([`Pdi::al_event`]).
     phase: AddressPhase,
     spi: S,
 }
@@ -206,51 +192,87 @@ impl<S: Port> Pdi for BeckhoffSpi<S> {
     /// The ET1100's SyncManagers and process RAM, which the AX58100 shares.
     const CHIP: Option<Chip> = Some(Chip::ET1100);
 
-    /// Performs the access as [`Config::transactions`] says; returns the AL event of the first
-    /// address phase. An empty read is one NOP (2 bytes on the bus), an empty write costs
-    /// nothing and reports no event.
-    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
-    fn access(
-        &mut self,
-        mut address: u16,
-        mut rest: Data<'_>,
-    ) -> impl Future<Output = Result<AlEvent, S::Error>> {
-        async move {
-            let (mut event, mut first) = (AlEvent::NONE, true);
-            // An empty read runs once: the address phase of a NOP.
-            while !rest.is_empty() || first && matches!(rest, Data::Read(_)) {
-                let piece_len = match self.config.transactions {
-                    Transactions::Burst => rest.len(),
-                    Transactions::PerByte => 1,
-                };
-                let (piece, tail) = rest.split_at(piece_len);
-                rest = tail;
-                let at = address;
-                address = address.wrapping_add(piece_len as u16);
-                // One transaction: the address phase, then the data (a read's with the read
-                // termination on its last byte).
-                let (command, data) = match piece {
-                    Data::Read(buf) => {
-                        buf.fill(READ_CONTINUE);
-                        let command = match buf.last_mut() {
-                            Some(last) => {
-                                *last = READ_TERMINATION;
-                                self.read_command()
-                            }
-                            None => Command::Nop,
-                        };
-                        (command, Part::Exchange(buf))
+    /// One transaction: the address phase, then the data (a read's with the read termination on
+    /// its last byte). An empty access is a NOP (2 bytes on the bus): the AL event alone.
+    ///
+    /// The port's future itself, the address phase built before it and the AL event decoded
+    /// after it ([`Pdi::al_event`]): no future of the driver's own around the port's
+    /// (docs/performance.md, "Session 14: the PDI access one future less").
+    fn access<'a>(
+        &'a mut self,
+        address: u16,
+        data: Data<'a>,
+    ) -> impl Future<Output = Result<(), S::Error>> {
+        let (command, data) = match data {
+            Data::Read(buf) => {
+                buf.fill(READ_CONTINUE);
+                let command = match buf.last_mut() {
+                    Some(last) => {
+                        *last = READ_TERMINATION;
+                        self.read_command()
                     }
-                    Data::Write(data) => (Command::Write, Part::Write(data)),
+                    None => Command::Nop,
                 };
-                self.phase = AddressPhase::new(at, command);
-                let phase = Part::Exchange(self.phase.as_mut_slice());
-                self.spi.transaction(&mut [phase, data]).await?;
-                if core::mem::take(&mut first) {
-                    event = self.phase.al_event();
-                }
+                (command, Part::Exchange(buf))
             }
-            Ok(event)
+            Data::Write([]) => (Command::Nop, Part::Write(&[])),
+            Data::Write(data) => (Command::Write, Part::Write(data)),
+        };
+        self.phase = AddressPhase::new(address, command);
+        self.spi
+            .transaction([Part::Exchange(self.phase.as_mut_slice()), data])
+    }
+
+    /// The AL event the last address phase shifted out.
+    fn al_event(&self) -> AlEvent {
+        self.phase.al_event()
+    }
+}
+
+/// A [`Pdi`] over the Beckhoff ESC SPI protocol, one transaction per byte, each with its own
+/// address phase: for SPI masters that cannot keep the clock running through a long transfer, or
+/// boards where a higher-priority interrupt may stretch a transaction beyond what the ESC
+/// tolerates (the Beckhoff sample code's byte-wise `HW_EscRead`). About three times the bytes of
+/// [`BeckhoffSpi`].
+pub struct BeckhoffSpiPerByte<S> {
+    /// The AL event of the access's first address phase.
+    event: AlEvent,
+    driver: BeckhoffSpi<S>,
+}
+
+impl<S: Port> BeckhoffSpiPerByte<S> {
+    /// The driver on `spi`, as [`BeckhoffSpi::new`].
+    pub const fn new(spi: S, config: Config) -> Self {
+        Self {
+            event: AlEvent::NONE,
+            driver: BeckhoffSpi::new(spi, config),
         }
+    }
+}
+
+impl<S: Port> Pdi for BeckhoffSpiPerByte<S> {
+    type Error = S::Error;
+
+    /// The ET1100's SyncManagers and process RAM, which the AX58100 shares.
+    const CHIP: Option<Chip> = Some(Chip::ET1100);
+
+    /// One transaction per byte; [`Pdi::al_event`] is the first one's. An empty access is one
+    /// NOP.
+    async fn access(&mut self, mut address: u16, mut rest: Data<'_>) -> Result<(), S::Error> {
+        let mut first = true;
+        while first || !rest.is_empty() {
+            let (piece, tail) = rest.split_at(1);
+            rest = tail;
+            self.driver.access(address, piece).await?;
+            if core::mem::take(&mut first) {
+                self.event = self.driver.al_event();
+            }
+            address = address.wrapping_add(1);
+        }
+        Ok(())
+    }
+
+    fn al_event(&self) -> AlEvent {
+        self.event
     }
 }

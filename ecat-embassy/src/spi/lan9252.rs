@@ -231,6 +231,8 @@ pub struct Lan9252<S> {
     sampled: AlEvent,
     /// What the next access's AL event must be ([`Pdi::sample`]).
     sample: Sample,
+    /// The AL event the last access reported ([`Pdi::al_event`]).
+    reported: AlEvent,
     config: Config,
     spi: S,
 }
@@ -246,6 +248,7 @@ impl<S: Port> Lan9252<S> {
             known: AlEvent::NONE,
             sampled: AlEvent::NONE,
             sample: Sample::Usual,
+            reported: AlEvent::NONE,
         };
         let mut deadline = Deadline(Instant::MAX);
         // One transaction per pass, the register polls repeated after a pause.
@@ -253,9 +256,8 @@ impl<S: Port> Lan9252<S> {
             loop {
                 let (mut header, mut bytes) = (Header::NONE, [0; 8]);
                 let write = write.as_ref().map(core::slice::from_ref);
-                let mut parts =
-                    register_parts(&mut header, &mut bytes, config.read, register, write);
-                chip.spi.transaction(&mut parts).await.map_err(Error::Spi)?;
+                let parts = register_parts(&mut header, &mut bytes, config.read, register, write);
+                chip.spi.transaction(parts).await.map_err(Error::Spi)?;
                 let read = dword(&bytes);
                 let failure = match register {
                     RESET_CTL => {
@@ -304,6 +306,10 @@ impl<S: Port> Pdi for Lan9252<S> {
         self.sample = sample;
     }
 
+    fn al_event(&self) -> AlEvent {
+        self.reported
+    }
+
     /// Registers through the CSR interface, process RAM through the PRAM FIFOs. A read that
     /// touches process RAM first reads the AL event register (unless the access before it was an
     /// empty read: then it reports that one's), and so do an empty read (nothing else) and a read
@@ -314,7 +320,7 @@ impl<S: Port> Pdi for Lan9252<S> {
         &mut self,
         address: u16,
         data: Data<'_>,
-    ) -> impl Future<Output = Result<AlEvent, Self::Error>> {
+    ) -> impl Future<Output = Result<(), Self::Error>> {
         async move {
             let clears = match &data {
                 Data::Read(buf) => {
@@ -404,7 +410,7 @@ impl<S: Port> Pdi for Lan9252<S> {
                 let (mut head, mut tail) = ([0; 3], [0; 3]);
                 let end = stream.len().min(position + space);
                 let mut header = Header::NONE;
-                let mut parts = match (step, write, &mut ram) {
+                let parts = match (step, write, &mut ram) {
                     (Step::Load, _, Data::Read(buf)) if space > 0 => {
                         let layout = stream.layout(position..end);
                         header = Header::read(self.config.read, PRAM_READ_FIFO);
@@ -433,7 +439,7 @@ impl<S: Port> Pdi for Lan9252<S> {
                         register_parts(&mut header, &mut bytes, self.config.read, register, write)
                     }
                 };
-                self.spi.transaction(&mut parts).await.map_err(Error::Spi)?;
+                self.spi.transaction(parts).await.map_err(Error::Spi)?;
                 let value = dword(&bytes);
                 step = match step {
                     Step::Piece(_) => {
@@ -501,11 +507,11 @@ impl<S: Port> Pdi for Lan9252<S> {
                 Data::Read(registers) => fresh.or_else(|| al_event_in(address, registers)),
                 Data::Write(_) => fresh,
             };
-            let event = fresh.unwrap_or(self.known);
+            self.reported = fresh.unwrap_or(self.known);
             self.known = fresh
                 .map_or(self.known, |e| e.intersection(TRACKED))
                 .difference(clears);
-            Ok(event)
+            Ok(())
         }
     }
 }

@@ -33,7 +33,7 @@ pub trait Port {
     /// the chip notices, chip select released (after an error too).
     async fn transaction<const N: usize>(
         &mut self,
-        parts: &mut [Part<'_>; N],
+        parts: [Part<'_>; N],
     ) -> Result<(), Self::Error>;
 }
 
@@ -43,9 +43,9 @@ impl<S: SpiDevice> Port for S {
     /// One [`SpiDevice::transaction`].
     async fn transaction<const N: usize>(
         &mut self,
-        parts: &mut [Part<'_>; N],
+        parts: [Part<'_>; N],
     ) -> Result<(), Self::Error> {
-        let mut operations = parts.each_mut().map(|part| match part {
+        let mut operations = parts.map(|part| match part {
             Part::Exchange(buf) => Operation::TransferInPlace(buf),
             Part::Write(data) => Operation::Write(data),
         });
@@ -86,7 +86,7 @@ impl<B: SpiBus, P: OutputPin> Port for Exclusive<B, P> {
     #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
     fn transaction<const N: usize>(
         &mut self,
-        parts: &mut [Part<'_>; N],
+        mut parts: [Part<'_>; N],
     ) -> impl Future<Output = Result<(), Self::Error>> {
         // An `async` block, not an `async fn`: the arguments are its captures, not kept a
         // second time beside the locals (4 bytes less in each runner's PDI access future,

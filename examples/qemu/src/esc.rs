@@ -63,9 +63,19 @@ pub fn inside_transfer() -> bool {
 
 /// The PDI: each access is one critical section on the model, as the SPI drivers' are one
 /// transaction.
-pub struct ModelPdi;
+pub struct ModelPdi {
+    /// The AL event the last access sampled.
+    event: AlEvent,
+}
 
 impl ModelPdi {
+    /// The PDI before its first access.
+    pub const fn new() -> Self {
+        Self {
+            event: AlEvent::NONE,
+        }
+    }
+
     /// Notes where a thread-mode (state-machine runner) access to a mailbox ended.
     fn track(address: u16, len: usize) {
         if SCB::vect_active() != VectActive::ThreadMode {
@@ -89,17 +99,21 @@ impl Pdi for ModelPdi {
     type Error = Infallible;
     const CHIP: Option<Chip> = Some(CHIP);
 
-    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<AlEvent, Infallible> {
+    async fn access(&mut self, address: u16, data: Data<'_>) -> Result<(), Infallible> {
         Self::track(address, data.len());
         let inputs = matches!(data, Data::Write(_)) && address == INPUTS.start;
-        let event = with(|esc| match data {
+        self.event = with(|esc| match data {
             Data::Read(buf) => esc.pdi_read(address, buf),
             Data::Write(data) => esc.pdi_write(address, data),
         });
         if inputs {
             crate::figures::inputs_written(inside_transfer());
         }
-        Ok(event)
+        Ok(())
+    }
+
+    fn al_event(&self) -> AlEvent {
+        self.event
     }
 }
 

@@ -15,7 +15,7 @@ static ECAT: StaticCell<Ecat> = StaticCell::new();
 /// runs the state machine and the mailbox.
 #[embassy_executor::task]
 pub async fn state_machine(high: SendSpawner) {
-    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, ModelPdi, App, Od::default()));
+    let ecat = ECAT.init_with(|| Ecat::new(&DEVICE, ModelPdi::new(), App, Od::default()));
     let (state_machine, process_data, _control) = ecat.split();
     match exchange(process_data) {
         Ok(token) => high.spawn(token),

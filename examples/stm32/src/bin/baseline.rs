@@ -51,7 +51,7 @@ async fn exchange(mut bus: EscBus, mut irq: Pin) {
     loop {
         irq.wait_for_low().await;
         #[cfg(not(feature = "fmc"))]
-        if let Err(e) = bus.transaction(&mut [Part::Exchange(&mut frame)]).await {
+        if let Err(e) = bus.transaction([Part::Exchange(&mut frame)]).await {
             error!("SPI failed: {}", e);
         }
         #[cfg(feature = "fmc")]
