@@ -54,7 +54,7 @@ fn write(od: &mut Od, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode>
 fn metadata_comes_from_the_field_types() {
     let o = Od::object(0x6060).unwrap();
     assert_eq!(
-        (o.info.code, o.info.max_sub, o.info.name),
+        (o.info.code, o.info.max_sub, Od::name(o.info.name)),
         (ObjectCode::Var, 0, "Modes of operation")
     );
     let e = o.info.entry(0).unwrap();
@@ -81,7 +81,7 @@ fn metadata_comes_from_the_field_types() {
         (array.code, array.max_sub, array.data_type()),
         (ObjectCode::Array, 3, 0x0001)
     );
-    assert_eq!(array.entry(3).unwrap().name, "Flag");
+    assert_eq!(Od::name(array.entry(3).unwrap().name), "Flag");
     assert!(array.entry(4).is_none());
     assert_eq!(array.subindices().collect::<Vec<_>>(), [0, 1, 2, 3]);
 
@@ -306,7 +306,7 @@ mod communication_item {
         ] {
             let info = &Od::object(index).unwrap().info;
             assert_eq!(
-                (info.code, info.name, info.max_sub),
+                (info.code, Od::name(info.name), info.max_sub),
                 (ObjectCode::Var, name, 0)
             );
             let entry = info.entry(0).unwrap();
@@ -330,10 +330,10 @@ mod communication_item {
     fn identity_is_the_standard_record_initialised_from_the_constant() {
         let object = Od::object(0x1018).expect("0x1018");
         assert_eq!(object.info.code, ObjectCode::Record);
-        assert_eq!(object.info.name, "Identity object");
+        assert_eq!(Od::name(object.info.name), "Identity object");
         assert_eq!(object.info.max_sub, 4);
         let names: Vec<_> = (1..=4)
-            .map(|s| object.info.entry(s).unwrap().name)
+            .map(|s| Od::name(object.info.entry(s).unwrap().name))
             .collect();
         assert_eq!(
             names,
@@ -380,7 +380,7 @@ mod communication_item {
         ] {
             let object = Od::object(index).expect("declared");
             assert_eq!(object.info.code, ObjectCode::Record);
-            assert_eq!(object.info.name, name);
+            assert_eq!(Od::name(object.info.name), name);
             let subs: Vec<u8> = object.info.subindices().collect();
             // SSC's record: SI 1..0x0D and 0x20, SI0 = 0x20 (ETG.1000.6 Table 74).
             assert_eq!(
