@@ -295,6 +295,42 @@ mod communication_item {
         );
     }
 
+    /// The names are one table, each text once; a description keeps 3 bytes of it, and
+    /// objects with the same entries (0x1C32/0x1C33, the assignments) share one slice of them.
+    #[test]
+    fn names_are_one_table_and_like_entries_one_slice() {
+        for text in [
+            "Highest sub-index supported",
+            "Number of entries",
+            "Assigned PDO",
+        ] {
+            assert_eq!(Od::NAMES.matches(text).count(), 1, "{text}");
+        }
+        let names: Vec<&str> = Od::OBJECTS
+            .iter()
+            .flat_map(|o| {
+                let entries = o.info.entries.iter().map(|e| Od::name(e.name));
+                core::iter::once(Od::name(o.info.name)).chain(entries)
+            })
+            .collect();
+        // Every distinct name, once: the table is no longer than their texts together.
+        let mut distinct = names.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(
+            Od::NAMES.len(),
+            distinct.iter().map(|n| n.len()).sum::<usize>()
+        );
+        assert_eq!(names[..3], ["Device type", "Device type", "Error register"]);
+        assert_eq!(Od::name(ecat_core::dictionary::Name::EMPTY), "");
+        let entries = |index| Od::object(index).unwrap().info.entries;
+        assert!(core::ptr::eq(entries(0x1C32), entries(0x1C33)));
+        assert!(core::ptr::eq(entries(0x1C12), entries(0x1C13)));
+        assert!(!core::ptr::eq(entries(0x1C12), entries(0x1600)));
+        assert_eq!(size_of::<ecat_core::dictionary::Name>(), 3);
+        assert_eq!(size_of::<ecat_core::dictionary::EntryInfo>(), 10);
+    }
+
     #[test]
     fn constants_come_from_the_device_info_read_only_with_their_defaults() {
         let od = Od::default();

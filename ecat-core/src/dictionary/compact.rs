@@ -119,10 +119,7 @@ pub const fn refs<const COUNT: usize>(names: &[&str]) -> [Name; COUNT] {
                 len <= 255 && at + len <= 0xFFFF,
                 "a name has at most 255 bytes, all names of a dictionary at most 65 535"
             );
-            out[k] = Name {
-                offset: at as u16,
-                len: len as u8,
-            };
+            out[k] = Name::new(at as u16, len as u8);
             at += len;
         } else {
             out[k] = out[first];

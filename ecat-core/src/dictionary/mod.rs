@@ -189,10 +189,7 @@ pub trait ObjectDictionary: Sized + 'static {
     /// The text of `name`, a name of one of [`Self::OBJECTS`] (empty for one outside
     /// [`Self::NAMES`]).
     fn name(name: Name) -> &'static str {
-        let start = usize::from(name.offset);
-        Self::NAMES
-            .get(start..start + usize::from(name.len))
-            .unwrap_or_default()
+        Self::NAMES.get(name.range()).unwrap_or_default()
     }
 
     /// The object at `index`, by a search of [`Self::INDICES`]: a walk in a dictionary of up

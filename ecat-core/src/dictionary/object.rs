@@ -17,28 +17,42 @@ pub enum ObjectCode {
 }
 
 /// Where a name lies in its dictionary's table of names ([`ObjectDictionary::NAMES`]): what
-/// the descriptions keep instead of a `&'static str` (4 bytes instead of 8 on a 32-bit target;
-/// the text is [`ObjectDictionary::name`]'s).
+/// the descriptions keep instead of a `&'static str` (3 bytes, byte-aligned, instead of 8 on a
+/// 32-bit target; the text is [`ObjectDictionary::name`]'s).
 ///
 /// [`ObjectDictionary::NAMES`]: super::ObjectDictionary::NAMES
 /// [`ObjectDictionary::name`]: super::ObjectDictionary::name
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Name {
-    /// The first byte's offset in the table.
-    pub(super) offset: u16,
+    /// The first byte's offset in the table, little endian (bytes: no padding in an
+    /// [`EntryInfo`]).
+    offset: [u8; 2],
     /// The length in bytes.
-    pub(super) len: u8,
+    len: u8,
 }
 
 impl Name {
     /// The empty name (the text of no dictionary's name: every declared name has some).
-    pub const EMPTY: Self = Self { offset: 0, len: 0 };
+    pub const EMPTY: Self = Self::new(0, 0);
+
+    /// `len` bytes from `offset` on.
+    pub(super) const fn new(offset: u16, len: u8) -> Self {
+        Self {
+            offset: offset.to_le_bytes(),
+            len,
+        }
+    }
+
+    /// Where its bytes lie in the table.
+    pub(super) fn range(self) -> core::ops::Range<usize> {
+        let start = usize::from(u16::from_le_bytes(self.offset));
+        start..start + usize::from(self.len)
+    }
 }
 
 /// The description of one entry (ETG.1000.6 §5.6.3.6 "entry description"). `S` is how the
 /// name is kept: a [`Name`] in a dictionary's table
-/// ([`ObjectDictionary::OBJECTS`](super::ObjectDictionary::OBJECTS), 12 bytes an entry on a
-/// 32-bit target), the text in what [`dictionary!`](crate::dictionary!) declares (a
+/// ([`ObjectDictionary::OBJECTS`](super::ObjectDictionary::OBJECTS), 10 bytes an entry), the text in what [`dictionary!`](crate::dictionary!) declares (a
 /// [`Declaration`](super::Declaration), evaluated at compile time only).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct EntryInfo<S = Name> {
