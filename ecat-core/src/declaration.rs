@@ -181,28 +181,28 @@ macro_rules! dictionary {
 macro_rules! __ecat_dictionary {
     ($mode:ident, $dict:ident { communication ( $area:ident, $info:path ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
-            const APPLICATION: &[$crate::dictionary::Object<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
-            const AREA: [$crate::dictionary::Object<$dict>; 8] = $crate::__ecat_communication!($dict, $area, $info);
+            const APPLICATION: &[$crate::dictionary::Declaration<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
+            const AREA: [$crate::dictionary::Declaration<$dict>; 8] = $crate::__ecat_communication!($dict, $area, $info);
             const _: () = assert!(
                 $crate::dictionary::communication::leaves_communication_area(APPLICATION),
                 "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
             );
-            &$crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
+            &$crate::dictionary::communication::merge::<$dict, &'static str, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
         }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($items)*);
     };
     ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
-            const APPLICATION: &[$crate::dictionary::Object<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
-            const AREA: &[$crate::dictionary::Object<$dict>] = &$crate::__ecat_communication!($dict, $area, $info);
-            const STORAGE: [$crate::dictionary::Object<$dict>; 2] = $crate::__ecat_storage!($dict, $stored);
+            const APPLICATION: &[$crate::dictionary::Declaration<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
+            const AREA: &[$crate::dictionary::Declaration<$dict>] = &$crate::__ecat_communication!($dict, $area, $info);
+            const STORAGE: [$crate::dictionary::Declaration<$dict>; 2] = $crate::__ecat_storage!($dict, $stored);
             const _: () = assert!(
                 $crate::dictionary::communication::leaves_communication_area(APPLICATION)
                     && $crate::dictionary::parameters::leaves_storage(APPLICATION),
                 "the communication area's objects (with 0x1010/0x1011 under `stored`) come from `communication`: do not declare them"
             );
-            const BASE: [$crate::dictionary::Object<$dict>; APPLICATION.len() + AREA.len()] =
-                $crate::dictionary::communication::merge::<$dict, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
-            &$crate::dictionary::communication::merge::<$dict, { BASE.len() + 2 }>(&STORAGE, &BASE)
+            const BASE: [$crate::dictionary::Declaration<$dict>; APPLICATION.len() + AREA.len()] =
+                $crate::dictionary::communication::merge::<$dict, &'static str, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
+            &$crate::dictionary::communication::merge::<$dict, &'static str, { BASE.len() + 2 }>(&STORAGE, &BASE)
         }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) }, $stored: $crate::dictionary::parameters::StoredParameters::new(),]
         communication = $area; stored = $stored; $($items)*);
     };
@@ -229,7 +229,28 @@ macro_rules! __ecat_impl {
      $(stored = $stored:ident;)?
      $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
-            const OBJECTS: &'static [$crate::dictionary::Object<Self>] = $objects;
+            const DECLARATION: &'static [$crate::dictionary::Declaration<Self>] = $objects;
+
+            const NAMES: &'static str = {
+                const DECLARED: &[$crate::dictionary::Declaration<$dict>] =
+                    <$dict as $crate::dictionary::ObjectDictionary>::DECLARATION;
+                const NAMES: [&str; $crate::dictionary::compact::name_count(DECLARED)] =
+                    $crate::dictionary::compact::names(DECLARED);
+                const TABLE: &[u8] =
+                    &$crate::dictionary::compact::table::<{ $crate::dictionary::compact::table_len(&NAMES) }>(&NAMES);
+                $crate::dictionary::compact::text(TABLE)
+            };
+
+            const OBJECTS: &'static [$crate::dictionary::Object<Self>] = {
+                const DECLARED: &[$crate::dictionary::Declaration<$dict>] =
+                    <$dict as $crate::dictionary::ObjectDictionary>::DECLARATION;
+                const NAMES: [&str; $crate::dictionary::compact::name_count(DECLARED)] =
+                    $crate::dictionary::compact::names(DECLARED);
+                const AT: [$crate::dictionary::Name; NAMES.len()] = $crate::dictionary::compact::refs(&NAMES);
+                const ENTRIES: &[$crate::dictionary::EntryInfo] =
+                    &$crate::dictionary::compact::entries::<$dict, { $crate::dictionary::compact::entries_len(DECLARED) }>(DECLARED, &AT);
+                &$crate::dictionary::compact::objects::<$dict, { DECLARED.len() }>(DECLARED, &AT, ENTRIES)
+            };
 
             const INDICES: &'static [u16] = $crate::coe::sdo_info::all_indices(
                 <$dict as $crate::dictionary::ObjectDictionary>::OBJECTS,
@@ -369,14 +390,14 @@ macro_rules! __ecat_communication {
                 "Manufacturer software version",
                 $info.software_version
             ),
-            $crate::dictionary::Object::<$dict> {
+            $crate::dictionary::Declaration::<$dict> {
                 info: $crate::dictionary::communication::IDENTITY,
                 read: |d: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
                     $crate::dictionary::communication::read_identity(&d.$area.identity, at, out)
                 },
                 write: $crate::dictionary::communication::read_only::<$dict>,
             },
-            $crate::dictionary::Object::<$dict> {
+            $crate::dictionary::Declaration::<$dict> {
                 info: $crate::dictionary::communication::SM_TYPES,
                 read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
                     $crate::dictionary::communication::read_declared::<$dict>(
@@ -525,7 +546,7 @@ macro_rules! __ecat_text {
 #[macro_export]
 macro_rules! __ecat_constant {
     ($dict:ident, $index:literal, $info:expr) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $info,
             read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
                 $crate::dictionary::communication::read_declared::<$dict>(
@@ -554,7 +575,7 @@ macro_rules! __ecat_object {
         $field:ident, $($acc:ident)|+, $name:literal
         $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
     )) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Var,
@@ -579,7 +600,7 @@ macro_rules! __ecat_object {
         $field:ident, $($acc:ident)|+, $name:literal, $element:literal
         $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)?
     )) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Array,
@@ -606,7 +627,7 @@ macro_rules! __ecat_object {
     ($dict:ident, $index:literal, pdo (
         $field:ident, $($acc:ident)|+, $name:literal, $element:literal $(, default = $default:expr)?
     )) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::pdo::object_code($index),
@@ -632,7 +653,7 @@ macro_rules! __ecat_object {
         }
     };
     ($dict:ident, $index:literal, diagnosis ( $field:ident )) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $crate::diagnosis::index($index),
                 max_sub: $crate::diagnosis::max_sub_of(|d: &$dict| &d.$field),
@@ -651,7 +672,7 @@ macro_rules! __ecat_object {
         $( $sub:literal => $sfield:ident, $($acc:ident)|+, $sname:literal
            $(, default = $default:expr)? $(, min = $min:expr)? $(, max = $max:expr)? $(, unit = $unit:expr)? ; )+
     }) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Record,
@@ -693,7 +714,7 @@ macro_rules! __ecat_storage {
         ]
     };
     ($dict:ident, $stored:ident, $info:ident, $command:ident) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::parameters::$info,
             read: |_: &$dict, at: $crate::dictionary::At, out: &mut [u8]| {
                 $crate::dictionary::parameters::StoredParameters::read(at, out)
@@ -804,7 +825,7 @@ macro_rules! __ecat_default {
 #[macro_export]
 macro_rules! __ecat_sync_parameters {
     ($dict:ident, $index:literal, $($place:ident).+, $name:literal, $write:ident) => {
-        $crate::dictionary::Object::<$dict> {
+        $crate::dictionary::Declaration::<$dict> {
             info: $crate::dictionary::ObjectInfo {
                 index: $index,
                 code: $crate::dictionary::ObjectCode::Record,

@@ -161,7 +161,7 @@ const fn entry(
     data_type: DataType,
     bits: u16,
     access: Access,
-) -> EntryInfo {
+) -> EntryInfo<&'static str> {
     EntryInfo {
         sub,
         name,
@@ -175,7 +175,7 @@ const fn entry(
 /// The description of 0x10F3 (its `max_sub` set by the `diagnosis` item): a RECORD whose last
 /// entry, SI6, describes every message.
 #[doc(hidden)]
-pub const OBJECT: ObjectInfo = ObjectInfo {
+pub const OBJECT: ObjectInfo<&'static str> = ObjectInfo {
     index: DIAGNOSIS_HISTORY,
     code: ObjectCode::Record,
     name: "Diagnosis history",

@@ -324,7 +324,7 @@ fn profile<D: ObjectDictionary, W: Write>(x: &mut Xml<'_, W>, od: &D) -> Result<
     x.open("DataTypes", &[])?;
     base_types::<D, W>(x)?;
     for object in D::OBJECTS {
-        object_types(x, &object.info)?;
+        object_types::<D, W>(x, &object.info)?;
     }
     x.close("DataTypes")?;
     x.open("Objects", &[])?;
@@ -364,7 +364,10 @@ fn object_bits(info: &ObjectInfo) -> usize {
 /// `DTxxxx` of a RECORD (a SubItem per entry), or `DTxxxxARR` and `DTxxxx` of an ARRAY
 /// (SubIndex 0 and the element list); nothing for a VAR. `BitOffs` are the complete-access
 /// offsets.
-fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result {
+fn object_types<D: ObjectDictionary, W: Write>(
+    x: &mut Xml<'_, W>,
+    info: &ObjectInfo,
+) -> fmt::Result {
     let (index, array) = (info.index, ObjectCode::Array == info.code);
     let element = info.entry(1).filter(|_| array);
     let elements_bits = |e: &EntryInfo| usize::from(info.max_sub) * usize::from(e.bit_len);
@@ -412,7 +415,7 @@ fn object_types<W: Write>(x: &mut Xml<'_, W>, info: &ObjectInfo) -> fmt::Result 
             }
             None => {
                 x.leaf("SubIdx", sub)?;
-                x.leaf("Name", entry.name)?;
+                x.leaf("Name", D::name(entry.name))?;
                 x.leaf("Type", type_name(entry))?;
                 x.leaf("BitSize", entry.bit_len)?;
             }
@@ -437,7 +440,7 @@ fn object<D: ObjectDictionary, W: Write>(
     let info = &object.info;
     x.open("Object", &[])?;
     x.leaf("Index", Index(info.index))?;
-    x.leaf("Name", info.name)?;
+    x.leaf("Name", D::name(info.name))?;
     match (info.code, info.entries.first()) {
         (ObjectCode::Var, Some(entry)) => {
             x.leaf("Type", type_name(entry))?;
@@ -488,7 +491,7 @@ fn sub_item<D: ObjectDictionary, W: Write>(
     if info.is_repeated(sub) {
         x.leaf("Name", format_args!("SubIndex {sub:03}"))?;
     } else {
-        x.leaf("Name", entry.name)?;
+        x.leaf("Name", D::name(entry.name))?;
     }
     let mut count = [0u8];
     let count = (sub == 0)
@@ -716,7 +719,7 @@ fn pdos<D: ObjectDictionary, W: Write>(
                 }
                 x.leaf("BitLen", entry.bit_len())?;
                 if let Some(described) = described.filter(|_| entry.index() != 0) {
-                    x.leaf("Name", described.name)?;
+                    x.leaf("Name", D::name(described.name))?;
                     x.leaf("DataType", type_name(described))?;
                 }
                 x.close("Entry")?;

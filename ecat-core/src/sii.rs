@@ -525,7 +525,7 @@ pub(crate) fn for_each_pdo<D: ObjectDictionary>(
         }
         f(
             index,
-            mapping.info.name,
+            D::name(mapping.info.name),
             entries.get(..len).unwrap_or_default(),
         );
     }
@@ -562,7 +562,7 @@ pub(crate) fn for_each_alternative_pdo<D: ObjectDictionary>(
         }
         f(
             index,
-            mapping.info.name,
+            D::name(mapping.info.name),
             entries.get(..len).unwrap_or_default(),
         );
     }
@@ -614,5 +614,5 @@ fn entry_type<D: ObjectDictionary>(_od: &D, entry: MappingEntry) -> u8 {
 fn entry_name<D: ObjectDictionary>(_od: &D, entry: MappingEntry) -> &'static str {
     D::object(entry.index())
         .and_then(|o| o.info.entry(entry.sub()))
-        .map_or("", |e| e.name)
+        .map_or("", |e| D::name(e.name))
 }

@@ -99,7 +99,7 @@ pub const DECLARED: &[Declared] = &[
 /// SI2 writable in PREOP (the MainDevice's choice of sync mode and cycle), SI8 (get cycle time)
 /// writable in every state, the rest read-only; SI1 declares its default.
 #[doc(hidden)]
-pub const PARAMETER_ENTRIES: &[EntryInfo] = &[
+pub const PARAMETER_ENTRIES: &[EntryInfo<&'static str>] = &[
     EntryInfo::subindex_count("Highest sub-index supported"),
     sync_entry(
         1,
@@ -183,7 +183,7 @@ const fn sync_entry(
     data_type: DataType,
     access: Access,
     default: bool,
-) -> EntryInfo {
+) -> EntryInfo<&'static str> {
     let bit_len = match data_type {
         DataType::Boolean => 1,
         DataType::Unsigned16 => 16,

@@ -54,7 +54,7 @@ fn write(od: &mut Od, index: u16, sub: u8, data: &[u8]) -> Result<(), AbortCode>
 fn metadata_comes_from_the_field_types() {
     let o = Od::object(0x6060).unwrap();
     assert_eq!(
-        (o.info.code, o.info.max_sub, o.info.name),
+        (o.info.code, o.info.max_sub, Od::name(o.info.name)),
         (ObjectCode::Var, 0, "Modes of operation")
     );
     let e = o.info.entry(0).unwrap();
@@ -81,7 +81,7 @@ fn metadata_comes_from_the_field_types() {
         (array.code, array.max_sub, array.data_type()),
         (ObjectCode::Array, 3, 0x0001)
     );
-    assert_eq!(array.entry(3).unwrap().name, "Flag");
+    assert_eq!(Od::name(array.entry(3).unwrap().name), "Flag");
     assert!(array.entry(4).is_none());
     assert_eq!(array.subindices().collect::<Vec<_>>(), [0, 1, 2, 3]);
 
@@ -295,6 +295,42 @@ mod communication_item {
         );
     }
 
+    /// The names are one table, each text once; a description keeps 3 bytes of it, and
+    /// objects with the same entries (0x1C32/0x1C33, the assignments) share one slice of them.
+    #[test]
+    fn names_are_one_table_and_like_entries_one_slice() {
+        for text in [
+            "Highest sub-index supported",
+            "Number of entries",
+            "Assigned PDO",
+        ] {
+            assert_eq!(Od::NAMES.matches(text).count(), 1, "{text}");
+        }
+        let names: Vec<&str> = Od::OBJECTS
+            .iter()
+            .flat_map(|o| {
+                let entries = o.info.entries.iter().map(|e| Od::name(e.name));
+                core::iter::once(Od::name(o.info.name)).chain(entries)
+            })
+            .collect();
+        // Every distinct name, once: the table is no longer than their texts together.
+        let mut distinct = names.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(
+            Od::NAMES.len(),
+            distinct.iter().map(|n| n.len()).sum::<usize>()
+        );
+        assert_eq!(names[..3], ["Device type", "Device type", "Error register"]);
+        assert_eq!(Od::name(ecat_core::dictionary::Name::EMPTY), "");
+        let entries = |index| Od::object(index).unwrap().info.entries;
+        assert!(core::ptr::eq(entries(0x1C32), entries(0x1C33)));
+        assert!(core::ptr::eq(entries(0x1C12), entries(0x1C13)));
+        assert!(!core::ptr::eq(entries(0x1C12), entries(0x1600)));
+        assert_eq!(size_of::<ecat_core::dictionary::Name>(), 3);
+        assert_eq!(size_of::<ecat_core::dictionary::EntryInfo>(), 10);
+    }
+
     #[test]
     fn constants_come_from_the_device_info_read_only_with_their_defaults() {
         let od = Od::default();
@@ -306,7 +342,7 @@ mod communication_item {
         ] {
             let info = &Od::object(index).unwrap().info;
             assert_eq!(
-                (info.code, info.name, info.max_sub),
+                (info.code, Od::name(info.name), info.max_sub),
                 (ObjectCode::Var, name, 0)
             );
             let entry = info.entry(0).unwrap();
@@ -330,10 +366,10 @@ mod communication_item {
     fn identity_is_the_standard_record_initialised_from_the_constant() {
         let object = Od::object(0x1018).expect("0x1018");
         assert_eq!(object.info.code, ObjectCode::Record);
-        assert_eq!(object.info.name, "Identity object");
+        assert_eq!(Od::name(object.info.name), "Identity object");
         assert_eq!(object.info.max_sub, 4);
         let names: Vec<_> = (1..=4)
-            .map(|s| object.info.entry(s).unwrap().name)
+            .map(|s| Od::name(object.info.entry(s).unwrap().name))
             .collect();
         assert_eq!(
             names,
@@ -380,7 +416,7 @@ mod communication_item {
         ] {
             let object = Od::object(index).expect("declared");
             assert_eq!(object.info.code, ObjectCode::Record);
-            assert_eq!(object.info.name, name);
+            assert_eq!(Od::name(object.info.name), name);
             let subs: Vec<u8> = object.info.subindices().collect();
             // SSC's record: SI 1..0x0D and 0x20, SI0 = 0x20 (ETG.1000.6 Table 74).
             assert_eq!(

@@ -538,7 +538,7 @@ fn object_description<D: ObjectDictionary>(
     let [t0, t1] = info.data_type().to_le_bytes();
     let fixed = [i0, i1, t0, t1, info.max_sub, info.code as u8];
     let mut w = Writer::starting(data, fixed).ok_or(AbortCode::EXCEEDS_MAILBOX)?;
-    w.put_name(info.name.as_bytes());
+    w.put_name(D::name(info.name).as_bytes());
     Ok(Response::whole(Opcode::GetObjectDescriptionResponse, w.len))
 }
 
@@ -559,7 +559,7 @@ fn entry_description<D: ObjectDictionary>(
     let ((data_type, bit_len, access), name) = match entry {
         Some(entry) => (
             (entry.data_type.code(), entry.bit_len, entry.access.0),
-            entry.name.as_bytes(),
+            D::name(entry.name).as_bytes(),
         ),
         None => {
             name_gap(&object.info, sub, &mut gap_name)?;

@@ -84,7 +84,12 @@ pub const INDICES: [u16; 8] = [
 // --- descriptions ------------------------------------------------------------------------------
 
 /// A read-only entry with a declared default.
-const fn constant(sub: u8, name: &'static str, data_type: DataType, bit_len: u16) -> EntryInfo {
+const fn constant(
+    sub: u8,
+    name: &'static str,
+    data_type: DataType,
+    bit_len: u16,
+) -> EntryInfo<&'static str> {
     EntryInfo {
         sub,
         name,
@@ -96,7 +101,7 @@ const fn constant(sub: u8, name: &'static str, data_type: DataType, bit_len: u16
 }
 
 /// 0x1000.
-pub const DEVICE_TYPE: ObjectInfo = ObjectInfo {
+pub const DEVICE_TYPE: ObjectInfo<&'static str> = ObjectInfo {
     index: 0x1000,
     code: ObjectCode::Var,
     name: "Device type",
@@ -106,7 +111,7 @@ pub const DEVICE_TYPE: ObjectInfo = ObjectInfo {
 
 /// The VAR of a text constant (0x1008, 0x1009, 0x100A): VISIBLE_STRING of the text's length.
 #[doc(hidden)]
-pub const fn text_entry(name: &'static str, text: &'static str) -> EntryInfo {
+pub const fn text_entry(name: &'static str, text: &'static str) -> EntryInfo<&'static str> {
     assert!(
         !text.is_empty() && text.is_ascii() && text.len() <= 255,
         "names and versions of the communication area are 1..=255 ASCII characters"
@@ -116,7 +121,7 @@ pub const fn text_entry(name: &'static str, text: &'static str) -> EntryInfo {
 
 /// 0x1018 (ETG.1000.6 Table 4): vendor ID, product code, revision and serial number,
 /// UNSIGNED32 each, read-only, the [`DeviceInfo::identity`] declared as defaults.
-pub const IDENTITY: ObjectInfo = ObjectInfo {
+pub const IDENTITY: ObjectInfo<&'static str> = ObjectInfo {
     index: 0x1018,
     code: ObjectCode::Record,
     name: "Identity object",
@@ -132,7 +137,7 @@ pub const IDENTITY: ObjectInfo = ObjectInfo {
 
 /// 0x1C00: the communication types of SM0..SM3, an ARRAY of four read-only UNSIGNED8 —
 /// what the SII and ESI say of the same SyncManagers ([`sync_manager::STANDARD_KINDS`]).
-pub const SM_TYPES: ObjectInfo = ObjectInfo {
+pub const SM_TYPES: ObjectInfo<&'static str> = ObjectInfo {
     index: 0x1C00,
     code: ObjectCode::Array,
     name: "Sync manager type",
@@ -223,7 +228,7 @@ pub fn read_only<D>(_: &mut D, _: u8, _: &[u8]) -> Result<(), AbortCode> {
 
 /// Whether `objects` (sorted) has `index`.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
-const fn has<D>(objects: &[super::Object<D>], index: u16) -> bool {
+const fn has<D, S>(objects: &[super::Object<D, S>], index: u16) -> bool {
     let mut i = 0;
     while i < objects.len() {
         if objects[i].info.index == index {
@@ -236,7 +241,7 @@ const fn has<D>(objects: &[super::Object<D>], index: u16) -> bool {
 
 /// `const` check: `objects` has every object of the communication area ([`INDICES`]).
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
-pub const fn has_communication_area<D>(objects: &[super::Object<D>]) -> bool {
+pub const fn has_communication_area<D, S>(objects: &[super::Object<D, S>]) -> bool {
     let mut i = 0;
     while i < INDICES.len() {
         if !has(objects, INDICES[i]) {
@@ -248,14 +253,14 @@ pub const fn has_communication_area<D>(objects: &[super::Object<D>]) -> bool {
 }
 
 /// `const` check: `objects` has both PDO assignment objects, 0x1C12 and 0x1C13.
-pub const fn has_pdo_assignments<D>(objects: &[super::Object<D>]) -> bool {
+pub const fn has_pdo_assignments<D, S>(objects: &[super::Object<D, S>]) -> bool {
     has(objects, 0x1C12) && has(objects, 0x1C13)
 }
 
 /// `const` check: none of `objects` (an application's own) takes an index of the
 /// communication area.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
-pub const fn leaves_communication_area<D>(objects: &[super::Object<D>]) -> bool {
+pub const fn leaves_communication_area<D, S>(objects: &[super::Object<D, S>]) -> bool {
     let mut i = 0;
     while i < INDICES.len() {
         if has(objects, INDICES[i]) {
@@ -271,10 +276,10 @@ pub const fn leaves_communication_area<D>(objects: &[super::Object<D>]) -> bool 
 /// check to refuse.
 #[doc(hidden)]
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
-pub const fn merge<D, const N: usize>(
-    area: &[super::Object<D>],
-    objects: &[super::Object<D>],
-) -> [super::Object<D>; N] {
+pub const fn merge<D, S: Copy, const N: usize>(
+    area: &[super::Object<D, S>],
+    objects: &[super::Object<D, S>],
+) -> [super::Object<D, S>; N] {
     assert!(area.len() + objects.len() == N && !area.is_empty());
     let mut out = [area[0]; N];
     let (mut i, mut j, mut k) = (0, 0, 0);

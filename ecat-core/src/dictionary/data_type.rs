@@ -2,7 +2,7 @@
 
 /// The data type index of an entry, as SDO Information and the ESI file report it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-#[repr(u16)]
+#[repr(u8)] // every basic type's index is below 0x100: one byte in a description
 pub enum DataType {
     /// BOOL, 1 bit.
     Boolean = 0x0001,
@@ -55,7 +55,7 @@ pub enum DataType {
 impl DataType {
     /// The data type index.
     pub const fn code(self) -> u16 {
-        self as u16
+        self as u8 as u16
     }
 
     /// Whether values have a variable length (strings, domains): complete access refuses them.

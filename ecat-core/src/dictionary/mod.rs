@@ -77,6 +77,8 @@
 
 mod access;
 pub mod communication;
+#[doc(hidden)]
+pub mod compact;
 mod data_type;
 #[doc(hidden)]
 pub mod limits;
@@ -86,10 +88,11 @@ mod value;
 
 pub use access::Access;
 pub use communication::{Communication, DeviceInfo};
+pub use compact::Declaration;
 pub use data_type::DataType;
 pub(crate) use object::has_domain;
 pub use object::{
-    EntryInfo, Limit, Limits, ObjectCode, ObjectInfo, is_well_formed, mappable_types_only,
+    EntryInfo, Limit, Limits, Name, ObjectCode, ObjectInfo, is_well_formed, mappable_types_only,
 };
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
@@ -97,8 +100,18 @@ use crate::abort::AbortCode;
 
 /// A dictionary: the `const` table of its objects. Implemented by [`dictionary!`](crate::dictionary!).
 pub trait ObjectDictionary: Sized + 'static {
-    /// Every object, sorted by index.
+    /// Every object, sorted by index: what [`dictionary!`](crate::dictionary!) makes at compile
+    /// time of [`Self::DECLARATION`] (`dictionary::compact`), names in [`Self::NAMES`].
     const OBJECTS: &'static [Object<Self>];
+
+    /// The objects as declared, names as text: what [`Self::OBJECTS`] and [`Self::NAMES`] are
+    /// made of at compile time, never read at run time (so not in the program).
+    #[doc(hidden)]
+    const DECLARATION: &'static [Declaration<Self>] = &[];
+
+    /// The names of every object and entry, each text once, one after the other: what a
+    /// description's [`Name`] points into ([`Self::name`]).
+    const NAMES: &'static str = "";
 
     /// Every object's index, parallel to [`Self::OBJECTS`]: what [`Self::object`] searches, two
     /// bytes a step instead of a whole [`Object`]. [`dictionary!`](crate::dictionary!) takes it
@@ -171,6 +184,12 @@ pub trait ObjectDictionary: Sized + 'static {
     /// default), the `stored` field of a `communication(area, INFO, stored = field)` item.
     fn stored_parameters(&mut self) -> Option<&mut parameters::StoredParameters> {
         None
+    }
+
+    /// The text of `name`, a name of one of [`Self::OBJECTS`] (empty for one outside
+    /// [`Self::NAMES`]).
+    fn name(name: Name) -> &'static str {
+        Self::NAMES.get(name.range()).unwrap_or_default()
     }
 
     /// The object at `index`, by a search of [`Self::INDICES`]: a walk in a dictionary of up
@@ -291,10 +310,12 @@ impl At {
     }
 }
 
-/// One object: its description and the typed code that reaches its fields.
-pub struct Object<D> {
+/// One object: its description and the typed code that reaches its fields. `S` is how names
+/// are kept ([`EntryInfo`]): [`Name`]s in the dictionary's table, text in its
+/// [`Declaration`].
+pub struct Object<D, S: 'static = Name> {
     /// The description.
-    pub info: ObjectInfo,
+    pub info: ObjectInfo<S>,
     /// Copies the encoded value of a subindex from an offset ([`At`]) into `out`.
     pub read: fn(&D, At, &mut [u8]) -> Result<Read, AbortCode>,
     /// Decodes `data` into a subindex, after the range check.
@@ -303,13 +324,13 @@ pub struct Object<D> {
 
 // Not derived: a description and two `fn` pointers copy whatever `D` is (the
 // communication area's table is merged with the application's at compile time).
-impl<D> Clone for Object<D> {
+impl<D, S: Copy> Clone for Object<D, S> {
     fn clone(&self) -> Self {
         *self
     }
 }
 
-impl<D> Copy for Object<D> {}
+impl<D, S: Copy> Copy for Object<D, S> {}
 
 impl<D: ObjectDictionary> Object<D> {
     /// Encodes the declared default, minimum, maximum or unit of subindex `sub` ([`Limit`])

@@ -16,13 +16,50 @@ pub enum ObjectCode {
     Record = 9,
 }
 
-/// The description of one entry (ETG.1000.6 §5.6.3.6 "entry description").
+/// Where a name lies in its dictionary's table of names ([`ObjectDictionary::NAMES`]): what
+/// the descriptions keep instead of a `&'static str` (3 bytes, byte-aligned, instead of 8 on a
+/// 32-bit target; the text is [`ObjectDictionary::name`]'s).
+///
+/// [`ObjectDictionary::NAMES`]: super::ObjectDictionary::NAMES
+/// [`ObjectDictionary::name`]: super::ObjectDictionary::name
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Name {
+    /// The first byte's offset in the table, little endian (bytes: no padding in an
+    /// [`EntryInfo`]).
+    offset: [u8; 2],
+    /// The length in bytes.
+    len: u8,
+}
+
+impl Name {
+    /// The empty name (the text of no dictionary's name: every declared name has some).
+    pub const EMPTY: Self = Self::new(0, 0);
+
+    /// `len` bytes from `offset` on.
+    pub(super) const fn new(offset: u16, len: u8) -> Self {
+        Self {
+            offset: offset.to_le_bytes(),
+            len,
+        }
+    }
+
+    /// Where its bytes lie in the table.
+    pub(super) fn range(self) -> core::ops::Range<usize> {
+        let start = usize::from(u16::from_le_bytes(self.offset));
+        start..start + usize::from(self.len)
+    }
+}
+
+/// The description of one entry (ETG.1000.6 §5.6.3.6 "entry description"). `S` is how the
+/// name is kept: a [`Name`] in a dictionary's table
+/// ([`ObjectDictionary::OBJECTS`](super::ObjectDictionary::OBJECTS), 10 bytes an entry), the text in what [`dictionary!`](crate::dictionary!) declares (a
+/// [`Declaration`](super::Declaration), evaluated at compile time only).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct EntryInfo {
+pub struct EntryInfo<S = Name> {
     /// The subindex (for an ARRAY element: 1, standing for every element).
     pub sub: u8,
-    /// The name.
-    pub name: &'static str,
+    /// The name ([`ObjectDictionary::name`](super::ObjectDictionary::name) gives its text).
+    pub name: S,
     /// The data type.
     pub data_type: DataType,
     /// The bit length (the capacity for strings).
@@ -31,7 +68,7 @@ pub struct EntryInfo {
     pub access: Access,
     /// Which of default, minimum, maximum and unit the dictionary declares (their values: the
     /// dictionary's [`LIMITS`](super::ObjectDictionary::LIMITS), by
-    /// [`Object::limit`](super::Object::limit)). 16 bytes an entry on a 32-bit target.
+    /// [`Object::limit`](super::Object::limit)).
     pub limits: Limits,
 }
 
@@ -71,7 +108,7 @@ pub enum Limit {
     Unit = Limits::UNIT,
 }
 
-impl EntryInfo {
+impl EntryInfo<&'static str> {
     /// SI0 of an ARRAY or RECORD: UNSIGNED8, read-only.
     pub const fn subindex_count(name: &'static str) -> Self {
         Self {
@@ -85,23 +122,24 @@ impl EntryInfo {
     }
 }
 
-/// The description of one object (ETG.1000.6 §5.6.3.5 "object description").
+/// The description of one object (ETG.1000.6 §5.6.3.5 "object description"); `S` as for
+/// [`EntryInfo`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct ObjectInfo {
+pub struct ObjectInfo<S: 'static = Name> {
     /// The index.
     pub index: u16,
     /// VAR, ARRAY or RECORD.
     pub code: ObjectCode,
-    /// The name.
-    pub name: &'static str,
+    /// The name ([`ObjectDictionary::name`](super::ObjectDictionary::name) gives its text).
+    pub name: S,
     /// The highest subindex (0 for a VAR; the number of elements of an ARRAY).
     pub max_sub: u8,
     /// A VAR: its entry. An ARRAY: SI0 and the element. A RECORD: SI0 and every entry, sorted by
     /// subindex.
-    pub entries: &'static [EntryInfo],
+    pub entries: &'static [EntryInfo<S>],
 }
 
-impl ObjectInfo {
+impl<S> ObjectInfo<S> {
     /// Whether SI1..=`max_sub` share one description, the second of `entries`: every ARRAY,
     /// and a RECORD that describes only SI1 below a higher `max_sub` — how a PDO mapping object
     /// (0x1600..0x17FF, 0x1A00..0x1BFF: a RECORD of UNSIGNED32 mapping entries, ETG.1000.6
@@ -128,7 +166,7 @@ impl ObjectInfo {
     /// RECORD's entries beyond the last declared repeat it (0x10F3's messages). A walk, not a
     /// search: the tables are short, and the SDO server finds most entries at their position
     /// first (`ObjectInfo::dense_entry`).
-    pub fn entry(&self, sub: u8) -> Option<&EntryInfo> {
+    pub fn entry(&self, sub: u8) -> Option<&EntryInfo<S>> {
         if sub > self.max_sub {
             return None;
         }
@@ -145,7 +183,7 @@ impl ObjectInfo {
     /// every entry of most records, an ARRAY's SI1. `None` when it is elsewhere or missing
     /// ([`ObjectInfo::entry`] looks further). Inline, for the SDO server's way without a call.
     #[inline]
-    pub(crate) fn dense_entry(&self, sub: u8) -> Option<&EntryInfo> {
+    pub(crate) fn dense_entry(&self, sub: u8) -> Option<&EntryInfo<S>> {
         self.entries
             .get(usize::from(sub))
             .filter(|entry| entry.sub == sub && sub <= self.max_sub)

@@ -123,7 +123,7 @@ pub struct Loaded {
 
 /// SI0 and SI1 of 0x1010 or 0x1011: one UNSIGNED32, readable and writable in every state with
 /// a mailbox.
-const fn entries(element: &'static str) -> [EntryInfo; 2] {
+const fn entries(element: &'static str) -> [EntryInfo<&'static str>; 2] {
     [
         EntryInfo::subindex_count("Highest sub-index supported"),
         EntryInfo {
@@ -137,11 +137,11 @@ const fn entries(element: &'static str) -> [EntryInfo; 2] {
     ]
 }
 
-const STORE_ENTRIES: [EntryInfo; 2] = entries("Save all parameters");
-const RESTORE_ENTRIES: [EntryInfo; 2] = entries("Restore all default parameters");
+const STORE_ENTRIES: [EntryInfo<&'static str>; 2] = entries("Save all parameters");
+const RESTORE_ENTRIES: [EntryInfo<&'static str>; 2] = entries("Restore all default parameters");
 
 /// 0x1010, an ARRAY of one entry: all parameters.
-pub const STORE: ObjectInfo = ObjectInfo {
+pub const STORE: ObjectInfo<&'static str> = ObjectInfo {
     index: 0x1010,
     code: ObjectCode::Array,
     name: "Store parameters",
@@ -150,7 +150,7 @@ pub const STORE: ObjectInfo = ObjectInfo {
 };
 
 /// 0x1011, an ARRAY of one entry: all parameters.
-pub const RESTORE: ObjectInfo = ObjectInfo {
+pub const RESTORE: ObjectInfo<&'static str> = ObjectInfo {
     index: 0x1011,
     code: ObjectCode::Array,
     name: "Restore default parameters",
@@ -240,7 +240,7 @@ pub fn load<D: ObjectDictionary>(od: &mut D, record: &[u8]) -> Loaded {
 
 /// `const` check: none of `objects` (an application's own) is 0x1010 or 0x1011.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
-pub const fn leaves_storage<D>(objects: &[super::Object<D>]) -> bool {
+pub const fn leaves_storage<D, S>(objects: &[super::Object<D, S>]) -> bool {
     let mut i = 0;
     while i < objects.len() {
         let index = objects[i].info.index;

@@ -185,7 +185,7 @@ fn dictionary_pdos<D: ObjectDictionary>(od: &D, assign: u16) -> Vec<DictPdo> {
                     ((e >> 16) as u16, (e >> 8) as u8, e as u8)
                 })
                 .collect();
-            (pdo, D::object(pdo).unwrap().info.name, entries)
+            (pdo, D::name(D::object(pdo).unwrap().info.name), entries)
         })
         .collect()
 }
@@ -492,7 +492,7 @@ fn pdos<D: ObjectDictionary>(od: &D, sii: &Sii, device: Node) {
         for alternative in &alternatives {
             let index = number(text(*alternative, "Index"));
             let object = D::object(u16::try_from(index).unwrap()).expect("declared");
-            assert_eq!(text(*alternative, "Name"), object.info.name);
+            assert_eq!(text(*alternative, "Name"), D::name(object.info.name));
             assert!(dictionary.iter().all(|(i, _, _)| u64::from(*i) != index));
         }
         for pdo in children(device, tag) {
@@ -532,14 +532,15 @@ fn pdos<D: ObjectDictionary>(od: &D, sii: &Sii, device: Node) {
             assert_eq!(esi_entries.len(), entries.len());
             for ((&(i, sub, bits), se), ee) in entries.iter().zip(&s.entries).zip(&esi_entries) {
                 let info = D::object(i).and_then(|o| o.info.entry(sub));
-                let (name, code) = info.map_or(("", 0), |e| (e.name, e.data_type.code() as u8));
+                let (name, code) =
+                    info.map_or(("", 0), |e| (D::name(e.name), e.data_type.code() as u8));
                 assert_eq!(*se, (i, sub, name.to_owned(), code, bits));
                 assert_eq!(number(text(*ee, "Index")), u64::from(i));
                 assert_eq!(number(text(*ee, "BitLen")), u64::from(bits));
                 match info {
                     Some(info) => {
                         assert_eq!(number(text(*ee, "SubIndex")), u64::from(sub));
-                        assert_eq!(text(*ee, "Name"), info.name);
+                        assert_eq!(text(*ee, "Name"), D::name(info.name));
                         assert_eq!(text(*ee, "DataType"), type_name(info));
                     }
                     None => assert_eq!(opt_text(*ee, "Name"), None, "a gap has no name"),
@@ -582,7 +583,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
     for (object, node) in D::OBJECTS.iter().zip(&esi_objects) {
         let info = &object.info;
         assert_eq!(text(*node, "Index"), format!("#x{:04X}", info.index));
-        assert_eq!(text(*node, "Name"), info.name);
+        assert_eq!(text(*node, "Name"), D::name(info.name));
         for entry in info.entries {
             let base = data_type(&type_name(entry));
             assert_eq!(number(text(base, "BitSize")), u64::from(entry.bit_len));
@@ -591,7 +592,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             let entry = &info.entries[0];
             assert_eq!(text(*node, "Type"), type_name(entry));
             assert_eq!(number(text(*node, "BitSize")), u64::from(entry.bit_len));
-            check_flags(child(*node, "Flags"), entry.access, info.name);
+            check_flags(child(*node, "Flags"), entry.access, D::name(info.name));
             let values = node.children().find(|c| c.has_tag_name("Info"));
             check_values::<D>(values, info.index, 0);
             continue;
@@ -605,10 +606,10 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
         let items = children(dt, "SubItem");
         let si0 = info.entry(0).unwrap();
         assert_eq!(number(text(items[0], "SubIdx")), 0);
-        assert_eq!(text(items[0], "Name"), si0.name);
+        assert_eq!(text(items[0], "Name"), D::name(si0.name));
         assert_eq!(text(items[0], "Type"), "USINT");
         assert_eq!(number(text(items[0], "BitOffs")), 0);
-        check_flags(child(items[0], "Flags"), si0.access, info.name);
+        check_flags(child(items[0], "Flags"), si0.access, D::name(info.name));
         if info.code == ObjectCode::Array {
             let element = info.entry(1).unwrap();
             let size = u64::from(info.max_sub) * u64::from(element.bit_len);
@@ -625,7 +626,7 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
             assert_eq!(text(items[1], "Type"), format!("{name}ARR"));
             assert_eq!(number(text(items[1], "BitSize")), size);
             assert_eq!(number(text(items[1], "BitOffs")), offsets[1] as u64);
-            check_flags(child(items[1], "Flags"), element.access, info.name);
+            check_flags(child(items[1], "Flags"), element.access, D::name(info.name));
         } else {
             // A uniform RECORD (a PDO mapping) lists every subindex with its one description.
             let entries: Vec<_> = info
@@ -637,13 +638,13 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
                 assert_eq!(number(text(*item, "SubIdx")), u64::from(*sub));
                 let name = match *sub {
                     _ if info.is_repeated(*sub) => format!("SubIndex {sub:03}"),
-                    _ => entry.name.to_owned(),
+                    _ => D::name(entry.name).to_owned(),
                 };
                 assert_eq!(text(*item, "Name"), name);
                 assert_eq!(text(*item, "Type"), type_name(entry));
                 assert_eq!(number(text(*item, "BitSize")), u64::from(entry.bit_len));
                 assert_eq!(number(text(*item, "BitOffs")), *offset as u64);
-                check_flags(child(*item, "Flags"), entry.access, entry.name);
+                check_flags(child(*item, "Flags"), entry.access, D::name(entry.name));
             }
         }
         // The object's Info: one SubItem per subindex; SI0's default is the count it reads.
@@ -665,12 +666,12 @@ fn objects<D: ObjectDictionary>(od: &D, dictionary: Node) {
                     opt_text(values.unwrap(), "DefaultData"),
                     Some(count.as_str())
                 );
-                assert_eq!(text(*item, "Name"), si0.name);
+                assert_eq!(text(*item, "Name"), D::name(si0.name));
             } else {
                 check_values::<D>(values, info.index, *sub);
                 let expected = match info.is_repeated(*sub) {
                     true => format!("SubIndex {sub:03}"),
-                    false => info.entry(*sub).unwrap().name.to_owned(),
+                    false => D::name(info.entry(*sub).unwrap().name).to_owned(),
                 };
                 assert_eq!(text(*item, "Name"), expected);
             }

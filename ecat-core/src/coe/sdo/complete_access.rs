@@ -217,12 +217,12 @@ pub fn entry_value(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dictionary::{Access, DataType, Limits};
+    use crate::dictionary::{Access, DataType, Limits, Name};
 
     const fn entry(sub: u8, data_type: DataType, bit_len: u16) -> EntryInfo {
         EntryInfo {
             sub,
-            name: "",
+            name: Name::EMPTY,
             data_type,
             bit_len,
             access: Access::RW,
@@ -234,7 +234,7 @@ mod tests {
         ObjectInfo {
             index: 0x2000,
             code: ObjectCode::Record,
-            name: "",
+            name: Name::EMPTY,
             max_sub: 2,
             entries,
         }
@@ -245,7 +245,10 @@ mod tests {
     #[test]
     fn variable_length_entries_refuse_complete_access() {
         const fn with(second: DataType) -> [EntryInfo; 3] {
-            let count = EntryInfo::subindex_count("");
+            let count = EntryInfo {
+                access: Access::RO,
+                ..entry(0, DataType::Unsigned8, 8)
+            };
             [
                 count,
                 entry(1, DataType::Unsigned16, 16),
