@@ -714,9 +714,9 @@ fn register_parts<'b>(
             Part::Exchange(bytes.get_mut(..4).unwrap_or_default())
         }
         Some(values) => {
-            for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-                chunk.copy_from_slice(&value.to_le_bytes());
-            }
+            // Both DWORDs as one little-endian u64: no `copy_from_slice` (and its length panic).
+            let value = |i| u64::from(values.get(i).copied().unwrap_or(0));
+            *bytes = (value(1) << 32 | value(0)).to_le_bytes();
             *header = Header::write(register, values.len() > 1);
             Part::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
         }
