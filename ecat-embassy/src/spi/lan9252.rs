@@ -411,26 +411,27 @@ impl<S: Port> Pdi for Lan9252<S> {
                 let end = stream.len().min(position + space);
                 let mut header = Header::NONE;
                 let parts = match (step, write, &mut ram) {
-                    (Step::Load, _, Data::Read(buf)) if space > 0 => {
+                    // One FIFO load, a read's or a write's: the padding is clocked out as zeros
+                    // either way (in place: what comes back is dropped), a read's data too.
+                    (Step::Load, _, ram) if space > 0 => {
                         let layout = stream.layout(position..end);
-                        header = Header::read(self.config.read, PRAM_READ_FIFO);
-                        let buf = buf.get_mut(layout.data).unwrap_or_default();
-                        buf.fill(0);
+                        let data = match ram {
+                            Data::Read(buf) => {
+                                header = Header::read(self.config.read, PRAM_READ_FIFO);
+                                let buf = buf.get_mut(layout.data).unwrap_or_default();
+                                buf.fill(0);
+                                Part::Exchange(buf)
+                            }
+                            Data::Write(data) => {
+                                header = Header::write(PRAM_WRITE_FIFO, false);
+                                Part::Write(data.get(layout.data).unwrap_or_default())
+                            }
+                        };
                         [
                             Part::Write(header.as_slice()),
                             Part::Exchange(head.get_mut(..layout.head).unwrap_or_default()),
-                            Part::Exchange(buf),
+                            data,
                             Part::Exchange(tail.get_mut(..layout.tail).unwrap_or_default()),
-                        ]
-                    }
-                    (Step::Load, _, Data::Write(data)) if space > 0 => {
-                        let layout = stream.layout(position..end);
-                        header = Header::write(PRAM_WRITE_FIFO, false);
-                        [
-                            Part::Write(header.as_slice()),
-                            Part::Write(head.get(..layout.head).unwrap_or_default()),
-                            Part::Write(data.get(layout.data).unwrap_or_default()),
-                            Part::Write(tail.get(..layout.tail).unwrap_or_default()),
                         ]
                     }
                     // One LAN9252 register read, or two consecutive ones written.
