@@ -464,9 +464,11 @@ impl<S: Port> Pdi for Lan9252<S> {
                             (Region::Access, Data::Read(buf)) => &mut buf[..],
                             (Region::Access, Data::Write(_)) => &mut [],
                         };
-                        let bytes = buf.iter_mut().skip(offset).take(piece.size);
-                        for (byte, value) in bytes.zip(value.to_le_bytes()) {
-                            *byte = value;
+                        // Little-endian: the low byte first.
+                        let mut value = value;
+                        for byte in buf.iter_mut().skip(offset).take(piece.size) {
+                            *byte = value as u8;
+                            value >>= 8;
                         }
                         offset += piece.size;
                         Step::Piece(piece.region)
@@ -576,12 +578,10 @@ impl Piece {
     fn new(region: Region, base: u16, offset: usize, len: usize, write: Option<&[u8]>) -> Self {
         let position = base.wrapping_add(offset as u16);
         let size = csr_size(position, len - offset);
+        // The piece's bytes as a little-endian value, the last one first.
         let write = write.map(|bytes| {
-            let mut value = [0; 4];
-            for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size)) {
-                *byte = data;
-            }
-            u32::from_le_bytes(value)
+            let bytes = bytes.iter().skip(offset).take(size);
+            bytes.rev().fold(0, |value, &byte| value << 8 | u32::from(byte))
         });
         Self {
             region,
