@@ -241,37 +241,43 @@ impl<S: Port> Lan9252<S> {
     /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
     /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
     /// output, active low, push-pull. `spi` must be in [`SPI_MODE`].
-    pub async fn start(spi: S, config: Config) -> Result<Self, Error<S::Error>> {
-        let mut chip = Self {
-            spi,
-            config,
-            known: AlEvent::NONE,
-            sampled: AlEvent::NONE,
-            sample: Sample::Usual,
-            reported: AlEvent::NONE,
-        };
-        let mut deadline = Deadline(Instant::MAX);
-        // One transaction per pass, the register polls repeated after a pause.
-        for &(register, write) in &START_UP {
-            loop {
-                let (mut header, mut bytes) = (Header::NONE, [0; 8]);
-                let write = write.as_ref().map(core::slice::from_ref);
-                let parts = register_parts(&mut header, &mut bytes, config.read, register, write);
-                chip.spi.transaction(parts).await.map_err(Error::Spi)?;
-                let read = dword(&bytes);
-                let failure = match register {
-                    RESET_CTL => {
-                        deadline = Deadline::after(config.startup_timeout);
-                        break;
-                    }
-                    BYTE_TEST if read != BYTE_TEST_PATTERN => Error::ByteTest { read },
-                    HW_CFG if read & HW_CFG_READY == 0 => Error::Timeout(Wait::Ready),
-                    _ => break,
-                };
-                deadline.pause().await.map_err(|Expired| failure)?;
+    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+    pub fn start(spi: S, config: Config) -> impl Future<Output = Result<Self, Error<S::Error>>> {
+        // An `async` block: `spi` is its capture, moved into the driver in place rather than
+        // kept as an argument beside it.
+        async move {
+            let mut chip = Self {
+                spi,
+                config,
+                known: AlEvent::NONE,
+                sampled: AlEvent::NONE,
+                sample: Sample::Usual,
+                reported: AlEvent::NONE,
+            };
+            let mut deadline = Deadline(Instant::MAX);
+            // One transaction per pass, the register polls repeated after a pause.
+            for &(register, write) in &START_UP {
+                loop {
+                    let (mut header, mut bytes) = (Header::NONE, [0; 8]);
+                    let write = write.as_ref().map(core::slice::from_ref);
+                    let parts =
+                        register_parts(&mut header, &mut bytes, config.read, register, write);
+                    chip.spi.transaction(parts).await.map_err(Error::Spi)?;
+                    let read = dword(&bytes);
+                    let failure = match register {
+                        RESET_CTL => {
+                            deadline = Deadline::after(config.startup_timeout);
+                            break;
+                        }
+                        BYTE_TEST if read != BYTE_TEST_PATTERN => Error::ByteTest { read },
+                        HW_CFG if read & HW_CFG_READY == 0 => Error::Timeout(Wait::Ready),
+                        _ => break,
+                    };
+                    deadline.pause().await.map_err(|Expired| failure)?;
+                }
             }
+            Ok(chip)
         }
-        Ok(chip)
     }
 }
 
@@ -581,7 +587,9 @@ impl Piece {
         // The piece's bytes as a little-endian value, the last one first.
         let write = write.map(|bytes| {
             let bytes = bytes.iter().skip(offset).take(size);
-            bytes.rev().fold(0, |value, &byte| value << 8 | u32::from(byte))
+            bytes
+                .rev()
+                .fold(0, |value, &byte| value << 8 | u32::from(byte))
         });
         Self {
             region,
