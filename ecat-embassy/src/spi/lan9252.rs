@@ -241,37 +241,43 @@ impl<S: Port> Lan9252<S> {
     /// Resets the chip (`RESET_CTL.DIGITAL_RST`), waits for the byte-order test to read
     /// [`BYTE_TEST_PATTERN`] and for `HW_CFG.READY`, then routes the EtherCAT interrupt to the IRQ
     /// output, active low, push-pull. `spi` must be in [`SPI_MODE`].
-    pub async fn start(spi: S, config: Config) -> Result<Self, Error<S::Error>> {
-        let mut chip = Self {
-            spi,
-            config,
-            known: AlEvent::NONE,
-            sampled: AlEvent::NONE,
-            sample: Sample::Usual,
-            reported: AlEvent::NONE,
-        };
-        let mut deadline = Deadline(Instant::MAX);
-        // One transaction per pass, the register polls repeated after a pause.
-        for &(register, write) in &START_UP {
-            loop {
-                let (mut header, mut bytes) = (Header::NONE, [0; 8]);
-                let write = write.as_ref().map(core::slice::from_ref);
-                let parts = register_parts(&mut header, &mut bytes, config.read, register, write);
-                chip.spi.transaction(parts).await.map_err(Error::Spi)?;
-                let read = dword(&bytes);
-                let failure = match register {
-                    RESET_CTL => {
-                        deadline = Deadline::after(config.startup_timeout);
-                        break;
-                    }
-                    BYTE_TEST if read != BYTE_TEST_PATTERN => Error::ByteTest { read },
-                    HW_CFG if read & HW_CFG_READY == 0 => Error::Timeout(Wait::Ready),
-                    _ => break,
-                };
-                deadline.pause().await.map_err(|Expired| failure)?;
+    #[allow(clippy::manual_async_fn)] // docs/performance.md, "Codegen rules"
+    pub fn start(spi: S, config: Config) -> impl Future<Output = Result<Self, Error<S::Error>>> {
+        // An `async` block: `spi` is its capture, moved into the driver in place rather than
+        // kept as an argument beside it.
+        async move {
+            let mut chip = Self {
+                spi,
+                config,
+                known: AlEvent::NONE,
+                sampled: AlEvent::NONE,
+                sample: Sample::Usual,
+                reported: AlEvent::NONE,
+            };
+            let mut deadline = Deadline(Instant::MAX);
+            // One transaction per pass, the register polls repeated after a pause.
+            for &(register, write) in &START_UP {
+                loop {
+                    let (mut header, mut bytes) = (Header::NONE, [0; 8]);
+                    let write = write.as_ref().map(core::slice::from_ref);
+                    let parts =
+                        register_parts(&mut header, &mut bytes, config.read, register, write);
+                    chip.spi.transaction(parts).await.map_err(Error::Spi)?;
+                    let read = dword(&bytes);
+                    let failure = match register {
+                        RESET_CTL => {
+                            deadline = Deadline::after(config.startup_timeout);
+                            break;
+                        }
+                        BYTE_TEST if read != BYTE_TEST_PATTERN => Error::ByteTest { read },
+                        HW_CFG if read & HW_CFG_READY == 0 => Error::Timeout(Wait::Ready),
+                        _ => break,
+                    };
+                    deadline.pause().await.map_err(|Expired| failure)?;
+                }
             }
+            Ok(chip)
         }
-        Ok(chip)
     }
 }
 
@@ -411,26 +417,27 @@ impl<S: Port> Pdi for Lan9252<S> {
                 let end = stream.len().min(position + space);
                 let mut header = Header::NONE;
                 let parts = match (step, write, &mut ram) {
-                    (Step::Load, _, Data::Read(buf)) if space > 0 => {
+                    // One FIFO load, a read's or a write's: the padding is clocked out as zeros
+                    // either way (in place: what comes back is dropped), a read's data too.
+                    (Step::Load, _, ram) if space > 0 => {
                         let layout = stream.layout(position..end);
-                        header = Header::read(self.config.read, PRAM_READ_FIFO);
-                        let buf = buf.get_mut(layout.data).unwrap_or_default();
-                        buf.fill(0);
+                        let data = match ram {
+                            Data::Read(buf) => {
+                                header = Header::read(self.config.read, PRAM_READ_FIFO);
+                                let buf = buf.get_mut(layout.data).unwrap_or_default();
+                                buf.fill(0);
+                                Part::Exchange(buf)
+                            }
+                            Data::Write(data) => {
+                                header = Header::write(PRAM_WRITE_FIFO, false);
+                                Part::Write(data.get(layout.data).unwrap_or_default())
+                            }
+                        };
                         [
                             Part::Write(header.as_slice()),
                             Part::Exchange(head.get_mut(..layout.head).unwrap_or_default()),
-                            Part::Exchange(buf),
+                            data,
                             Part::Exchange(tail.get_mut(..layout.tail).unwrap_or_default()),
-                        ]
-                    }
-                    (Step::Load, _, Data::Write(data)) if space > 0 => {
-                        let layout = stream.layout(position..end);
-                        header = Header::write(PRAM_WRITE_FIFO, false);
-                        [
-                            Part::Write(header.as_slice()),
-                            Part::Write(head.get(..layout.head).unwrap_or_default()),
-                            Part::Write(data.get(layout.data).unwrap_or_default()),
-                            Part::Write(tail.get(..layout.tail).unwrap_or_default()),
                         ]
                     }
                     // One LAN9252 register read, or two consecutive ones written.
@@ -463,9 +470,11 @@ impl<S: Port> Pdi for Lan9252<S> {
                             (Region::Access, Data::Read(buf)) => &mut buf[..],
                             (Region::Access, Data::Write(_)) => &mut [],
                         };
-                        let bytes = buf.iter_mut().skip(offset).take(piece.size);
-                        for (byte, value) in bytes.zip(value.to_le_bytes()) {
-                            *byte = value;
+                        // Little-endian: the low byte first.
+                        let mut value = value;
+                        for byte in buf.iter_mut().skip(offset).take(piece.size) {
+                            *byte = value as u8;
+                            value >>= 8;
                         }
                         offset += piece.size;
                         Step::Piece(piece.region)
@@ -575,12 +584,12 @@ impl Piece {
     fn new(region: Region, base: u16, offset: usize, len: usize, write: Option<&[u8]>) -> Self {
         let position = base.wrapping_add(offset as u16);
         let size = csr_size(position, len - offset);
+        // The piece's bytes as a little-endian value, the last one first.
         let write = write.map(|bytes| {
-            let mut value = [0; 4];
-            for (byte, &data) in value.iter_mut().zip(bytes.iter().skip(offset).take(size)) {
-                *byte = data;
-            }
-            u32::from_le_bytes(value)
+            let bytes = bytes.iter().skip(offset).take(size);
+            bytes
+                .rev()
+                .fold(0, |value, &byte| value << 8 | u32::from(byte))
         });
         Self {
             region,
@@ -714,9 +723,9 @@ fn register_parts<'b>(
             Part::Exchange(bytes.get_mut(..4).unwrap_or_default())
         }
         Some(values) => {
-            for (chunk, value) in bytes.chunks_exact_mut(4).zip(values) {
-                chunk.copy_from_slice(&value.to_le_bytes());
-            }
+            // Both DWORDs as one little-endian u64: no `copy_from_slice` (and its length panic).
+            let value = |i| u64::from(values.get(i).copied().unwrap_or(0));
+            *bytes = (value(1) << 32 | value(0)).to_le_bytes();
             *header = Header::write(register, values.len() > 1);
             Part::Write(bytes.get(..4 * values.len().min(2)).unwrap_or_default())
         }
