@@ -1,6 +1,8 @@
 //! The tables a dictionary keeps at run time, made at compile time from what
 //! [`dictionary!`](crate::dictionary!) declares: every name once, one after the other, in one
-//! text ([`ObjectDictionary::NAMES`](super::ObjectDictionary::NAMES)), descriptions that refer
+//! text ([`ObjectDictionary::NAMES`](super::ObjectDictionary::NAMES)) — a name that a longer
+//! one holds ("Cycle time" in "Cycle time too small counter") not even once: it points into the
+//! longer —, descriptions that refer
 //! to it by [`Name`] (4 bytes where a `&'static str` takes 8), and the entry descriptions of
 //! all objects in one array whose slices the objects share (like entries, as 0x1C32's and
 //! 0x1C33's, once). The declaration's own tables (a [`Declaration`] per object, names as
@@ -73,12 +75,47 @@ const fn first(names: &[&str], k: usize) -> usize {
     j
 }
 
-/// The length of the table of `names`: every text once.
+/// Where the text `inner` first lies in the text `outer`, if it does.
+#[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
+const fn find(outer: &str, inner: &str) -> Option<usize> {
+    let (outer, inner) = (outer.as_bytes(), inner.as_bytes());
+    let mut at = 0;
+    while at + inner.len() <= outer.len() {
+        let mut b = 0;
+        while b < inner.len() && outer[at + b] == inner[b] {
+            b += 1;
+        }
+        if b == inner.len() {
+            return Some(at);
+        }
+        at += 1;
+    }
+    None
+}
+
+/// Whether the table keeps the text of name `k`: its first use, unless a longer name holds
+/// it ("Output" in "Outputs"), which then names it too.
+#[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
+const fn kept(names: &[&str], k: usize) -> bool {
+    if first(names, k) != k {
+        return false;
+    }
+    let mut m = 0;
+    while m < names.len() {
+        if names[m].len() > names[k].len() && find(names[m], names[k]).is_some() {
+            return false;
+        }
+        m += 1;
+    }
+    true
+}
+
+/// The length of the table of `names`: every text once, none that another holds.
 #[allow(clippy::indexing_slicing)] // bounded by the loop condition; evaluated at compile time
 pub const fn table_len(names: &[&str]) -> usize {
     let (mut k, mut len) = (0, 0);
     while k < names.len() {
-        if first(names, k) == k {
+        if kept(names, k) {
             len += names[k].len();
         }
         k += 1;
@@ -86,13 +123,14 @@ pub const fn table_len(names: &[&str]) -> usize {
     len
 }
 
-/// The table of `names` ([`table_len`] bytes): every text once, in order of first use.
+/// The table of `names` ([`table_len`] bytes): every text once, in order of first use, but
+/// none that another name holds.
 #[allow(clippy::indexing_slicing)] // bounded by the loop conditions; evaluated at compile time
 pub const fn table<const LEN: usize>(names: &[&str]) -> [u8; LEN] {
     let mut out = [0; LEN];
     let (mut k, mut at) = (0, 0);
     while k < names.len() {
-        if first(names, k) == k {
+        if kept(names, k) {
             let text = names[k].as_bytes();
             let mut b = 0;
             while b < text.len() {
@@ -106,23 +144,40 @@ pub const fn table<const LEN: usize>(names: &[&str]) -> [u8; LEN] {
     out
 }
 
-/// Where each of `names` lies in its [`table`].
+/// Where each of `names` lies in its [`table`]: a kept name where it was put, any other in
+/// the first kept name that holds its text.
 #[allow(clippy::indexing_slicing, clippy::cast_possible_truncation)] // checked; compile time
 pub const fn refs<const COUNT: usize>(names: &[&str]) -> [Name; COUNT] {
     let mut out = [Name::EMPTY; COUNT];
+    let mut keep = [false; COUNT];
     let (mut k, mut at) = (0, 0);
     while k < names.len() {
-        let first = first(names, k);
-        if first == k {
-            let len = names[k].len();
-            assert!(
-                len <= 255 && at + len <= 0xFFFF,
-                "a name has at most 255 bytes, all names of a dictionary at most 65 535"
-            );
+        keep[k] = kept(names, k);
+        let len = names[k].len();
+        assert!(
+            len <= 255 && at + len <= 0xFFFF,
+            "a name has at most 255 bytes, all names of a dictionary at most 65 535"
+        );
+        if keep[k] {
             out[k] = Name::new(at as u16, len as u8);
             at += len;
-        } else {
-            out[k] = out[first];
+        }
+        k += 1;
+    }
+    k = 0;
+    while k < names.len() {
+        if !keep[k] {
+            let mut j = 0;
+            loop {
+                if keep[j]
+                    && let Some(within) = find(names[j], names[k])
+                {
+                    let (start, _) = out[j].parts();
+                    out[k] = Name::new(start + within as u16, names[k].len() as u8);
+                    break;
+                }
+                j += 1;
+            }
         }
         k += 1;
     }

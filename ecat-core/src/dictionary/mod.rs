@@ -109,8 +109,8 @@ pub trait ObjectDictionary: Sized + 'static {
     #[doc(hidden)]
     const DECLARATION: &'static [Declaration<Self>] = &[];
 
-    /// The names of every object and entry, each text once, one after the other: what a
-    /// description's [`Name`] points into ([`Self::name`]).
+    /// The names of every object and entry, each text once (none that a longer name holds),
+    /// one after the other: what a description's [`Name`] points into ([`Self::name`]).
     const NAMES: &'static str = "";
 
     /// Every object's index, parallel to [`Self::OBJECTS`]: what [`Self::object`] searches, two

@@ -43,6 +43,11 @@ impl Name {
         }
     }
 
+    /// Its offset and length, at compile time.
+    pub(super) const fn parts(self) -> (u16, u8) {
+        (u16::from_le_bytes(self.offset), self.len)
+    }
+
     /// Where its bytes lie in the table.
     pub(super) fn range(self) -> core::ops::Range<usize> {
         let start = usize::from(u16::from_le_bytes(self.offset));
