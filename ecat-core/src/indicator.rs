@@ -297,7 +297,7 @@ impl Levels {
 /// run their LEDs on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 // 12 bytes, not 16: the instant is read whole (never borrowed), and 32-bit targets load it
-// from any word (the two in an LED task's state: docs/performance.md, "Session 10: the
+// from any word (the two in an LED task's state: docs/size-history.md, "Session 10: the
 // indicators' code").
 #[repr(C, packed(4))]
 pub struct LedOutput {

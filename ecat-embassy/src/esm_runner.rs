@@ -159,7 +159,7 @@ where
                 // hands SM1 to the MainDevice: awaited at one place. The last byte's write
                 // clears what a write of SM1's buffer clears, SM1's event: so the future keeps
                 // neither the access's `clears` nor more than the last byte's address (2 bytes,
-                // in its padding) beside the access (docs/performance.md, session 12, ram3).
+                // in its padding) beside the access (docs/size-history.md, session 12, ram3).
                 let event = loop {
                     match common.esc.access(Runner::Esm, address, data, clears).await {
                         Ok(event) => match last.take() {

@@ -74,7 +74,7 @@ pub enum Sample {
 /// firmware carries one copy of the driver's access code. The AL event is asked for after the
 /// access, not returned by it: a driver whose access is one bus transaction returns the bus's
 /// future itself, with no future of its own around it to decode the event
-/// (docs/performance.md, "Session 14: the PDI access one future less").
+/// (docs/size-history.md, "Session 14: the PDI access one future less").
 #[allow(async_fn_in_trait)]
 pub trait Pdi {
     /// A bus error; the runners stop and hand it to the firmware.

@@ -28,7 +28,7 @@ pub(crate) enum Runner {
 
 /// Whose chunk an access moves next: the runner, and for the state-machine runner whether it
 /// is its access's first chunk ([`SharedEsc::take_pdi`]). One byte that [`SharedEsc::access`]'s
-/// future keeps for both (docs/performance.md, session 12, ram3).
+/// future keeps for both (docs/size-history.md, session 12, ram3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Turn {
     /// The process-data runner's access, one piece.
@@ -63,7 +63,7 @@ impl Turn {
 // `repr(C)`: small fields first (docs/performance.md, "Codegen rules"), the six flags and the
 // chunk in the first 8 bytes: no padding before the words, so every byte of the routing's start
 // is written and `SharedEsc::with_chunk` builds it in place, not on the stack and copied
-// (docs/performance.md, "Session 13: … (branch init10)").
+// (docs/size-history.md, "Session 13: … (branch init10)").
 #[repr(C)]
 struct Routing {
     /// State-machine events were set in the last AL event seen, or are waiting to be taken: they
@@ -369,7 +369,7 @@ impl<P: Pdi> SharedEsc<P> {
                     address = address.wrapping_add(len as u16);
                     // The AL event taken after any outcome (meaningless after an error, and
                     // dropped then): 60 bytes less than a `map` on success
-                    // (docs/performance.md, session 14, chain15).
+                    // (docs/size-history.md, session 14, chain15).
                     let done = pdi.access(at, piece).await;
                     (done, pdi.al_event())
                 };

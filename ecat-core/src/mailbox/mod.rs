@@ -89,7 +89,7 @@ pub(crate) struct Mailbox<const N: usize> {
     /// [`NO_TIMEOUT`] when none (an `Option<Instant>` is 16 bytes: the instant has no niche).
     /// First (the one 8-byte field): the small fields behind it, zero in a new mailbox but
     /// `handler_due`, run into the buffers; the state-machine task's mailbox service is 72
-    /// bytes smaller this way (docs/performance.md, session 12).
+    /// bytes smaller this way (docs/size-history.md, session 12).
     handler_timeout: Instant,
     /// Length of the last message built in `tx` (header included): at most SM1's length, a
     /// `u16` like it (a `usize` padded the struct by 8 bytes).

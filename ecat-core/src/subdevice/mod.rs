@@ -144,7 +144,7 @@ impl RegisterAccess<'_> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 // The variants numbered from 1: rustc then makes an `Option<Event>`'s `None` the tag 0, so the
 // SubDevice's queue of events is built by zeroing rather than copied from a filler in flash
-// (docs/performance.md, "Session 13: … (branch sync9)"; a matter of size, not of correctness).
+// (docs/size-history.md, "Session 13: … (branch sync9)"; a matter of size, not of correctness).
 #[repr(u8)]
 pub enum Event {
     /// A valid upward transition passed the SyncManager checks and waits for the application's

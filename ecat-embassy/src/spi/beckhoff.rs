@@ -197,7 +197,7 @@ impl<S: Port> Pdi for BeckhoffSpi<S> {
     ///
     /// The port's future itself, the address phase built before it and the AL event decoded
     /// after it ([`Pdi::al_event`]): no future of the driver's own around the port's
-    /// (docs/performance.md, "Session 14: the PDI access one future less").
+    /// (docs/size-history.md, "Session 14: the PDI access one future less").
     fn access<'a>(
         &'a mut self,
         address: u16,

@@ -90,7 +90,7 @@ impl<B: SpiBus, P: OutputPin> Port for Exclusive<B, P> {
     ) -> impl Future<Output = Result<(), Self::Error>> {
         // An `async` block, not an `async fn`: the arguments are its captures, not kept a
         // second time beside the locals (4 bytes less in each runner's PDI access future,
-        // docs/performance.md, session 13).
+        // docs/size-history.md, session 13).
         async move {
             self.cs.set_low().map_err(Error::ChipSelect)?;
             let mut result = Ok(());

@@ -139,7 +139,7 @@ fn start(board: Board) -> Option<Started> {
     }
     // Zeroed first: the compiler drops the constructor's stores of zeros where this `memclr`
     // survives (it trims the part the constructor overwrites whole): 12..72 B less here, 40 B
-    // more in the axis firmware, which keeps `init_with` (docs/performance.md, session 11, init6).
+    // more in the axis firmware, which keeps `init_with` (docs/size-history.md, session 11, init6).
     let slot = ECAT.uninit();
     *slot = MaybeUninit::zeroed();
     let ecat = slot.write(Ecat::new(&DEVICE, pdi, io, od));
