@@ -98,7 +98,7 @@ impl<'c, const MBX: usize> Bench<'c, MBX> {
     pub fn new(config: &'c DeviceConfig) -> Self {
         let mailbox = config.mailbox.receive.length;
         let mut bench = Self {
-            sub: SubDevice::new(config),
+            sub: SubDevice::new::<()>(config),
             mem: vec![0; 0x1_0000],
             event: 0,
             mailbox,

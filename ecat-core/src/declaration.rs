@@ -12,6 +12,7 @@
 /// ```text
 /// dictionary! {
 ///     [minimal] Struct {
+///         [sync(MODES);]
 ///         communication(field, DEVICE_INFO [, stored = field]);
 ///         INDEX => var(field, ACCESS, "Name" [, default = EXPR] [, min = EXPR] [, max = EXPR] [, unit = EXPR]);
 ///         INDEX => array(field, ACCESS, "Name", "Element name" [, default = …] [, min = …] [, max = …] [, unit = …]);
@@ -24,7 +25,12 @@
 /// }
 /// ```
 ///
-/// `communication` (first, once) makes the communication area
+/// `sync(MODES)` (first, optional; a [`SupportedSyncModes`](crate::sync_mode::SupportedSyncModes)
+/// constant) states the synchronisation modes the device supports (0x1C32:04):
+/// [`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES), free-run
+/// and SM-synchronous without it. A device without DC SYNC0 there carries no DC code.
+///
+/// `communication` (first after `sync`, once) makes the communication area
 /// ([`dictionary::communication`](crate::dictionary::communication)) from the
 /// [`DeviceInfo`](crate::dictionary::DeviceInfo) constant `DEVICE_INFO` and a
 /// [`Communication`](crate::dictionary::Communication) field: 0x1000 device type, 0x1008/0x1009/
@@ -167,10 +173,10 @@
 #[macro_export]
 macro_rules! dictionary {
     (minimal $dict:ident { $($body:tt)* }) => {
-        $crate::__ecat_dictionary!(minimal, $dict { $($body)* });
+        $crate::__ecat_dictionary!(minimal, [], $dict { $($body)* });
     };
     ($dict:ident { $($body:tt)* }) => {
-        $crate::__ecat_dictionary!(coe, $dict { $($body)* });
+        $crate::__ecat_dictionary!(coe, [], $dict { $($body)* });
     };
 }
 
@@ -179,7 +185,10 @@ macro_rules! dictionary {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __ecat_dictionary {
-    ($mode:ident, $dict:ident { communication ( $area:ident, $info:path ) ; $($items:tt)* }) => {
+    ($mode:ident, [], $dict:ident { sync ( $sync:expr ) ; $($body:tt)* }) => {
+        $crate::__ecat_dictionary!($mode, [sync = $sync;], $dict { $($body)* });
+    };
+    ($mode:ident, [$($sync:tt)*], $dict:ident { communication ( $area:ident, $info:path ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
             const APPLICATION: &[$crate::dictionary::Declaration<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
             const AREA: [$crate::dictionary::Declaration<$dict>; 8] = $crate::__ecat_communication!($dict, $area, $info);
@@ -188,9 +197,9 @@ macro_rules! __ecat_dictionary {
                 "0x1000, 0x1008, 0x1009, 0x100A, 0x1018, 0x1C00, 0x1C32 and 0x1C33 come from `communication`: do not declare them"
             );
             &$crate::dictionary::communication::merge::<$dict, &'static str, { APPLICATION.len() + 8 }>(&AREA, APPLICATION)
-        }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($items)*);
+        }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) },] communication = $area; $($sync)* $($items)*);
     };
-    ($mode:ident, $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
+    ($mode:ident, [$($sync:tt)*], $dict:ident { communication ( $area:ident, $info:path, stored = $stored:ident ) ; $($items:tt)* }) => {
         $crate::__ecat_impl!($mode, $dict, {
             const APPLICATION: &[$crate::dictionary::Declaration<$dict>] = $crate::__ecat_objects!($dict, $($items)*);
             const AREA: &[$crate::dictionary::Declaration<$dict>] = &$crate::__ecat_communication!($dict, $area, $info);
@@ -204,10 +213,10 @@ macro_rules! __ecat_dictionary {
                 $crate::dictionary::communication::merge::<$dict, &'static str, { APPLICATION.len() + AREA.len() }>(AREA, APPLICATION);
             &$crate::dictionary::communication::merge::<$dict, &'static str, { BASE.len() + 2 }>(&STORAGE, &BASE)
         }, [$crate::__ecat_area_limits!($info), $crate::dictionary::communication::DECLARED, $crate::sync_parameters::DECLARED], [$area: const { $crate::dictionary::Communication::new(&$info) }, $stored: $crate::dictionary::parameters::StoredParameters::new(),]
-        communication = $area; stored = $stored; $($items)*);
+        communication = $area; stored = $stored; $($sync)* $($items)*);
     };
-    ($mode:ident, $dict:ident { $($items:tt)* }) => {
-        $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [], [] $($items)*);
+    ($mode:ident, [$($sync:tt)*], $dict:ident { $($items:tt)* }) => {
+        $crate::__ecat_impl!($mode, $dict, $crate::__ecat_objects!($dict, $($items)*), [], [] $($sync)* $($items)*);
     };
 }
 
@@ -227,9 +236,12 @@ macro_rules! __ecat_objects {
 macro_rules! __ecat_impl {
     ($mode:ident, $dict:ident, $objects:expr, [$($area_limits:expr),*], [$($area:tt)*] $(communication = $communication:ident;)?
      $(stored = $stored:ident;)?
+     $(sync = $sync:expr;)?
      $( $index:literal => $kind:ident ( $field:ident $($spec:tt)* ) $({ $($subs:tt)* })? ; )*) => {
         impl $crate::dictionary::ObjectDictionary for $dict {
             const DECLARATION: &'static [$crate::dictionary::Declaration<Self>] = $objects;
+
+            $( const SYNC_MODES: $crate::sync_mode::SupportedSyncModes = $sync; )?
 
             const NAMES: &'static str = {
                 const DECLARED: &[$crate::dictionary::Declaration<$dict>] =

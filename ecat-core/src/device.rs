@@ -105,7 +105,7 @@ pub enum ConfigError {
     MailboxOutsideRam,
     /// The receive and send mailboxes overlap.
     MailboxesOverlap,
-    /// DC SYNC1 is declared in [`DeviceConfig::sync_modes`]: the stack has no SYNC1-triggered
+    /// DC SYNC1 is declared in the dictionary's sync modes ([`DeviceConfig::validate_sync`]): the stack has no SYNC1-triggered
     /// cycle.
     Sync1Unsupported,
     /// DC SYNC0 is declared with a minimum cycle time of 0: any SYNC0 cycle would be accepted.
@@ -136,9 +136,6 @@ pub struct DeviceConfig {
     /// ESC drives RUN from AL status by itself either way. Default: false (ERR on a pin of the
     /// firmware, `ecat_embassy::indicator`).
     pub esc_err_led: bool,
-    /// The synchronisation modes the device supports (0x1C32:04). Default: free-run and
-    /// SM-synchronous.
-    pub sync_modes: SupportedSyncModes,
     /// Process-data image sizes.
     pub process_data: ProcessDataSizes,
     /// Standard mailbox (PREOP and above).
@@ -176,7 +173,6 @@ impl DeviceConfig {
             sync_manager_count: 8,
             explicit_device_id: false,
             esc_err_led: false,
-            sync_modes: SupportedSyncModes(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM),
             free_run_cycle: Duration::from_millis(1),
             min_cycle_time: Duration::from_micros(250),
             transition_timeout: Self::DEFAULT_TRANSITION_TIMEOUT,
@@ -184,14 +180,9 @@ impl DeviceConfig {
     }
 
     /// Checks the description itself. Call it in a `const` to turn a bad description into a
-    /// compile error: `const _: () = assert!(CONFIG.validate().is_ok());`.
+    /// compile error: `const _: () = assert!(CONFIG.validate().is_ok());`. The sync modes are
+    /// the dictionary's: [`DeviceConfig::validate_sync`] checks them against this description.
     pub const fn validate(&self) -> Result<(), ConfigError> {
-        if self.sync_modes.0 & SupportedSyncModes::SYNC1 != 0 {
-            return Err(ConfigError::Sync1Unsupported);
-        }
-        if self.sync_modes.dc() && self.min_cycle_time.as_micros() == 0 {
-            return Err(ConfigError::NoMinimumCycle);
-        }
         if let Err(e) = self.validate_mailbox(&self.mailbox) {
             return Err(e);
         }
@@ -199,6 +190,20 @@ impl DeviceConfig {
             Some(boot) => self.validate_mailbox(boot),
             None => Ok(()),
         }
+    }
+
+    /// Checks the dictionary's sync modes (`D::SYNC_MODES`,
+    /// [`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES)) against
+    /// this description, at compile time in a `const`:
+    /// `const _: () = assert!(CONFIG.validate_sync(D::SYNC_MODES).is_ok());`.
+    pub const fn validate_sync(&self, modes: SupportedSyncModes) -> Result<(), ConfigError> {
+        if modes.0 & SupportedSyncModes::SYNC1 != 0 {
+            return Err(ConfigError::Sync1Unsupported);
+        }
+        if modes.dc() && self.min_cycle_time.as_micros() == 0 {
+            return Err(ConfigError::NoMinimumCycle);
+        }
+        Ok(())
     }
 
     const fn validate_mailbox(&self, mailbox: &MailboxConfig) -> Result<(), ConfigError> {
@@ -256,13 +261,14 @@ mod tests {
         c.mailbox.receive.start = 0x1000;
         assert_eq!(c.validate(), Err(ConfigError::MailboxesOverlap));
         let mut c = config();
-        c.sync_modes = SupportedSyncModes(
+        let sync1 = SupportedSyncModes(
             SupportedSyncModes::SM | SupportedSyncModes::SYNC0 | SupportedSyncModes::SYNC1,
         );
-        assert_eq!(c.validate(), Err(ConfigError::Sync1Unsupported));
-        c.sync_modes = SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
-        assert_eq!(c.validate(), Ok(()));
+        assert_eq!(c.validate_sync(sync1), Err(ConfigError::Sync1Unsupported));
+        let dc = SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
+        assert_eq!(c.validate_sync(dc), Ok(()));
         c.min_cycle_time = Duration::from_micros(0);
-        assert_eq!(c.validate(), Err(ConfigError::NoMinimumCycle));
+        assert_eq!(c.validate_sync(dc), Err(ConfigError::NoMinimumCycle));
+        assert_eq!(c.validate_sync(SupportedSyncModes::DEFAULT), Ok(()));
     }
 }

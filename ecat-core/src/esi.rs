@@ -18,7 +18,7 @@
 //! | `RxPdo`, `TxPdo` | the default assignment and mapping (`sii::for_each_pdo`) |
 //! | `Mailbox/CoE` | `sii::coe_details` (the SII General category's CoE details) |
 //! | `Mailbox/FoE` | `sii::mailbox_protocols`: with a bootstrap mailbox (BOOT) |
-//! | `Dc/OpMode` | when [`DeviceConfig::sync_modes`] supports DC SYNC0 |
+//! | `Dc/OpMode` | when the dictionary's [`ObjectDictionary::SYNC_MODES`] support DC SYNC0 |
 //! | `Eeprom` (`ByteSize`, `ConfigData`) | the SII image: the EEPROM size of word 0x3E, words 0..6 |
 //!
 //! Every text and attribute value is XML-escaped. The writer needs no heap and never panics: it
@@ -133,8 +133,8 @@ pub fn write<D: ObjectDictionary>(
         protocols,
         has_diagnosis::<D>(),
     )?;
-    if device.config.sync_modes.dc() {
-        dc(&mut x, device.config)?;
+    if D::SYNC_MODES.dc() {
+        dc(&mut x, D::SYNC_MODES)?;
     }
     eeprom(&mut x, sii)?;
     x.close("Device")?;
@@ -794,12 +794,9 @@ fn diag_messages<W: Write>(x: &mut Xml<'_, W>) -> fmt::Result {
 
 /// `Dc`: an SM-synchronous operation mode (no DC activation) when supported, and the DC SYNC0
 /// mode (`AssignActivate` #x0300, SYNC0 cycle = the bus cycle).
-fn dc<W: Write>(x: &mut Xml<'_, W>, config: &DeviceConfig) -> fmt::Result {
+fn dc<W: Write>(x: &mut Xml<'_, W>, modes: crate::sync_mode::SupportedSyncModes) -> fmt::Result {
     x.open("Dc", &[])?;
-    if config
-        .sync_modes
-        .supports(crate::sync_mode::SyncMode::SmSynchronous)
-    {
+    if modes.supports(crate::sync_mode::SyncMode::SmSynchronous) {
         x.open("OpMode", &[])?;
         x.leaf("Name", "SM")?;
         x.leaf("Desc", "SM-Synchron")?;

@@ -97,7 +97,7 @@ pub fn write<D: ObjectDictionary>(
         at: 0,
         overflow: false,
     };
-    w.bytes(&ConfigArea::new(chip, config.sync_modes.dc()).bytes());
+    w.bytes(&ConfigArea::new(chip, D::SYNC_MODES.dc()).bytes());
     for value in [
         identity.vendor_id,
         identity.product_code,
@@ -135,7 +135,7 @@ pub fn write<D: ObjectDictionary>(
             w.category(category, |w| pdos(w, od, direction));
         }
     }
-    if config.sync_modes.dc() {
+    if D::SYNC_MODES.dc() {
         w.category(CAT_DC, dc_sync0);
     }
     w.u16(CAT_END);

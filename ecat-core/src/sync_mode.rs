@@ -63,6 +63,9 @@ impl SupportedSyncModes {
     pub const SYNC0: u16 = 0x0004;
     /// Bit 3: DC SYNC1.
     pub const SYNC1: u16 = 0x0008;
+    /// Free-run and SM-synchronous: what a dictionary supports unless it says otherwise
+    /// ([`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES)).
+    pub const DEFAULT: Self = Self(Self::FREE_RUN | Self::SM);
 
     /// Whether the outputs (0x1C32:01) may run with `sync`. DC SYNC1 never may: the stack has no
     /// SYNC1-triggered cycle; 0x22 is a value of 0x1C33 only (inputs latched with the SM2 event).

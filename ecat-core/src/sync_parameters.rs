@@ -241,7 +241,7 @@ impl DcSettings {
 pub(crate) fn check_dc(
     sync: SyncMode,
     dc: DcSettings,
-    device: &DeviceConfig,
+    modes: SupportedSyncModes,
 ) -> Result<(), AlStatusCode> {
     let bits = dc.activation.0;
     let cyclic = bits & DcActivation::CYCLIC_OPERATION != 0;
@@ -249,7 +249,7 @@ pub(crate) fn check_dc(
     let sync1 = bits & DcActivation::SYNC1 != 0;
     let wanted = matches!(sync, SyncMode::DcSync0);
     let without_sync0 = (cyclic || sync1) && !sync0;
-    let unsupported_sync1 = sync1 && device.sync_modes.0 & SupportedSyncModes::SYNC1 == 0;
+    let unsupported_sync1 = sync1 && modes.0 & SupportedSyncModes::SYNC1 == 0;
     if without_sync0 || unsupported_sync1 || wanted != dc.activation.sync0() {
         return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
     }
@@ -339,7 +339,7 @@ pub(crate) fn fill<D: ObjectDictionary>(
         return;
     };
     for p in [&mut area.outputs, &mut area.inputs] {
-        p.put::<{ SyncParameters::SYNC_TYPES_SUPPORTED }, 2>(device.sync_modes.0.to_le_bytes());
+        p.put::<{ SyncParameters::SYNC_TYPES_SUPPORTED }, 2>(D::SYNC_MODES.0.to_le_bytes());
         p.put::<{ SyncParameters::MIN_CYCLE_TIME }, 4>(min_ns.to_le_bytes());
         if let Some(ns) = cycle_ns {
             p.put::<{ SyncParameters::CYCLE_TIME }, 4>(ns.to_le_bytes());
@@ -422,8 +422,9 @@ pub(crate) struct Requested {
 
 impl Requested {
     /// The sync mode in effect with the DC unit as `dc` says.
-    pub(crate) fn effective(self, dc: DcSettings, device: &DeviceConfig) -> SyncMode {
-        let follow_dc = !self.chosen && dc.activation.sync0() && device.sync_modes.dc();
+    /// `modes`: the device's ([`ObjectDictionary::SYNC_MODES`]).
+    pub(crate) fn effective(self, dc: DcSettings, modes: SupportedSyncModes) -> SyncMode {
+        let follow_dc = !self.chosen && dc.activation.sync0() && modes.dc();
         if follow_dc {
             SyncMode::DcSync0
         } else {
@@ -438,11 +439,10 @@ impl Requested {
 /// SM-synchronous when it supports it, else free-run.
 pub(crate) fn requested<D: ObjectDictionary>(
     od: &mut D,
-    device: &DeviceConfig,
     chosen: Chosen,
 ) -> Result<Requested, AlStatusCode> {
     let Some(area) = od.communication() else {
-        let sm = device.sync_modes.supports(SyncMode::SmSynchronous);
+        let sm = D::SYNC_MODES.supports(SyncMode::SmSynchronous);
         let mode = if sm {
             SyncMode::SmSynchronous
         } else {
@@ -457,7 +457,7 @@ pub(crate) fn requested<D: ObjectDictionary>(
     // 0x1C32:01's declared default ([`output_limit`]).
     let default_kept = code == OUTPUT_SYNC_DEFAULT;
     match SyncMode::from_code(code) {
-        mode if device.sync_modes.supports(mode) => Ok(Requested {
+        mode if D::SYNC_MODES.supports(mode) => Ok(Requested {
             mode,
             chosen: chosen.sync_type || !default_kept,
         }),

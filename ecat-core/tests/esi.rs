@@ -5,7 +5,7 @@
 
 use ecat_core::DeviceConfig;
 use ecat_core::device::{Identity, MailboxConfig, ProcessDataSizes};
-use ecat_core::dictionary::{Bits, VisibleString};
+use ecat_core::dictionary::{Bits, ObjectDictionary, VisibleString};
 use ecat_core::esi::{self, Description, EsiError};
 use ecat_core::sii::Names;
 use ecat_core::sync_mode::SupportedSyncModes;
@@ -17,7 +17,9 @@ struct Flags {
     c: u16,
 }
 
-struct Od {
+/// The probe's dictionary; `SYNC` tells the declarations apart ([`Od`], [`OdDc`],
+/// [`OdDcOnly`]), each with its own sync modes.
+struct Od<const SYNC: u16 = 0> {
     device_type: u32,
     gain: i16,
     preop: u32,
@@ -28,8 +30,11 @@ struct Od {
     flags: Flags,
 }
 
+macro_rules! od {
+    ($name:ident $(, $sync:expr)?) => {
 ecat_core::dictionary! {
-    minimal Od {
+    minimal $name {
+        $(sync($sync);)?
         0x1000 => var(device_type, RO, "Device type", default = 0x0003_0191);
         0x2000 => var(gain, RW, "Gain <&>", default = 5, min = -100, max = 1000);
         0x2001 => var(preop, RW_PREOP, "PREOP parameter");
@@ -44,6 +49,19 @@ ecat_core::dictionary! {
         };
     }
 }
+    };
+}
+
+od!(Od);
+/// [`Od`] with DC SYNC0 beside SM-synchronous.
+type OdDc = Od<6>;
+od!(
+    OdDc,
+    SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0)
+);
+/// [`Od`] with DC SYNC0 only.
+type OdDcOnly = Od<4>;
+od!(OdDcOnly, SupportedSyncModes(SupportedSyncModes::SYNC0));
 
 impl Default for Flags {
     fn default() -> Self {
@@ -68,16 +86,14 @@ const IDENTITY: Identity = Identity {
     serial: 7,
 };
 
-fn config(sync: u16) -> DeviceConfig {
-    let mut config = DeviceConfig::new(
+fn config() -> DeviceConfig {
+    DeviceConfig::new(
         MailboxConfig::contiguous(0x1000, 128),
         ProcessDataSizes {
             outputs: 0,
             inputs: 2,
         },
-    );
-    config.sync_modes = SupportedSyncModes(sync);
-    config
+    )
 }
 
 /// A stand-in SII image: 14 bytes of configuration area and more.
@@ -86,11 +102,11 @@ const SII: [u8; 20] = [
     0xFF, 0xFF, 0xFF, 0xFF,
 ];
 
-fn esi(sync: u16) -> String {
-    esi_of(&config(sync))
+fn esi<D: ObjectDictionary + Default>() -> String {
+    esi_of::<D>(&config())
 }
 
-fn esi_of(config: &DeviceConfig) -> String {
+fn esi_of<D: ObjectDictionary + Default>(config: &DeviceConfig) -> String {
     let description = Description {
         vendor: "ACME <test>",
         names: &NAMES,
@@ -98,12 +114,12 @@ fn esi_of(config: &DeviceConfig) -> String {
         config,
     };
     let mut out = String::new();
-    esi::write(&mut out, &description, &Od::default(), &SII).unwrap();
+    esi::write(&mut out, &description, &D::default(), &SII).unwrap();
     out
 }
 
 fn sm_only() -> String {
-    esi(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM)
+    esi::<Od>()
 }
 
 /// `fragment` occurs once, as whole lines.
@@ -298,8 +314,8 @@ fn dc_op_modes_only_with_sync0_support() {
           </OpMode>
         </Dc>
 ";
-    has(&esi(SupportedSyncModes::SM | SupportedSyncModes::SYNC0), dc);
-    let dc_only = esi(SupportedSyncModes::SYNC0);
+    has(&esi::<OdDc>(), dc);
+    let dc_only = esi::<OdDcOnly>();
     assert!(!dc_only.contains("<Name>SM</Name>"));
     has(&dc_only, "<Name>DC</Name>");
 }
@@ -339,7 +355,7 @@ ecat_core::dictionary! {
 
 #[test]
 fn a_value_longer_than_the_buffer_is_an_error() {
-    let config = config(SupportedSyncModes::SM);
+    let config = config();
     let description = Description {
         vendor: "v",
         names: &NAMES,
@@ -382,7 +398,7 @@ proptest! {
     fn a_refusing_writer_is_an_error_never_a_panic(share in 0.0f64..1.1) {
         let full = sm_only();
         let room = (full.len() as f64 * share) as usize;
-        let config = config(SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM);
+        let config = config();
         let description = Description {
             vendor: "ACME <test>",
             names: &NAMES,
@@ -390,7 +406,7 @@ proptest! {
             config: &config,
         };
         let mut out = Limited { text: String::new(), room };
-        let result = esi::write(&mut out, &description, &Od::default(), &SII);
+        let result = esi::write(&mut out, &description, &<Od>::default(), &SII);
         prop_assert!(full.starts_with(&out.text));
         if room >= full.len() {
             prop_assert_eq!(result, Ok(()));
@@ -407,7 +423,7 @@ proptest! {
 #[test]
 fn explicit_device_id_is_advertised_in_device_info() {
     assert!(!sm_only().contains("<IdentificationReg134>"));
-    let mut config = config(SupportedSyncModes::SM);
+    let mut config = config();
     config.explicit_device_id = true;
     let description = Description {
         vendor: "v",
@@ -416,7 +432,7 @@ fn explicit_device_id_is_advertised_in_device_info() {
         config: &config,
     };
     let mut xml = String::new();
-    esi::write(&mut xml, &description, &Od::default(), &SII).unwrap();
+    esi::write(&mut xml, &description, &<Od>::default(), &SII).unwrap();
     has(
         &xml,
         "        <Name>Probe &quot;A&quot; &amp; &apos;B&apos;</Name>
@@ -433,10 +449,10 @@ fn explicit_device_id_is_advertised_in_device_info() {
 #[test]
 fn a_device_with_boot_advertises_foe() {
     assert!(!sm_only().contains("<FoE"));
-    let mut config = config(SupportedSyncModes::SM);
+    let mut config = config();
     config.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 256));
     has(
-        &esi_of(&config),
+        &esi_of::<Od>(&config),
         "        <Mailbox>
           <CoE SdoInfo=\"true\" PdoAssign=\"false\" PdoConfig=\"false\" CompleteAccess=\"true\"/>
           <FoE/>
@@ -460,7 +476,7 @@ ecat_core::dictionary! {
 /// dictionary with the text of each AL status code the stack logs.
 #[test]
 fn a_diagnosis_history_is_advertised_with_its_text_ids() {
-    let config = config(SupportedSyncModes::SM);
+    let config = config();
     let description = Description {
         vendor: "v",
         names: &NAMES,

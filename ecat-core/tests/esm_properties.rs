@@ -43,7 +43,7 @@ proptest! {
     #[test]
     fn invariants_hold_for_any_input(steps in proptest::collection::vec(step(), 1..60), id in any::<u16>()) {
         let mut regs = Regs::new();
-        let mut sub = SubDevice::new(&DEVICE);
+        let mut sub = SubDevice::new::<()>(&DEVICE);
         sub.set_device_id(id);
         let mut now = Instant::from_micros(0);
         let mut requested: Option<Transition> = None;

@@ -120,7 +120,7 @@ impl Bench {
     /// A device with a bootstrap mailbox, in `state` (BOOT or PREOP).
     fn new(state: AlState, files: TestFiles) -> Self {
         let mut regs = Regs::new();
-        let mut sub = SubDevice::new(&BOOT_DEVICE);
+        let mut sub = SubDevice::new::<()>(&BOOT_DEVICE);
         regs.drive(&mut sub, T0);
         let (mailbox, control) = match state {
             AlState::Boot => (BOOT_MAILBOX, 3),

@@ -130,7 +130,7 @@ proptest! {
     #[test]
     fn any_frame_sequence_gets_well_formed_answers(frames in proptest::collection::vec((frame(), 0u64..3_000_000), 1..24)) {
         let mut regs = Regs::new();
-        let mut sub: SubDevice<'_, 128> = SubDevice::new(&DEVICE);
+        let mut sub: SubDevice<'_, 128> = SubDevice::new::<Od>(&DEVICE);
         let mut od = Od::default();
         let mut now = Instant::from_micros(0);
         regs.drive(&mut sub, now);

@@ -81,18 +81,24 @@ fn the_configuration_area_of_each_chip() {
         order_code: "A-1",
         group: "Test",
     };
-    let mut config = DeviceConfig::new(
+    let config = DeviceConfig::new(
         MailboxConfig::contiguous(0x1000, 128),
         ProcessDataSizes::default(),
     );
-    let mut area = |chip: &Chip, dc: bool| {
-        config.sync_modes = if dc {
-            SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0)
-        } else {
-            SupportedSyncModes(SupportedSyncModes::SM)
-        };
+    /// No objects, DC SYNC0 beside SM-synchronous.
+    struct DcOd {}
+    ecat_core::dictionary! {
+        minimal DcOd {
+            sync(SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0));
+        }
+    }
+    let area = |chip: &Chip, dc: bool| {
         let mut image = [0u8; sii::MAX_SIZE];
-        sii::write(&names, &IDENTITY, &config, chip, &(), &mut image).unwrap();
+        if dc {
+            sii::write(&names, &IDENTITY, &config, chip, &DcOd {}, &mut image).unwrap();
+        } else {
+            sii::write(&names, &IDENTITY, &config, chip, &(), &mut image).unwrap();
+        }
         image[..16].to_vec()
     };
     #[rustfmt::skip]

@@ -39,7 +39,7 @@ fn step_up(
 
 /// A SubDevice after its start-up accesses.
 fn started(regs: &mut Regs) -> SubDevice<'static> {
-    let mut sub = SubDevice::new(&DEVICE);
+    let mut sub = SubDevice::new::<()>(&DEVICE);
     regs.drive(&mut sub, T0);
     sub
 }
@@ -47,7 +47,7 @@ fn started(regs: &mut Regs) -> SubDevice<'static> {
 #[test]
 fn start_up_writes_mask_deactivates_sync_managers_and_presents_init() {
     let mut regs = Regs::new();
-    let mut sub = SubDevice::new(&DEVICE);
+    let mut sub = SubDevice::new::<()>(&DEVICE);
     let log = regs.drive(&mut sub, T0);
     assert_eq!(
         log,
@@ -73,7 +73,7 @@ fn start_up_writes_mask_deactivates_sync_managers_and_presents_init() {
 fn a_device_id_asked_for_before_the_first_status_write_is_written_whatever_its_value() {
     // 0xFFFF: a code no older bookkeeping could tell from "not written yet".
     let mut regs = Regs::new();
-    let mut sub = SubDevice::new(&DEVICE);
+    let mut sub = SubDevice::new::<()>(&DEVICE);
     sub.set_device_id(0xFFFF);
     regs.al_control(0x0021);
     sub.handle_al_event(AlEvent(regs.event));
@@ -142,7 +142,7 @@ fn al_control_event_reads_sync_managers_then_al_control_and_asks_the_application
 #[test]
 fn an_sm_change_during_a_chunk_read_starts_the_reads_over() {
     let mut regs = Regs::new();
-    let mut sub = SubDevice::new(&DEVICE);
+    let mut sub = SubDevice::new::<()>(&DEVICE);
     regs.drive(&mut sub, T0);
     sub.handle_al_event(AlEvent::SM_CHANGE);
     let high = |sub: &mut SubDevice<'_>| {
@@ -197,7 +197,7 @@ fn sync_manager_reads_cover_every_channel_of_the_esc_four_at_a_time() {
             ..DEVICE
         };
         let mut regs = Regs::new();
-        let mut sub = SubDevice::new(&config);
+        let mut sub = SubDevice::new::<()>(&config);
         regs.drive(&mut sub, T0);
         regs.event |= AlEvent::SM_CHANGE.bits();
         sub.handle_al_event(AlEvent::SM_CHANGE);
@@ -263,7 +263,7 @@ fn an_esc_driven_err_led_gets_its_override_after_each_status() {
         ..DEVICE
     };
     let mut regs = Regs::new();
-    let mut sub = SubDevice::new(&ESC_LEDS);
+    let mut sub = SubDevice::new::<()>(&ESC_LEDS);
     let log = regs.drive(&mut sub, T0);
     assert_eq!(
         log[log.len() - 3..],
@@ -325,7 +325,7 @@ fn a_mailbox_larger_than_mbx_is_refused_with_0x0002() {
     const BIG: MailboxConfig = MailboxConfig::contiguous(0x1000, 256);
     static CONFIG: DeviceConfig = DeviceConfig::new(BIG, DEVICE.process_data);
     let mut regs = Regs::new();
-    let mut sub: SubDevice<'_, 128> = SubDevice::new(&CONFIG);
+    let mut sub: SubDevice<'_, 128> = SubDevice::new::<()>(&CONFIG);
     regs.drive(&mut sub, T0);
     regs.sm(0, BIG.receive.start, BIG.receive.length, 0x26, true);
     regs.sm(1, BIG.send.start, BIG.send.length, 0x22, true);

@@ -162,7 +162,7 @@ where
             },
             outputs: [0; OUT],
             inputs: [0; IN],
-            sub: SubDevice::new(&config.device),
+            sub: SubDevice::new::<D>(&config.device),
         }
     }
 

@@ -265,7 +265,7 @@ where
             // An answer's wait hands the core what the rest of the firmware told the runner
             // before the AL event; news are followed by a serve of the mailbox.
             if answering.is_some() {
-                take_reports(&common.esc, sub);
+                take_reports::<P, D, MBX, _>(&common.esc, sub);
             }
             if let Some(event) = event {
                 sub.handle_al_event(event);
@@ -366,13 +366,16 @@ fn take_outside_news<P: Pdi, A, D: ObjectDictionary, const MBX: usize, L: Length
     app: &AppCell<A, D>,
 ) {
     app.lock(|_, od| sub.refresh_process_data(od));
-    take_reports(esc, sub);
+    take_reports::<P, D, MBX, _>(esc, sub);
 }
 
 /// Hands the core what the rest of the firmware reported to the runner: emergencies the
 /// application raised and what the process-data runner saw (outputs, SYNC0). Taking them is
 /// what lets the runner's wait ([`SharedEsc::poll_esm_events`]) wait again.
-fn take_reports<P: Pdi, const MBX: usize, L: Length>(
+///
+/// SYNC0 received and lost and sync errors come only in DC SYNC0 mode: a dictionary without it
+/// (`D::SYNC_MODES`, known at compile time) carries none of their handling.
+fn take_reports<P: Pdi, D: ObjectDictionary, const MBX: usize, L: Length>(
     esc: &SharedEsc<P>,
     sub: &mut SubDevice<'_, MBX, L>,
 ) {
@@ -380,13 +383,14 @@ fn take_reports<P: Pdi, const MBX: usize, L: Length>(
     // one in the code, not one for each.
     loop {
         let (reports, emergency) = esc.take_reports();
-        if reports.contains(Reports::SYNC_RECEIVED) {
+        let dc = D::SYNC_MODES.dc();
+        if dc && reports.contains(Reports::SYNC_RECEIVED) {
             sub.sync0_received();
         }
-        if reports.contains(Reports::SYNC_LOST) {
+        if dc && reports.contains(Reports::SYNC_LOST) {
             sub.sync0_lost();
         }
-        if reports.contains(Reports::SYNC_ERROR) {
+        if dc && reports.contains(Reports::SYNC_ERROR) {
             sub.sync_error();
         }
         if reports.contains(Reports::OUTPUTS_RECEIVED) {

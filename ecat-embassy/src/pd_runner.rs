@@ -185,13 +185,13 @@ where
                     if was_active && !layout.is_some_and(|l| l.outputs_active) {
                         exchange.safe_state();
                     }
-                    tick = layout.and_then(first_deadline).unwrap_or(NO_TICK);
+                    tick = layout.and_then(first_deadline::<D>).unwrap_or(NO_TICK);
                     exchange.on_new_layout(layout)
                 } else if sampled || !view.pd_events.is_empty() {
                     Some(Then::triggered(current, true))
                 } else {
                     // The layout is `current`: no second copy is kept across the wait.
-                    let sync0_on = current.is_some_and(|l| l.sync0());
+                    let sync0_on = current.is_some_and(sync0_starts::<D>);
                     let mut irq_low = pin!(irq.wait_for_low());
                     let mut sync0_edge = pin!(sync0.wait_for_rising_edge());
                     match select4(
@@ -209,7 +209,7 @@ where
                         Either4::Second(()) => None,
                         Either4::Third(()) => exchange.on_tick(current, &mut tick),
                         Either4::Fourth(Ok(())) => {
-                            tick = current.and_then(first_deadline).unwrap_or(NO_TICK);
+                            tick = current.and_then(first_deadline::<D>).unwrap_or(NO_TICK);
                             exchange.on_sync0(current)
                         }
                     }
@@ -359,7 +359,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
     /// DC SYNC0 in OP: no SYNC0 for [`SYNC0_LOSS_CYCLES`] cycles, reported once.
     fn on_tick(&mut self, layout: Option<Setup>, tick: &mut Instant) -> Option<Then> {
         let layout = layout?;
-        if layout.sync0() {
+        if sync0_starts::<D>(layout) {
             *tick = NO_TICK;
             self.common.esc.report(Reports::SYNC_LOST);
             return None;
@@ -464,7 +464,7 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
         let report = new_outputs.map(|new_outputs| CycleReport {
             now: now(),
             nominal: layout.period(),
-            expects_outputs: layout.sync0() && apply_outputs,
+            expects_outputs: sync0_starts::<D>(*layout) && apply_outputs,
             new_outputs,
         });
         let sync_error = self.common.app.lock(|app, od| {
@@ -499,16 +499,25 @@ impl<P: Pdi, A: Application<D>, D: ObjectDictionary> Exchange<'_, P, A, D> {
 /// "In OP: SYNC0 lost → 0x002C").
 pub const SYNC0_LOSS_CYCLES: u32 = 10;
 
+/// Whether SYNC0 starts the cycles of `layout` ([`Setup::sync0`]): never for a dictionary
+/// without DC SYNC0 (`D::SYNC_MODES`), known at compile time, so such a device carries none of
+/// the SYNC0 paths.
+fn sync0_starts<D: ObjectDictionary>(layout: Setup) -> bool {
+    D::SYNC_MODES.dc() && layout.sync0()
+}
+
 /// The first deadline of a new layout or after a SYNC0 pulse: the next free-run cycle, or in DC
 /// SYNC0 mode in OP the instant SYNC0 counts as lost. A deadline beyond Embassy's clock is none
 /// (the checked arithmetic has no panic path).
-fn first_deadline(layout: Setup) -> Option<Instant> {
+fn first_deadline<D: ObjectDictionary>(layout: Setup) -> Option<Instant> {
     let now = Instant::now();
     match layout.clock {
         Clock::FreeRun(period) => now.checked_add(to_embassy(period.duration())),
-        Clock::Sync0(period) if layout.outputs_active => to_embassy(period.duration())
-            .checked_mul(SYNC0_LOSS_CYCLES)
-            .and_then(|lost| now.checked_add(lost)),
+        Clock::Sync0(period) if D::SYNC_MODES.dc() && layout.outputs_active => {
+            to_embassy(period.duration())
+                .checked_mul(SYNC0_LOSS_CYCLES)
+                .and_then(|lost| now.checked_add(lost))
+        }
         Clock::Sync0(_) | Clock::Event(_) => None,
     }
 }

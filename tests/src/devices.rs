@@ -17,6 +17,7 @@ use ecat_core::dictionary::{
 };
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sii::{self, Names};
+use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_embassy::Application;
 
 use crate::harness::{AcceptAll, Device};
@@ -26,8 +27,12 @@ use ecat_core::diagnosis::DiagnosisHistory;
 /// A CiA402-like drive's process data: RxPDO 0x1600 = controlword, target position, target
 /// velocity, mode of operation (11 bytes); TxPDO 0x1A00 = statusword, actual position, actual
 /// velocity, mode display (11 bytes); both configurable in PREOP.
+///
+/// `SYNC` tells the declarations apart: [`Drive`] supports free-run and SM-synchronous, the
+/// others ([`DriveDc`], [`DriveSync1`], [`DriveSm`], [`DriveSmDc`]) the sync modes their
+/// declaration states (`SYNC`'s bits, 0x1C32:04).
 #[derive(Debug)]
-pub struct Drive {
+pub struct Drive<const SYNC: u16 = 0> {
     /// The communication area (0x1000..0x1018, 0x1C00, 0x1C32, 0x1C33).
     pub area: Communication,
     /// 0x6040.
@@ -80,8 +85,21 @@ pub const DRIVE_TX: [MappingEntry; 4] = [
     MappingEntry::new(0x6061, 0, 8),
 ];
 
+/// Declares the dictionary of [`Drive`], or of `Drive<SYNC>` named `$name`, supporting the sync
+/// modes `SYNC`.
+macro_rules! drive_dictionary {
+    ($name:ident) => {
+        drive_dictionary!(@declare $name);
+    };
+    ($(#[$doc:meta])* $name:ident = $sync:literal) => {
+        $(#[$doc])*
+        pub type $name = Drive<$sync>;
+        drive_dictionary!(@declare $name sync(SupportedSyncModes($sync)););
+    };
+    (@declare $name:ident $($sync:tt)*) => {
 ecat_core::dictionary! {
-    Drive {
+    $name {
+        $($sync)*
         communication(area, DRIVE_INFO);
         0x10F3 => diagnosis(history);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1 mapping", "Mapped object", default = PdoMapping::mapping(&DRIVE_RX));
@@ -100,6 +118,26 @@ ecat_core::dictionary! {
         0x60FF => var(target_velocity, RW | RXPDO, "Target velocity");
     }
 }
+    };
+}
+
+drive_dictionary!(Drive);
+drive_dictionary!(
+    /// [`Drive`] with DC SYNC0: free-run, SM-synchronous and DC SYNC0.
+    DriveDc = 7
+);
+drive_dictionary!(
+    /// [`Drive`] declaring DC SYNC1 beside SYNC0 (free-run, SM-synchronous, SYNC0, SYNC1).
+    DriveSync1 = 15
+);
+drive_dictionary!(
+    /// [`Drive`] with SM-synchronous only.
+    DriveSm = 2
+);
+drive_dictionary!(
+    /// [`Drive`] with SM-synchronous and DC SYNC0, no free-run.
+    DriveSmDc = 6
+);
 
 /// The vendor ID of the sample devices (in the range the ETG leaves for tests).
 pub const VENDOR_ID: u32 = 0xE000_0001;
@@ -201,8 +239,8 @@ fn sample<A, C, D: ObjectDictionary + Default>(
 /// Echoes the set-points of [`Drive`] as its actual values.
 pub struct DriveEcho;
 
-impl Application<Drive> for DriveEcho {
-    fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+impl<const SYNC: u16> Application<Drive<SYNC>> for DriveEcho {
+    fn cycle(&mut self, od: &mut Drive<SYNC>, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.statusword = od.controlword;
         od.position = od.target_position;
         od.velocity = od.target_velocity;
@@ -217,8 +255,8 @@ pub struct DriveApp {
     emergency: Option<Emergency>,
 }
 
-impl Application<Drive> for DriveApp {
-    fn object_hooks(&mut self) -> impl ObjectHooks<Drive> + '_ {
+impl<const SYNC: u16> Application<Drive<SYNC>> for DriveApp {
+    fn object_hooks(&mut self) -> impl ObjectHooks<Drive<SYNC>> + '_ {
         self
     }
 
@@ -227,8 +265,8 @@ impl Application<Drive> for DriveApp {
     }
 }
 
-impl ObjectHooks<Drive> for &mut DriveApp {
-    fn after_write(&mut self, od: &mut Drive, index: u16, _sub: u8) {
+impl<const SYNC: u16> ObjectHooks<Drive<SYNC>> for &mut DriveApp {
+    fn after_write(&mut self, od: &mut Drive<SYNC>, index: u16, _sub: u8) {
         if index == 0x2001 && od.simulated_error != 0 {
             self.emergency = Some(Emergency {
                 code: od.simulated_error,
@@ -241,6 +279,19 @@ impl ObjectHooks<Drive> for &mut DriveApp {
 
 /// The CiA402-like drive: configurable PDOs, SM-synchronous or free-run.
 pub fn drive() -> Sample<DriveApp, DriveEcho, Drive> {
+    drive_with()
+}
+
+/// The drive with DC SYNC0 ([`DriveDc`]).
+pub fn drive_dc() -> Sample<DriveApp, DriveEcho, DriveDc> {
+    drive_with()
+}
+
+/// The drive with the sync modes of `Drive<SYNC>`.
+fn drive_with<const SYNC: u16>() -> Sample<DriveApp, DriveEcho, Drive<SYNC>>
+where
+    Drive<SYNC>: ObjectDictionary + Default,
+{
     sample(
         &DRIVE_INFO,
         "ECAT-DRIVE",
@@ -312,8 +363,11 @@ pub fn dio() -> Sample<AcceptAll, DioLoop, Dio> {
 }
 
 /// An input-only sensor: a measured value and a status word.
+///
+/// `SYNC` tells the declarations apart: [`Sensor`] supports free-run and SM-synchronous,
+/// [`SensorDc`] also DC SYNC0.
 #[derive(Debug)]
-pub struct Sensor {
+pub struct Sensor<const SYNC: u16 = 0> {
     /// The communication area.
     pub area: Communication,
     /// 0x1A00.
@@ -339,8 +393,13 @@ const SENSOR_TX: [MappingEntry; 2] = [
     MappingEntry::new(0x6001, 0, 16),
 ];
 
+/// Declares the dictionary of [`Sensor`], or of `Sensor<SYNC>` named `$name`, supporting the
+/// sync modes `SYNC`.
+macro_rules! sensor_dictionary {
+    ($name:ident $($sync:tt)*) => {
 ecat_core::dictionary! {
-    Sensor {
+    $name {
+        $($sync)*
         communication(area, SENSOR_INFO);
         0x1A00 => pdo(tx, RO, "Measurement", "Mapped object", default = PdoMapping::mapping(&SENSOR_TX));
         0x1C12 => pdo(rx_assign, RO, "SM2 PDO assignment", "Assigned PDO", default = PdoAssignment::assignment(&[]));
@@ -349,12 +408,19 @@ ecat_core::dictionary! {
         0x6001 => var(status, RO | TXPDO, "Status");
     }
 }
+    };
+}
+
+sensor_dictionary!(Sensor);
+/// [`Sensor`] with DC SYNC0: free-run, SM-synchronous and DC SYNC0.
+pub type SensorDc = Sensor<7>;
+sensor_dictionary!(SensorDc sync(SupportedSyncModes(7)););
 
 /// Counts the cycles in the sensor's value; status 0x0001 = "valid".
 pub struct SensorCounter;
 
-impl Application<Sensor> for SensorCounter {
-    fn cycle(&mut self, od: &mut Sensor, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+impl<const SYNC: u16> Application<Sensor<SYNC>> for SensorCounter {
+    fn cycle(&mut self, od: &mut Sensor<SYNC>, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.value = od.value.wrapping_add(1);
         od.status = 0x0001;
     }
@@ -362,6 +428,19 @@ impl Application<Sensor> for SensorCounter {
 
 /// The input-only sensor.
 pub fn sensor() -> Sample<AcceptAll, SensorCounter, Sensor> {
+    sensor_with()
+}
+
+/// The sensor with DC SYNC0 ([`SensorDc`]).
+pub fn sensor_dc() -> Sample<AcceptAll, SensorCounter, SensorDc> {
+    sensor_with()
+}
+
+/// The sensor with the sync modes of `Sensor<SYNC>`.
+fn sensor_with<const SYNC: u16>() -> Sample<AcceptAll, SensorCounter, Sensor<SYNC>>
+where
+    Sensor<SYNC>: ObjectDictionary + Default,
+{
     sample(
         &SENSOR_INFO,
         "ECAT-SENSOR",

@@ -127,6 +127,9 @@ const TX: [MappingEntry; 3] = [
 
 ecat_core::dictionary! {
     FuzzOd {
+        sync(SupportedSyncModes(
+            SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM | SupportedSyncModes::SYNC0,
+        ));
         communication(area, INFO);
         0x10F3 => diagnosis(history);
         0x1600 => pdo(rx1, RW_PREOP, "RxPDO 1", "Entry", default = PdoMapping::mapping(&RX));
@@ -169,9 +172,6 @@ pub const DEVICE: DeviceConfig = {
         },
     );
     device.bootstrap_mailbox = Some(MailboxConfig::contiguous(0x1800, 128));
-    device.sync_modes = SupportedSyncModes(
-        SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM | SupportedSyncModes::SYNC0,
-    );
     device.transition_timeout = Duration::from_millis(50);
     device
 };
@@ -307,7 +307,7 @@ struct Session<'c> {
 /// one of the rules in the module documentation.
 pub fn session(data: &[u8]) -> AlState {
     let mut s = Session {
-        sub: SubDevice::new(&DEVICE),
+        sub: SubDevice::new::<FuzzOd>(&DEVICE),
         od: FuzzOd::default(),
         mem: vec![0; 0x1_0000],
         event: 0,

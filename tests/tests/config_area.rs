@@ -5,7 +5,6 @@
 //! next to the stack's and shows the difference.
 
 use ecat_core::chip::{Chip, ConfigArea, SpiMode};
-use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_embassy::Pdi;
 use ecat_embassy::spi::beckhoff::{self, BeckhoffSpi, Config};
 use ecat_embassy::spi::lan9252;
@@ -134,9 +133,7 @@ fn a_lan9252_answers_only_when_its_area_selects_spi() {
 /// words 0..7 replaced): SAFEOP, SYNC0 programmed to start in 2 ms with a 1 ms cycle, OP
 /// requested; after 1.1 s, AL status and code and the SYNC0 edges the ESC made.
 fn dc_sensor_with(area: impl FnOnce(ConfigArea) -> ConfigArea) -> (u16, u16, u64) {
-    let mut sample = ecat_emu::devices::sensor();
-    let config = &mut sample.device.config;
-    config.sync_modes = SupportedSyncModes(config.sync_modes.0 | SupportedSyncModes::SYNC0);
+    let mut sample = ecat_emu::devices::sensor_dc();
     let mut image = sample.eeprom();
     let area = area(ConfigArea::new(&sample.device.esc.chip, true));
     image[..16].copy_from_slice(&area.bytes());

@@ -4,7 +4,6 @@
 //! PREOP → SAFEOP → OP, cyclic LRW with the working counter asserted and the data checked end to
 //! end, and a refused transition surfacing its AL status code at the MainDevice.
 
-use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_emu::devices;
 use ecat_emu::harness::{self, Spawn};
 use ecat_emu::master::TestMaster;
@@ -254,10 +253,7 @@ fn ethercrab_reads_an_image_advertising_an_explicit_device_id() {
 /// supporting DC SYNC0). Their SII images are written for DC SYNC0: the configuration area turns
 /// the ESC's SYNC out unit on, without which no SYNC0 pulse would leave the ESC.
 fn dc_line() -> Vec<Box<dyn Spawn>> {
-    let (mut drive, mut sensor) = (devices::drive(), devices::sensor());
-    for config in [&mut drive.device.config, &mut sensor.device.config] {
-        config.sync_modes = SupportedSyncModes(config.sync_modes.0 | SupportedSyncModes::SYNC0);
-    }
+    let (mut drive, mut sensor) = (devices::drive_dc(), devices::sensor_dc());
     drive.device.eeprom = drive.eeprom();
     sensor.device.eeprom = sensor.eeprom();
     vec![Box::new(drive.device), Box::new(sensor.device)]

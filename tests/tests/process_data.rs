@@ -35,7 +35,7 @@ const OUT: Area = Area::new(0x1100, 11);
 const IN: Area = Area::new(0x1180, 11);
 
 fn run(script: impl AsyncFnOnce(TestMaster) + 'static) {
-    let device = Device::new(common::drive(), App, Loopback).with_dictionary(Drive::default());
+    let device = Device::new(common::drive(), App, Loopback).with_dictionary(<Drive>::default());
     harness::run(device, |master| async move { script(master).await })
 }
 
@@ -224,7 +224,7 @@ fn main_devices_read_the_mapping_one_expedited_upload_at_a_time() {
 
 #[test]
 fn op_moves_the_image_through_the_dictionary() {
-    let device = Device::new(common::drive(), App, Echo).with_dictionary(Drive::default());
+    let device = Device::new(common::drive(), App, Echo).with_dictionary(<Drive>::default());
     harness::run(device, |master| async move {
         walk_to(&master, AlState::PreOp).await;
         assert_eq!(request_safeop(&master, 11, 11).await, (0x04, 0));
@@ -265,7 +265,7 @@ async fn download_u32(c: &mut SdoClient<'_>, index: u16, value: u32) -> Vec<u8> 
 /// writable, uploads stay allowed, and in PREOP nothing is blocked.
 #[test]
 fn downloads_into_mapped_rxpdo_entries_are_refused_in_safeop_and_op() {
-    let device = Device::new(common::drive(), App, Echo).with_dictionary(Drive::default());
+    let device = Device::new(common::drive(), App, Echo).with_dictionary(<Drive>::default());
     harness::run(device, |master| async move {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);

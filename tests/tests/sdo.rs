@@ -554,7 +554,7 @@ impl<D> ecat_embassy::Application<D> for DriveApp {}
 #[test]
 fn every_subindex_of_0x1c32_is_described_through_the_runners() {
     let device = Device::new(common::drive(), DriveApp, Loopback)
-        .with_dictionary(ecat_emu::devices::Drive::default());
+        .with_dictionary(<ecat_emu::devices::Drive>::default());
     harness::run(device, |master| async move {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);

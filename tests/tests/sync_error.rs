@@ -8,10 +8,9 @@ mod common;
 use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::register;
-use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_embassy::Application;
 use ecat_emu::coe_client::SdoError;
-use ecat_emu::devices::Drive;
+use ecat_emu::devices::DriveSmDc;
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
 use embassy_time::{Duration, Instant};
@@ -20,8 +19,8 @@ struct App;
 impl<D> Application<D> for App {}
 
 struct Idle;
-impl Application<Drive> for Idle {
-    fn cycle(&mut self, _od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {}
+impl Application<DriveSmDc> for Idle {
+    fn cycle(&mut self, _od: &mut DriveSmDc, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {}
 }
 
 fn u16_of(bytes: Result<Vec<u8>, SdoError>) -> u16 {
@@ -55,9 +54,7 @@ struct Diagnosis {
 fn drop_one_in_diagnosed(n: u32, cycles: u32) -> (Outcome, Diagnosis) {
     let result = std::rc::Rc::new(std::cell::RefCell::new(None));
     let out = result.clone();
-    let mut device = Device::new(common::drive(), App, Idle).with_dictionary(Drive::default());
-    device.config.sync_modes =
-        SupportedSyncModes(SupportedSyncModes::SM | SupportedSyncModes::SYNC0);
+    let device = Device::new(common::drive(), App, Idle).with_dictionary(DriveSmDc::default());
     harness::run(device, move |master: TestMaster| async move {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);

@@ -8,11 +8,11 @@ use common::{client, walk_to};
 use ecat_core::AlState;
 use ecat_core::coe::AbortCode;
 use ecat_core::device::Area;
+use ecat_core::dictionary::ObjectDictionary;
 use ecat_core::register;
-use ecat_core::sync_mode::SupportedSyncModes;
 use ecat_embassy::Application;
 use ecat_emu::coe_client::{SdoClient, SdoError};
-use ecat_emu::devices::Drive;
+use ecat_emu::devices::{Drive, DriveDc, DriveSm, DriveSync1};
 use ecat_emu::harness::{self, Device};
 use ecat_emu::master::{SM2_CONTROL, SM3_CONTROL, TestMaster};
 use embassy_time::{Duration, Instant};
@@ -23,8 +23,8 @@ impl<D> Application<D> for App {}
 /// Counts its cycles in the statusword (0x6041, the first two bytes of the TxPDO image).
 struct Counter;
 
-impl Application<Drive> for Counter {
-    fn cycle(&mut self, od: &mut Drive, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
+impl<const SYNC: u16> Application<Drive<SYNC>> for Counter {
+    fn cycle(&mut self, od: &mut Drive<SYNC>, _outputs: Option<&[u8]>, _inputs: &mut [u8]) {
         od.statusword = od.statusword.wrapping_add(1);
     }
 }
@@ -32,9 +32,14 @@ impl Application<Drive> for Counter {
 const OUT: Area = Area::new(0x1100, 11);
 const IN: Area = Area::new(0x1180, 11);
 
-fn run(sync: u16, script: impl AsyncFnOnce(TestMaster) + 'static) {
-    let mut device = Device::new(common::drive(), App, Counter).with_dictionary(Drive::default());
-    device.config.sync_modes = SupportedSyncModes(sync);
+/// Runs `script` against the drive with the sync modes of its dictionary `D` ([`Drive`],
+/// [`DriveDc`]…).
+fn run<D>(script: impl AsyncFnOnce(TestMaster) + 'static)
+where
+    D: ObjectDictionary + Default + 'static,
+    Counter: Application<D>,
+{
+    let device = Device::new(common::drive(), App, Counter).with_dictionary(D::default());
     harness::run(device, |master| async move { script(master).await })
 }
 
@@ -49,11 +54,9 @@ fn cycles(master: &TestMaster) -> u16 {
     u16::from_le_bytes([image[0], image[1]])
 }
 
-const BOTH: u16 = SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM;
-
 #[test]
 fn sm_synchronous_by_default_and_the_supported_types_are_readable() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
         assert_eq!(
@@ -90,7 +93,7 @@ fn sm_synchronous_by_default_and_the_supported_types_are_readable() {
 /// (0x08000022).
 #[test]
 fn the_inputs_sync_type_is_writable_in_preop_and_follows_the_outputs() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
         assert_eq!(c.download(0x1C32, 1, false, &[1, 0]).await, Ok(()));
@@ -111,7 +114,7 @@ fn the_inputs_sync_type_is_writable_in_preop_and_follows_the_outputs() {
 
 #[test]
 fn free_run_cycles_on_the_local_timer() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
         c.download(0x1C32, 1, false, &[0, 0]).await.unwrap();
@@ -146,7 +149,7 @@ fn free_run_cycles_on_the_local_timer() {
 /// A cycle time the MainDevice writes into 0x1C32:02 sets the free-run period.
 #[test]
 fn free_run_takes_the_cycle_time_the_maindevice_wrote() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         let mut c = client(&master);
         c.download(0x1C32, 1, false, &[0, 0]).await.unwrap();
@@ -173,7 +176,7 @@ fn a_cycle_time_below_the_minimum_is_0x002e() {
         (1, 249_000, (0x12, 0x002E)),
         (1, 250_000, (0x04, 0)),
     ] {
-        run(BOTH, async move |master| {
+        run::<Drive>(async move |master| {
             let mut c = preop_with_sync_type(&master, sync_type).await;
             c.download(0x1C32, 2, false, &cycle_ns.to_le_bytes())
                 .await
@@ -191,7 +194,7 @@ fn a_cycle_time_below_the_minimum_is_0x002e() {
 /// SubDevice measured since (0x1C32:02 in SM-synchronous mode).
 #[test]
 fn a_measured_cycle_does_not_replace_the_written_one() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         let mut c = preop_with_sync_type(&master, 1).await;
         c.download(0x1C32, 2, false, &1_000_000u32.to_le_bytes())
             .await
@@ -211,13 +214,11 @@ fn a_measured_cycle_does_not_replace_the_written_one() {
     });
 }
 
-const DC: u16 = BOTH | SupportedSyncModes::SYNC0;
-
 /// In DC SYNC0 mode a cycle time the MainDevice wrote must be the SYNC0 cycle: 0x0035.
 #[test]
 fn a_cycle_time_other_than_sync0_is_0x0035() {
     for (cycle_ns, expected) in [(2_000_000u32, (0x12, 0x0035)), (1_000_000, (0x04, 0))] {
-        run(DC, async move |master| {
+        run::<DriveDc>(async move |master| {
             let mut c = preop_with_sync_type(&master, 2).await;
             c.download(0x1C32, 2, false, &cycle_ns.to_le_bytes())
                 .await
@@ -237,7 +238,7 @@ fn a_cycle_time_other_than_sync0_is_0x0035() {
 /// left in 0x1C32:01 is the default.
 #[test]
 fn a_choice_lasts_until_init() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         preop_with_sync_type(&master, 1).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0030));
@@ -270,7 +271,7 @@ async fn preop_with_sync_type(master: &TestMaster, sync_type: u16) -> SdoClient<
 
 #[test]
 fn dc_sync0_cycles_on_every_sync0_pulse_and_reports_its_cycle() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         let mut c = preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -324,7 +325,7 @@ fn dc_configuration_errors_are_0x0030() {
         (1, 0x03),
     ];
     for (sync_type, activation) in cases {
-        run(DC, async move |master| {
+        run::<DriveDc>(async move |master| {
             preop_with_sync_type(&master, sync_type).await;
             program_dc(&master, activation, 1_000_000, Duration::from_millis(1));
             assert_eq!(
@@ -339,7 +340,7 @@ fn dc_configuration_errors_are_0x0030() {
 #[test]
 fn a_sync0_cycle_below_the_minimum_or_single_shot_is_0x0036() {
     for cycle in [0, 100_000, 249_999] {
-        run(DC, async move |master| {
+        run::<DriveDc>(async move |master| {
             preop_with_sync_type(&master, 2).await;
             program_dc(&master, 0x03, cycle, Duration::from_millis(1));
             assert_eq!(
@@ -349,7 +350,7 @@ fn a_sync0_cycle_below_the_minimum_or_single_shot_is_0x0036() {
             );
         });
     }
-    run(DC, async move |master| {
+    run::<DriveDc>(async move |master| {
         preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x03, 250_000, Duration::from_millis(1));
         assert_eq!(
@@ -362,7 +363,7 @@ fn a_sync0_cycle_below_the_minimum_or_single_shot_is_0x0036() {
 
 #[test]
 fn safeop_to_op_without_sync0_is_0x002d_and_with_sync0_but_no_outputs_0x001b() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_secs(60));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -375,7 +376,7 @@ fn safeop_to_op_without_sync0_is_0x002d_and_with_sync0_but_no_outputs_0x001b() {
             "no SYNC0 before the transition timeout"
         );
     });
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -394,7 +395,7 @@ fn safeop_to_op_without_sync0_is_0x002d_and_with_sync0_but_no_outputs_0x001b() {
 /// DC SYNC0 and leaves SYNC1 to the application.
 #[test]
 fn sync1_beside_sync0_is_accepted_where_supported() {
-    run(DC | SupportedSyncModes::SYNC1, async |master| {
+    run::<DriveSync1>(async |master| {
         preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -403,7 +404,7 @@ fn sync1_beside_sync0_is_accepted_where_supported() {
 
 #[test]
 fn sync1_is_not_supported() {
-    run(DC | SupportedSyncModes::SYNC1, async |master| {
+    run::<DriveSync1>(async |master| {
         preop_with_sync_type(&master, 3).await;
         program_dc(&master, 0x07, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0028));
@@ -415,7 +416,7 @@ fn sync1_is_not_supported() {
 #[test]
 fn sm2_synchronous_or_unknown_in_0x1c32_is_0x0028() {
     for sync_type in [0x22, 0x07] {
-        run(DC, async move |master| {
+        run::<DriveDc>(async move |master| {
             preop_with_sync_type(&master, sync_type).await;
             assert_eq!(
                 safeop(&master, SM2_CONTROL).await,
@@ -429,7 +430,7 @@ fn sm2_synchronous_or_unknown_in_0x1c32_is_0x0028() {
 /// 0x1C32:03, :06 and :09 (shift, calc and copy, delay time) exist, read-only, 0 by default.
 #[test]
 fn the_timing_entries_are_readable() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         let mut c = preop_with_sync_type(&master, 1).await;
         for index in [0x1C32, 0x1C33] {
             for sub in [3, 6, 9] {
@@ -446,7 +447,7 @@ fn the_timing_entries_are_readable() {
 
 #[test]
 fn free_run_on_a_device_without_it_is_0x0027() {
-    run(SupportedSyncModes::SM, async |master| {
+    run::<DriveSm>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         client(&master)
             .download(0x1C32, 1, false, &[0, 0])
@@ -458,7 +459,7 @@ fn free_run_on_a_device_without_it_is_0x0027() {
 
 #[test]
 fn free_run_needs_3_buffer_outputs() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         client(&master)
             .download(0x1C32, 1, false, &[0, 0])
@@ -479,7 +480,7 @@ fn u16_of(bytes: Result<Vec<u8>, ecat_emu::coe_client::SdoError>) -> u16 {
 
 #[test]
 fn sm_synchronous_measures_the_cycle_time() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         let mut c = preop_with_sync_type(&master, 1).await;
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
         for _ in 0..3 {
@@ -494,7 +495,7 @@ fn sm_synchronous_measures_the_cycle_time() {
 
 #[test]
 fn dc_cycles_without_new_outputs_count_as_sm_events_missed() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         let mut c = preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -559,7 +560,7 @@ fn dc_cycles_without_new_outputs_count_as_sm_events_missed() {
 
 #[test]
 fn lost_clocked_cycles_count_as_cycle_time_too_small() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         let mut c = preop_with_sync_type(&master, 2).await;
         // 500 µs SYNC0, but the runner gets a turn once per millisecond: every other cycle is lost.
         program_dc(&master, 0x03, 500_000, Duration::from_millis(1));
@@ -576,7 +577,7 @@ fn lost_clocked_cycles_count_as_cycle_time_too_small() {
 #[test]
 fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode() {
     // As ethercrab does: DC configured in the ESC, 0x1C32:01 left at its default (SM-synchronous).
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -601,9 +602,7 @@ fn a_maindevice_that_activates_sync0_without_choosing_a_sync_type_gets_dc_mode()
 /// An input-only DC device: SAFEOP→OP waits for SYNC0 (there are no outputs to wait for). Its
 /// SII image is written for DC SYNC0: the ESC's SYNC out unit is on.
 fn input_only_dc(start_in: Duration, expected: (u16, u16)) {
-    let mut sample = ecat_emu::devices::sensor();
-    sample.device.config.sync_modes =
-        SupportedSyncModes(sample.device.config.sync_modes.0 | SupportedSyncModes::SYNC0);
+    let mut sample = ecat_emu::devices::sensor_dc();
     sample.device.eeprom = sample.eeprom();
     harness::run(sample.device, move |master| async move {
         master.configure_mailbox(&ecat_core::device::MailboxConfig::contiguous(0x1000, 128));
@@ -626,7 +625,7 @@ fn an_input_only_dc_device_enters_op_with_sync0_and_refuses_it_without() {
 
 #[test]
 fn sync0_lost_in_op_is_0x002c_and_back_to_safeop() {
-    run(DC, async |master| {
+    run::<DriveDc>(async |master| {
         let _c = preop_with_sync_type(&master, 2).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x04, 0));
@@ -656,7 +655,7 @@ fn sync0_lost_in_op_is_0x002c_and_back_to_safeop() {
 
 #[test]
 fn dc_activated_on_a_device_without_dc_is_0x0030() {
-    run(BOTH, async |master| {
+    run::<Drive>(async |master| {
         walk_to(&master, AlState::PreOp).await;
         program_dc(&master, 0x03, 1_000_000, Duration::from_millis(1));
         assert_eq!(safeop(&master, SM2_CONTROL).await, (0x12, 0x0030));

@@ -97,12 +97,12 @@ fn main() {
     let case = args.next().unwrap_or_else(|| "cia402".into());
     let n = args.next().and_then(|s| s.parse().ok()).unwrap_or(1);
     match case.as_str() {
-        "cia402" => cycles(&mut Drive::default(), n, vary_first_byte, echo),
+        "cia402" => cycles(&mut <Drive>::default(), n, vary_first_byte, echo),
         "cia402-remapped" => {
             let mut od = Drive {
                 rx1: PdoMapping::mapping(&[DRIVE_RX[3], DRIVE_RX[2], DRIVE_RX[1], DRIVE_RX[0]]),
                 tx1: PdoMapping::mapping(&[DRIVE_TX[1], DRIVE_TX[0], DRIVE_TX[3], DRIVE_TX[2]]),
-                ..Drive::default()
+                ..<Drive>::default()
             };
             cycles(&mut od, n, vary_first_byte, echo)
         }

@@ -86,7 +86,7 @@ const UPLOAD_1018_01: [u8; 10] = [0x00, 0x20, 0x40, 0x18, 0x10, 0x01, 0, 0, 0, 0
 fn upload_from_drive(n: usize) {
     let config = device(128);
     let mut bench = Bench::<128>::new(&config);
-    let mut od = Drive::default();
+    let mut od = <Drive>::default();
     for _ in 0..n {
         assert_eq!(bench.exchange(&mut od, &mut (), &UPLOAD_1018_01)[2], 0x43);
     }

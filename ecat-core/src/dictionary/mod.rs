@@ -97,6 +97,7 @@ pub use object::{
 pub use value::{Bits, ByteString, Domain, OctetString, UnicodeString, Value, VisibleString};
 
 use crate::abort::AbortCode;
+use crate::sync_mode::SupportedSyncModes;
 
 /// A dictionary: the `const` table of its objects. Implemented by [`dictionary!`](crate::dictionary!).
 pub trait ObjectDictionary: Sized + 'static {
@@ -112,6 +113,13 @@ pub trait ObjectDictionary: Sized + 'static {
     /// The names of every object and entry, each text once (none that a longer name holds),
     /// one after the other: what a description's [`Name`] points into ([`Self::name`]).
     const NAMES: &'static str = "";
+
+    /// The synchronisation modes the device supports (0x1C32:04, ETG.1000.6 Table 74), stated
+    /// once, at compile time: [`dictionary!`](crate::dictionary!) sets it from its
+    /// `sync(MODES);` item. A device without DC SYNC0 here carries no DC
+    /// code: the runners' SYNC0 paths are `if D::SYNC_MODES.dc()`. Default: free-run and
+    /// SM-synchronous.
+    const SYNC_MODES: SupportedSyncModes = SupportedSyncModes::DEFAULT;
 
     /// Every object's index, parallel to [`Self::OBJECTS`]: what [`Self::object`] searches, two
     /// bytes a step instead of a whole [`Object`]. [`dictionary!`](crate::dictionary!) takes it

@@ -44,7 +44,7 @@ use crate::esm::Transition;
 use crate::mailbox::{Mailbox, NO_TIMEOUT};
 use crate::ring::Ring;
 use crate::sync_manager::check::Channels;
-use crate::sync_mode::SyncMode;
+use crate::sync_mode::{SupportedSyncModes, SyncMode};
 use crate::sync_parameters::{self, DcSettings};
 use crate::time::Instant;
 
@@ -300,6 +300,9 @@ pub struct SubDevice<'c, const MBX: usize = 128, L: Length = Len<MBX>> {
     pd_sizes: ProcessDataSizes,
     /// The sync mode the dictionary asks for, or why it cannot be.
     sync_mode: Result<sync_parameters::Requested, AlStatusCode>,
+    /// The dictionary's [`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES),
+    /// given to [`SubDevice::new`].
+    sync_modes: SupportedSyncModes,
     config: &'c DeviceConfig,
     written: Written,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
@@ -330,9 +333,12 @@ pub struct SubDevice<'c, const MBX: usize = 128, L: Length = Len<MBX>> {
 impl<'c, const MBX: usize, L: Length> SubDevice<'c, MBX, L> {
     /// A SubDevice in INIT. Its first accesses write the AL event mask, deactivate the
     /// SyncManagers through their PDI control registers and present INIT in AL status.
-    pub fn new(config: &'c DeviceConfig) -> Self {
+    /// The sync modes are the dictionary `D`'s
+    /// ([`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES)).
+    pub fn new<D: crate::dictionary::ObjectDictionary>(config: &'c DeviceConfig) -> Self {
         Self {
             config,
+            sync_modes: D::SYNC_MODES,
             state: AlState::Init,
             indication: Indication::default(),
             code: AlStatusCode::NO_ERROR,

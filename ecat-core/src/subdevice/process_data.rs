@@ -109,7 +109,7 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     fn refresh<D: ObjectDictionary>(&mut self, od: &mut D) {
         self.targets_changed();
         self.due.set(Due::LAYOUT);
-        self.sync_mode = sync_parameters::requested(od, self.config, self.writes.chosen);
+        self.sync_mode = sync_parameters::requested(od, self.writes.chosen);
         let fixed = self.config.process_data;
         // One call of `Layout::of`, for both directions in turn: the first refusal (the outputs'
         // before the inputs') leaves no image.

@@ -41,24 +41,24 @@ pub use od::{
 use ecat_core::DeviceConfig;
 use ecat_core::device::{MailboxConfig, ProcessDataSizes};
 use ecat_core::sii::Names;
-use ecat_core::sync_mode::SupportedSyncModes;
 
 /// The axis's device description: 128-byte mailboxes at 0x1000, the default PDOs' image sizes
 /// (RxPDO 13 bytes, TxPDO 19 bytes; with 0x1C12/0x1C13 the mapping decides), free-run,
 /// SM-synchronous or DC SYNC0.
-pub const DEVICE: DeviceConfig = {
-    let mut config = DeviceConfig::new(
-        MailboxConfig::contiguous(0x1000, 128),
-        ProcessDataSizes {
-            outputs: 13,
-            inputs: 19,
-        },
-    );
-    config.sync_modes = SupportedSyncModes(
-        SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM | SupportedSyncModes::SYNC0,
-    );
-    config
-};
+pub const DEVICE: DeviceConfig = DeviceConfig::new(
+    MailboxConfig::contiguous(0x1000, 128),
+    ProcessDataSizes {
+        outputs: 13,
+        inputs: 19,
+    },
+);
+
+// The axis's DC SYNC0 (its dictionary's sync modes) needs a minimum cycle time.
+const _: () = assert!(
+    DEVICE
+        .validate_sync(<AxisOd as ecat_core::dictionary::ObjectDictionary>::SYNC_MODES)
+        .is_ok()
+);
 
 /// The names the SII image and the ESI file carry.
 pub const NAMES: Names<'static> = Names {

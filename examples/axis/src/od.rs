@@ -8,6 +8,7 @@ use ecat_core::diagnosis::DiagnosisHistory;
 use ecat_core::dictionary::{Communication, DeviceInfo};
 use ecat_core::pdo::{MappingEntry, PdoAssignment, PdoMapping};
 use ecat_core::sync_error::{DEFAULT_LIMIT, ErrorSettings, REACTION_SAFEOP};
+use ecat_core::sync_mode::SupportedSyncModes;
 
 /// 0x1018 of the axis; the SII image carries the same value.
 pub const IDENTITY: Identity = Identity {
@@ -203,6 +204,9 @@ pub struct AxisOd {
 
 ecat_core::dictionary! {
     AxisOd {
+        sync(SupportedSyncModes(
+            SupportedSyncModes::FREE_RUN | SupportedSyncModes::SM | SupportedSyncModes::SYNC0,
+        ));
         communication(area, INFO);
         0x1001 => var(error_register, RO, "Error register");
         // A MainDevice's start-up may set the sync error counter limit (SSC's default 4: two
