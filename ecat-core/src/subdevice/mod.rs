@@ -44,7 +44,7 @@ use crate::esm::Transition;
 use crate::mailbox::{Mailbox, NO_TIMEOUT};
 use crate::ring::Ring;
 use crate::sync_manager::check::Channels;
-use crate::sync_mode::{SupportedSyncModes, SyncMode};
+use crate::sync_mode::SyncMode;
 use crate::sync_parameters::{self, DcSettings};
 use crate::time::Instant;
 
@@ -300,9 +300,6 @@ pub struct SubDevice<'c, const MBX: usize = 128, L: Length = Len<MBX>> {
     pd_sizes: ProcessDataSizes,
     /// The sync mode the dictionary asks for, or why it cannot be.
     sync_mode: Result<sync_parameters::Requested, AlStatusCode>,
-    /// The dictionary's [`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES),
-    /// given to [`SubDevice::new`].
-    sync_modes: SupportedSyncModes,
     config: &'c DeviceConfig,
     written: Written,
     /// What SDO writes changed since PREOP was entered from INIT: the entries of 0x1C32 the
@@ -329,6 +326,11 @@ pub struct SubDevice<'c, const MBX: usize = 128, L: Length = Len<MBX>> {
     /// only when a code is logged.
     last_emergency: AlStatusCode,
     buf: [u8; BUF_LEN],
+    /// The low byte of the dictionary's
+    /// [`ObjectDictionary::SYNC_MODES`](crate::dictionary::ObjectDictionary::SYNC_MODES), given
+    /// to [`SubDevice::new`]: the modes' bits (free-run, SM, SYNC0, SYNC1). A byte, last: it
+    /// takes the struct's tail padding (a `u16` among the halfwords cost 8 bytes of RAM).
+    sync_modes: u8,
 }
 impl<'c, const MBX: usize, L: Length> SubDevice<'c, MBX, L> {
     /// A SubDevice in INIT. Its first accesses write the AL event mask, deactivate the
@@ -338,7 +340,7 @@ impl<'c, const MBX: usize, L: Length> SubDevice<'c, MBX, L> {
     pub fn new<D: crate::dictionary::ObjectDictionary>(config: &'c DeviceConfig) -> Self {
         Self {
             config,
-            sync_modes: D::SYNC_MODES,
+            sync_modes: D::SYNC_MODES.0 as u8,
             state: AlState::Init,
             indication: Indication::default(),
             code: AlStatusCode::NO_ERROR,

@@ -4,7 +4,7 @@
 use super::SubDevice;
 use crate::al::{AlState, AlStatusCode};
 use crate::device::ProcessDataSizes;
-use crate::sync_mode::SyncMode;
+use crate::sync_mode::{SupportedSyncModes, SyncMode};
 use crate::sync_parameters::{self, DcSettings};
 
 /// What [`SubDevice::sync_mode`] says when the dictionary's sync mode cannot be: an unknown type,
@@ -18,15 +18,20 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     /// [`UNUSABLE_SYNC_MODE`] when the dictionary's cannot be.
     pub(super) fn sync_mode(&self) -> SyncMode {
         match self.sync_mode {
-            Ok(requested) => requested.effective(self.dc, self.sync_modes),
+            Ok(requested) => requested.effective(self.dc, self.sync_modes()),
             Err(_) => UNUSABLE_SYNC_MODE,
         }
+    }
+
+    /// The sync modes the device supports (the dictionary's).
+    fn sync_modes(&self) -> SupportedSyncModes {
+        SupportedSyncModes(u16::from(self.sync_modes))
     }
 
     /// The DC registers read with an AL control event: the activation byte, and up to the SYNC0
     /// cycle time for a device that supports DC SYNC0.
     pub(super) fn dc_read_len(&self) -> usize {
-        if self.sync_modes.dc() {
+        if self.sync_modes().dc() {
             DcSettings::READ_LEN
         } else {
             1
@@ -67,8 +72,8 @@ impl<'c, const MBX: usize, L: crate::dictionary::Length> SubDevice<'c, MBX, L> {
     pub(super) fn check_sync_mode(&self, sizes: ProcessDataSizes) -> Result<(), AlStatusCode> {
         self.sync_mode?;
         let sync = self.sync_mode();
-        if self.sync_modes.dc() {
-            sync_parameters::check_dc(sync, self.dc, self.sync_modes)?;
+        if self.sync_modes().dc() {
+            sync_parameters::check_dc(sync, self.dc, self.sync_modes())?;
         } else if self.dc.activation.0 != 0 {
             // DC activated on a device without DC (conformance.md "Distributed clocks").
             return Err(AlStatusCode::INVALID_DC_SYNC_CONFIG);
